@@ -1,0 +1,126 @@
+"""The ``engram`` command line."""
+
+import logging
+from pathlib import Path
+from typing import Annotated, Any
+
+import typer
+import uvicorn
+from rich.console import Console
+
+from api.config import Settings
+from api.main import create_app
+from api.summary import print_summary
+from kg import DEFAULT_GRAPHS, EngramError, Store, ensure_ontology, export
+from kg.export import FORMATS
+from ontologies.vocab import GRAPHS
+
+app = typer.Typer(
+    help="Engram: a human-like memory for robots, kept as a knowledge graph.",
+    no_args_is_help=True,
+    pretty_exceptions_enable=False,
+)
+console = Console()
+
+DataOption = Annotated[
+    Path | None, typer.Option("--data", help="Data directory (default: $ENGRAM_DATA_DIR).")
+]
+HostOption = Annotated[str | None, typer.Option(help="Address to listen on.")]
+PortOption = Annotated[int | None, typer.Option(help="TCP port to listen on.")]
+
+
+def _settings(**overrides: Any) -> Settings:
+    try:
+        return Settings(**{key: value for key, value in overrides.items() if value is not None})
+    except ValueError as error:
+        console.print(f"[red]invalid setting:[/red] {error}")
+        raise typer.Exit(2) from None
+
+
+def _open(settings: Settings) -> Store:
+    try:
+        return Store(settings.store_dir)
+    except EngramError as error:
+        console.print(f"[red]{error}[/red]")
+        raise typer.Exit(1) from None
+
+
+def _serve(settings: Settings) -> None:
+    logging.basicConfig(level=logging.INFO, format="%(levelname)s %(name)s: %(message)s")
+    console.print(
+        f"Serving {settings.store_dir} on http://{settings.host}:{settings.port} "
+        "(SPARQL at /sparql, OWL export at /export, API docs at /docs); Ctrl-C stops."
+    )
+    uvicorn.run(create_app(settings), host=settings.host, port=settings.port, log_level="info")
+
+
+@app.command()
+def demo(
+    data: DataOption = None,
+    serve: Annotated[bool, typer.Option(help="Serve the store when done.")] = True,
+    host: HostOption = None,
+    port: PortOption = None,
+) -> None:
+    """The main job: initialise the store, load the ontology, show what it holds, serve it."""
+    settings = _settings(data_dir=data, host=host, port=port)
+    store = _open(settings)
+    status = ensure_ontology(store)
+    print_summary(console, store, status)
+    store.flush()
+    del store  # release the directory for the server
+    if serve:
+        _serve(settings)
+
+
+@app.command()
+def serve(data: DataOption = None, host: HostOption = None, port: PortOption = None) -> None:
+    """Serve the store over HTTP: /health, /sparql (read-only), /export, /backup."""
+    _serve(_settings(data_dir=data, host=host, port=port))
+
+
+@app.command()
+def info(data: DataOption = None) -> None:
+    """Show the ontology version, graph sizes, T-Box entities and memory policy."""
+    settings = _settings(data_dir=data)
+    store = _open(settings)
+    print_summary(console, store, ensure_ontology(store))
+
+
+@app.command("export")
+def export_command(
+    output: Annotated[Path, typer.Option("-o", "--output", help="File to write.")],
+    format: Annotated[str, typer.Option(help="rdfxml or turtle.")] = "rdfxml",
+    graphs: Annotated[
+        list[str] | None,
+        typer.Option(help=f"Graphs to export, repeated or comma-separated: {', '.join(GRAPHS)}."),
+    ] = None,
+    data: DataOption = None,
+) -> None:
+    """Export the T-Box and the memory as one OWL ontology for Protégé."""
+    names = [n.strip() for g in graphs or [] for n in g.split(",") if n.strip()]
+    store = _open(_settings(data_dir=data))
+    ensure_ontology(store)
+    try:
+        body = export(store, names or list(DEFAULT_GRAPHS), format)
+    except ValueError as error:
+        console.print(f"[red]{error}[/red]")
+        raise typer.Exit(2) from None
+    tmp = output.with_name(output.name + ".part")
+    tmp.write_bytes(body)
+    tmp.replace(output)  # atomic: a reader never sees half a file
+    console.print(f"wrote {len(body)} bytes of {FORMATS[format][1]} to {output}")
+
+
+@app.command()
+def backup(
+    target: Annotated[Path, typer.Argument(help="New directory for the copy.")],
+    data: DataOption = None,
+) -> None:
+    """Copy the store to a new directory (hard links where possible)."""
+    store = _open(_settings(data_dir=data))
+    try:
+        store.backup(target)
+    except (EngramError, FileExistsError) as error:
+        console.print(f"[red]{error}[/red]")
+        raise typer.Exit(1) from None
+    console.print(f"backed up {store.path} to {target}")

@@ -1,0 +1,63 @@
+"""Engram's settings, read from ``ENGRAM_*`` environment variables and validated.
+
+>>> Settings(sparql_timeout_s=2.5).sparql_timeout_s
+2.5
+"""
+
+import os
+from functools import lru_cache
+from pathlib import Path
+
+from pydantic import Field, SecretStr
+from pydantic_settings import BaseSettings, SettingsConfigDict
+
+__all__ = ["Settings", "default_data_dir", "get_settings"]
+
+
+def default_data_dir() -> Path:
+    """``$XDG_DATA_HOME/engram``, or ``~/.local/share/engram``."""
+    base = os.environ.get("XDG_DATA_HOME") or Path.home() / ".local" / "share"
+    return Path(base) / "engram"
+
+
+class Settings(BaseSettings):
+    """Everything an operator can set, with its unit in its name."""
+
+    model_config = SettingsConfigDict(env_prefix="ENGRAM_", extra="ignore", frozen=True)
+
+    data_dir: Path = Field(
+        default_factory=default_data_dir,
+        description="Directory of the store, its query snapshots and backups.",
+    )
+    host: str = Field("127.0.0.1", min_length=1, description="Address the server listens on.")
+    port: int = Field(8000, ge=1, le=65535, description="TCP port the server listens on.")
+    token: SecretStr | None = Field(
+        None, description="If set, every write endpoint requires 'Authorization: Bearer <token>'."
+    )
+    sparql_timeout_s: float = Field(
+        10.0, gt=0, le=3600, description="Time limit of one SPARQL query, in seconds."
+    )
+    sparql_max_result_bytes: int = Field(
+        64 * 1024 * 1024, gt=0, description="Largest serialised SPARQL result, in bytes."
+    )
+    sparql_workers: int = Field(
+        2, ge=1, le=64, description="Worker processes that answer SPARQL queries in parallel."
+    )
+
+    @property
+    def store_dir(self) -> Path:
+        return self.data_dir / "store"
+
+    @property
+    def snapshot_dir(self) -> Path:
+        return self.data_dir / "snapshots"
+
+    @property
+    def backup_dir(self) -> Path:
+        return self.data_dir / "backups"
+
+
+@lru_cache
+def get_settings() -> Settings:
+    """The process's settings, read once; tests override the dependency instead."""
+    return Settings()

@@ -1,0 +1,48 @@
+"""FastAPI dependencies: the store, the query runner, the settings and the write guard."""
+
+import secrets
+from typing import Annotated
+
+from fastapi import Depends, Header, HTTPException, Request, status
+
+from api.config import Settings
+from kg import Store
+from kg.sandbox import QueryRunner
+
+__all__ = ["RunnerDep", "SettingsDep", "StoreDep", "require_token"]
+
+
+def _settings(request: Request) -> Settings:
+    settings: Settings = request.app.state.settings
+    return settings
+
+
+def _store(request: Request) -> Store:
+    store: Store = request.app.state.store
+    return store
+
+
+def _runner(request: Request) -> QueryRunner:
+    runner: QueryRunner = request.app.state.runner
+    return runner
+
+
+SettingsDep = Annotated[Settings, Depends(_settings)]
+StoreDep = Annotated[Store, Depends(_store)]
+RunnerDep = Annotated[QueryRunner, Depends(_runner)]
+
+
+def require_token(
+    settings: SettingsDep, authorization: Annotated[str | None, Header()] = None
+) -> None:
+    """Let the request through if no token is configured or it carries the right bearer token."""
+    if settings.token is None:
+        return
+    expected = settings.token.get_secret_value()
+    scheme, _, given = (authorization or "").partition(" ")
+    if scheme.lower() != "bearer" or not secrets.compare_digest(given.strip(), expected):
+        raise HTTPException(
+            status.HTTP_401_UNAUTHORIZED,
+            "this endpoint writes and needs 'Authorization: Bearer <token>' (ENGRAM_TOKEN)",
+            headers={"WWW-Authenticate": "Bearer"},
+        )

@@ -1,0 +1,93 @@
+"""``/sparql``: the SPARQL 1.1 Protocol, queries only.
+
+All three request forms are served: ``GET ?query=``, ``POST`` of a form
+(``application/x-www-form-urlencoded``) and ``POST`` of the query itself
+(``application/sparql-query``). Updates are refused with 403: the endpoint is read-only.
+"""
+
+from urllib.parse import parse_qs
+
+from fastapi import APIRouter, HTTPException, Request, Response, status
+from starlette.concurrency import run_in_threadpool
+
+from api.deps import RunnerDep
+from api.negotiation import choose_media_type
+
+router = APIRouter(tags=["sparql"])
+
+_READ_ONLY = "this SPARQL endpoint is read-only: updates are refused"
+_FORM_TYPES = ("application/x-www-form-urlencoded",)
+_QUERY_TYPES = ("application/sparql-query",)
+_UPDATE_TYPES = ("application/sparql-update",)
+
+
+def _single(values: list[str], name: str) -> str:
+    if len(values) != 1:
+        raise HTTPException(
+            status.HTTP_400_BAD_REQUEST,
+            f"{name}: expected exactly one value, got {len(values)}",
+        )
+    return values[0]
+
+
+async def _answer(request: Request, runner: RunnerDep, params: dict[str, list[str]]) -> Response:
+    if "update" in params:
+        raise HTTPException(status.HTTP_403_FORBIDDEN, _READ_ONLY)
+    text = _single(params.get("query", []), "query")
+    default_graphs = params.get("default-graph-uri") or None
+    named_graphs = params.get("named-graph-uri") or None
+    work = await run_in_threadpool(
+        runner.check, text, default_graphs=default_graphs, named_graphs=named_graphs
+    )
+    format_param = next(
+        (params[k][0] for k in ("format", "output", "results") if params.get(k)), None
+    )
+    media_type = choose_media_type(work.form, request.headers.get("accept"), format_param)
+    body = await run_in_threadpool(runner.run, work, media_type)
+    return Response(body, media_type=media_type, headers={"Vary": "Accept"})
+
+
+def _url_params(request: Request) -> dict[str, list[str]]:
+    params: dict[str, list[str]] = {}
+    for key, value in request.query_params.multi_items():
+        params.setdefault(key, []).append(value)
+    return params
+
+
+@router.get("/sparql", summary="SPARQL query by GET")
+async def sparql_get(request: Request, runner: RunnerDep) -> Response:
+    """Answer ``?query=`` with optional ``default-graph-uri`` and ``named-graph-uri``."""
+    return await _answer(request, runner, _url_params(request))
+
+
+@router.post("/sparql", summary="SPARQL query by POST")
+async def sparql_post(request: Request, runner: RunnerDep) -> Response:
+    """Answer a form-encoded ``query=`` or a body of type ``application/sparql-query``."""
+    content_type = request.headers.get("content-type", "").split(";")[0].strip().lower()
+    params = _url_params(request)
+    body = await request.body()
+    try:
+        text = body.decode("utf-8")
+    except UnicodeDecodeError as error:
+        raise HTTPException(
+            status.HTTP_400_BAD_REQUEST, f"request body: not UTF-8 ({error})"
+        ) from None
+    if content_type in _UPDATE_TYPES:
+        raise HTTPException(status.HTTP_403_FORBIDDEN, _READ_ONLY)
+    if content_type in _FORM_TYPES:
+        for key, values in parse_qs(text, keep_blank_values=True).items():
+            params.setdefault(key, []).extend(values)
+    elif content_type in _QUERY_TYPES:
+        if "query" in params:
+            raise HTTPException(
+                status.HTTP_400_BAD_REQUEST,
+                "query: given both in the URL and as the body; send it once",
+            )
+        params["query"] = [text]
+    else:
+        raise HTTPException(
+            status.HTTP_415_UNSUPPORTED_MEDIA_TYPE,
+            f"Content-Type: got {content_type or 'none'!r}, expected "
+            "application/x-www-form-urlencoded or application/sparql-query",
+        )
+    return await _answer(request, runner, params)

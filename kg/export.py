@@ -1,0 +1,190 @@
+"""The memory as one OWL 2 DL ontology that Protégé, the OWL API and owlready2 open.
+
+The export holds the chosen graphs under a single ``owl:Ontology`` header, with a declaration for
+every entity (the OWL API turns undeclared properties into annotation properties), class
+expressions as blank nodes again, and cardinalities typed ``xsd:nonNegativeInteger`` (the store
+canonicalises them to ``xsd:integer``).
+
+>>> from kg.store import Store
+>>> from kg.ontology import ensure_ontology
+>>> store = Store()
+>>> _ = ensure_ontology(store)
+>>> b"owl:Ontology" in export(store, ["tbox"], "turtle")
+True
+"""
+
+import datetime as dt
+from collections import defaultdict
+from collections.abc import Iterable, Sequence
+from typing import Literal as Lit
+
+from pyoxigraph import BlankNode, Literal, NamedNode, RdfFormat, Triple, serialize
+
+from kg.skolem import Deskolemiser
+from kg.store import Store
+from ontologies.vocab import (
+    CARDINALITY_PREDICATES,
+    DCTERMS_CREATED,
+    EXPORT_ONTOLOGY_IRI,
+    GRAPHS,
+    OWL_ANNOTATION_PROPERTY,
+    OWL_CLASS,
+    OWL_DATATYPE_PROPERTY,
+    OWL_NAMED_INDIVIDUAL,
+    OWL_NS,
+    OWL_OBJECT_PROPERTY,
+    OWL_ON_CLASS,
+    OWL_ONTOLOGY,
+    OWL_VERSION_IRI,
+    PREFIXES,
+    RDF_NS,
+    RDF_TYPE,
+    RDFS_COMMENT,
+    RDFS_LABEL,
+    RDFS_NS,
+    RDFS_SEEALSO,
+    XSD_DATETIME,
+    XSD_NON_NEGATIVE_INTEGER,
+    XSD_NS,
+)
+
+__all__ = ["DEFAULT_GRAPHS", "FORMATS", "ExportFormat", "export", "export_triples"]
+
+ExportFormat = Lit["rdfxml", "turtle"]
+FORMATS: dict[str, tuple[RdfFormat, str]] = {
+    "rdfxml": (RdfFormat.RDF_XML, "application/rdf+xml"),
+    "turtle": (RdfFormat.TURTLE, "text/turtle"),
+}
+DEFAULT_GRAPHS = ("tbox", "memory")
+"""What an export holds unless asked otherwise; add "episodic" for the experienced scenes."""
+
+_BUILTIN = (RDF_NS, RDFS_NS, OWL_NS, XSD_NS)
+_ENTITY_KINDS = frozenset(
+    {
+        OWL_CLASS,
+        OWL_OBJECT_PROPERTY,
+        OWL_DATATYPE_PROPERTY,
+        OWL_ANNOTATION_PROPERTY,
+        OWL_NAMED_INDIVIDUAL,
+        NamedNode(RDFS_NS + "Datatype"),
+    }
+)
+_CLASS_POSITIONS = frozenset(
+    NamedNode(ns + name)
+    for ns, name in [
+        (RDFS_NS, "subClassOf"),
+        (OWL_NS, "equivalentClass"),
+        (OWL_NS, "disjointWith"),
+    ]
+)
+
+
+def export(store: Store, graphs: Sequence[str] = DEFAULT_GRAPHS, format: str = "rdfxml") -> bytes:
+    """Serialise ``graphs`` of ``store`` as one ontology in ``format`` ("rdfxml" or "turtle").
+
+    Raises ``ValueError`` naming the accepted values for an unknown graph or format.
+    """
+    if format not in FORMATS:
+        raise ValueError(f"format: got {format!r}, expected one of {', '.join(FORMATS)}")
+    rdf_format, _ = FORMATS[format]
+    body = serialize(export_triples(store, graphs), format=rdf_format, prefixes=PREFIXES)
+    assert body is not None  # serialize returns bytes when given no output
+    return body
+
+
+def export_triples(store: Store, graphs: Sequence[str] = DEFAULT_GRAPHS) -> list[Triple]:
+    """The triples of an export: header, the graphs' content, and missing declarations."""
+    unknown = [name for name in graphs if name not in GRAPHS]
+    if unknown or not graphs:
+        raise ValueError(
+            f"graphs: got {list(graphs)!r}, expected a non-empty list from {', '.join(GRAPHS)}"
+        )
+    deskolemise = Deskolemiser()
+    content: dict[Triple, None] = {}  # ordered and without duplicates
+    for name in graphs:
+        for quad in store.quads(graph=GRAPHS[name]):
+            content[deskolemise.triple(_typed_cardinality(quad.triple))] = None
+    headers = {t.subject for t in content if t.predicate == RDF_TYPE and t.object == OWL_ONTOLOGY}
+    sources = [t.object for t in content if t.subject in headers and t.predicate == OWL_VERSION_IRI]
+    # Sorted so that two exports of the same memory differ only in blank node labels.
+    body = sorted((t for t in content if t.subject not in headers), key=_sort_key)
+    return _header(graphs, sources) + body + _declarations(body)
+
+
+def _sort_key(triple: Triple) -> tuple[bool, str, str, str]:
+    subject = triple.subject
+    return (isinstance(subject, BlankNode), str(subject), str(triple.predicate), str(triple.object))
+
+
+def _typed_cardinality(triple: Triple) -> Triple:
+    if triple.predicate in CARDINALITY_PREDICATES and isinstance(triple.object, Literal):
+        return Triple(
+            triple.subject,
+            triple.predicate,
+            Literal(triple.object.value, datatype=XSD_NON_NEGATIVE_INTEGER),
+        )
+    return triple
+
+
+def _header(graphs: Sequence[str], sources: Iterable[object]) -> list[Triple]:
+    now = dt.datetime.now(dt.UTC).replace(microsecond=0)
+    header = [
+        Triple(EXPORT_ONTOLOGY_IRI, RDF_TYPE, OWL_ONTOLOGY),
+        Triple(EXPORT_ONTOLOGY_IRI, RDFS_LABEL, Literal("Engram memory export", language="en")),
+        Triple(
+            EXPORT_ONTOLOGY_IRI,
+            RDFS_COMMENT,
+            Literal(f"Graphs exported from an Engram store: {', '.join(graphs)}.", language="en"),
+        ),
+        Triple(
+            EXPORT_ONTOLOGY_IRI, DCTERMS_CREATED, Literal(now.isoformat(), datatype=XSD_DATETIME)
+        ),
+        Triple(DCTERMS_CREATED, RDF_TYPE, OWL_ANNOTATION_PROPERTY),
+    ]
+    header += [
+        Triple(EXPORT_ONTOLOGY_IRI, RDFS_SEEALSO, source)
+        for source in sources
+        if isinstance(source, NamedNode)
+    ]
+    return header
+
+
+def _declarations(triples: list[Triple]) -> list[Triple]:
+    """Declarations for the IRIs the triples use but do not declare.
+
+    Kinds follow from use: a class where a class must stand, an individual typed by a class, and
+    a property by its values (all literals: data property; all resources: object property;
+    mixed: annotation property, the only kind OWL 2 DL lets take both).
+    """
+    declared = {t.subject for t in triples if t.predicate == RDF_TYPE and t.object in _ENTITY_KINDS}
+    needed: dict[NamedNode, NamedNode] = {}
+    values: dict[NamedNode, set[bool]] = defaultdict(set)
+
+    def need(term: object, kind: NamedNode) -> None:
+        if isinstance(term, NamedNode) and term not in declared and not _builtin(term):
+            needed.setdefault(term, kind)
+
+    for t in triples:
+        if t.predicate == RDF_TYPE:
+            if isinstance(t.object, NamedNode) and not _builtin(t.object):
+                need(t.object, OWL_CLASS)
+                need(t.subject, OWL_NAMED_INDIVIDUAL)
+        elif t.predicate in _CLASS_POSITIONS:
+            need(t.subject, OWL_CLASS)
+            need(t.object, OWL_CLASS)
+        elif t.predicate == OWL_ON_CLASS:
+            need(t.object, OWL_CLASS)
+        if not _builtin(t.predicate) and t.predicate not in declared:
+            values[t.predicate].add(isinstance(t.object, Literal))
+    for predicate, kinds in values.items():
+        if kinds == {True}:
+            needed[predicate] = OWL_DATATYPE_PROPERTY
+        elif kinds == {False}:
+            needed[predicate] = OWL_OBJECT_PROPERTY
+        else:
+            needed[predicate] = OWL_ANNOTATION_PROPERTY
+    return [Triple(entity, RDF_TYPE, kind) for entity, kind in needed.items()]
+
+
+def _builtin(term: NamedNode | BlankNode | object) -> bool:
+    return isinstance(term, NamedNode) and term.value.startswith(_BUILTIN)
