@@ -14,6 +14,7 @@ True
 """
 
 import datetime as dt
+import re
 from collections import defaultdict
 from collections.abc import Iterable, Sequence
 from typing import Literal as Lit
@@ -34,6 +35,7 @@ from ontologies.vocab import (
     OWL_NS,
     OWL_OBJECT_PROPERTY,
     OWL_ON_CLASS,
+    OWL_ON_PROPERTY,
     OWL_ONTOLOGY,
     OWL_VERSION_IRI,
     PREFIXES,
@@ -43,6 +45,7 @@ from ontologies.vocab import (
     RDFS_LABEL,
     RDFS_NS,
     RDFS_SEEALSO,
+    TBOX,
     XSD_DATETIME,
     XSD_NON_NEGATIVE_INTEGER,
     XSD_NS,
@@ -87,7 +90,10 @@ def export(store: Store, graphs: Sequence[str] = DEFAULT_GRAPHS, format: str = "
     if format not in FORMATS:
         raise ValueError(f"format: got {format!r}, expected one of {', '.join(FORMATS)}")
     rdf_format, _ = FORMATS[format]
-    body = serialize(export_triples(store, graphs), format=rdf_format, prefixes=PREFIXES)
+    triples = export_triples(store, graphs)
+    if rdf_format == RdfFormat.RDF_XML:
+        _require_xml_characters(triples)
+    body = serialize(triples, format=rdf_format, prefixes=PREFIXES)
     assert body is not None  # serialize returns bytes when given no output
     return body
 
@@ -108,7 +114,30 @@ def export_triples(store: Store, graphs: Sequence[str] = DEFAULT_GRAPHS) -> list
     sources = [t.object for t in content if t.subject in headers and t.predicate == OWL_VERSION_IRI]
     # Sorted so that two exports of the same memory differ only in blank node labels.
     body = sorted((t for t in content if t.subject not in headers), key=_sort_key)
-    return _header(graphs, sources) + body + _declarations(body)
+    return _header(graphs, sources) + body + _declarations(body, _tbox_kinds(store))
+
+
+def _tbox_kinds(store: Store) -> dict[NamedNode, NamedNode]:
+    """The kind the T-Box gives each entity, so an export without the T-Box still declares them
+    as what they are (an annotation on a class must not turn into a data property)."""
+    kinds: dict[NamedNode, NamedNode] = {}
+    for quad in store.quads(predicate=RDF_TYPE, graph=TBOX):
+        if isinstance(quad.subject, NamedNode) and quad.object in _ENTITY_KINDS:
+            kinds.setdefault(quad.subject, quad.object)  # type: ignore[arg-type]
+    return kinds
+
+
+_NOT_XML = re.compile("[\x00-\x08\x0b\x0c\x0e-\x1f\ud800-\udfff\ufffe\uffff]")
+
+
+def _require_xml_characters(triples: list[Triple]) -> None:
+    """RDF/XML cannot carry every string: XML 1.0 forbids most control characters."""
+    for triple in triples:
+        if isinstance(triple.object, Literal) and (bad := _NOT_XML.search(triple.object.value)):
+            raise ValueError(
+                f"format: the value of {triple.predicate} on {triple.subject} holds "
+                f"U+{ord(bad.group()):04X}, which XML 1.0 cannot carry; export as turtle"
+            )
 
 
 def _sort_key(triple: Triple) -> tuple[bool, str, str, str]:
@@ -149,12 +178,13 @@ def _header(graphs: Sequence[str], sources: Iterable[object]) -> list[Triple]:
     return header
 
 
-def _declarations(triples: list[Triple]) -> list[Triple]:
+def _declarations(triples: list[Triple], known: dict[NamedNode, NamedNode]) -> list[Triple]:
     """Declarations for the IRIs the triples use but do not declare.
 
-    Kinds follow from use: a class where a class must stand, an individual typed by a class, and
-    a property by its values (all literals: data property; all resources: object property;
-    mixed: annotation property, the only kind OWL 2 DL lets take both).
+    An entity the T-Box knows gets its T-Box kind. Otherwise the kind follows from use: a class
+    where a class must stand, an individual typed by a class, and a property by its values (all
+    literals: data property; all resources: object property; mixed: annotation property, the
+    only kind OWL 2 DL lets take both).
     """
     declared = {t.subject for t in triples if t.predicate == RDF_TYPE and t.object in _ENTITY_KINDS}
     needed: dict[NamedNode, NamedNode] = {}
@@ -162,7 +192,7 @@ def _declarations(triples: list[Triple]) -> list[Triple]:
 
     def need(term: object, kind: NamedNode) -> None:
         if isinstance(term, NamedNode) and term not in declared and not _builtin(term):
-            needed.setdefault(term, kind)
+            needed.setdefault(term, known.get(term, kind))
 
     for t in triples:
         if t.predicate == RDF_TYPE:
@@ -174,10 +204,14 @@ def _declarations(triples: list[Triple]) -> list[Triple]:
             need(t.object, OWL_CLASS)
         elif t.predicate == OWL_ON_CLASS:
             need(t.object, OWL_CLASS)
+        elif t.predicate == OWL_ON_PROPERTY:
+            need(t.object, OWL_OBJECT_PROPERTY)
         if not _builtin(t.predicate) and t.predicate not in declared:
             values[t.predicate].add(isinstance(t.object, Literal))
     for predicate, kinds in values.items():
-        if kinds == {True}:
+        if predicate in known:
+            needed[predicate] = known[predicate]
+        elif kinds == {True}:
             needed[predicate] = OWL_DATATYPE_PROPERTY
         elif kinds == {False}:
             needed[predicate] = OWL_OBJECT_PROPERTY

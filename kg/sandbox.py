@@ -12,7 +12,6 @@ Queries are checked before they run: the text must parse as a query (an update d
 
 import logging
 import queue
-import re
 import shutil
 import socket
 import subprocess
@@ -37,6 +36,7 @@ from kg.errors import (
     ResultTooLargeError,
     StoreError,
 )
+from kg.sparql_text import mentions_keyword
 from kg.store import Store
 
 __all__ = ["RESULT_FORMATS", "QueryForm", "QueryRunner", "QueryWork"]
@@ -78,22 +78,6 @@ class QueryWork:
     form: QueryForm
     default_graphs: tuple[str, ...] | None = None
     named_graphs: tuple[str, ...] | None = None
-
-
-_SERVICE = re.compile(r"(?<![\w?$:])SERVICE\b", re.IGNORECASE)
-_NOT_CODE = re.compile(
-    r'"""(?:[^"\\]|\\.|"(?!""))*"""'
-    r"|'''(?:[^'\\]|\\.|'(?!''))*'''"
-    r'|"(?:[^"\\\n]|\\.)*"'
-    r"|'(?:[^'\\\n]|\\.)*'"
-    r"|<[^<>\"{}|^`\\\s]*>"
-    r"|#[^\n]*",
-)
-
-
-def _mentions_service(text: str) -> bool:
-    """True if SERVICE appears as a keyword, outside strings, IRIs and comments."""
-    return bool(_SERVICE.search(_NOT_CODE.sub(" ", text)))
 
 
 @dataclass
@@ -162,7 +146,7 @@ class QueryRunner:
         Raises :class:`QuerySyntaxError` with the parser's position if it is not a query (which
         includes every update), and :class:`QueryRefusedError` if it calls ``SERVICE``.
         """
-        if _mentions_service(text):
+        if mentions_keyword(text, "SERVICE"):
             raise QueryRefusedError(
                 "SERVICE (federated query) is disabled on this endpoint: it would let a query "
                 "make the server contact other hosts"

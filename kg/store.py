@@ -19,7 +19,6 @@ from typing import Any
 
 import pyoxigraph
 from pyoxigraph import (
-    BlankNode,
     Literal,
     NamedNode,
     Quad,
@@ -27,18 +26,18 @@ from pyoxigraph import (
     QuerySolutions,
     QueryTriples,
     Triple,
-    Variable,
 )
 
 import sparql
 from kg.errors import StoreError, StoreLockedError, TransactionError
+from kg.sparql_text import bind_values
 from kg.transaction import Transaction
 
 __all__ = ["Binding", "Store", "Tracer"]
 
 log = logging.getLogger(__name__)
 
-Binding = NamedNode | BlankNode | Literal | Triple
+Binding = NamedNode | Literal
 Tracer = Callable[[str, str, Mapping[str, Binding]], None]
 """Called with (kind, text, bindings) for every query ("query") and write ("update", "extend")."""
 
@@ -98,7 +97,12 @@ class Store:
 
         Each row maps variable names to terms; unbound variables are absent from the row.
         """
-        result = self._named(name, bindings)
+        return self._select(sparql.load(name), bindings, name)
+
+    def _select(
+        self, text: str, bindings: Mapping[str, Binding], name: str = "query"
+    ) -> list[dict[str, Binding]]:
+        result = self._query(text, bindings)
         if not isinstance(result, QuerySolutions):
             raise TypeError(f"query {name!r} is not a SELECT query")
         names = [variable.value for variable in result.variables]
@@ -106,23 +110,22 @@ class Store:
 
     def ask(self, name: str, **bindings: Binding) -> bool:
         """Run the ASK query ``sparql/<name>.rq`` with ``bindings``."""
-        result = self._named(name, bindings)
+        result = self._query(sparql.load(name), bindings)
         if not isinstance(result, QueryBoolean):
             raise TypeError(f"query {name!r} is not an ASK query")
         return bool(result)
 
     def construct(self, name: str, **bindings: Binding) -> list[Triple]:
         """Run the CONSTRUCT or DESCRIBE query ``sparql/<name>.rq`` with ``bindings``."""
-        result = self._named(name, bindings)
+        result = self._query(sparql.load(name), bindings)
         if not isinstance(result, QueryTriples):
             raise TypeError(f"query {name!r} is not a CONSTRUCT or DESCRIBE query")
         return list(result)
 
-    def _named(self, name: str, bindings: Mapping[str, Binding]) -> Any:
-        text = sparql.load(name)
+    def _query(self, text: str, bindings: Mapping[str, Binding]) -> Any:
+        text = bind_values(text, bindings)
         self._trace("query", text, bindings)
-        substitutions = {Variable(key): value for key, value in bindings.items()}
-        return self._store.query(text, substitutions=substitutions, use_default_graph_as_union=True)
+        return self._store.query(text, use_default_graph_as_union=True)
 
     def quads(
         self,
@@ -136,10 +139,7 @@ class Store:
 
     def graph_sizes(self) -> dict[str, int]:
         """Triples per named graph, by graph IRI."""
-        return {
-            row["graph"].value: int(row["triples"].value)  # type: ignore[union-attr]
-            for row in self.select("graph_sizes")
-        }
+        return {row["graph"].value: int(row["triples"].value) for row in self.select("graph_sizes")}
 
     # Writes ------------------------------------------------------------------------------------
 

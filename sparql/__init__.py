@@ -1,8 +1,8 @@
 """Engram's SPARQL, one ``.rq`` file per query, loaded by name.
 
-Values never reach a query by string splicing: callers bind them as terms (pyoxigraph
-``substitutions``, SEP-0007), which is why the files hold plain variables where values go. A
-variable a caller binds must appear in the query's projection (``SELECT ?graph ...``).
+Values never reach a query by string splicing: callers bind them as terms, which
+:func:`kg.sparql_text.bind_values` writes as a ``VALUES`` row at the start of the query's first
+``WHERE {`` group, so every file holds plain variables where values go and says ``WHERE {``.
 
 >>> "SELECT" in load("graph_sizes")
 True
