@@ -1,10 +1,19 @@
-"""Fixtures shared by every test package."""
+"""Fixtures shared by every test package: stores, and a real server on a loopback port."""
 
-from collections.abc import Iterator
+import socket
+import threading
+import time
+from collections.abc import Callable, Iterator
+from dataclasses import dataclass
 from pathlib import Path
+from typing import Any
 
+import httpx
 import pytest
+import uvicorn
 
+from api.config import Settings
+from api.main import create_app
 from kg import Store, ensure_ontology
 
 
@@ -29,3 +38,56 @@ def disk_store(tmp_path: Path) -> Iterator[Store]:
     ensure_ontology(store)
     yield store
     del store
+
+
+@dataclass
+class LiveServer:
+    """A running server: its base URL, its settings and an HTTP client bound to it."""
+
+    url: str
+    settings: Settings
+    client: httpx.Client
+
+
+def _free_port() -> int:
+    with socket.socket() as probe:
+        probe.bind(("127.0.0.1", 0))
+        port: int = probe.getsockname()[1]
+        return port
+
+
+@pytest.fixture
+def start_server(tmp_path: Path) -> Iterator[Callable[..., LiveServer]]:
+    """Start a server with the given settings overrides; every server stops after the test."""
+    running: list[tuple[uvicorn.Server, threading.Thread, httpx.Client]] = []
+
+    def start(**overrides: Any) -> LiveServer:
+        overrides.setdefault("data_dir", tmp_path / f"data-{len(running)}")
+        settings = Settings(host="127.0.0.1", port=_free_port(), **overrides)
+        config = uvicorn.Config(
+            create_app(settings), host=settings.host, port=settings.port, log_level="warning"
+        )
+        server = uvicorn.Server(config)
+        thread = threading.Thread(target=server.run, daemon=True)
+        thread.start()
+        deadline = time.monotonic() + 30
+        while not server.started:
+            if not thread.is_alive() or time.monotonic() > deadline:
+                raise RuntimeError("the test server did not start")
+            time.sleep(0.02)
+        url = f"http://{settings.host}:{settings.port}"
+        client = httpx.Client(base_url=url, timeout=60)
+        running.append((server, thread, client))
+        return LiveServer(url, settings, client)
+
+    yield start
+    for server, thread, client in running:
+        client.close()
+        server.should_exit = True
+        thread.join(timeout=30)
+
+
+@pytest.fixture
+def live_server(start_server: Callable[..., LiveServer]) -> LiveServer:
+    """A server with default settings (no token) over a fresh store."""
+    return start_server()

@@ -1,0 +1,40 @@
+"""The README's commands and its worked example still work."""
+
+import re
+import shlex
+from pathlib import Path
+
+import httpx
+
+from tests.conftest import LiveServer
+
+ROOT = Path(__file__).resolve().parents[1]
+README = (ROOT / "README.md").read_text(encoding="utf-8")
+
+
+def _blocks(language: str) -> list[str]:
+    """The fenced code blocks tagged ``language`` ("" for untagged), in order."""
+    found = re.findall(r"^```(\w*)\n(.*?)^```$", README, flags=re.DOTALL | re.MULTILINE)
+    return [body for tag, body in found if tag == language]
+
+
+def test_the_two_commands_are_scripts_that_exist() -> None:
+    commands = [line.split("#")[0].strip() for line in _blocks("sh")[0].splitlines()]
+    assert commands == ["bash scripts/demo", "bash scripts/test"]
+    for command in commands:
+        assert (ROOT / command.split()[1]).is_file()
+
+
+def test_ci_runs_the_readme_test_command() -> None:
+    assert "scripts/test" in (ROOT / ".ci" / "run").read_text(encoding="utf-8")
+
+
+def test_the_worked_example_answers_as_shown(live_server: LiveServer) -> None:
+    curl = shlex.split(_blocks("sh")[1].replace("\\\n", " "))
+    query = curl[curl.index("--data-urlencode") + 1].removeprefix("query=")
+    accept = curl[curl.index("-H") + 1].split(": ", 1)[1]
+    answer = httpx.get(
+        live_server.url + "/sparql", params={"query": query}, headers={"Accept": accept}
+    )
+    expected = _blocks("")[0]
+    assert answer.text.replace("\r\n", "\n") == expected
