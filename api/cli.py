@@ -8,6 +8,8 @@ import typer
 import uvicorn
 from rich.console import Console
 
+from api.cli_episodes import app as episodes_app
+from api.cli_perceive import perceive_command
 from api.config import Settings
 from api.main import create_app
 from api.summary import print_summary
@@ -21,6 +23,8 @@ app = typer.Typer(
     pretty_exceptions_enable=False,
 )
 console = Console()
+app.add_typer(episodes_app, name="episodes")
+app.command("perceive")(perceive_command)
 
 DataOption = Annotated[
     Path | None, typer.Option("--data", help="Data directory (default: $ENGRAM_DATA_DIR).")

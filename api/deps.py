@@ -1,15 +1,27 @@
-"""FastAPI dependencies: the store, the query runner, the settings and the write guard."""
+"""FastAPI dependencies: the services the app opened at start-up, the settings and the write
+guard. Every service lives on ``app.state`` for the app's lifetime (see ``api/main.py``)."""
 
 import secrets
 from typing import Annotated
 
 from fastapi import Depends, Header, HTTPException, Request, status
 
+from api.armor import ArmorEngine
 from api.config import Settings
+from episodes import EpisodeMemory
+from episodes.streams import RecordingRegistry
 from kg import Store
 from kg.sandbox import QueryRunner
 
-__all__ = ["RunnerDep", "SettingsDep", "StoreDep", "require_token"]
+__all__ = [
+    "ArmorDep",
+    "EpisodesDep",
+    "RecordingsDep",
+    "RunnerDep",
+    "SettingsDep",
+    "StoreDep",
+    "require_token",
+]
 
 
 def _settings(request: Request) -> Settings:
@@ -27,9 +39,27 @@ def _runner(request: Request) -> QueryRunner:
     return runner
 
 
+def _armor(request: Request) -> ArmorEngine:
+    engine: ArmorEngine = request.app.state.armor
+    return engine
+
+
+def _episodes(request: Request) -> EpisodeMemory:
+    memory: EpisodeMemory = request.app.state.episodes
+    return memory
+
+
+def _recordings(request: Request) -> RecordingRegistry:
+    registry: RecordingRegistry = request.app.state.recordings
+    return registry
+
+
 SettingsDep = Annotated[Settings, Depends(_settings)]
 StoreDep = Annotated[Store, Depends(_store)]
 RunnerDep = Annotated[QueryRunner, Depends(_runner)]
+ArmorDep = Annotated[ArmorEngine, Depends(_armor)]
+EpisodesDep = Annotated[EpisodeMemory, Depends(_episodes)]
+RecordingsDep = Annotated[RecordingRegistry, Depends(_recordings)]
 
 
 def require_token(

@@ -6,9 +6,12 @@ from contextlib import asynccontextmanager
 
 from fastapi import FastAPI
 
+from api.armor import ArmorEngine
 from api.config import Settings, get_settings
 from api.errors import install_error_handlers
-from api.routes import admin, export, health, sparql
+from api.routes import admin, armor, episodes, export, health, sparql, streams
+from episodes import EpisodeMemory
+from episodes.streams import RecordingRegistry
 from kg import Store, ensure_ontology
 from kg.sandbox import QueryRunner
 
@@ -35,13 +38,20 @@ def create_app(settings: Settings | None = None) -> FastAPI:
             timeout_s=settings.sparql_timeout_s,
             max_result_bytes=settings.sparql_max_result_bytes,
         )
-        app.state.settings, app.state.store, app.state.runner = settings, store, runner
+        recordings = RecordingRegistry()
+        state = app.state
+        state.settings, state.store, state.runner = settings, store, runner
+        state.recordings = recordings
+        state.armor = ArmorEngine(store)
+        state.episodes = EpisodeMemory(store, data_dir=settings.data_dir, recordings=recordings)
         try:
             yield
         finally:
+            recordings.close_all()  # a recording still open at shutdown ends as a complete file
             runner.close()
             store.flush()
-            app.state.store = app.state.runner = None  # release the store's directory lock
+            # release the store's directory lock
+            state.store = state.runner = state.armor = state.episodes = None
 
     app = FastAPI(
         title="Engram",
@@ -50,6 +60,6 @@ def create_app(settings: Settings | None = None) -> FastAPI:
         lifespan=lifespan,
     )
     install_error_handlers(app)
-    for module in (health, sparql, export, admin):
+    for module in (health, sparql, export, admin, episodes, armor, streams):
         app.include_router(module.router)
     return app

@@ -12,7 +12,7 @@
 import logging
 import os
 import threading
-from collections.abc import Callable, Iterator, Mapping
+from collections.abc import Callable, Iterator, Mapping, Sequence
 from contextlib import contextmanager
 from pathlib import Path
 from typing import Any
@@ -29,8 +29,14 @@ from pyoxigraph import (
 )
 
 import sparql
-from kg.errors import StoreError, StoreLockedError, TransactionError
-from kg.sparql_text import bind_values
+from kg.errors import (
+    QueryRefusedError,
+    QuerySyntaxError,
+    StoreError,
+    StoreLockedError,
+    TransactionError,
+)
+from kg.sparql_text import bind_values, mentions_keyword
 from kg.transaction import Transaction
 
 __all__ = ["Binding", "Store", "Tracer"]
@@ -127,6 +133,36 @@ class Store:
         self._trace("query", text, bindings)
         return self._store.query(text, use_default_graph_as_union=True)
 
+    def query_graphs(
+        self,
+        text: str,
+        *,
+        graphs: Sequence[NamedNode],
+        bindings: Mapping[str, Binding] | None = None,
+    ) -> QuerySolutions | QueryBoolean | QueryTriples:
+        """Run SPARQL query ``text`` (a caller's, not a stored one) over chosen graphs only.
+
+        The union of ``graphs`` is the default graph, and ``GRAPH`` reaches only those graphs.
+        Raises :class:`QuerySyntaxError` (with the parser's position) for text that does not
+        parse or is an update, and :class:`QueryRefusedError` for ``SERVICE``.
+
+        >>> from ontologies.vocab import reference_graph
+        >>> store = Store()
+        >>> store.query_graphs("ASK { ?s ?p ?o }", graphs=[reference_graph("r")]).__bool__()
+        False
+        """
+        if mentions_keyword(text, "SERVICE"):
+            raise QueryRefusedError("SERVICE is refused: queries may only read this store")
+        text = bind_values(text, bindings or {})
+        self._trace("query", text, bindings or {})
+        try:
+            result: QuerySolutions | QueryBoolean | QueryTriples = self._store.query(
+                text, default_graph=list(graphs), named_graphs=list(graphs)
+            )
+        except SyntaxError as error:
+            raise QuerySyntaxError(str(error)) from None
+        return result
+
     def quads(
         self,
         subject: NamedNode | None = None,
@@ -140,6 +176,25 @@ class Store:
     def graph_sizes(self) -> dict[str, int]:
         """Triples per named graph, by graph IRI."""
         return {row["graph"].value: int(row["triples"].value) for row in self.select("graph_sizes")}
+
+    def graph_ntriples(self, graph: NamedNode) -> bytes:
+        """The triples of one named graph as N-Triples (one triple a line, canonical literals).
+
+        Serialised by Oxigraph itself, so a reader that wants the whole graph as text (the OWL 2
+        RL reasoner compares and reasons over it) skips building one term object per triple.
+        Raises ``TypeError`` if ``graph`` is not a NamedNode.
+
+        >>> from ontologies.vocab import MEMORY, RDFS_LABEL, engram
+        >>> store = Store()
+        >>> with store.transaction() as tx:
+        ...     tx.insert(engram("a"), RDFS_LABEL, Literal("x"), MEMORY)
+        >>> store.graph_ntriples(MEMORY).decode()
+        '<https://w3id.org/engram/ontology#a> <http://www.w3.org/2000/01/rdf-schema#label> "x" .\\n'
+        """
+        if not isinstance(graph, NamedNode):
+            raise TypeError(f"graph must be a NamedNode naming an Engram graph, got {graph!r}")
+        self._trace("query", f"DUMP GRAPH {graph} AS N-Triples", {})
+        return self._store.dump(format=pyoxigraph.RdfFormat.N_TRIPLES, from_graph=graph) or b""
 
     # Writes ------------------------------------------------------------------------------------
 

@@ -31,9 +31,13 @@ find_python() {
     return 1
 }
 
+# Shared libraries that open3d's Python module links against (shapes/ uses it headless).
+OPEN3D_LIBS=(libusb-1.0-0 libgl1 libegl1 libx11-6 libudev1 libgomp1)
+
 # ensure_venv EXTRAS: create .venv if needed and install the project with those extras.
 ensure_venv() {
     local python
+    apt_install "${OPEN3D_LIBS[@]}" || return 1
     python=$(find_python) || return 1
     if [ ! -x .venv/bin/python ]; then
         if ! "$python" -m venv .venv 2>/dev/null; then

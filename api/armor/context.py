@@ -1,0 +1,89 @@
+"""What a command handler receives (:class:`Context`) and returns (:class:`Outcome`)."""
+
+from collections.abc import Callable
+from dataclasses import dataclass, field
+
+from pyoxigraph import Literal, NamedNode, Quad
+
+from api.armor.errors import InvalidArgumentsError
+from api.armor.models import ArmorDirectiveReq, ArmorDirectiveRes, QueryItem
+from api.armor.names import ValueStyle, resolve
+from api.armor.references import Reference
+from api.armor.session import Session
+
+__all__ = ["Context", "Outcome"]
+
+
+@dataclass
+class Outcome:
+    """A handled directive: ``success`` and ``exit_code`` as ARMOR sets them, and any results."""
+
+    queried_objects: list[str] = field(default_factory=list)
+    sparql_queried_objects: list[QueryItem] = field(default_factory=list)
+    success: bool = True
+    exit_code: int = 0
+    error_description: str = ""
+    timeout: bool = False
+    deferred: Callable[[ArmorDirectiveRes], None] | None = None
+    """Work to run after the list commits (the memory pipeline); it fills in the response."""
+
+
+@dataclass
+class Context:
+    """One directive being executed inside a :class:`Session`."""
+
+    session: Session
+    request: ArmorDirectiveReq
+    key: str
+    signature: str
+    style: ValueStyle = "armor"
+    applying: bool = False
+    """True while APPLY replays a buffered directive: it writes instead of queueing again."""
+
+    @property
+    def client(self) -> str:
+        return self.request.client_name
+
+    @property
+    def args(self) -> list[str]:
+        return self.request.args
+
+    def reference(self) -> Reference:
+        """The directive's reference; raises UnknownReferenceError if it is not loaded."""
+        return self.session.require(self.request.reference_name)
+
+    def arg(self, index: int, what: str) -> str:
+        """``args[index]``; raises InvalidArgumentsError naming what the command expects."""
+        if index >= len(self.args):
+            raise InvalidArgumentsError(
+                f"args[{index}] ({what}): missing; {self.key.replace('_', ' ').strip()} expects "
+                f"args {self.signature}, got {len(self.args)} arg(s)"
+            )
+        return self.args[index]
+
+    def name(self, index: int, what: str) -> NamedNode:
+        """``args[index]`` as an entity IRI of the directive's reference."""
+        return resolve(self.arg(index, what), self.reference().prefix, field=f"args[{index}]")
+
+    def buffered(self) -> bool:
+        """Queue the directive if the reference buffers manipulations; True if it was queued.
+
+        Call after the arguments are checked, before writing, so that a queued directive is
+        known to be well-formed.
+        """
+        reference = self.reference()
+        if self.applying or not reference.buffered_manipulation:
+            return False
+        self.session.update(reference.with_changes(buffer=(*reference.buffer, self.request)))
+        return True
+
+    def quad(self, subject: NamedNode, predicate: NamedNode, obj: NamedNode | Literal) -> Quad:
+        """A quad in the reference's asserted graph."""
+        return Quad(subject, predicate, obj, self.reference().asserted)
+
+    def write(self, *, insert: list[Quad] | None = None, delete: list[Quad] | None = None) -> None:
+        """Write to the reference, and keep an unbuffered reasoner up to date."""
+        reference = self.reference()
+        self.session.write(reference, insert=insert or (), delete=delete or ())
+        if not reference.buffered_reasoner:
+            self.session.reason_later(reference)

@@ -1,0 +1,412 @@
+"""Memory directives: scenes in, recognition, retrieval, sleep, pin, restore and scores out.
+
+They extend ARMOR's table with its key scheme. A perception client opens a scene, sends the
+primitives as ordinary ADD directives, and closes it::
+
+    LOAD INIT ""        []                     open a scene for (client_name, reference_name)
+    ADD IND CLASS       [obj, Sphere]          a primitive (Sphere, Cylinder, Cone or Plane)
+    ADD DATAPROP IND    [centreX, obj, DOUBLE, 0.3]   its attributes, named as in engram.ttl
+    SCENE UPDATED ""    [] or [episode IRI]    close it: encode, recognise, learn or reinforce
+
+While a scene is open, those ADDs feed the scene, not the reference (which need not be loaded).
+The memory pipeline's writes happen when the directive list commits, after the list's other
+writes, so a list that fails stores no scene. Results come as ``queried_objects`` (the main
+answer, in the request's value style) and ``sparql_queried_objects`` (every detail as key/value).
+"""
+
+import dataclasses
+import logging
+import threading
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from typing import Any
+
+from pyoxigraph import NamedNode
+
+from api.armor.context import Context, Outcome
+from api.armor.errors import MemoryDirectiveError
+from api.armor.models import ArmorDirectiveRes, QueryItem
+from api.armor.names import is_value_type, resolve, styled, to_literal
+from kg import Store
+from ontologies.vocab import ENGRAM_NS
+
+__all__ = ["MEMORY_COMMANDS", "MemoryDirectives", "SceneDraft"]
+
+log = logging.getLogger(__name__)
+
+_KINDS = {"sphere": "Sphere", "cylinder": "Cylinder", "cone": "Cone", "plane": "Plane"}
+_VECTORS = {
+    "centre": "centre",
+    "center": "centre",
+    "axis": "axis",
+    "apex": "apex",
+    "pointOnAxis": "point_on_axis",
+}
+_SCALARS = {"radius": "radius", "height": "height", "hessianOffset": "hessian"}
+_COLOUR = {"colourR": 0, "colourG": 1, "colourB": 2}
+SceneKey = tuple[str, str]
+
+
+@dataclass(frozen=True)
+class SceneDraft:
+    """An open scene: its primitives' kinds and attributes so far (immutable; copied on change)."""
+
+    objects: dict[str, dict[str, Any]] = field(default_factory=dict)
+
+    def with_object(self, name: str, **values: Any) -> "SceneDraft":
+        objects = {k: dict(v) for k, v in self.objects.items()}
+        objects.setdefault(name, {}).update(values)
+        return SceneDraft(objects)
+
+
+def _memory_iri(name: str, field_name: str) -> NamedNode:
+    """A memory class or item: a short name in Engram's namespace, or a full IRI."""
+    return resolve(name, ENGRAM_NS.rstrip("#"), field=field_name)
+
+
+class MemoryDirectives:
+    """The scene memory behind the memory directives (opened on first use) and open scenes."""
+
+    def __init__(self, store: Store) -> None:
+        self.store = store
+        self.scenes: dict[SceneKey, SceneDraft] = {}
+        self._memory: Any = None
+        self._lock = threading.Lock()
+
+    @property
+    def memory(self) -> Any:
+        with self._lock:
+            if self._memory is None:
+                try:
+                    from reasoners.memory import SceneMemory
+                except ImportError as error:
+                    raise MemoryDirectiveError(
+                        f"the scene memory (reasoners.memory) is not installed: {error}"
+                    ) from None
+                self._memory = SceneMemory(self.store)
+            return self._memory
+
+
+def _key(ctx: Context) -> SceneKey:
+    return (ctx.client, ctx.request.reference_name)
+
+
+def _errors(*more: type[Exception]) -> tuple[type[Exception], ...]:
+    """The scene memory's errors (imported late: the memory may not be installed)."""
+    from reasoners.errors import MemoryReasonerError
+
+    return (MemoryReasonerError, ValueError, *more)
+
+
+def _deferred(
+    ctx: Context, work: Callable[[], Any], fill: Callable[[Any, ArmorDirectiveRes], None]
+) -> Outcome:
+    """Run ``work`` after the list commits and write its result into the response."""
+    failures = _errors()
+
+    def run(response: ArmorDirectiveRes) -> None:
+        try:
+            fill(work(), response)
+        except failures as error:
+            raise MemoryDirectiveError(str(error)) from None
+
+    return Outcome(deferred=run)
+
+
+# Scenes ----------------------------------------------------------------------------------------
+
+
+def load_init(ctx: Context) -> Outcome:
+    key = _key(ctx)
+    if ctx.session.scene(key) is not None:
+        raise MemoryDirectiveError(
+            f"LOAD INIT: {ctx.client} already has an open scene on {key[1]}; "
+            "close it with SCENE UPDATED first"
+        )
+    ctx.session.set_scene(key, SceneDraft())
+    return Outcome()
+
+
+def scene_add_ind_class(ctx: Context, draft: SceneDraft) -> Outcome:
+    name, kind = ctx.arg(0, "primitive"), ctx.arg(1, "primitive kind")
+    local = kind.strip("<>").rsplit("#", 1)[-1]
+    if local.lower() not in _KINDS:
+        raise MemoryDirectiveError(
+            f"args[1]: got {kind!r}, expected a primitive kind: Sphere, Cylinder, Cone or Plane"
+        )
+    ctx.session.set_scene(_key(ctx), draft.with_object(name, kind=_KINDS[local.lower()]))
+    return Outcome()
+
+
+def scene_add_dataprop(ctx: Context, draft: SceneDraft) -> Outcome:
+    prop, name = ctx.arg(0, "attribute"), ctx.arg(1, "primitive")
+    type_name, value = ctx.arg(2, "value type"), ctx.arg(3, "value")
+    local = prop.strip("<>").rsplit("#", 1)[-1]
+    if not is_value_type(type_name):
+        raise MemoryDirectiveError(f"args[2]: got {type_name!r}, expected DOUBLE, FLOAT or INTEGER")
+    number = float(to_literal(type_name, value, field="args[3]").value)
+    if local in _SCALARS:
+        return _set(ctx, draft, name, **{_SCALARS[local]: number})
+    if local == "trackingId":
+        return _set(ctx, draft, name, tracking_id=int(number))
+    if local in _COLOUR:
+        return _component(ctx, draft, name, "colour", _COLOUR[local], number)
+    for prefix, field_name in _VECTORS.items():
+        if local.startswith(prefix) and local[len(prefix) :] in ("X", "Y", "Z"):
+            index = "XYZ".index(local[len(prefix) :])
+            return _component(ctx, draft, name, field_name, index, number)
+    raise MemoryDirectiveError(
+        f"args[0]: got {prop!r}, expected a primitive attribute of engram.ttl "
+        "(centreX/Y/Z, axisX/Y/Z, radius, height, apexX/Y/Z, pointOnAxisX/Y/Z, hessianOffset, "
+        "colourR/G/B, trackingId)"
+    )
+
+
+def _set(ctx: Context, draft: SceneDraft, name: str, **values: Any) -> Outcome:
+    ctx.session.set_scene(_key(ctx), draft.with_object(name, **values))
+    return Outcome()
+
+
+def _component(
+    ctx: Context, draft: SceneDraft, name: str, field_name: str, index: int, number: float
+) -> Outcome:
+    vector = list(draft.objects.get(name, {}).get(field_name, (None, None, None)))
+    vector[index] = number
+    return _set(ctx, draft, name, **{field_name: tuple(vector)})
+
+
+def _primitives(draft: SceneDraft) -> list[Any]:
+    from reasoners.primitives import Primitive
+
+    names = {f.name for f in dataclasses.fields(Primitive)}
+    primitives = []
+    for name, values in draft.objects.items():
+        if "kind" not in values:
+            raise MemoryDirectiveError(
+                f"primitive {name!r}: has attributes but no kind; send ADD IND CLASS [{name}, Kind]"
+            )
+        for vector in ("centre", "axis", "apex", "point_on_axis", "colour"):
+            if vector in values and None in values[vector]:
+                missing = "XYZ"[values[vector].index(None)]
+                raise MemoryDirectiveError(f"primitive {name!r}: {vector} lacks its {missing}")
+        if "centre" not in values:
+            raise MemoryDirectiveError(f"primitive {name!r}: no centre (centreX/Y/Z)")
+        try:
+            primitives.append(Primitive(id=name, **{k: v for k, v in values.items() if k in names}))
+        except _errors() as error:
+            raise MemoryDirectiveError(str(error)) from None
+    return primitives
+
+
+def _items(pairs: list[tuple[str, str]]) -> list[QueryItem]:
+    return [QueryItem(key=k, value=v) for k, v in pairs]
+
+
+def scene_updated(ctx: Context) -> Outcome:
+    key = _key(ctx)
+    draft = ctx.session.scene(key)
+    if draft is None:
+        raise MemoryDirectiveError(
+            f"SCENE UPDATED: {ctx.client} has no open scene on {key[1]}; send LOAD INIT first"
+        )
+    primitives = _primitives(draft)
+    episode = resolve(ctx.args[0], ENGRAM_NS, field="args[0]") if ctx.args else None
+    memory = ctx.session.memory.memory
+    try:
+        memory.recognise(primitives)  # checks the scene now, so that a bad one fails the list
+    except _errors() as error:
+        raise MemoryDirectiveError(f"SCENE UPDATED: {error}") from None
+    ctx.session.set_scene(key, None)
+
+    def fill(result: Any, response: ArmorDirectiveRes) -> None:
+        response.queried_objects = [styled(result.stored_as, ctx.style)]
+        pairs = [
+            ("stored_as", styled(result.stored_as, ctx.style)),
+            ("learned", "true" if result.learned else "false"),
+            ("confidence", f"{result.confidence:.6g}"),
+            ("complexity", str(result.signature.complexity)),
+            ("scene_item", styled(result.scene_item, ctx.style)),
+        ]
+        pairs += [
+            ("recognised", f"{styled(r.cls, ctx.style)} {r.confidence:.6g}")
+            for r in result.recognised
+        ]
+        pairs += [("parent", styled(p, ctx.style)) for p in result.parents]
+        pairs += [("level", result.scores.level), ("score", f"{result.scores.normalised:.6g}")]
+        response.sparql_queried_objects = _items(pairs)
+
+    return _deferred(ctx, lambda: memory.store_scene(primitives, episode=episode), fill)
+
+
+# Retrieval, sleep, pin, restore, scores ---------------------------------------------------------
+
+
+def _cue(ctx: Context) -> list[Any]:
+    """Relation triples from args ("Sphere isAboveOf Plane"), or the client's open scene."""
+    if ctx.args:
+        cue = []
+        for index, text in enumerate(ctx.args):
+            parts = text.split()
+            if len(parts) != 3:
+                raise MemoryDirectiveError(
+                    f"args[{index}]: got {text!r}, expected 'Type relation Type', "
+                    "e.g. 'Sphere isAboveOf Plane'"
+                )
+            cue.append(tuple(parts))
+        return cue
+    draft = ctx.session.scene(_key(ctx))
+    if draft is None:
+        raise MemoryDirectiveError(
+            "RETRIEVE SCENE: give the cue as args ('Sphere isAboveOf Plane', ...) or send it "
+            "as an open scene (LOAD INIT, ADD ...)"
+        )
+    ctx.session.set_scene(_key(ctx), None)
+    return _primitives(draft)
+
+
+def _retrieve(ctx: Context, *, spread: bool) -> Outcome:
+    cue = _cue(ctx)
+    memory = ctx.session.memory.memory
+    try:  # check the cue now, so that a bad one fails the list
+        if cue and isinstance(cue[0], tuple):
+            memory.encoder.cue_signature(cue)
+        else:
+            memory.recognise(cue)
+    except _errors() as error:
+        raise MemoryDirectiveError(f"RETRIEVE SCENE: {error}") from None
+
+    def fill(result: Any, response: ArmorDirectiveRes) -> None:
+        s = ctx.style
+        response.queried_objects = [styled(result.recalled, s)] if result.recalled else []
+        pairs = []
+        if result.recalled is not None:
+            pairs.append(("recalled", styled(result.recalled, s)))
+        if result.exact is not None:
+            pairs.append(("exact", styled(result.exact, s)))
+        pairs += [
+            ("generalisation", f"{styled(r.cls, s)} {r.confidence:.6g}")
+            for r in result.generalisations
+        ]
+        pairs += [
+            ("specialisation", f"{styled(m.cls, s)} {m.similarity:.6g}")
+            for m in result.specialisations
+        ]
+        pairs += [("similar", f"{styled(m.cls, s)} {m.similarity:.6g}") for m in result.similar]
+        pairs += [("branch", styled(c, s)) for c in result.branch]
+        pairs += [
+            ("activation", f"{styled(m.cls, s)} {m.similarity:.6g}")
+            for m in (result.activation or ())
+        ]
+        response.sparql_queried_objects = _items(pairs)
+
+    return _deferred(ctx, lambda: memory.retrieve(cue, spread=spread), fill)
+
+
+def retrieve_scene(ctx: Context) -> Outcome:
+    return _retrieve(ctx, spread=False)
+
+
+def retrieve_scene_spread(ctx: Context) -> Outcome:
+    return _retrieve(ctx, spread=True)
+
+
+def memory_sleep(ctx: Context) -> Outcome:
+    memory = ctx.session.memory.memory
+
+    def fill(report: Any, response: ArmorDirectiveRes) -> None:
+        s = ctx.style
+        response.queried_objects = [styled(c, s) for c in report.forgotten_classes]
+        pairs = [("rescored", str(report.rescored))]
+        pairs += [("forgotten_class", styled(c, s)) for c in report.forgotten_classes]
+        pairs += [("forgotten_item", styled(i, s)) for i in report.forgotten_items]
+        pairs += [
+            ("level", f"{styled(c, s)} {level}")
+            for c, level in sorted(report.levels.items(), key=lambda kv: kv[0].value)
+        ]
+        response.sparql_queried_objects = _items(pairs)
+
+    return _deferred(ctx, memory.sleep, fill)
+
+
+def _pin(ctx: Context, pinned: bool) -> Outcome:
+    iri = _memory_iri(ctx.arg(0, "class or scene item"), "args[0]")
+    memory = ctx.session.memory.memory
+    try:
+        memory.item_scores(iri)  # checks the item is live now
+    except _errors(KeyError) as error:
+        raise MemoryDirectiveError(f"args[0]: {error}") from None
+    return _deferred(ctx, lambda: memory.pin(iri, pinned), lambda _, response: None)
+
+
+def memory_pin(ctx: Context) -> Outcome:
+    return _pin(ctx, True)
+
+
+def memory_unpin(ctx: Context) -> Outcome:
+    return _pin(ctx, False)
+
+
+def memory_restore(ctx: Context) -> Outcome:
+    iri = _memory_iri(ctx.arg(0, "forgotten class or scene item"), "args[0]")
+    memory = ctx.session.memory.memory
+    if iri not in memory.trash():
+        raise MemoryDirectiveError(f"args[0]: {iri.value} is not in the trash")
+
+    def fill(restored: Any, response: ArmorDirectiveRes) -> None:
+        response.queried_objects = [styled(i, ctx.style) for i in restored]
+
+    return _deferred(ctx, lambda: memory.restore(iri), fill)
+
+
+def _scores(ctx: Context) -> Any:
+    iri = _memory_iri(ctx.arg(0, "class or scene item"), "args[0]")
+    memory = ctx.session.memory.memory
+    try:
+        return memory.item_scores(iri)
+    except _errors(KeyError) as error:
+        raise MemoryDirectiveError(f"args[0]: {error}") from None
+
+
+def query_memory_scores(ctx: Context) -> Outcome:
+    scores = _scores(ctx)
+    pairs = [
+        ("kind", scores.kind),
+        ("level", scores.level),
+        ("normalised_score", f"{scores.normalised:.6g}"),
+        ("raw_score", f"{scores.raw_score:.6g}"),
+        ("complexity", str(scores.complexity)),
+        ("store_count", str(scores.store_count)),
+        ("retrieve_count", str(scores.retrieve_count)),
+        ("consecutive_weak", str(scores.consecutive_weak)),
+        ("pinned", "true" if scores.pinned else "false"),
+        ("created", scores.created.isoformat()),
+        ("last_accessed", scores.last_accessed.isoformat()),
+    ]
+    if scores.cls is not None:
+        pairs.append(("class", styled(scores.cls, ctx.style)))
+    return Outcome(
+        queried_objects=[f"{scores.normalised:.6g}"], sparql_queried_objects=_items(pairs)
+    )
+
+
+def query_memory_level(ctx: Context) -> Outcome:
+    return Outcome(queried_objects=[_scores(ctx).level])
+
+
+MEMORY_COMMANDS: dict[str, tuple[Callable[[Context], Outcome], str]] = {
+    "LOAD_INIT_": (load_init, "[]"),
+    "SCENE_UPDATED_": (scene_updated, "[] or [episode IRI]"),
+    "RETRIEVE_SCENE_": (retrieve_scene, "['Type relation Type', ...] or an open scene"),
+    "RETRIEVE_SCENE_SPREAD": (retrieve_scene_spread, "['Type relation Type', ...]"),
+    "MEMORY_SLEEP_": (memory_sleep, "[]"),
+    "MEMORY_PIN_": (memory_pin, "[class or item]"),
+    "MEMORY_UNPIN_": (memory_unpin, "[class or item]"),
+    "MEMORY_RESTORE_": (memory_restore, "[class or item]"),
+    "QUERY_MEMORY_SCORES": (query_memory_scores, "[class or item]"),
+    "QUERY_MEMORY_LEVEL": (query_memory_level, "[class or item]"),
+}
+SCENE_ADDS: dict[str, Callable[[Context, SceneDraft], Outcome]] = {
+    "ADD_IND_CLASS": scene_add_ind_class,
+    "ADD_DATAPROP_IND": scene_add_dataprop,
+}
+"""ADD directives that feed an open scene instead of the reference."""

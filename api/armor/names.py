@@ -1,0 +1,216 @@
+"""Names in ``args`` to IRIs, typed values to literals, and terms back to ARMOR's strings.
+
+ARMOR resolves every name against the IRI given at LOAD: ``<iri>#<name>``. Engram also accepts a
+full IRI, written ``<http://…>`` or starting with ``http://``, ``https://`` or ``urn:``.
+
+>>> resolve("ind_1", "http://ex.org/onto").value
+'http://ex.org/onto#ind_1'
+>>> to_literal("INTEGER", "3", field="args[3]")
+<Literal value=3 datatype=<NamedNode value=http://www.w3.org/2001/XMLSchema#integer>>
+>>> armor_string(to_literal("FLOAT", "0.5", field="args[3]"))
+'"0.5"^^xsd:float'
+>>> armor_string(NamedNode("http://ex.org/onto#ind_1"))
+'<http://ex.org/onto#ind_1>'
+>>> jena_string(to_literal("INT", "3", field="args[3]"))
+'3^^http://www.w3.org/2001/XMLSchema#integer'
+"""
+
+import decimal
+import math
+import re
+import struct
+from typing import Literal as Lit
+
+from pyoxigraph import BlankNode, Literal, NamedNode, Triple
+
+from api.armor.errors import InvalidArgumentsError
+from ontologies.vocab import OWL_NS, RDF_NS, RDFS_NS, SKOLEM_PREFIX, XSD_NS
+
+__all__ = [
+    "ValueStyle",
+    "armor_string",
+    "is_true",
+    "is_value_type",
+    "jena_string",
+    "local_name",
+    "plain_string",
+    "resolve",
+    "styled",
+    "to_literal",
+]
+
+ValueStyle = Lit["armor", "plain", "short"]
+"""How query results are written: ARMOR's strings (``<iri>``, ``"3"^^xsd:integer``), plain values
+(``iri``, ``3``), or short names (``ind_1``, ``3``)."""
+
+_FULL_IRI = re.compile(r"^(?:https?://|urn:|file:)\S+$")
+_XSD = {
+    name: NamedNode(XSD_NS + name) for name in ("string", "integer", "float", "long", "boolean")
+}
+_TYPES = {
+    "STRING": "string",
+    "INT": "integer",
+    "INTEGER": "integer",
+    "FLOAT": "float",
+    "DOUBLE": "float",  # ARMOR converts DOUBLE to a Java Float: xsd:float
+    "LONG": "long",
+    "BOOLEAN": "boolean",
+    "BOOL": "boolean",
+}
+_PREFIXES = (("xsd", XSD_NS), ("rdf", RDF_NS), ("rdfs", RDFS_NS), ("owl", OWL_NS))
+
+
+def resolve(name: str, prefix: str, *, field: str = "args") -> NamedNode:
+    """The IRI of a name given in ``args``.
+
+    Raises :class:`InvalidArgumentsError` for an empty name or one that cannot be in an IRI.
+    """
+    if name.startswith("<") and name.endswith(">"):
+        iri = name[1:-1]
+    elif _FULL_IRI.match(name):
+        iri = name
+    else:
+        if not name:
+            raise InvalidArgumentsError(f"{field}: got an empty name, expected an entity name")
+        iri = f"{prefix}#{name}"
+    try:
+        return NamedNode(iri)
+    except ValueError:
+        raise InvalidArgumentsError(
+            f"{field}: got {name!r}, which cannot be part of an IRI (no spaces, <, >, quotes)"
+        ) from None
+
+
+def is_true(flag: str) -> bool:
+    """Java's ``Boolean.valueOf``: ``"true"`` in any case is true, anything else false."""
+    return flag.lower() == "true"
+
+
+def is_value_type(type_name: str) -> bool:
+    """True for the type names ARMOR accepts (case-insensitive)."""
+    return type_name.upper() in _TYPES
+
+
+def to_literal(type_name: str, value: str, *, field: str) -> Literal:
+    """The literal ARMOR makes of ``value`` with ``type_name`` (STRING, INTEGER, DOUBLE, …).
+
+    The caller checks :func:`is_value_type` first (ARMOR answers 101 for an unknown type). Raises
+    :class:`InvalidArgumentsError` naming ``field`` for a value that is not of the type.
+    """
+    local = _TYPES[type_name.upper()]
+    if local == "integer" or local == "long":
+        try:
+            number = int(value.strip())
+        except ValueError:
+            raise InvalidArgumentsError(
+                f"{field}: got {value!r}, expected an integer for type {type_name}"
+            ) from None
+        bits = 32 if local == "integer" else 64
+        if not -(2 ** (bits - 1)) <= number < 2 ** (bits - 1):
+            raise InvalidArgumentsError(
+                f"{field}: got {value!r}, out of range for type {type_name} ({bits}-bit)"
+            )
+        # The store keeps xsd:long as xsd:integer (its canonical form), so build that directly;
+        # the reference remembers LONG properties to print them as xsd:long again.
+        return Literal(str(number), datatype=_XSD["integer"])
+    if local == "float":
+        return Literal(_java_float(value, field=field, type_name=type_name), datatype=_XSD[local])
+    if local == "boolean":
+        return Literal("true" if is_true(value) else "false", datatype=_XSD[local])
+    return Literal(value, datatype=_XSD["string"])
+
+
+def _java_float(value: str, *, field: str, type_name: str) -> str:
+    """The shortest decimal that reads back as the same 32-bit float, as Java prints it."""
+    try:
+        number = float(value.strip())
+    except ValueError:
+        raise InvalidArgumentsError(
+            f"{field}: got {value!r}, expected a number for type {type_name}"
+        ) from None
+    if math.isnan(number):
+        return "NaN"
+    if math.isinf(number):
+        return "INF" if number > 0 else "-INF"
+    try:
+        single = struct.unpack("f", struct.pack("f", number))[0]
+    except OverflowError:
+        raise InvalidArgumentsError(
+            f"{field}: got {value!r}, out of range for a 32-bit float ({type_name})"
+        ) from None
+    text = repr(single)
+    for digits in range(1, 10):
+        text = f"{single:.{digits}g}"
+        if struct.unpack("f", struct.pack("f", float(text)))[0] == single:
+            break
+    # Positional notation, as the store writes a canonical xsd:float ("1e10" is "10000000000").
+    positional = format(decimal.Decimal(text), "f")
+    if "." in positional:
+        positional = positional.rstrip("0").rstrip(".")
+    return positional or "0"
+
+
+def local_name(iri: str) -> str:
+    """The part after ``#`` (or the last ``/``): ARMOR's short name."""
+    for separator in ("#", "/"):
+        if separator in iri:
+            return iri.rsplit(separator, 1)[1]
+    return iri
+
+
+def _escape(text: str) -> str:
+    return text.replace("\\", "\\\\").replace('"', '\\"')
+
+
+def _datatype(iri: str) -> str:
+    for prefix, namespace in _PREFIXES:
+        if iri.startswith(namespace):
+            return f"{prefix}:{iri[len(namespace) :]}"
+    return f"<{iri}>"
+
+
+def armor_string(term: NamedNode | BlankNode | Literal | Triple, *, datatype: str = "") -> str:
+    """ARMOR's (OWLAPI's) string for a term: ``<iri>`` or ``"lex"^^xsd:type``.
+
+    ``datatype`` overrides the literal's datatype IRI (the store turns xsd:long into xsd:integer).
+    """
+    if isinstance(term, Literal):
+        if term.language:
+            return f'"{_escape(term.value)}"@{term.language}'
+        return f'"{_escape(term.value)}"^^{_datatype(datatype or term.datatype.value)}'
+    if isinstance(term, NamedNode):
+        return f"<{term.value}>"
+    return str(term)
+
+
+def plain_string(term: NamedNode | BlankNode | Literal | Triple) -> str:
+    """The IRI without brackets, or the literal's lexical value."""
+    if isinstance(term, NamedNode | Literal):
+        return term.value
+    return str(term)
+
+
+def styled(
+    term: NamedNode | BlankNode | Literal | Triple, style: ValueStyle, *, datatype: str = ""
+) -> str:
+    """A query result in the chosen :data:`ValueStyle`."""
+    if style == "armor":
+        return armor_string(term, datatype=datatype)
+    if style == "short" and isinstance(term, NamedNode):
+        return local_name(term.value)
+    return plain_string(term)
+
+
+def jena_string(term: NamedNode | BlankNode | Literal | Triple) -> str:
+    """Jena's ``RDFNode.toString()``: ``iri``, ``lex^^datatype-iri``, ``lex@lang`` or ``lex``."""
+    if isinstance(term, Literal):
+        if term.language:
+            return f"{term.value}@{term.language}"
+        if term.datatype.value == XSD_NS + "string":
+            return term.value
+        return f"{term.value}^^{term.datatype.value}"
+    if isinstance(term, NamedNode):
+        if term.value.startswith(SKOLEM_PREFIX):
+            return term.value[len(SKOLEM_PREFIX) :]  # Jena prints a blank node as its label
+        return term.value
+    return str(term)

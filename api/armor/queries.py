@@ -1,0 +1,319 @@
+"""Every QUERY variant, with results written exactly as ARMOR writes them.
+
+Results are sets in ARMOR (Java ``HashSet``); here they come sorted, which is one of the orders
+ARMOR could give. ``QUERY SPARQL`` runs over the reference's asserted and inferred graphs.
+"""
+
+import time
+from collections.abc import Callable
+
+from pyoxigraph import Literal, NamedNode, QuerySolutions
+
+from api.armor.context import Context, Outcome
+from api.armor.errors import InvalidArgumentsError, SparqlError
+from api.armor.models import QueryItem
+from api.armor.names import is_true, jena_string, local_name, styled
+from api.armor.references import Reference
+from ontologies.vocab import (
+    OWL_EQUIVALENT_CLASS,
+    OWL_INTERSECTION_OF,
+    OWL_NOTHING,
+    OWL_NS,
+    OWL_ON_CLASS,
+    OWL_ON_PROPERTY,
+    RDF_FIRST,
+    RDF_REST,
+    RDFS_SUBCLASSOF,
+    SKOLEM_PREFIX,
+    XSD_NS,
+)
+
+__all__ = ["HANDLERS"]
+
+_SKOLEM = Literal(SKOLEM_PREFIX)
+_XSD_INTEGER = XSD_NS + "integer"
+_XSD_LONG = XSD_NS + "long"
+
+
+def _strings(
+    ctx: Context, terms: list[NamedNode | Literal], prop: NamedNode | None = None
+) -> list[str]:
+    reference = ctx.reference()
+    as_long = prop is not None and prop.value in reference.long_properties
+    out = []
+    for term in terms:
+        datatype = (
+            _XSD_LONG
+            if as_long and isinstance(term, Literal) and term.datatype.value == _XSD_INTEGER
+            else ""
+        )
+        out.append(styled(term, ctx.style, datatype=datatype))
+    return sorted(set(out))
+
+
+def _class_bindings(cls: NamedNode) -> dict[str, NamedNode | Literal]:
+    """``class`` is a Python keyword, so it is bound through a dict."""
+    return {"class": cls, "skolem": _SKOLEM}
+
+
+def _column(rows: list[dict[str, NamedNode | Literal]], name: str) -> list[NamedNode | Literal]:
+    return [row[name] for row in rows if name in row]
+
+
+def _classes_of(ctx: Context, ind: NamedNode) -> list[NamedNode | Literal]:
+    rows = ctx.session.select(ctx.reference(), "armor_ind_classes", ind=ind, skolem=_SKOLEM)
+    return _column(rows, "class")
+
+
+def query_ind(ctx: Context) -> Outcome:
+    """The classes of an individual; ``success=false`` with code 0 if it has none (ARMOR)."""
+    classes = _classes_of(ctx, ctx.name(0, "individual"))
+    if not classes:
+        return Outcome(success=False)
+    return Outcome(queried_objects=_strings(ctx, classes))
+
+
+def query_ind_class(ctx: Context) -> Outcome:
+    cls = ctx.name(0, "class")
+    rows = ctx.session.select(ctx.reference(), "armor_class_instances", **_class_bindings(cls))
+    return Outcome(queried_objects=_strings(ctx, _column(rows, "ind")))
+
+
+def _values(ctx: Context, *, literal: bool) -> Outcome:
+    prop = ctx.name(0, "data property" if literal else "object property")
+    ind = ctx.name(1, "individual")
+    rows = ctx.session.select(ctx.reference(), "armor_property_values", ind=ind, prop=prop)
+    values = [
+        v
+        for v in _column(rows, "value")
+        if isinstance(v, Literal) == literal and not v.value.startswith(SKOLEM_PREFIX)
+    ]
+    return Outcome(queried_objects=_strings(ctx, values, prop))
+
+
+def query_dataprop_ind(ctx: Context) -> Outcome:
+    return _values(ctx, literal=True)
+
+
+def query_objectprop_ind(ctx: Context) -> Outcome:
+    return _values(ctx, literal=False)
+
+
+def query_class_ind(ctx: Context) -> Outcome:
+    """All classes of an individual, or with ``args[1] == "true"`` one leaf class as a short name.
+
+    ARMOR requires ``args[1]``; Engram defaults it to false, as ARMOR's documentation says.
+    """
+    ind = ctx.name(0, "individual")
+    bottom = is_true(ctx.args[1]) if len(ctx.args) > 1 else False
+    classes = [c for c in _classes_of(ctx, ind) if isinstance(c, NamedNode)]
+    if not bottom:
+        return Outcome(queried_objects=_strings(ctx, list(classes)))
+    reference = ctx.reference()
+    leaves = [
+        c
+        for c in classes
+        if not any(
+            other != c
+            and ctx.session.quads(reference, other, RDFS_SUBCLASSOF, c)
+            and not ctx.session.quads(reference, c, RDFS_SUBCLASSOF, other)
+            for other in classes
+        )
+    ]
+    leaf = sorted(leaves, key=lambda c: c.value)[:1]
+    return Outcome(queried_objects=[local_name(c.value) for c in leaf])
+
+
+def query_class_class(ctx: Context) -> Outcome:
+    """Every subclass, direct or not; owl:Nothing included, as the OWLAPI reasoners give it."""
+    cls = ctx.name(0, "class")
+    rows = ctx.session.select(ctx.reference(), "armor_subclasses", **_class_bindings(cls))
+    subs = _column(rows, "sub")
+    if cls != OWL_NOTHING:
+        subs.append(OWL_NOTHING)
+    return Outcome(queried_objects=_strings(ctx, subs))
+
+
+def _properties(ctx: Context, *, literal: bool) -> Outcome:
+    ind = ctx.name(0, "individual")
+    rows = ctx.session.select(ctx.reference(), "armor_ind_properties", ind=ind, skolem=_SKOLEM)
+    props = [
+        row["prop"]
+        for row in rows
+        if "prop" in row and "literal" in row and is_true(row["literal"].value) == literal
+    ]
+    return Outcome(queried_objects=_strings(ctx, props))
+
+
+def query_ind_dataprop(ctx: Context) -> Outcome:
+    return _properties(ctx, literal=True)
+
+
+def query_ind_objectprop(ctx: Context) -> Outcome:
+    return _properties(ctx, literal=False)
+
+
+# QUERY CLASS RESTRICTIONS ----------------------------------------------------------------------
+
+_RESTRICTION_KINDS = {
+    "someValuesFrom": "SOME",
+    "allValuesFrom": "ONLY",
+    "hasValue": "VALUE",
+    "minQualifiedCardinality": "MIN",
+    "maxQualifiedCardinality": "MAX",
+    "qualifiedCardinality": "EXACT",
+    "minCardinality": "MIN",
+    "maxCardinality": "MAX",
+    "cardinality": "EXACT",
+}
+
+
+def query_class_restrictions(ctx: Context) -> Outcome:
+    """One string per superclass or equivalent-class axiom made of restrictions, written as
+    AMOR's ``SemanticRestriction`` set: ``[SOME : Class_4 -> OProperty_1(Class_3), …]``."""
+    cls = ctx.name(0, "class")
+    reference = ctx.reference()
+    strings = []
+    for predicate in (OWL_EQUIVALENT_CLASS, RDFS_SUBCLASSOF):
+        for quad in ctx.session.quads(reference, cls, predicate, graph=reference.asserted):
+            if not isinstance(quad.object, NamedNode) or not _text(quad.object).startswith(
+                SKOLEM_PREFIX
+            ):
+                continue
+            parts = _restrictions(ctx, reference, cls, quad.object)
+            if parts:
+                strings.append("[" + ", ".join(parts) + "]")
+    return Outcome(queried_objects=sorted(set(strings)))
+
+
+def _text(term: object) -> str:
+    """The IRI or lexical value of a term."""
+    return term.value if isinstance(term, NamedNode | Literal) else str(term)
+
+
+def _restrictions(ctx: Context, reference: Reference, cls: NamedNode, node: NamedNode) -> list[str]:
+    session = ctx.session
+    members = [node]
+    for quad in session.quads(reference, node, OWL_INTERSECTION_OF):
+        members = _list_items(ctx, reference, quad.object)  # type: ignore[arg-type]
+    parts = []
+    for member in members:
+        props = session.quads(reference, member, OWL_ON_PROPERTY)
+        if not props:
+            continue
+        prop = local_name(_text(props[0].object))
+        for quad in session.quads(reference, member):
+            name = quad.predicate.value.removeprefix(OWL_NS)
+            kind = _RESTRICTION_KINDS.get(name)
+            if kind is None or not quad.predicate.value.startswith(OWL_NS):
+                continue
+            if kind in ("MIN", "MAX", "EXACT"):
+                on = session.quads(reference, member, OWL_ON_CLASS)
+                target = local_name(_text(on[0].object)) if on else "Thing"
+                parts.append(
+                    f"{kind} : {local_name(cls.value)} -> {prop} {_text(quad.object)}({target})"
+                )
+            else:
+                parts.append(
+                    f"{kind} : {local_name(cls.value)} -> {prop}({local_name(_text(quad.object))})"
+                )
+    return sorted(parts)
+
+
+def _list_items(ctx: Context, reference: Reference, head: NamedNode) -> list[NamedNode]:
+    items, seen = [], set()
+    while head.value.startswith(SKOLEM_PREFIX) and head not in seen:
+        seen.add(head)
+        first = ctx.session.quads(reference, head, RDF_FIRST)
+        rest = ctx.session.quads(reference, head, RDF_REST)
+        items += [q.object for q in first if isinstance(q.object, NamedNode)]
+        if not rest or not isinstance(rest[0].object, NamedNode):
+            break
+        head = rest[0].object
+    return items
+
+
+# QUERY SPARQL ----------------------------------------------------------------------------------
+
+
+def _sparql_text(ctx: Context) -> tuple[str, float | None]:
+    """ARMOR's argument forms: [q], [q, timeout_ms], [prefix, select, where(, timeout_ms)]."""
+    args = ctx.args
+    if len(args) not in (1, 2, 3, 4):
+        raise InvalidArgumentsError(
+            f"args: got {len(args)} args, expected [query], [query, timeout_ms], "
+            "[prefix, select, where] or [prefix, select, where, timeout_ms]"
+        )
+    text = args[0] if len(args) <= 2 else "".join(args[:3])
+    timeout_s = None
+    if len(args) in (2, 4):
+        raw = args[-1]
+        try:
+            timeout_s = int(raw) / 1000
+        except ValueError:
+            raise InvalidArgumentsError(
+                f"args[{len(args) - 1}]: got {raw!r}, expected a timeout in milliseconds"
+            ) from None
+        if timeout_s <= 0:
+            timeout_s = None  # Jena: a non-positive timeout means none
+    return text, timeout_s
+
+
+def _solutions(ctx: Context) -> list[list[tuple[str, NamedNode | Literal]]]:
+    text, timeout_s = _sparql_text(ctx)
+    reference = ctx.reference()
+    result = ctx.session.query(reference, text)
+    if not isinstance(result, QuerySolutions):
+        raise SparqlError("args: QUERY SPARQL takes a SELECT query (ARMOR runs only SELECT)")
+    names = [variable.value for variable in result.variables]
+    deadline = None if timeout_s is None else time.monotonic() + timeout_s
+    rows = []
+    for solution in result:
+        if deadline is not None and time.monotonic() > deadline:
+            raise SparqlError(
+                f"args: the query ran past its timeout of {int(timeout_s * 1000)} ms",  # type: ignore[operator]
+                timeout=True,
+            )
+        rows.append([(n, t) for n in names if isinstance(t := solution[n], NamedNode | Literal)])
+    return rows
+
+
+def _sparql_value(ctx: Context, term: NamedNode | Literal) -> str:
+    if ctx.style == "armor":
+        return jena_string(term)
+    return styled(term, ctx.style)
+
+
+def query_sparql(ctx: Context) -> Outcome:
+    """One string: Java's ``List<Map>.toString()`` with every bracket removed."""
+    rows = _solutions(ctx)
+    text = ", ".join(
+        "{" + ", ".join(f"{name}={_sparql_value(ctx, term)}" for name, term in row) + "}"
+        for row in rows
+    )
+    return Outcome(queried_objects=[text.replace("[", "").replace("]", "")])
+
+
+def query_sparql_formatted(ctx: Context) -> Outcome:
+    """A flat list of ``{key, value}`` items over all solutions, in order."""
+    items = [
+        QueryItem(key=name, value=_sparql_value(ctx, term))
+        for row in _solutions(ctx)
+        for name, term in row
+    ]
+    return Outcome(sparql_queried_objects=items)
+
+
+HANDLERS: dict[str, Callable[[Context], Outcome]] = {
+    "QUERY_IND_": query_ind,
+    "QUERY_IND_CLASS": query_ind_class,
+    "QUERY_DATAPROP_IND": query_dataprop_ind,
+    "QUERY_OBJECTPROP_IND": query_objectprop_ind,
+    "QUERY_CLASS_IND": query_class_ind,
+    "QUERY_CLASS_CLASS": query_class_class,
+    "QUERY_CLASS_RESTRICTIONS": query_class_restrictions,
+    "QUERY_IND_DATAPROP": query_ind_dataprop,
+    "QUERY_IND_OBJECTPROP": query_ind_objectprop,
+    "QUERY_SPARQL_": query_sparql,
+    "QUERY_SPARQL_FORMATTED": query_sparql_formatted,
+}

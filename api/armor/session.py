@@ -1,0 +1,405 @@
+"""The working state of one directive list: its net changes, its view of the store, its commit.
+
+A list's writes are collected as net changes per graph (adding then removing a triple leaves
+nothing), and committed together in one store transaction when every directive succeeded.
+Directives that read see the committed store plus the list's own changes: as long as a
+reference has no pending change, reads go straight to the store; once it has, triple-pattern
+reads overlay the changes on the store, and SPARQL reads go to a copy of the reference's graphs
+in a private in-memory store (a *workspace*, built at the first such read, following every later
+change). Other clients never see a list's changes before its commit.
+
+Reasoning never copies a reference: the list tells the reasoner what it wrote since it last
+reasoned (:mod:`api.armor.reasoning`), gets the inferred graph's delta back, and commits that
+delta with its own changes. After the commit the reasoner's kept state is confirmed, or, if the
+list failed, dropped (the next REASON recomputes), so that the state always matches the store.
+"""
+
+import logging
+from collections.abc import Callable, Iterable
+from dataclasses import dataclass, field
+from typing import Any
+
+from pyoxigraph import Literal, NamedNode, Quad, QuerySolutions
+
+import sparql
+from api.armor import reasoning
+from api.armor.errors import SparqlError
+from api.armor.references import Reference, Registry
+from kg import QueryError, Store
+
+__all__ = ["ChangeSet", "Row", "Session"]
+
+log = logging.getLogger(__name__)
+
+Row = dict[str, NamedNode | Literal]
+
+
+@dataclass
+class ChangeSet:
+    """Net changes to one graph: ``cleared`` first, then ``removed``, then ``added``."""
+
+    cleared: bool = False
+    added: dict[Quad, None] = field(default_factory=dict)
+    removed: set[Quad] = field(default_factory=set)
+
+    def insert(self, quad: Quad) -> None:
+        self.removed.discard(quad)
+        self.added[quad] = None
+
+    def delete(self, quad: Quad) -> None:
+        if self.added.pop(quad, None) is None and not self.cleared:
+            self.removed.add(quad)
+
+    def clear(self) -> None:
+        self.cleared, self.added, self.removed = True, {}, set()
+
+    @property
+    def is_empty(self) -> bool:
+        return not (self.cleared or self.added or self.removed)
+
+
+@dataclass
+class _Unreasoned:
+    """A list's writes to a reference that its reasoner has not seen yet."""
+
+    added: list[Quad] = field(default_factory=list)
+    removed: list[Quad] = field(default_factory=list)
+    cleared: bool = False
+    inferred_written: bool = False
+    """A directive wrote the inferred graph itself (RENAME): the reasoner must recompute."""
+
+    def note(self, reference: Reference, quad: Quad, *, added: bool) -> None:
+        if quad.graph_name != reference.asserted:
+            self.inferred_written = True
+        elif added:
+            self.added.append(quad)
+        else:
+            self.removed.append(quad)
+
+
+class Session:
+    """One directive list, run against ``store`` and ``registry`` while holding their locks."""
+
+    def __init__(
+        self,
+        store: Store,
+        registry: Registry,
+        *,
+        memory: Any = None,
+        scenes: dict[tuple[str, str], Any] | None = None,
+    ) -> None:
+        self.store = store
+        self.registry = registry
+        self.memory = memory
+        self._scenes_base = scenes if scenes is not None else {}
+        self.scenes: dict[tuple[str, str], Any] = {}
+        self.after_commit: list[tuple[Callable[[Any], None], Any]] = []
+        self.references: dict[str, Reference | None] = {}
+        self.changes: dict[NamedNode, ChangeSet] = {}
+        self.workspaces: dict[str, Store] = {}
+        self.needs_reasoning: set[str] = set()
+        self.unreasoned: dict[str, _Unreasoned] = {}
+        """Per reference: the list's writes its reasoner has not seen yet."""
+        self.prepared: dict[str, reasoning.Prepared] = {}
+        """Per reference: the reasoner's last delta for this list (confirmed after the commit)."""
+
+    # References ---------------------------------------------------------------------------------
+
+    def reference(self, name: str) -> Reference | None:
+        """The reference as this list sees it (its own changes included)."""
+        if name in self.references:
+            return self.references[name]
+        return self.registry.get(name)
+
+    def require(self, name: str) -> Reference:
+        reference = self.reference(name)
+        if reference is None:
+            return self.registry.require(name)  # raises UnknownReferenceError
+        return reference
+
+    def update(self, reference: Reference) -> None:
+        self.references[reference.name] = reference
+
+    def drop(self, name: str) -> None:
+        reference = self.require(name)
+        for graph in reference.graphs:
+            self._changes(graph).clear()
+        self.workspaces.pop(name, None)
+        self.needs_reasoning.discard(name)
+        prepared = self.prepared.pop(name, None)
+        if prepared is not None:
+            prepared.discard()
+        self.unreasoned[name] = _Unreasoned(cleared=True)
+        self.references[name] = None
+
+    def names(self) -> list[str]:
+        names = set(self.registry.names())
+        for name, reference in self.references.items():
+            if reference is None:
+                names.discard(name)
+            else:
+                names.add(name)
+        return sorted(names)
+
+    # Open scenes (memory directives) -------------------------------------------------------------
+
+    def scene(self, key: tuple[str, str]) -> Any:
+        """The open scene of (client, reference) as this list sees it, or None."""
+        if key in self.scenes:
+            return self.scenes[key]
+        return self._scenes_base.get(key)
+
+    def set_scene(self, key: tuple[str, str], draft: Any) -> None:
+        self.scenes[key] = draft
+
+    # Writes -------------------------------------------------------------------------------------
+
+    def _changes(self, graph: NamedNode) -> ChangeSet:
+        return self.changes.setdefault(graph, ChangeSet())
+
+    def write(
+        self,
+        reference: Reference,
+        *,
+        insert: Iterable[Quad] = (),
+        delete: Iterable[Quad] = (),
+    ) -> None:
+        """Record deletions, then insertions, for ``reference``'s graphs."""
+        insert, delete = list(insert), list(delete)
+        if not (insert or delete):
+            return
+        todo = self.unreasoned.setdefault(reference.name, _Unreasoned())
+        for quad in delete:
+            self._require_own_graph(reference, quad)
+            self._changes(quad.graph_name).delete(quad)  # type: ignore[arg-type]
+            todo.note(reference, quad, added=False)
+        for quad in insert:
+            self._require_own_graph(reference, quad)
+            self._changes(quad.graph_name).insert(quad)  # type: ignore[arg-type]
+            todo.note(reference, quad, added=True)
+        workspace = self.workspaces.get(reference.name)
+        if workspace is not None and (insert or delete):
+            with workspace.transaction() as tx:
+                tx.deletes.extend(delete)
+                tx.inserts.extend(insert)
+
+    @staticmethod
+    def _require_own_graph(reference: Reference, quad: Quad) -> None:
+        if quad.graph_name not in (reference.asserted, reference.inferred):
+            raise ValueError(f"{quad} is not in a graph of reference {reference.name!r}")
+
+    def _pending(self, reference: Reference) -> bool:
+        return any(
+            not self.changes[graph].is_empty for graph in reference.graphs if graph in self.changes
+        )
+
+    # Reads --------------------------------------------------------------------------------------
+
+    def quads(
+        self,
+        reference: Reference,
+        subject: NamedNode | None = None,
+        predicate: NamedNode | None = None,
+        obj: NamedNode | Literal | None = None,
+        *,
+        graph: NamedNode | None = None,
+    ) -> list[Quad]:
+        """Quads of ``reference`` (one of its graphs, or both) as this list sees them."""
+        self._catch_up(reference)
+        graphs = [graph] if graph is not None else reference.graphs
+        workspace = self.workspaces.get(reference.name)
+        found: list[Quad] = []
+        for g in graphs:
+            if workspace is not None:
+                found.extend(workspace.quads(subject, predicate, obj, g))
+                continue
+            changes = self.changes.get(g, ChangeSet())
+            if not changes.cleared:
+                found.extend(
+                    q
+                    for q in self.store.quads(subject, predicate, obj, g)
+                    if q not in changes.removed
+                )
+            found.extend(
+                q
+                for q in changes.added
+                if (subject is None or q.subject == subject)
+                and (predicate is None or q.predicate == predicate)
+                and (obj is None or q.object == obj)
+            )
+        return found
+
+    def select(self, reference: Reference, name: str, **bindings: NamedNode | Literal) -> list[Row]:
+        """Rows of the stored query ``sparql/<name>.rq`` over ``reference``'s graphs."""
+        result = self.query(reference, sparql.load(name), bindings)
+        if not isinstance(result, QuerySolutions):
+            raise TypeError(f"query {name!r} is not a SELECT query")
+        names = [variable.value for variable in result.variables]
+        return [
+            {n: t for n in names if isinstance(t := row[n], NamedNode | Literal)} for row in result
+        ]
+
+    def query(
+        self,
+        reference: Reference,
+        text: str,
+        bindings: dict[str, NamedNode | Literal] | None = None,
+    ) -> object:
+        """Run query text over ``reference``'s asserted and inferred graphs."""
+        store = self.view_store(reference)
+        try:
+            return store.query_graphs(text, graphs=reference.graphs, bindings=bindings)
+        except QueryError as error:
+            raise SparqlError(f"args: the SPARQL query was refused: {error}") from None
+
+    def view_store(self, reference: Reference) -> Store:
+        """The store to read ``reference`` from: the real one, or this list's workspace."""
+        self._catch_up(reference)
+        if reference.name in self.workspaces:
+            return self.workspaces[reference.name]
+        if not self._pending(reference):
+            return self.store
+        return self._workspace(reference)
+
+    def _workspace(self, reference: Reference) -> Store:
+        workspace = Store()
+        with workspace.transaction() as tx:
+            for graph in reference.graphs:
+                changes = self.changes.get(graph, ChangeSet())
+                if not changes.cleared:
+                    tx.inserts.extend(
+                        q for q in self.store.quads(graph=graph) if q not in changes.removed
+                    )
+                tx.inserts.extend(changes.added)
+        self.workspaces[reference.name] = workspace
+        log.debug("workspace for %s: %d quads", reference.name, len(workspace))
+        return workspace
+
+    # Reasoning ----------------------------------------------------------------------------------
+
+    def reason_later(self, reference: Reference) -> None:
+        """Bring the inferences up to date before the next read, or before the commit."""
+        self.needs_reasoning.add(reference.name)
+
+    def _catch_up(self, reference: Reference) -> None:
+        if reference.name in self.needs_reasoning:
+            self.needs_reasoning.discard(reference.name)
+            self.reason_now(reference)
+
+    def reason_now(self, reference: Reference) -> None:
+        """Materialise ``reference``'s inferences as this list sees its assertions.
+
+        With nothing of this list pending on the reference, the reasoner brings the committed
+        inferred graph up to date on the store itself (derived from committed assertions only, it
+        stays right whatever the rest of the list does). Otherwise the reasoner computes the
+        inferred graph's delta for the list's writes since its previous reasoning, and the delta
+        joins the list's changes: it commits with them, or goes with them.
+        """
+        name = reference.name
+        todo = self.unreasoned.pop(name, None)
+        after = self.prepared.get(name)
+        if after is None and todo is None and not self._pending(reference):
+            consistent = reasoning.reason_committed(self.store, reference)
+        else:
+            todo = todo or _Unreasoned()
+            asserted = self.changes.get(reference.asserted, ChangeSet())
+            prepared = reasoning.prepare(
+                self.store,
+                reference,
+                added=todo.added,
+                removed=todo.removed,
+                pending_added=list(asserted.added),
+                pending_removed=list(asserted.removed),
+                cleared=asserted.cleared,
+                after=after,
+                recompute=todo.inferred_written,
+            )
+            self.prepared[name] = prepared
+            self._apply_inferred(reference, prepared)
+            consistent = prepared.consistent
+        current = self.reference(name)
+        if current is not None:
+            self.update(current.with_changes(consistent=consistent))
+
+    def _apply_inferred(self, reference: Reference, prepared: reasoning.Prepared) -> None:
+        """Put a delta of the inferred graph into this list's changes (and its workspace)."""
+        if prepared.replaces:  # relative to the committed graph: it replaces the earlier delta
+            self.changes[reference.inferred] = ChangeSet(
+                added=dict.fromkeys(prepared.added), removed=set(prepared.removed)
+            )
+            self.workspaces.pop(reference.name, None)  # rebuilt if a later read needs it
+            return
+        changes = self._changes(reference.inferred)
+        for quad in prepared.removed:
+            changes.delete(quad)
+        for quad in prepared.added:
+            changes.insert(quad)
+        workspace = self.workspaces.get(reference.name)
+        if workspace is not None and (prepared.added or prepared.removed):
+            with workspace.transaction() as tx:
+                tx.deletes.extend(prepared.removed)
+                tx.inserts.extend(prepared.added)
+
+    def _settle_reasoner(self) -> None:
+        """After the commit: keep the reasoner's state in step with what was committed."""
+        for name in sorted(set(self.prepared) | set(self.unreasoned)):
+            reference = self.references.get(name) or Reference(name=name, prefix="")
+            prepared = self.prepared.pop(name, None)
+            todo = self.unreasoned.pop(name, None)
+            try:
+                if prepared is not None:
+                    prepared.confirm(self.store)
+                if todo is None:
+                    continue
+                if todo.cleared or todo.removed or todo.inferred_written:
+                    reasoning.forget_state(self.store, reference)
+                elif todo.added:
+                    reasoning.record_committed(self.store, reference, added=todo.added)
+            except Exception:  # never leave a state that may not match the store
+                log.exception("the reasoner's state of reference %s is dropped", name)
+                reasoning.forget_state(self.store, reference)
+
+    def discard(self) -> None:
+        """The list does not commit: drop the reasoner's tentative states of its references."""
+        for prepared in self.prepared.values():
+            prepared.discard()
+        self.prepared = {}
+        self.unreasoned = {}
+
+    # Commit -------------------------------------------------------------------------------------
+
+    def commit(self) -> None:
+        """Reason where needed, write every change of the list in one transaction, publish."""
+        pending, self.needs_reasoning = sorted(self.needs_reasoning), set()
+        for name in pending:
+            reference = self.reference(name)
+            if reference is None:
+                continue
+            try:
+                self.reason_now(reference)
+            except Exception:  # the assertions still commit; the next REASON recomputes
+                log.exception("reasoning over the list's writes failed for reference %s", name)
+        with self.store.transaction() as tx:
+            for graph, changes in self.changes.items():
+                if changes.cleared:
+                    tx.clear_graph(graph)
+                tx.deletes.extend(changes.removed)
+                tx.inserts.extend(changes.added)
+            for name, reference in self.references.items():
+                old = self.registry.get(name)
+                if old is not None and (reference is None or _settings_changed(old, reference)):
+                    tx.deletes.extend(old.settings_quads())
+                if reference is not None and (old is None or _settings_changed(old, reference)):
+                    tx.inserts.extend(reference.settings_quads())
+        self._settle_reasoner()
+        self.registry.publish(self.references)
+        for key, draft in self.scenes.items():
+            if draft is None:
+                self._scenes_base.pop(key, None)
+            else:
+                self._scenes_base[key] = draft
+        self.changes, self.workspaces = {}, {}
+
+
+def _settings_changed(old: Reference, new: Reference) -> bool:
+    return old.settings_quads() != new.settings_quads()

@@ -1,0 +1,42 @@
+"""A Python client of Engram's ARMOR directive API, with armor_py_api's names.
+
+Existing armor_py_api code ports by changing the import::
+
+    from api.client import ArmorClient   # was: from armor_api.armor_client import ArmorClient
+
+    client = ArmorClient("client", "reference", base_url="http://127.0.0.1:8000")
+    client.utils.load_ref_from_file("test.owl", "http://ex.org/test", True, "PELLET", True)
+    client.manipulation.add_ind_to_class("ind_1", "Class_1")
+
+Fixed armor_py_api bugs: ``utils.set_log_to_file(False)`` works,
+``manipulation.remove_batch_dataprop_to_ind`` passes its arguments in the right order, and
+``manipulation.replace_one_dataprop_b2_ind`` sends the old value's lexical form.
+"""
+
+from api.client._client import ArmorClient
+from api.client._local import LocalTransport
+from api.client._manipulation import ArmorManipulationClient, literal_value
+from api.client._memory import ArmorMemoryClient, MemoryAnswer, ScenePrimitive
+from api.client._query import ArmorQueryClient, strip_uri
+from api.client._utils import ArmorUtilsClient
+from api.client.exceptions import (
+    ArmorPyException,
+    ArmorServiceCallError,
+    ArmorServiceInternalError,
+)
+
+__all__ = [
+    "ArmorClient",
+    "ArmorManipulationClient",
+    "ArmorMemoryClient",
+    "ArmorPyException",
+    "ArmorQueryClient",
+    "ArmorServiceCallError",
+    "ArmorServiceInternalError",
+    "ArmorUtilsClient",
+    "LocalTransport",
+    "MemoryAnswer",
+    "ScenePrimitive",
+    "literal_value",
+    "strip_uri",
+]

@@ -1,0 +1,124 @@
+"""``ArmorClient``: armor_py_api's client, over HTTP instead of ROS."""
+
+from types import TracebackType
+from typing import Any
+
+import httpx
+
+from api.armor.models import ArmorDirectiveListRes, ArmorDirectiveReq, ArmorDirectiveRes
+from api.client._manipulation import ArmorManipulationClient
+from api.client._memory import ArmorMemoryClient
+from api.client._query import ArmorQueryClient
+from api.client._utils import ArmorUtilsClient
+from api.client.exceptions import ArmorServiceCallError, ArmorServiceInternalError
+
+__all__ = ["ArmorClient"]
+
+_TIMEOUT_MESSAGE = "Cannot reach ARMOR client: Timeout Expired. Check if ARMOR is running."
+
+
+class ArmorClient:
+    """A client of one reference, with armor_py_api's ``.manipulation``, ``.query``, ``.utils``
+    (and Engram's ``.memory``).
+
+    ``timeout`` is in seconds, as armor_py_api's. Existing code ports by changing the import and
+    passing ``base_url`` (and ``token`` when the server has ``ENGRAM_TOKEN`` set).
+    """
+
+    def __init__(
+        self,
+        client_id: str,
+        reference_name: str,
+        service_name: str = "/armor_interface_srv",
+        serial_service_name: str = "/armor_interface_serialized_srv",
+        timeout: float = 5,
+        *,
+        base_url: str = "http://127.0.0.1:8000",
+        token: str | None = None,
+        http: httpx.Client | None = None,
+    ) -> None:
+        self.client_id = client_id
+        self.reference_name = reference_name
+        self.service_name = service_name
+        self.serial_service_name = serial_service_name
+        self.timeout = timeout
+        headers = {"Authorization": f"Bearer {token}"} if token else {}
+        self._owns_http = http is None
+        self._http = http or httpx.Client(base_url=base_url, timeout=timeout, headers=headers)
+        self.manipulation = ArmorManipulationClient(self)
+        self.query = ArmorQueryClient(self)
+        self.utils = ArmorUtilsClient(self)
+        self.memory = ArmorMemoryClient(self)
+
+    def close(self) -> None:
+        """Close the HTTP connections (only if the client opened them)."""
+        if self._owns_http:
+            self._http.close()
+
+    def __enter__(self) -> "ArmorClient":
+        return self
+
+    def __exit__(
+        self,
+        kind: type[BaseException] | None,
+        error: BaseException | None,
+        trace: TracebackType | None,
+    ) -> None:
+        self.close()
+
+    def _request(self, command: str, first: str, second: str, args: list[str]) -> dict[str, Any]:
+        return ArmorDirectiveReq(
+            client_name=self.client_id,
+            reference_name=self.reference_name,
+            command=command,
+            primary_command_spec=first,
+            secondary_command_spec=second,
+            args=[str(arg) for arg in args],
+        ).model_dump()
+
+    def _post(self, path: str, body: dict[str, Any]) -> dict[str, Any]:
+        try:
+            response = self._http.post(path, json=body)
+        except httpx.TimeoutException:
+            raise ArmorServiceCallError(_TIMEOUT_MESSAGE) from None
+        except httpx.HTTPError as error:
+            raise ArmorServiceCallError(
+                f"Cannot reach ARMOR at {self._http.base_url}: {error}"
+            ) from None
+        if response.status_code != 200:
+            try:
+                detail = response.json().get("detail", response.text)
+            except ValueError:
+                detail = response.text
+            raise ArmorServiceCallError(f"Service call failed ({response.status_code}): {detail}")
+        data: dict[str, Any] = response.json()
+        return data
+
+    def call(
+        self, command: str, first_spec: str, second_spec: str, args_list: list[str]
+    ) -> ArmorDirectiveRes:
+        """Send one directive and return the raw ``armor_response`` (no exception on failure)."""
+        body = {"armor_request": self._request(command, first_spec, second_spec, args_list)}
+        data = self._post(self.service_name, body)
+        return ArmorDirectiveRes.model_validate(data["armor_response"])
+
+    def call_list(self, directives: list[tuple[str, str, str, list[str]]]) -> ArmorDirectiveListRes:
+        """Send directives to the list service: in order, one transaction, one response each."""
+        body = {"armor_requests": [self._request(*directive) for directive in directives]}
+        return ArmorDirectiveListRes.model_validate(self._post(self.serial_service_name, body))
+
+    def raise_first_failure(self, result: ArmorDirectiveListRes) -> list[ArmorDirectiveRes]:
+        """The list's responses; raises for the first failed one (the list changed nothing)."""
+        for response in result.armor_responses:
+            if not response.success and response.exit_code != 0:
+                raise ArmorServiceInternalError(response.error_description, response.exit_code)
+        return list(result.armor_responses)
+
+    def checked(
+        self, command: str, first_spec: str, second_spec: str, args_list: list[str]
+    ) -> ArmorDirectiveRes:
+        """:meth:`call`, raising :class:`ArmorServiceInternalError` when ``success`` is false."""
+        response = self.call(command, first_spec, second_spec, args_list)
+        if not response.success:
+            raise ArmorServiceInternalError(response.error_description, response.exit_code)
+        return response

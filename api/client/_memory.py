@@ -1,0 +1,120 @@
+"""``client.memory``: Engram's memory directives (no armor_py_api counterpart)."""
+
+from collections.abc import Iterable, Mapping
+from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
+
+from api.armor.models import ArmorDirectiveRes
+
+if TYPE_CHECKING:
+    from api.client._client import ArmorClient
+
+__all__ = ["ArmorMemoryClient", "MemoryAnswer", "ScenePrimitive"]
+
+_VECTORS = {"centre": "centre", "axis": "axis", "apex": "apex", "point_on_axis": "pointOnAxis"}
+
+
+@dataclass(frozen=True)
+class ScenePrimitive:
+    """One primitive to send in a scene, with attributes as Engram's ontology names them."""
+
+    name: str
+    kind: str
+    centre: tuple[float, float, float]
+    axis: tuple[float, float, float] | None = None
+    radius: float | None = None
+    height: float | None = None
+    apex: tuple[float, float, float] | None = None
+    point_on_axis: tuple[float, float, float] | None = None
+    hessian: float | None = None
+    colour: tuple[float, float, float] | None = None
+    tracking_id: int | None = None
+
+    def directives(self) -> list[tuple[str, str, str, list[str]]]:
+        """``ADD IND CLASS`` and one ``ADD DATAPROP IND`` per attribute."""
+        out: list[tuple[str, str, str, list[str]]] = [
+            ("ADD", "IND", "CLASS", [self.name, self.kind])
+        ]
+
+        def value(prop: str, number: float, kind: str = "DOUBLE") -> None:
+            out.append(("ADD", "DATAPROP", "IND", [prop, self.name, kind, repr(number)]))
+
+        for attribute, prefix in _VECTORS.items():
+            vector = getattr(self, attribute)
+            if vector is not None:
+                for axis, number in zip("XYZ", vector, strict=True):
+                    value(f"{prefix}{axis}", float(number))
+        if self.colour is not None:
+            for channel, number in zip("RGB", self.colour, strict=True):
+                value(f"colour{channel}", float(number))
+        for attribute, prop in (("radius", "radius"), ("height", "height")):
+            if getattr(self, attribute) is not None:
+                value(prop, float(getattr(self, attribute)))
+        if self.hessian is not None:
+            value("hessianOffset", float(self.hessian))
+        if self.tracking_id is not None:
+            out.append(
+                (
+                    "ADD",
+                    "DATAPROP",
+                    "IND",
+                    ["trackingId", self.name, "INTEGER", str(self.tracking_id)],
+                )
+            )
+        return out
+
+
+@dataclass(frozen=True)
+class MemoryAnswer:
+    """A memory directive's answer: its main values and its details as key -> values."""
+
+    values: list[str]
+    details: Mapping[str, list[str]] = field(default_factory=dict)
+
+    @classmethod
+    def of(cls, response: ArmorDirectiveRes) -> "MemoryAnswer":
+        details: dict[str, list[str]] = {}
+        for item in response.sparql_queried_objects:
+            details.setdefault(item.key, []).append(item.value)
+        return cls(list(response.queried_objects), details)
+
+
+class ArmorMemoryClient:
+    """Scenes in, recognition and retrieval out. Raises like the other clients."""
+
+    def __init__(self, client: "ArmorClient") -> None:
+        self._client = client
+
+    def store_scene(
+        self, primitives: Iterable[ScenePrimitive], episode: str | None = None
+    ) -> MemoryAnswer:
+        """LOAD INIT, the primitives' ADDs and SCENE UPDATED, as one list (one transaction).
+
+        ``details["learned"]`` is ``["true"]`` when a new class was learned.
+        """
+        directives: list[tuple[str, str, str, list[str]]] = [("LOAD", "INIT", "", [])]
+        for primitive in primitives:
+            directives += primitive.directives()
+        directives.append(("SCENE", "UPDATED", "", [episode] if episode else []))
+        result = self._client.call_list(directives)
+        return MemoryAnswer.of(self._client.raise_first_failure(result)[-1])
+
+    def retrieve(self, cue: Iterable[str], spread: bool = False) -> MemoryAnswer:
+        """Recall from relation triples such as ``"Sphere isAboveOf Plane"``."""
+        res = self._client.checked("RETRIEVE", "SCENE", "SPREAD" if spread else "", list(cue))
+        return MemoryAnswer.of(res)
+
+    def sleep(self) -> MemoryAnswer:
+        return MemoryAnswer.of(self._client.checked("MEMORY", "SLEEP", "", []))
+
+    def pin(self, item: str, pinned: bool = True) -> None:
+        self._client.checked("MEMORY", "PIN" if pinned else "UNPIN", "", [item])
+
+    def restore(self, item: str) -> list[str]:
+        return list(self._client.checked("MEMORY", "RESTORE", "", [item]).queried_objects)
+
+    def scores(self, item: str) -> MemoryAnswer:
+        return MemoryAnswer.of(self._client.checked("QUERY", "MEMORY", "SCORES", [item]))
+
+    def level(self, item: str) -> str:
+        return self._client.checked("QUERY", "MEMORY", "LEVEL", [item]).queried_objects[0]

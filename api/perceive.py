@@ -1,0 +1,84 @@
+"""The perception client (the seed's VisClient): stable scenes from ``shapes`` into the memory.
+
+Each stable scene that :class:`shapes.Perception` reports becomes one directive list, ``LOAD
+INIT``, an ``ADD IND CLASS`` and ``ADD DATAPROP IND`` per primitive, ``SCENE UPDATED``, sent as
+one transaction through an :class:`~api.client.ArmorClient` (over HTTP, or in this process with
+:class:`~api.client.LocalTransport`).
+"""
+
+from collections.abc import Iterable, Iterator
+from dataclasses import dataclass
+
+from api.client import ArmorClient, MemoryAnswer, ScenePrimitive
+from shapes import Frame, Perception, Primitive, StableScene
+
+__all__ = ["PerceivedScene", "perceive", "scene_primitives"]
+
+
+@dataclass(frozen=True)
+class PerceivedScene:
+    """One stable scene and what the memory made of it."""
+
+    scene: StableScene
+    answer: MemoryAnswer
+
+    @property
+    def stored_as(self) -> str:
+        """The class the scene was stored under (learned or reinforced)."""
+        return self.answer.values[0] if self.answer.values else ""
+
+    @property
+    def learned(self) -> bool:
+        return self.answer.details.get("learned") == ["true"]
+
+
+def _name(primitive: Primitive, position: int) -> str:
+    kind = primitive.kind.value.lower()
+    ident = primitive.tracking_id if primitive.tracking_id is not None else position
+    return f"{kind}{ident}"
+
+
+def scene_primitives(scene: StableScene) -> list[ScenePrimitive]:
+    """The scene's averaged primitives as the memory client sends them.
+
+    >>> from shapes import ShapeKind, StableScene
+    >>> ball = Primitive(ShapeKind.SPHERE, centre=(0.1, 0.2, 0.05), radius=0.05, tracking_id=3)
+    >>> [p.name for p in scene_primitives(StableScene(0, None, (ball,), {}, 5))]
+    ['sphere3']
+    """
+    return [
+        ScenePrimitive(
+            name=_name(p, position),
+            kind=p.kind.value,
+            centre=p.centre,
+            axis=p.axis,
+            radius=p.radius,
+            height=p.height,
+            apex=p.apex,
+            point_on_axis=p.point_on_axis,
+            hessian=p.hessian_offset,
+            colour=p.colour,
+            tracking_id=p.tracking_id,
+        )
+        for position, p in enumerate(scene.primitives)
+    ]
+
+
+def perceive(
+    frames: Iterable[Frame],
+    client: ArmorClient,
+    *,
+    perception: Perception | None = None,
+    episode: str | None = None,
+) -> Iterator[PerceivedScene]:
+    """Run perception over ``frames`` and store every stable scene; yield what was stored.
+
+    Raises :class:`~api.client.ArmorServiceInternalError` when the memory refuses a scene (the
+    scene's list then changed nothing) and the errors of ``shapes`` for bad frames.
+    """
+    perception = perception or Perception()
+    for scene in perception.stable_scenes(frames):
+        if not scene.primitives:
+            continue
+        answer = client.memory.store_scene(scene_primitives(scene), episode=episode)
+        yield PerceivedScene(scene, answer)

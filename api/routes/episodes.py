@@ -1,0 +1,357 @@
+"""The autobiographical memory over HTTP: episodes, annotations, queries by cue, augmentation
+runs and feedback. Thin routes over :class:`episodes.EpisodeMemory`; errors are mapped to HTTP
+in ``api/errors.py`` (404 unknown, 422 bad value with field/value/expected, 409 wrong state).
+Writes need the bearer token when one is configured.
+
+The episode memory shares the app's recording registry with ``api/routes/streams.py``, so an
+episode begun here with ``record`` takes samples there, and ending it here closes that
+recording and describes its channels in the graph.
+"""
+
+import datetime as dt
+from typing import Annotated, Any, Literal
+
+from fastapi import APIRouter, Body, Depends, Query, Request, Response, status
+from pydantic import BaseModel, Field
+from starlette.concurrency import run_in_threadpool
+
+from api.deps import EpisodesDep, require_token
+from episodes import (
+    ArgumentSpec,
+    Cue,
+    DerivedSpec,
+    InvalidInputError,
+    to_jsonable,
+)
+from episodes.streams.wire import decode_value
+from episodes.times import parse_time
+
+__all__ = ["router"]
+
+router = APIRouter(tags=["episodes"])
+WRITE = [Depends(require_token)]
+
+
+def _now(now: str | None) -> dt.datetime | None:
+    return parse_time(now, "now") if now is not None else None
+
+
+NowQuery = Annotated[
+    str | None, Query(description="Reference time for phrases like 'one month ago' (ISO 8601).")
+]
+ActivityQuery = Annotated[str, Query(description="Activity name, e.g. babbling.")]
+AgentQuery = Annotated[str | None, Query(description="An agent taking part (name or IRI).")]
+ObjectQuery = Annotated[str | None, Query(description="Any participant (name or IRI).")]
+
+
+class ArgumentIn(BaseModel):
+    role: str = Field(description="agent, object, recipient, ...")
+    value: str = Field(description="A name or an IRI.")
+    kind: Literal["agent", "entity"] | None = None
+
+
+class BeginIn(BaseModel):
+    activity: str
+    type: str | None = None
+    arguments: list[ArgumentIn] = []
+    begin: str | None = Field(None, description="ISO 8601 with a time zone; default now.")
+    id: str | None = None
+    record: bool = Field(False, description="Open a stream recording for the episode.")
+
+
+class ImportIn(BaseModel):
+    path: str = Field(description="A ROS 1 .bag file or ROS 2 bag directory on the server.")
+    activity: str
+    type: str | None = None
+    arguments: list[ArgumentIn] = []
+    id: str | None = None
+
+
+class EndIn(BaseModel):
+    end: str | None = None
+
+
+class AnnotationIn(BaseModel):
+    key: str
+    value: str
+    author: str | None = None
+    confidence: float | None = None
+    start: str | None = None
+    end: str | None = None
+
+
+class SceneIn(BaseModel):
+    scene: str = Field(description="IRI of an experienced scene of the scene memory.")
+
+
+class RunIn(BaseModel):
+    name: str
+    producer: str
+    parameters: dict[str, Any] = {}
+
+
+class SampleIn(BaseModel):
+    frame: int
+    source_channel: str
+    derived_channel: str
+    value: Any = None
+
+
+class SamplesIn(BaseModel):
+    samples: list[SampleIn]
+    channels: dict[str, dict[str, Any]] = {}
+
+
+class RatingIn(BaseModel):
+    person: str
+    value: int
+    time: str | None = None
+    sample: int | None = None
+
+
+def _answer(value: Any) -> Any:
+    return to_jsonable(value)
+
+
+@router.post("/episodes", status_code=status.HTTP_201_CREATED, dependencies=WRITE)
+async def begin(memory: EpisodesDep, body: BeginIn) -> Any:
+    """Begin an episode (snapshot of the scene memory; optionally a stream recording)."""
+    arguments = [ArgumentSpec(a.role, a.value, a.kind) for a in body.arguments]
+    episode = await run_in_threadpool(
+        memory.begin,
+        body.activity,
+        activity_type=body.type,
+        arguments=arguments,
+        begin=body.begin,
+        episode_id=body.id,
+        record=body.record,
+    )
+    return _answer(episode)
+
+
+@router.post("/episodes/import", status_code=status.HTTP_201_CREATED, dependencies=WRITE)
+async def import_bag(memory: EpisodesDep, body: ImportIn) -> Any:
+    """Import a ROS 1 or ROS 2 bag (on the server's disk) as a finished episode."""
+    arguments = [ArgumentSpec(a.role, a.value, a.kind) for a in body.arguments]
+    episode = await run_in_threadpool(
+        memory.import_bag,
+        body.path,
+        body.activity,
+        activity_type=body.type,
+        arguments=arguments,
+        episode_id=body.id,
+    )
+    return _answer(episode)
+
+
+@router.get("/episodes")
+async def all_of_activity(
+    memory: EpisodesDep,
+    activity: ActivityQuery,
+    agent: AgentQuery = None,
+    object: ObjectQuery = None,
+    now: NowQuery = None,
+) -> Any:
+    """All episodes of an activity (by an agent, with an object), oldest first."""
+    cue = Cue(activity, agent=agent, obj=object)
+    return _answer(await run_in_threadpool(memory.all, cue, now=_now(now)))
+
+
+@router.get("/episodes/recall")
+async def recall(
+    memory: EpisodesDep,
+    activity: ActivityQuery,
+    agent: AgentQuery = None,
+    object: ObjectQuery = None,
+    which: Annotated[str, Query(description="first, last or nth")] = "last",
+    n: Annotated[int, Query(description="With which=nth: 1 is the first time.")] = 1,
+    now: NowQuery = None,
+) -> Any:
+    """The first / last / n-th time <agent> did <activity> (with <object>), and when."""
+    cue = Cue(activity, agent=agent, obj=object)
+    found = await run_in_threadpool(memory.recall, cue, which=which, n=n, now=_now(now))  # type: ignore[arg-type]
+    return _answer(found)
+
+
+@router.get("/episodes/count")
+async def count(
+    memory: EpisodesDep,
+    activity: ActivityQuery,
+    agent: AgentQuery = None,
+    object: ObjectQuery = None,
+) -> dict[str, int]:
+    """How many times <agent> did <activity> (with <object>)."""
+    cue = Cue(activity, agent=agent, obj=object)
+    return {"count": await run_in_threadpool(memory.count, cue)}
+
+
+@router.get("/episodes/between")
+async def between(
+    memory: EpisodesDep,
+    start: Annotated[str, Query(description="ISO 8601 with a time zone.")],
+    end: Annotated[str, Query(description="ISO 8601 with a time zone.")],
+    now: NowQuery = None,
+) -> Any:
+    """What happened between two times: the episodes that overlap them."""
+    return _answer(await run_in_threadpool(memory.between, start, end, now=_now(now)))
+
+
+@router.get("/episodes/knowledge")
+async def knowledge(
+    memory: EpisodesDep,
+    activity: Annotated[str | None, Query(description="One activity; default all.")] = None,
+) -> Any:
+    """What the episodes say about each activity: how often, first and last, with whom."""
+    return _answer(await run_in_threadpool(memory.knowledge, activity))
+
+
+@router.post("/episodes/rdf", status_code=status.HTTP_201_CREATED, dependencies=WRITE)
+async def import_rdf(memory: EpisodesDep, request: Request) -> Any:
+    """Load one episode's triples (TriG, as ``GET /episodes/{id}/rdf`` gives them)."""
+    return _answer(await run_in_threadpool(memory.import_rdf, await request.body()))
+
+
+@router.get("/episodes/lacking")
+async def lacking(
+    memory: EpisodesDep,
+    activity: ActivityQuery,
+    augmentation: Annotated[str, Query(description="Augmentation name.")],
+    versions: Annotated[int, Query(description="Fewer runs than this count as lacking.")] = 1,
+) -> Any:
+    """Which episodes of <activity> lack <augmentation> (have fewer than ``versions`` runs)."""
+    found = await run_in_threadpool(memory.lacking, activity, augmentation, versions=versions)
+    return [{"episode": _answer(summary), "runs": runs} for summary, runs in found]
+
+
+@router.get("/episodes/{episode_id}")
+async def get(memory: EpisodesDep, episode_id: str) -> Any:
+    """Everything about one episode."""
+    return _answer(await run_in_threadpool(memory.get, episode_id))
+
+
+@router.get("/episodes/{episode_id}/rdf")
+async def export_rdf(memory: EpisodesDep, episode_id: str) -> Response:
+    """The episode's triples as TriG: its graph nodes, participants, roles and scene links."""
+    body = await run_in_threadpool(memory.export_rdf, episode_id)
+    return Response(body, media_type="application/trig")
+
+
+@router.post("/episodes/{episode_id}/end", dependencies=WRITE)
+async def end(memory: EpisodesDep, episode_id: str, body: EndIn | None = None) -> Any:
+    """End a running episode; its recording (if any) closes and its streams are described."""
+    episode = await run_in_threadpool(memory.end, episode_id, end=body.end if body else None)
+    return _answer(episode)
+
+
+@router.delete("/episodes/{episode_id}", status_code=status.HTTP_204_NO_CONTENT, dependencies=WRITE)
+async def delete(memory: EpisodesDep, episode_id: str) -> Response:
+    """Delete an episode everywhere: triples, scene links, stream and derived files."""
+    await run_in_threadpool(memory.delete, episode_id)
+    return Response(status_code=status.HTTP_204_NO_CONTENT)
+
+
+@router.post(
+    "/episodes/{episode_id}/annotations", status_code=status.HTTP_201_CREATED, dependencies=WRITE
+)
+async def annotate(memory: EpisodesDep, episode_id: str, body: AnnotationIn) -> Any:
+    """Annotate an episode, as a whole or over a time range inside it."""
+    annotation = await run_in_threadpool(
+        memory.annotate,
+        episode_id,
+        key=body.key,
+        value=body.value,
+        author=body.author,
+        confidence=body.confidence,
+        start=body.start,
+        end=body.end,
+    )
+    return _answer(annotation)
+
+
+@router.post(
+    "/episodes/{episode_id}/scenes", status_code=status.HTTP_204_NO_CONTENT, dependencies=WRITE
+)
+async def link_scene(memory: EpisodesDep, episode_id: str, body: SceneIn) -> Response:
+    """Link an experienced scene of the scene memory to the episode it happened in."""
+    await run_in_threadpool(memory.link_scene, episode_id, body.scene)
+    return Response(status_code=status.HTTP_204_NO_CONTENT)
+
+
+@router.post("/episodes/{episode_id}/runs", status_code=status.HTTP_201_CREATED, dependencies=WRITE)
+async def start_run(memory: EpisodesDep, episode_id: str, body: RunIn) -> Any:
+    """Start a new, versioned augmentation run on an episode."""
+    run = await run_in_threadpool(
+        memory.start_run,
+        episode_id,
+        name=body.name,
+        producer=body.producer,
+        parameters=body.parameters,
+    )
+    return _answer(run)
+
+
+@router.get("/episodes/{episode_id}/runs")
+async def runs(memory: EpisodesDep, episode_id: str) -> Any:
+    """The augmentation runs of an episode."""
+    return _answer(await run_in_threadpool(memory.runs, episode_id))
+
+
+@router.post(
+    "/episodes/{episode_id}/runs/{run_id}/samples",
+    status_code=status.HTTP_201_CREATED,
+    dependencies=WRITE,
+)
+async def add_samples(memory: EpisodesDep, episode_id: str, run_id: str, body: SamplesIn) -> Any:
+    """Post derived samples, each linked to the recorded frame it was computed from; with
+    values, their data goes into the run's stream file."""
+    specs = [DerivedSpec(s.frame, s.source_channel, s.derived_channel) for s in body.samples]
+    with_values = any(s.value is not None for s in body.samples)
+    if with_values and any(s.value is None for s in body.samples):
+        raise InvalidInputError("samples[].value", None, "a value for every sample, or for none")
+    values = (
+        [decode_value(f"samples[{i}].value", s.value) for i, s in enumerate(body.samples)]
+        if with_values
+        else None
+    )
+    added = await run_in_threadpool(
+        memory.add_derived, episode_id, run_id, specs, values=values, channels=body.channels
+    )
+    return _answer(added)
+
+
+@router.post("/episodes/{episode_id}/runs/{run_id}/end", dependencies=WRITE)
+async def end_run(memory: EpisodesDep, episode_id: str, run_id: str) -> Any:
+    """Close an augmentation run."""
+    return _answer(await run_in_threadpool(memory.end_run, episode_id, run_id))
+
+
+@router.post(
+    "/episodes/{episode_id}/runs/{run_id}/ratings",
+    status_code=status.HTTP_201_CREATED,
+    dependencies=WRITE,
+)
+async def rate(
+    memory: EpisodesDep, episode_id: str, run_id: str, body: Annotated[RatingIn, Body()]
+) -> Any:
+    """A person's 1-10 rating of a run (or of one of its derived samples)."""
+    rating = await run_in_threadpool(
+        memory.rate,
+        episode_id,
+        run_id,
+        person=body.person,
+        value=body.value,
+        time=body.time,
+        sample=body.sample,
+    )
+    return _answer(rating)
+
+
+@router.get("/augmentations/{name}/ranking")
+async def ranking(
+    memory: EpisodesDep,
+    name: str,
+    episode: Annotated[str | None, Query(description="Only the runs of this episode.")] = None,
+    alpha: Annotated[float, Query(description="Significance level of the Wilcoxon test.")] = 0.05,
+) -> Any:
+    """Rank the rated candidates of an augmentation: quartile heuristic, then Wilcoxon."""
+    return _answer(await run_in_threadpool(memory.rank, name, episode_id=episode, alpha=alpha))

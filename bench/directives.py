@@ -1,0 +1,400 @@
+"""ARMOR directives over HTTP on loopback: directives per second, and REASON against owlrl.
+
+**Throughput.** The server runs in its own process (``uvicorn``, on-disk store in a temporary
+directory), as in production; clients are threads of this process, each with one keep-alive
+connection. A "simple directive" alternates ``ADD IND CLASS`` and ``QUERY IND`` on a reference
+with buffered reasoning (the RDS tutorial's advice), each directive its own request and
+transaction. Baselines in the same run: ``GET /health`` (HTTP with no work) and the same
+directives on an in-process ``ArmorEngine`` (no HTTP). Target: at least 2,000 simple
+directives/s with 8 clients.
+
+**REASON.** On the synthetic scene ontologies of ``reasoners.owl_rl.synthetic`` (about 10k and
+50k triples), loaded with LOAD FILE into an engine on an on-disk store:
+
+1. a full REASON directive through the engine (reading the reference, the closure, and the one
+   transaction writing every inferred triple), against owlrl 7.6.2's
+   ``DeductiveClosure(OWLRL_Semantics).expand()`` on an rdflib graph of the same triples (parse
+   not timed); owlrl at 50k only with ``--owlrl-50k`` (about 100 s). The ratio is owlrl ÷ the
+   median of the REASONs run just before and after owlrl, in the same process. Identity: the
+   inferred graph against owlrl's additions, owlrl's out-of-scope output filtered as
+   ``tests/reasoners/owl_rl/conftest.py`` documents;
+2. on the 50k reference: the time of a REASON after 5 new assertions (a new object: type,
+   scene, score, level, a relation), sent as 5 ADD directives beforehand (buffered reasoner),
+   and the time of one list ``[5 ADDs, REASON]``, through the engine and over HTTP; then the
+   inferred graph is compared with a full REASON of the same asserted graph. Target < 50 ms.
+
+Run from the repository root::
+
+    .venv/bin/python bench/directives.py                 # everything, owlrl at 10k only
+    .venv/bin/python bench/directives.py --owlrl-50k     # owlrl at 50k too (slow)
+    .venv/bin/python bench/directives.py --only throughput --seconds 5
+"""
+
+import argparse
+import os
+import socket
+import statistics
+import subprocess
+import sys
+import tempfile
+import threading
+import time
+from collections.abc import Callable
+from pathlib import Path
+from typing import Any
+
+import httpx
+import owlrl
+import rdflib
+from owlrl.AxiomaticTriples import OWLRL_Datatypes_Disjointness
+from owlrl.XsdDatatypes import OWL_RL_Datatypes
+from pyoxigraph import RdfFormat, parse
+from rdflib.namespace import OWL, RDF, RDFS
+
+from api.armor import ArmorDirectiveReq, ArmorEngine
+from kg import Store
+from ontologies.vocab import reference_graph
+from reasoners.owl_rl import materialise
+from reasoners.owl_rl.synthetic import EX, scene_ontology
+
+ROOT = Path(__file__).resolve().parent.parent
+SERVER = """
+import sys, uvicorn
+from api.config import Settings
+from api.main import create_app
+settings = Settings(data_dir=sys.argv[1], host="127.0.0.1", port=int(sys.argv[2]))
+uvicorn.run(create_app(settings), host="127.0.0.1", port=int(sys.argv[2]), log_level="warning",
+            access_log=False)
+"""
+_ERRORS = "http://www.daml.org/2002/03/agents/agent-ont#"
+Directive = dict[str, Any]
+
+
+def _free_port() -> int:
+    with socket.socket() as probe:
+        probe.bind(("127.0.0.1", 0))
+        port: int = probe.getsockname()[1]
+        return port
+
+
+def _load_average() -> str:
+    one, five, fifteen = os.getloadavg()
+    return f"load average {one:.2f} {five:.2f} {fifteen:.2f} on {os.cpu_count()} CPUs"
+
+
+class Server:
+    """``uvicorn`` serving the app in a child process, over a fresh data directory."""
+
+    def __init__(self, data: str) -> None:
+        self.port = _free_port()
+        self.url = f"http://127.0.0.1:{self.port}"
+        self.process = subprocess.Popen(
+            [sys.executable, "-c", SERVER, data, str(self.port)], cwd=ROOT
+        )
+        deadline = time.monotonic() + 60
+        while True:
+            try:
+                httpx.get(self.url + "/health", timeout=1).raise_for_status()
+                return
+            except httpx.HTTPError:
+                if time.monotonic() > deadline or self.process.poll() is not None:
+                    self.stop()
+                    raise RuntimeError("the bench server did not start") from None
+                time.sleep(0.1)
+
+    def stop(self) -> None:
+        self.process.terminate()
+        self.process.wait(timeout=30)
+
+
+def _request(
+    command: str, first: str = "", second: str = "", *args: str, ref: str, client: str = "bench"
+) -> Directive:
+    return {
+        "client_name": client,
+        "reference_name": ref,
+        "command": command,
+        "primary_command_spec": first,
+        "secondary_command_spec": second,
+        "args": list(args),
+    }
+
+
+def _load(
+    ref: str, path: str = "", iri: str = "http://ex.org/bench", buffered: bool = True
+) -> Directive:
+    return _request("LOAD", "FILE", "", path, iri, "false", "PELLET", str(buffered), ref=ref)
+
+
+# Throughput -------------------------------------------------------------------------------------
+
+
+def _directive(client: str, i: int) -> Directive:
+    if i % 2 == 0:
+        return _request(
+            "ADD", "IND", "CLASS", f"{client}_{i}", f"Class_{i % 7}", ref="bench", client=client
+        )
+    return _request("QUERY", "IND", "", f"{client}_{i - 1}", ref="bench", client=client)
+
+
+def run_clients(
+    url: str, clients: int, seconds: float, path: str = "/armor_interface_srv"
+) -> float:
+    """Requests per second that ``clients`` threads, one connection each, complete."""
+    counts = [0] * clients
+    stop = time.perf_counter() + seconds
+    failures: list[str] = []
+
+    def work(index: int) -> None:
+        name = f"c{index}_{int(time.time() * 1e6) % 10**9}"
+        with httpx.Client(base_url=url, timeout=30) as http:
+            i = 0
+            while time.perf_counter() < stop:
+                if path == "/health":
+                    http.get(path).raise_for_status()
+                else:
+                    response = http.post(path, json={"armor_request": _directive(name, i)})
+                    if not response.json()["armor_response"]["success"]:
+                        failures.append(response.text)
+                i += 1
+            counts[index] = i
+
+    start = time.perf_counter()
+    threads = [threading.Thread(target=work, args=(n,)) for n in range(clients)]
+    for thread in threads:
+        thread.start()
+    for thread in threads:
+        thread.join()
+    elapsed = time.perf_counter() - start
+    if failures:
+        raise RuntimeError(f"{len(failures)} directives failed, e.g. {failures[0]}")
+    return sum(counts) / elapsed
+
+
+def in_process(seconds: float) -> float:
+    with tempfile.TemporaryDirectory(prefix="engram-bench-") as data:
+        engine = ArmorEngine(Store(Path(data) / "store"))
+        engine.execute(ArmorDirectiveReq.model_validate(_load("bench")))
+        stop, i = time.perf_counter() + seconds, 0
+        start = time.perf_counter()
+        while time.perf_counter() < stop:
+            engine.execute(ArmorDirectiveReq.model_validate(_directive("local", i)))
+            i += 1
+        return i / (time.perf_counter() - start)
+
+
+def throughput(seconds: float) -> None:
+    print(f"# ARMOR simple directives (ADD IND CLASS / QUERY IND alternating); {_load_average()}")
+    with tempfile.TemporaryDirectory(prefix="engram-bench-") as data:
+        server = Server(data)
+        try:
+            response = httpx.post(
+                server.url + "/armor_interface_srv", json={"armor_request": _load("bench")}
+            )
+            assert response.json()["armor_response"]["success"], response.text
+            run_clients(server.url, 8, 0.5)  # warm-up
+            health = run_clients(server.url, 8, seconds, "/health")
+            one = run_clients(server.url, 1, seconds)
+            eight = run_clients(server.url, 8, seconds)
+            health_after = run_clients(server.url, 8, seconds, "/health")
+        finally:
+            server.stop()
+    local = in_process(seconds)
+    print(f"  1 client : {one:8.0f} directives/s over HTTP")
+    verdict = "met" if eight >= 2000 else "NOT met"
+    print(f"  8 clients: {eight:8.0f} directives/s over HTTP (target >= 2000: {verdict})")
+    print(
+        f"  baseline GET /health, 8 clients: {health:8.0f} requests/s before, "
+        f"{health_after:.0f} after (directives reach {eight / max(health, health_after):.0%} of it)"
+    )
+    print(
+        f"  baseline in-process engine, no HTTP, 1 thread: {local:8.0f} directives/s "
+        f"(HTTP with 8 clients = {eight / local:.2f}x)"
+    )
+    print(f"  {_load_average()}")
+
+
+# REASON -----------------------------------------------------------------------------------------
+
+
+def _inferred(store: Store, ref: str) -> set[str]:
+    graph = reference_graph(ref, inferred=True)
+    return {f"{q.subject} {q.predicate} {q.object}" for q in store.quads(graph=graph)}
+
+
+def _owlrl(asserted: bytes) -> tuple[float, set[str]]:
+    """owlrl's closure time and additions, minus what tests/reasoners/owl_rl filters."""
+    graph = rdflib.Graph()
+    graph.parse(data=asserted, format="nt")
+    before = set(graph)
+    start = time.perf_counter()
+    owlrl.DeductiveClosure(owlrl.OWLRL_Semantics).expand(graph)
+    elapsed = time.perf_counter() - start
+    kept = rdflib.Graph()
+    for s, p, o in set(graph) - before:
+        if isinstance(s, rdflib.Literal | rdflib.BNode) or (p == OWL.sameAs and s == o):
+            continue
+        if p == RDF.type and o == RDFS.Datatype and s in OWL_RL_Datatypes:
+            continue
+        if (s, p, o) in OWLRL_Datatypes_Disjointness or str(p).startswith(_ERRORS):
+            continue
+        kept.add((s, p, o))
+    triples = parse(kept.serialize(format="nt", encoding="utf-8"), format=RdfFormat.N_TRIPLES)
+    return elapsed, {f"{t.subject} {t.predicate} {t.object}" for t in triples}
+
+
+def _execute(engine: ArmorEngine, *directives: Directive) -> None:
+    result = engine.execute_list([ArmorDirectiveReq.model_validate(d) for d in directives])
+    if not result.success:
+        raise RuntimeError(f"directives failed: {result}")
+
+
+def _full_reason(path: Path, work: Path, *, on_disk: bool) -> tuple[float, ArmorEngine]:
+    """LOAD (not timed) then one REASON directive (timed) on a fresh engine and store."""
+    engine = ArmorEngine(Store(tempfile.mkdtemp(dir=work)) if on_disk else Store())
+    _execute(engine, _load("onto", str(path), EX.rstrip("#")))
+    start = time.perf_counter()
+    _execute(engine, _request("REASON", ref="onto"))
+    return time.perf_counter() - start, engine
+
+
+def _new_object(n: int, ref: str = "onto") -> list[Directive]:
+    """5 assertions about a new object, as ADD directives."""
+    obj = f"bench_obj{n}"
+    return [
+        _request("ADD", "IND", "CLASS", obj, "Mug", ref=ref),
+        _request("ADD", "OBJECTPROP", "IND", "inScene", obj, f"scene{n % 100}", ref=ref),
+        _request("ADD", "DATAPROP", "IND", "score", obj, "DOUBLE", "0.5", ref=ref),
+        _request("ADD", "DATAPROP", "IND", "level", obj, "INTEGER", "0", ref=ref),
+        _request("ADD", "OBJECTPROP", "IND", "above", obj, f"scene{n % 100}_obj0", ref=ref),
+    ]
+
+
+def _summary(label: str, times: list[float]) -> str:
+    times = sorted(times)
+    p95 = times[min(len(times) - 1, int(0.95 * len(times)))]
+    verdict = "met" if statistics.median(times) < 0.050 else "NOT met"
+    return (
+        f"  {label}, {len(times)} runs: median {1000 * statistics.median(times):.1f} ms, "
+        f"p95 {1000 * p95:.1f} ms, max {1000 * times[-1]:.1f} ms (target < 50 ms: {verdict})"
+    )
+
+
+def _incremental(
+    run_adds: Callable[[list[Directive]], None], runs: int, start_at: int
+) -> tuple[list[float], list[float]]:
+    """Times of REASON after 5 committed ADDs, and of one list [5 ADDs, REASON]."""
+    after_adds, whole_list = [], []
+    reason = _request("REASON", ref="onto")
+    for n in range(runs):
+        run_adds(_new_object(start_at + 2 * n))
+        start = time.perf_counter()
+        run_adds([reason])
+        after_adds.append(time.perf_counter() - start)
+        start = time.perf_counter()
+        run_adds([*_new_object(start_at + 2 * n + 1), reason])
+        whole_list.append(time.perf_counter() - start)
+    return after_adds, whole_list
+
+
+def _http_list(http: httpx.Client) -> Callable[[list[Directive]], None]:
+    def send(directives: list[Directive]) -> None:
+        response = http.post("/armor_interface_serialized_srv", json={"armor_requests": directives})
+        if not response.json()["success"]:
+            raise RuntimeError(response.text)
+
+    return send
+
+
+def reason(sizes: list[int], owlrl_50k: bool, runs: int) -> None:
+    print(f"# REASON through the directive engine vs owlrl {owlrl.__version__}; {_load_average()}")
+    with tempfile.TemporaryDirectory(prefix="engram-bench-") as tmp:
+        work = Path(tmp)
+        engine: ArmorEngine | None = None
+        path = work / "onto.nt"
+        for size in sizes:
+            path = work / f"onto-{size}.nt"
+            path.write_text("\n".join(scene_ontology(size, seed=1)) + "\n")
+            with_owlrl = size <= 10_000 or owlrl_50k
+            times: dict[bool, list[float]] = {True: [], False: []}  # on disk?
+            for on_disk in (True, False):  # one REASON of each before owlrl
+                elapsed, engine = _full_reason(path, work, on_disk=on_disk)
+                times[on_disk].append(elapsed)
+            asserted = engine.store.graph_ntriples(reference_graph("onto"))
+            triples = asserted.count(b"\n")
+            print(f"\n## {triples} asserted triples ({path.name})")
+            if with_owlrl:
+                baseline, expected = _owlrl(asserted)
+                same = _inferred(engine.store, "onto") == expected
+                print(f"owlrl {baseline:.2f} s; identical inferences: {same}")
+            else:
+                print("owlrl not run at this size (--owlrl-50k runs it; about 100 s)")
+            for _ in range(2):  # and two after
+                for on_disk in (True, False):
+                    elapsed, engine = _full_reason(path, work, on_disk=on_disk)
+                    times[on_disk].append(elapsed)
+            inferred = len(_inferred(engine.store, "onto"))
+            for on_disk in (True, False):
+                ours = statistics.median(times[on_disk])
+                kind = "on-disk store (as served)" if on_disk else "in-memory store"
+                line = (
+                    f"full REASON directive, {kind}: median {ours:.3f} s of "
+                    f"{', '.join(f'{r:.3f}' for r in times[on_disk])} (+{inferred} inferred)"
+                )
+                if with_owlrl:
+                    ratio = baseline / ours
+                    verdict = "met" if ratio >= 100 else "NOT met"
+                    line += f"; owlrl ÷ REASON {ratio:.0f}x (target >= 100x: {verdict})"
+                print(line)
+        if engine is None or not runs:
+            return
+        print(f"\n## incremental REASON on the {sizes[-1]}-triple reference, on-disk store")
+        _, engine = _full_reason(path, work, on_disk=True)
+        local = engine
+        after_adds, whole_list = _incremental(lambda d: _execute(local, *d), runs, 0)
+        print(_summary("engine: REASON after 5 committed ADDs (buffered reasoner)", after_adds))
+        print(_summary("engine: one list [5 ADDs, REASON]", whole_list))
+        fresh = Store()
+        with fresh.transaction() as tx:
+            tx.inserts.extend(engine.store.quads(graph=reference_graph("onto")))
+        materialise(
+            fresh, asserted=reference_graph("onto"), inferred=reference_graph("onto", inferred=True)
+        )
+        same = _inferred(engine.store, "onto") == _inferred(fresh, "onto")
+        print(f"  incremental result equals a full REASON: {same}")
+        del engine
+        server = Server(str(work / "server"))
+        try:
+            with httpx.Client(base_url=server.url, timeout=600) as http:
+                send = _http_list(http)
+                send([_load("onto", str(path), EX.rstrip("#"))])
+                start = time.perf_counter()
+                send([_request("REASON", ref="onto")])
+                print(f"  HTTP: full REASON {time.perf_counter() - start:.3f} s")
+                after_adds, whole_list = _incremental(send, runs, 0)
+                print(
+                    _summary("HTTP: REASON after 5 committed ADDs (buffered reasoner)", after_adds)
+                )
+                print(_summary("HTTP: one list [5 ADDs, REASON]", whole_list))
+        finally:
+            server.stop()
+    print(f"  {_load_average()}")
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    parser.add_argument("--only", choices=["throughput", "reason"], help="run one half only")
+    parser.add_argument("--seconds", type=float, default=3.0, help="measuring time per figure")
+    parser.add_argument("--owlrl-50k", action="store_true", help="run owlrl at 50k too (~100 s)")
+    parser.add_argument("--runs", type=int, default=20, help="incremental REASONs to time")
+    parser.add_argument("--sizes", default="10000,50000", help="ontology sizes in triples")
+    options = parser.parse_args()
+    if options.only in (None, "throughput"):
+        throughput(options.seconds)
+    if options.only in (None, "reason"):
+        sizes = [int(s) for s in options.sizes.split(",")]
+        reason(sizes, options.owlrl_50k, options.runs)
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,68 @@
+"""Queries by cue over a memory of many episodes: time per query, and the ratio to a point
+lookup of one episode (``episodes_get``) measured in the same process.
+
+    .venv/bin/python bench/episodes_cues.py [--episodes 2000] [--repeat 5]
+"""
+
+import argparse
+import datetime as dt
+import statistics
+import time
+from collections.abc import Callable
+
+from episodes import ArgumentSpec, Cue, EpisodeMemory
+from episodes.terms import episode_iri
+from kg import Store
+
+
+def timed(call: Callable[[], object], repeat: int) -> float:
+    """Median seconds of ``repeat`` calls."""
+    samples = []
+    for _ in range(repeat):
+        start = time.perf_counter()
+        call()
+        samples.append(time.perf_counter() - start)
+    return statistics.median(samples)
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__)
+    parser.add_argument("--episodes", type=int, default=2000)
+    parser.add_argument("--repeat", type=int, default=5)
+    args = parser.parse_args()
+    now = dt.datetime(2026, 3, 1, tzinfo=dt.UTC)
+    memory = EpisodeMemory(Store(), clock=lambda: now)
+    start = dt.datetime(2025, 1, 1, tzinfo=dt.UTC)
+    t0 = time.perf_counter()
+    for k in range(args.episodes):
+        memory.begin(
+            ("babbling", "point", "take", "give")[k % 4],
+            arguments=[
+                ArgumentSpec("agent", f"person{k % 7}"),
+                ArgumentSpec("object", f"o{k % 5}"),
+            ],
+            begin=start + dt.timedelta(hours=k),
+            episode_id=f"e{k}",
+        )
+    print(f"{args.episodes} episodes written in {time.perf_counter() - t0:.1f} s")
+    store = memory.store
+    baseline = timed(lambda: store.select("episodes_get", episode=episode_iri("e1")), args.repeat)
+    cases: dict[str, Callable[[], object]] = {
+        "last time (activity)": lambda: memory.recall(Cue("babbling"), which="last"),
+        "first time (agent, object)": lambda: memory.recall(
+            Cue("babbling", agent="person3", obj="o2"), which="first"
+        ),
+        "n-th time (n = 100)": lambda: memory.recall(Cue("babbling"), which="nth", n=100),
+        "how many times (agent)": lambda: memory.count(Cue("take", agent="person1")),
+        "all episodes (activity)": lambda: memory.all(Cue("give")),
+        "between (3 days)": lambda: memory.between(start, start + dt.timedelta(days=3)),
+    }
+    print(f"{'query':<28} {'ms':>8} {'x point lookup':>15}")
+    print(f"{'point lookup (baseline)':<28} {baseline * 1000:8.2f} {1.0:15.1f}")
+    for name, call in cases.items():
+        seconds = timed(call, args.repeat)
+        print(f"{name:<28} {seconds * 1000:8.2f} {seconds / baseline:15.1f}")
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,233 @@
+"""Scene memory latency as the memory grows, against HermiT classifying the same scene.
+
+For memories of 100, 1,000 and 10,000 learned classes (``--sizes``), on an on-disk store in a
+temporary directory:
+
+1. the memory is prepared with ``SceneMemory.learn_classes`` from the signatures of random
+   scenes of 2-5 objects (the same learn path as ``store_scene``, batched; not timed);
+2. latency of one committed 10-object scene update (``store_scene``): ``--updates`` novel
+   scenes (each learns a class) and as many repeats of a known scene (each reinforces);
+3. latency of one retrieval (``retrieve``) with a partial cue of 3 objects;
+4. duration of one sleep pass over the whole memory;
+5. HermiT (bundled with owlready2) classifying one 10-object scene individual against the
+   exported memory (T-Box + memory graph + the scene with its signature links and AllDifferent),
+   wall time including the JVM, in a subprocess with ``--hermit-timeout``; the ratio to
+   Engram's median committed update (and to Engram's in-memory recognition) is printed.
+
+Run from the repository root::
+
+    .venv/bin/python bench/scene_memory.py                  # 100, 1,000, 10,000 classes
+    .venv/bin/python bench/scene_memory.py --quick          # tiny sizes, to exercise the script
+"""
+
+import argparse
+import gc
+import os
+import platform
+import random
+import shutil
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+from pyoxigraph import BlankNode, NamedNode, RdfFormat, Triple, serialize
+
+from kg import Store, export_triples
+from ontologies.vocab import (
+    EXPERIENCED_SCENE,
+    OWL_NS,
+    PREFIXES,
+    RDF_FIRST,
+    RDF_NIL,
+    RDF_REST,
+    RDF_TYPE,
+    engram,
+)
+from reasoners.memory import SceneMemory
+from reasoners.primitives import KINDS, Primitive
+
+SEED = 20250301
+AXES = [(0.0, 0.0, 1.0), (1.0, 0.0, 0.0), (0.0, 1.0, 0.0), (0.6, 0.0, 0.8)]
+
+
+def random_scene(rng: random.Random, count: int) -> list[Primitive]:
+    scene = []
+    for k in range(count):
+        kind = rng.choice(KINDS)
+        centre = (rng.uniform(0, 1), rng.uniform(0, 1), rng.uniform(0, 0.5))
+        if kind == "Sphere":
+            scene.append(Primitive(f"o{k}", kind, centre=centre, radius=0.04))
+        else:
+            scene.append(Primitive(f"o{k}", kind, centre=centre, axis=rng.choice(AXES)))
+    return scene
+
+
+def percentile(values: list[float], q: float) -> float:
+    ordered = sorted(values)
+    return ordered[min(len(ordered) - 1, round(q * (len(ordered) - 1)))]
+
+
+def timed(call: object, *args: object) -> float:
+    began = time.perf_counter()
+    call(*args)  # type: ignore[operator]
+    return time.perf_counter() - began
+
+
+def hermit_seconds(
+    memory: SceneMemory, scene: list[Primitive], workdir: Path, timeout: float
+) -> float | None:
+    """Wall time of HermiT classifying ``scene`` against the exported memory, None on timeout."""
+    item = engram("benchScene")
+    triples = export_triples(memory.store, ["tbox", "memory"])
+    objects = [engram(f"benchScene-{k}") for k in range(len(scene))]
+    triples.append(Triple(item, RDF_TYPE, EXPERIENCED_SCENE))
+    triples += [Triple(o, RDF_TYPE, engram(p.kind)) for o, p in zip(objects, scene, strict=True)]
+    relations = memory.encoder.relations(scene)
+    triples += [
+        Triple(item, prop, objects[o]) for prop, o in memory.encoder.links(scene, relations)
+    ]
+    head: NamedNode | BlankNode = RDF_NIL
+    for o in reversed(objects):
+        cell = BlankNode()
+        triples += [Triple(cell, RDF_FIRST, o), Triple(cell, RDF_REST, head)]
+        head = cell
+    axiom = BlankNode()
+    triples += [
+        Triple(axiom, RDF_TYPE, NamedNode(OWL_NS + "AllDifferent")),
+        Triple(axiom, NamedNode(OWL_NS + "distinctMembers"), head),
+    ]
+    path = workdir / "hermit.owl"
+    path.write_bytes(serialize(triples, format=RdfFormat.RDF_XML, prefixes=PREFIXES))
+    code = (
+        "import sys, owlready2\n"
+        "w = owlready2.World(); o = w.get_ontology(sys.argv[1]).load()\n"
+        "with o: owlready2.sync_reasoner_hermit(w, infer_property_values=False, debug=0)\n"
+    )
+    began = time.perf_counter()
+    try:
+        subprocess.run(
+            [sys.executable, "-c", code, path.as_uri()],
+            check=True,
+            timeout=timeout,
+            capture_output=True,
+        )
+    except subprocess.TimeoutExpired:
+        return None
+    except subprocess.CalledProcessError as error:
+        output = error.stderr.decode(errors="replace")
+        reason = "out of memory" if "OutOfMemoryError" in output else "error"
+        print(f"  HermiT failed after {time.perf_counter() - began:.1f} s ({reason})", flush=True)
+        return float("nan")
+    return time.perf_counter() - began
+
+
+def run(size: int, args: argparse.Namespace, rng: random.Random) -> dict[str, object]:
+    workdir = Path(tempfile.mkdtemp(prefix="engram-bench-"))
+    try:
+        store = Store(workdir / "store")
+        memory = SceneMemory(store)
+        began = time.perf_counter()
+        learned = 0
+        while learned < size:
+            batch = []
+            while len(batch) < min(500, size - learned):
+                signature = memory.encoder.signature(random_scene(rng, rng.randint(2, 5)))
+                if signature:
+                    batch.append(signature)
+            learned += len(memory.learn_classes(batch))
+        build_s = time.perf_counter() - began
+        novel = [random_scene(rng, 10) for _ in range(args.updates)]
+        known = random_scene(rng, 10)
+        memory.store_scene(known)
+        gc.collect()
+        learn_times = [timed(memory.store_scene, scene) for scene in novel]
+        repeat_times = [timed(memory.store_scene, known) for _ in range(args.updates)]
+        cues = [random_scene(rng, 10)[:3] for _ in range(args.retrievals)]
+        retrieve_times = [timed(memory.retrieve, cue) for cue in cues]
+        recognise_times = [timed(memory.recognise, scene) for scene in novel]
+        hermit = None
+        if not args.no_hermit and shutil.which("java"):
+            scene = novel[0][: args.hermit_objects]
+            hermit = hermit_seconds(memory, scene, workdir, args.hermit_timeout)
+        sleep_s = timed(memory.sleep)
+        return {
+            "size": size,
+            "classes": len(memory.classes()),
+            "build_s": build_s,
+            "learn": learn_times,
+            "repeat": repeat_times,
+            "retrieve": retrieve_times,
+            "recognise": recognise_times,
+            "sleep_s": sleep_s,
+            "hermit_s": hermit,
+        }
+    finally:
+        shutil.rmtree(workdir, ignore_errors=True)
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0] if __doc__ else None)
+    parser.add_argument("--sizes", default="100,1000,10000", help="learned classes per memory")
+    parser.add_argument("--updates", type=int, default=100, help="timed updates of each kind")
+    parser.add_argument("--retrievals", type=int, default=100, help="timed retrievals")
+    parser.add_argument("--hermit-timeout", type=float, default=300.0, help="seconds")
+    parser.add_argument("--no-hermit", action="store_true", help="skip the HermiT baseline")
+    parser.add_argument(
+        "--hermit-objects", type=int, default=10, help="objects of the scene HermiT classifies"
+    )
+    parser.add_argument("--quick", action="store_true", help="sizes 20,60 and 10 repetitions")
+    args = parser.parse_args()
+    if args.quick:
+        args.sizes, args.updates, args.retrievals = "20,60", 10, 10
+    sizes = [int(s) for s in args.sizes.split(",")]
+    print("Engram scene memory vs HermiT (bench/scene_memory.py)")
+    print(
+        f"python {platform.python_version()}, {platform.machine()}, {os.cpu_count()} cpus; "
+        "on-disk store; times in ms unless marked"
+    )
+    print()
+    header = (
+        f"{'classes':>8} {'build s':>8} {'learn med':>9} {'learn p99':>9} {'reinf med':>9} "
+        f"{'reinf p99':>9} {'retr med':>8} {'retr p99':>8} {'recog med':>9} {'sleep ms':>9} "
+        f"{'HermiT s':>9} {'x update':>9} {'x recog':>9}"
+    )
+    print(header.replace("classes", "size/cls"))
+    print("-" * len(header))
+    rng = random.Random(SEED)
+    for size in sizes:
+        r = run(size, args, rng)
+        ms = {k: [1000 * t for t in r[k]] for k in ("learn", "repeat", "retrieve", "recognise")}  # type: ignore[attr-defined]
+        update_med = statistics.median(ms["learn"] + ms["repeat"])
+        recog_med = statistics.median(ms["recognise"])
+        hermit = r["hermit_s"]
+        if hermit is not None and hermit != hermit:  # NaN: HermiT failed
+            hermit_text, bound = "failed", None
+        elif hermit is None:
+            hermit_text = f">{args.hermit_timeout:.0f}" if not args.no_hermit else "-"
+            bound = args.hermit_timeout if not args.no_hermit else None
+        else:
+            hermit_text, bound = f"{hermit:.1f}", hermit
+        ratio_update = f"{1000 * bound / update_med:,.0f}" if bound else "-"
+        ratio_recog = f"{1000 * bound / recog_med:,.0f}" if bound else "-"
+        if hermit is None and bound:
+            ratio_update, ratio_recog = ">" + ratio_update, ">" + ratio_recog
+        print(
+            f"{str(size) + '/' + str(r['classes']):>8} {r['build_s']:>8.1f} "
+            f"{statistics.median(ms['learn']):>9.2f} {percentile(ms['learn'], 0.99):>9.2f} "
+            f"{statistics.median(ms['repeat']):>9.2f} {percentile(ms['repeat'], 0.99):>9.2f} "
+            f"{statistics.median(ms['retrieve']):>8.2f} {percentile(ms['retrieve'], 0.99):>8.2f} "
+            f"{recog_med:>9.3f} {1000 * r['sleep_s']:>9.1f} "  # type: ignore[operator]
+            f"{hermit_text:>9} {ratio_update:>9} {ratio_recog:>9}",
+            flush=True,
+        )
+    print()
+    print("learn = novel 10-object scene (learns a class), reinf = known scene (reinforces);")
+    print("med/p99 over the timed calls; each update and retrieval is one committed transaction.")
+    print("x update = HermiT time / median committed update; x recog = HermiT / median recognise.")
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,119 @@
+"""Queries by cue, each one SPARQL query from ``sparql/``, answered with times in words.
+
+"The first / last / n-th time <agent> did <activity> (with <object>)", "all episodes of
+<activity>", "what happened between T1 and T2", "how many times".
+"""
+
+import datetime as dt
+from typing import Literal as Which
+
+from pyoxigraph import Literal, NamedNode
+
+from episodes import _rdf
+from episodes.errors import InvalidInputError, NotFoundError
+from episodes.model import EpisodeSummary, Recollection
+from episodes.terms import check_name, episode_id_of, participant_iri
+from episodes.times import parse_time, say_when, to_literal
+from kg import Store
+
+__all__ = ["Cue", "all_episodes", "count_episodes", "happened_between", "recall"]
+
+MAX_N = 1_000_000
+
+
+class Cue:
+    """What a question names: an activity, and optionally an agent and an object.
+
+    >>> sorted(Cue("babbling", agent="HyungJin").bindings())
+    ['activity', 'agent']
+    """
+
+    def __init__(self, activity: str, *, agent: str | None = None, obj: str | None = None):
+        self.activity = check_name(activity, "activity")
+        self.agent = participant_iri(agent, "agent") if agent is not None else None
+        self.obj = participant_iri(obj, "object") if obj is not None else None
+
+    def bindings(self) -> dict[str, NamedNode | Literal]:
+        bound: dict[str, NamedNode | Literal] = {"activity": Literal(self.activity)}
+        if self.agent is not None:
+            bound["agent"] = self.agent
+        if self.obj is not None:
+            bound["object"] = self.obj
+        return bound
+
+    def __str__(self) -> str:
+        words = [f"activity {self.activity!r}"]
+        if self.agent is not None:
+            words.append(f"agent {self.agent.value.rsplit('/', 1)[-1]!r}")
+        if self.obj is not None:
+            words.append(f"object {self.obj.value.rsplit('/', 1)[-1]!r}")
+        return ", ".join(words)
+
+
+def _summary(row: _rdf.Row) -> EpisodeSummary:
+    return EpisodeSummary(
+        id=episode_id_of(_rdf.iri(row, "episode")),
+        activity=_rdf.text(row, "activity"),
+        activity_type=_rdf.opt_text(row, "type"),
+        begin=_rdf.time(row, "begin"),
+        end=_rdf.opt_time(row, "end"),
+        participants=_rdf.names(row),
+    )
+
+
+def recall(
+    store: Store, cue: Cue, *, which: Which["first", "last", "nth"], n: int = 1, now: dt.datetime
+) -> Recollection:
+    """The first, last or ``n``-th (1 is the first) episode matching ``cue``, and when it was.
+
+    Raises :class:`InvalidInputError` for a bad ``which`` or ``n`` and :class:`NotFoundError`
+    when fewer episodes match.
+    """
+    if which not in ("first", "last", "nth"):
+        raise InvalidInputError("which", which, "'first', 'last' or 'nth'")
+    if isinstance(n, bool) or not isinstance(n, int) or not 1 <= n <= MAX_N:
+        raise InvalidInputError("n", n, f"an integer from 1 to {MAX_N}")
+    if which == "nth":
+        # "all episodes" ordered by begin, row n: one query, linear in the matching episodes
+        # (SPARQL cannot take OFFSET as a bound value, and counting predecessors is quadratic).
+        rows = store.select("episodes_of_activity", **cue.bindings())[n - 1 : n]
+    else:
+        rows = store.select(f"episodes_{which}_time", **cue.bindings())
+    if not rows:
+        ordinal = {"first": "a first", "last": "a last"}.get(which, f"a time number {n}")
+        raise NotFoundError(f"cue: no episode matches {cue} ({ordinal} was asked for)")
+    summary = _summary(rows[0])
+    return Recollection(
+        episode=summary, when=say_when(summary.begin, now), rank=n if which == "nth" else None
+    )
+
+
+def all_episodes(store: Store, cue: Cue, *, now: dt.datetime) -> list[Recollection]:
+    """Every episode matching ``cue``, oldest first, each with when it was."""
+    return [
+        Recollection(episode=(s := _summary(r)), when=say_when(s.begin, now), rank=i)
+        for i, r in enumerate(store.select("episodes_of_activity", **cue.bindings()), start=1)
+    ]
+
+
+def count_episodes(store: Store, cue: Cue) -> int:
+    """How many episodes match ``cue``."""
+    return _rdf.integer(store.select("episodes_count", **cue.bindings())[0], "count")
+
+
+def happened_between(
+    store: Store, start: dt.datetime | str, end: dt.datetime | str, *, now: dt.datetime
+) -> list[Recollection]:
+    """The episodes that overlap ``start``..``end``, oldest first, each with when it was.
+
+    Raises :class:`InvalidInputError` for a bad time or a reversed window.
+    """
+    window_start, window_end = parse_time(start, "start"), parse_time(end, "end")
+    if window_end < window_start:
+        raise InvalidInputError(
+            "end", window_end.isoformat(), f"a time not before start {window_start.isoformat()}"
+        )
+    rows = store.select(
+        "episodes_between", **{"from": to_literal(window_start), "to": to_literal(window_end)}
+    )
+    return [Recollection(episode=(s := _summary(r)), when=say_when(s.begin, now)) for r in rows]

@@ -1,0 +1,49 @@
+"""The exceptions of the autobiographical memory.
+
+EngramError (kg)
+└── EpisodeError
+    ├── InvalidInputError       bad value (HTTP 422): names field, value, expected
+    ├── NotFoundError           no such episode, run or cue match (HTTP 404)
+    │   └── EpisodeNotFoundError
+    └── EpisodeStateError       does not fit the state, e.g. ending twice (HTTP 409)
+"""
+
+from typing import Any
+
+from kg.errors import EngramError
+
+__all__ = [
+    "EpisodeError",
+    "EpisodeNotFoundError",
+    "EpisodeStateError",
+    "InvalidInputError",
+    "NotFoundError",
+]
+
+
+class EpisodeError(EngramError):
+    """Base of the errors of the autobiographical memory."""
+
+
+class InvalidInputError(EpisodeError, ValueError):
+    """A value is malformed or out of range; nothing was written."""
+
+    def __init__(self, field: str, value: Any, expected: str) -> None:
+        self.field, self.value, self.expected = field, value, expected
+        super().__init__(f"{field}: got {value!r}, expected {expected}")
+
+
+class NotFoundError(EpisodeError, LookupError):
+    """Nothing in the memory matches what was asked for."""
+
+
+class EpisodeNotFoundError(NotFoundError):
+    """No episode has this id."""
+
+    def __init__(self, episode_id: str) -> None:
+        self.episode_id = episode_id
+        super().__init__(f"episode: no episode with id {episode_id!r}")
+
+
+class EpisodeStateError(EpisodeError):
+    """The operation does not fit the episode's state (e.g. it has already ended)."""

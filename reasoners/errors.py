@@ -1,0 +1,54 @@
+"""The exceptions of the scene memory.
+
+EngramError (kg)
+└── MemoryReasonerError
+    ├── InvalidPrimitiveError   a primitive's field is missing or out of range (ValueError)
+    ├── InvalidSceneError       the primitives cannot form a scene, or a bad cue (ValueError)
+    ├── PolicyError             the memory policy in the store lacks a value or holds a bad one
+    ├── UnknownItemError        no live class or experienced scene has this IRI (KeyError)
+    │   └── NotInTrashError     restore was asked for an IRI that is not in the trash
+    └── RestoreConflictError    a live class already has the signature of the class to restore
+"""
+
+from kg.errors import EngramError
+
+__all__ = [
+    "InvalidPrimitiveError",
+    "InvalidSceneError",
+    "MemoryReasonerError",
+    "NotInTrashError",
+    "PolicyError",
+    "RestoreConflictError",
+    "UnknownItemError",
+]
+
+
+class MemoryReasonerError(EngramError):
+    """Base of the scene memory's errors."""
+
+
+class InvalidPrimitiveError(MemoryReasonerError, ValueError):
+    """A primitive's field is missing, malformed or out of range."""
+
+
+class InvalidSceneError(MemoryReasonerError, ValueError):
+    """The primitives cannot form a scene (duplicate ids, no relation), or a cue is malformed."""
+
+
+class PolicyError(MemoryReasonerError):
+    """The memory policy in the store lacks a value or holds one of the wrong kind."""
+
+
+class UnknownItemError(MemoryReasonerError, KeyError):
+    """No live learned class or experienced scene has this IRI."""
+
+    def __str__(self) -> str:  # KeyError would quote the message
+        return str(self.args[0]) if self.args else ""
+
+
+class NotInTrashError(UnknownItemError):
+    """Restore was asked for an IRI that the trash does not hold."""
+
+
+class RestoreConflictError(MemoryReasonerError):
+    """A live class already has the signature of the class to restore."""

@@ -1,0 +1,177 @@
+"""An in-memory index of learned signatures: recognition without comparing every class.
+
+Each class gets a bit position. For every signature key k and count v the index keeps a bitset
+of the classes whose restriction on k is at least v. A scene with counts m(k) fails class C
+exactly when some key has C[k] > m(k), so the recognised classes are
+
+    all classes  AND NOT  OR_k  atLeast[k][m(k) + 1]
+
+one big-integer operation per distinct key in the memory (a few hundred at most), whatever
+the number of classes. Specialisations of a cue (classes whose counts dominate it) are
+AND_k atLeast[k][cue(k)]. The bitsets are rebuilt from the store's triples on open.
+
+>>> from ontologies.vocab import PLANE, SPHERE, engram
+>>> index = SignatureIndex()
+>>> above = Signature({(engram("sphereIsAboveOf"), PLANE): 1})
+>>> both = Signature({(engram("sphereIsAboveOf"), PLANE): 1, (engram("planeIsBelowOf"), SPHERE): 2})
+>>> index.add(engram("Scene-1"), above); index.add(engram("Scene-2"), both)
+>>> [c.value[-7:] for c in index.recognised(both)]
+['Scene-1', 'Scene-2']
+>>> [c.value[-7:] for c in index.dominating(above)]
+['Scene-1', 'Scene-2']
+"""
+
+from collections import defaultdict
+from collections.abc import Iterator
+
+from pyoxigraph import NamedNode
+
+from reasoners.signature import Key, Signature
+
+__all__ = ["SignatureIndex", "bits"]
+
+
+def bits(value: int) -> Iterator[int]:
+    """The positions of the set bits of ``value``, lowest first."""
+    text = bin(value)[:1:-1]  # least significant first, without the '0b'
+    position = text.find("1")
+    while position >= 0:
+        yield position
+        position = text.find("1", position + 1)
+
+
+class SignatureIndex:
+    """Bitset index from signature keys and counts to learned classes."""
+
+    def __init__(self) -> None:
+        self._at_least: dict[Key, list[int]] = {}
+        self._position: dict[NamedNode, int] = {}
+        self._classes: list[NamedNode | None] = []
+        self._signature: dict[NamedNode, Signature] = {}
+        self._by_signature: dict[Signature, NamedNode] = {}
+        self._by_complexity: dict[int, int] = defaultdict(int)
+        self._live = 0
+
+    def __len__(self) -> int:
+        return len(self._signature)
+
+    def __contains__(self, cls: object) -> bool:
+        return cls in self._signature
+
+    def signature(self, cls: NamedNode) -> Signature:
+        return self._signature[cls]
+
+    def classes(self) -> list[NamedNode]:
+        """Every indexed class, in the order they were added."""
+        return [cls for cls in self._classes if cls is not None]
+
+    def with_signature(self, signature: Signature) -> NamedNode | None:
+        """The class learned with exactly this signature, if any."""
+        return self._by_signature.get(signature)
+
+    def add(self, cls: NamedNode, signature: Signature) -> None:
+        position = len(self._classes)
+        self._classes.append(cls)
+        self._position[cls] = position
+        self._signature[cls] = signature
+        self._by_signature[signature] = cls
+        bit = 1 << position
+        self._live |= bit
+        self._by_complexity[signature.complexity] |= bit
+        for key, n in signature.items():
+            levels = self._at_least.setdefault(key, [0])
+            while len(levels) <= n:
+                levels.append(0)
+            for v in range(1, n + 1):
+                levels[v] |= bit
+
+    def remove(self, cls: NamedNode) -> None:
+        position = self._position.pop(cls)
+        signature = self._signature.pop(cls)
+        del self._by_signature[signature]
+        self._classes[position] = None
+        mask = ~(1 << position)
+        self._live &= mask
+        self._by_complexity[signature.complexity] &= mask
+        if not self._by_complexity[signature.complexity]:
+            del self._by_complexity[signature.complexity]
+        for key, n in signature.items():
+            levels = self._at_least[key]
+            for v in range(1, n + 1):
+                levels[v] &= mask
+
+    def _members(self, value: int) -> list[NamedNode]:
+        classes = self._classes
+        return [classes[p] for p in bits(value)]  # type: ignore[misc]
+
+    def recognised(self, signature: Signature) -> list[NamedNode]:
+        """The classes whose every restriction the signature meets (its generalisations and,
+        when learned, itself)."""
+        failing = 0
+        get = signature.get
+        for key, levels in self._at_least.items():
+            needed = get(key, 0) + 1
+            if needed < len(levels):
+                failing |= levels[needed]
+        return self._members(self._live & ~failing)
+
+    def dominating(self, signature: Signature) -> list[NamedNode]:
+        """The classes that meet every restriction of ``signature`` (its specialisations and,
+        when learned, itself)."""
+        result = self._live
+        for key, n in signature.items():
+            levels = self._at_least.get(key)
+            if levels is None or n >= len(levels):
+                return []
+            result &= levels[n]
+            if not result:
+                return []
+        return self._members(result)
+
+    def most_similar(self, signature: Signature, limit: int) -> list[tuple[NamedNode, float]]:
+        """Up to ``limit`` classes with the highest weighted Jaccard similarity Σmin/Σmax to
+        ``signature`` (above 0), best first, ties in learning order.
+
+        Σmin for every class at once is a sum of bitsets (one per key and count of the cue),
+        kept as bit-sliced counters; classes are then visited bucket by bucket, in decreasing
+        order of similarity m / (d_cue + d_class - m).
+        """
+        slices: list[int] = []
+        for key, n in signature.items():
+            levels = self._at_least.get(key)
+            if levels is None:
+                continue
+            for v in range(1, min(n, len(levels) - 1) + 1):
+                carry = levels[v]
+                for i in range(len(slices)):
+                    if not carry:
+                        break
+                    slices[i], carry = slices[i] ^ carry, slices[i] & carry
+                if carry:
+                    slices.append(carry)
+        if not slices:
+            return []
+        live = self._live
+        exactly: dict[int, int] = {}
+        for m in range(1, signature.complexity + 1):
+            if m >> len(slices):
+                break
+            members = live
+            for i, part in enumerate(slices):
+                members &= part if (m >> i) & 1 else ~part
+                if not members:
+                    break
+            if members:
+                exactly[m] = members
+        d_cue = signature.complexity
+        buckets = sorted(
+            (m / (d_cue + d - m), m, d) for m in exactly for d in self._by_complexity if d >= m
+        )
+        found: list[tuple[NamedNode, float]] = []
+        for similarity, m, d in reversed(buckets):
+            members = exactly[m] & self._by_complexity[d]
+            for cls in self._members(members):
+                found.append((cls, similarity))
+                if len(found) >= limit:
+                    return found
+        return found

@@ -1,0 +1,881 @@
+"""The scene memory: encode, recognise, learn, structure, consolidate, forget and retrieve.
+
+Each of :meth:`SceneMemory.store_scene`, :meth:`~SceneMemory.retrieve`,
+:meth:`~SceneMemory.sleep`, :meth:`~SceneMemory.pin` and :meth:`~SceneMemory.restore` is one
+``store.transaction()``: all of its writes are visible, or none. Recognition uses an in-memory
+index (:mod:`reasoners.index`) rebuilt from the store's triples when the memory opens, and again
+if a transaction fails, so the store stays the source of truth. Methods may be called from
+several threads; they are serialised.
+
+>>> import datetime as dt
+>>> from kg import Store
+>>> from reasoners.primitives import Primitive
+>>> memory = SceneMemory(Store(), clock=lambda: dt.datetime(2025, 1, 1, tzinfo=dt.UTC))
+>>> scene = [Primitive("ball", "Sphere", centre=(.3, .3, .3), radius=.05),
+...          Primitive("table", "Plane", centre=(.3, .1, .1), axis=(0, 0, 1))]
+>>> first = memory.store_scene(scene)
+>>> first.learned, first.stored_as.value.rsplit("#")[-1], first.signature.complexity
+(True, 'Scene-1', 4)
+>>> memory.store_scene(scene).learned
+False
+>>> memory.retrieve([("Sphere", "isAboveOf", "Plane")]).recalled == first.stored_as
+True
+"""
+
+import datetime as dt
+import logging
+import threading
+import time
+from collections.abc import Callable, Iterator, Sequence
+from contextlib import contextmanager
+
+from pyoxigraph import Literal, NamedNode
+
+from kg.ontology import ensure_ontology
+from kg.store import Store
+from kg.transaction import Transaction
+from ontologies.vocab import (
+    COMPLEXITY,
+    CONSECUTIVE_WEAK_COUNT,
+    CREATED,
+    DEFAULT_POLICY,
+    EPISODIC,
+    FORGOTTEN_AT,
+    FORGOTTEN_SIGNATURE,
+    HAS_PRIMITIVE,
+    LAST_ACCESSED,
+    LEVEL,
+    MEMORY,
+    OWL_EQUIVALENT_CLASS,
+    PINNED,
+    RDFS_SUBCLASSOF,
+    RETRIEVE_COUNT,
+    SCORE,
+    STORE_COUNT,
+    TRASH,
+    TRASH_CLASS,
+)
+from reasoners import persist
+from reasoners.encode import Encoder, Relation
+from reasoners.errors import (
+    InvalidSceneError,
+    NotInTrashError,
+    RestoreConflictError,
+    UnknownItemError,
+)
+from reasoners.model import ClassRecord, ItemRecord, MemoryModel, TrashedClass, TrashedItem
+from reasoners.policy import Policy, load_policy
+from reasoners.primitives import Primitive
+from reasoners.results import (
+    ClassSummary,
+    ItemScores,
+    Match,
+    Recognition,
+    RetrievalResult,
+    SleepReport,
+    StoreResult,
+)
+from reasoners.scoring import WEAK, episodic_score, level_of, log_ratio, semantic_score
+from reasoners.signature import Signature
+
+__all__ = ["Clock", "Cue", "SceneMemory"]
+
+log = logging.getLogger(__name__)
+
+Clock = Callable[[], dt.datetime]
+Cue = Signature | Sequence[Primitive] | Sequence[tuple[str, str, str]]
+"""A partial scene: primitives, relation triples between object types such as
+``("Sphere", "isAboveOf", "Plane")``, or a signature."""
+
+
+def _utc_now() -> dt.datetime:
+    return dt.datetime.now(dt.UTC)
+
+
+class SceneMemory:
+    """A robot's scene memory kept in ``store`` (the T-Box is loaded if missing).
+
+    ``clock`` returns the current time as a timezone-aware datetime; inject one to simulate
+    time. ``policy`` names the ``engram:MemoryPolicy`` individual whose thresholds and weights
+    apply. Raises :class:`~reasoners.errors.PolicyError` if the policy is incomplete.
+    """
+
+    def __init__(
+        self,
+        store: Store,
+        *,
+        clock: Clock = _utc_now,
+        policy: NamedNode = DEFAULT_POLICY,
+    ) -> None:
+        ensure_ontology(store)
+        self.store = store
+        self._clock = clock
+        self._lock = threading.RLock()
+        self.policy: Policy = load_policy(store, policy)
+        self.encoder = Encoder.from_store(store, self.policy)
+        self._model: MemoryModel = persist.load_model(store)
+        log.info(
+            "scene memory opened: %d classes, %d experienced scenes",
+            len(self._model.classes),
+            len(self._model.items),
+        )
+
+    # Helpers -----------------------------------------------------------------------------------
+
+    def _now(self) -> dt.datetime:
+        now = self._clock()
+        if not isinstance(now, dt.datetime) or now.tzinfo is None:
+            raise ValueError(f"clock: got {now!r}, expected a timezone-aware datetime")
+        return now
+
+    @contextmanager
+    def _write(self) -> Iterator[Transaction]:
+        """One transaction; if anything fails, the model is rebuilt from the unchanged store."""
+        with self._lock:
+            try:
+                with self.store.transaction() as tx:
+                    yield tx
+            except BaseException:
+                self._model = persist.load_model(self.store)
+                raise
+
+    def _scene(self, primitives: Sequence[Primitive], field: str = "primitives") -> list[Primitive]:
+        scene = list(primitives)
+        bad = [p for p in scene if not isinstance(p, Primitive)]
+        if bad:
+            raise InvalidSceneError(
+                f"{field}: got {bad[0]!r}, expected reasoners.primitives.Primitive objects"
+            )
+        ids = [p.id for p in scene]
+        duplicates = sorted({i for i in ids if ids.count(i) > 1})
+        if duplicates:
+            raise InvalidSceneError(
+                f"{field}: ids must be unique within a scene, "
+                f"got {', '.join(map(repr, duplicates))} more than once"
+            )
+        return scene
+
+    def _encode(
+        self, primitives: Sequence[Primitive]
+    ) -> tuple[list[Primitive], list[Relation], Signature]:
+        scene = self._scene(primitives)
+        relations = self.encoder.relations(scene)
+        signature = self.encoder.signature(scene, relations)
+        if signature.complexity == 0:
+            raise InvalidSceneError(
+                f"primitives: got {len(scene)} object(s) and no spatial relation between them, "
+                "expected a scene of at least two related objects"
+            )
+        return scene, relations, signature
+
+    def _cue(self, cue: Cue) -> Signature:
+        if isinstance(cue, Signature):
+            if not cue:
+                raise InvalidSceneError("cue: got an empty signature, expected at least one key")
+            return cue
+        items = list(cue)
+        if not items:
+            raise InvalidSceneError("cue: got nothing, expected primitives or relation triples")
+        if all(isinstance(i, Primitive) for i in items):
+            return self._encode(items)[2]  # type: ignore[arg-type]
+        return self.encoder.cue_signature(items)  # type: ignore[arg-type]
+
+    def _recognitions(self, signature: Signature) -> list[Recognition]:
+        m = self._model
+        found = [
+            Recognition(
+                cls,
+                m.classes[cls].signature.complexity / signature.complexity,
+                m.classes[cls].signature.complexity,
+            )
+            for cls in m.index.recognised(signature)
+        ]
+        found.sort(key=lambda r: (-r.confidence, -m.classes[r.cls].store_count, r.cls.value))
+        return found
+
+    def _rescore(
+        self,
+        tx: Transaction,
+        classes: set[NamedNode],
+        fresh: set[NamedNode] | frozenset[NamedNode] = frozenset(),
+    ) -> None:
+        """Synaptic consolidation: re-score ``classes`` bottom-up (children before parents) with
+        the current maxima; ``fresh`` classes have no triples written yet."""
+        m, p = self._model, self.policy
+        max_d, max_s, max_r = m.max_complexity, m.max_store, m.max_retrieve
+        for cls in sorted(classes, key=lambda c: -m.classes[c].signature.complexity):
+            record = m.classes[cls]
+            old = record.score
+            new = semantic_score(
+                p,
+                complexity=record.signature.complexity,
+                store_count=record.store_count,
+                retrieve_count=record.retrieve_count,
+                children=[m.classes[c].score for c in m.children[cls]],
+                max_complexity=max_d,
+                max_store=max_s,
+                max_retrieve=max_r,
+            )
+            m.set_score(record, new)
+            if cls not in fresh and new != old:
+                persist.set_value(tx, cls, SCORE, Literal(old), Literal(new), MEMORY)
+
+    def _class_scores(self, record: ClassRecord) -> ItemScores:
+        m, p = self._model, self.policy
+        normalised = m.normalised(record)
+        return ItemScores(
+            iri=record.iri,
+            kind="class",
+            complexity=record.signature.complexity,
+            store_count=record.store_count,
+            retrieve_count=record.retrieve_count,
+            raw_score=record.score,
+            normalised=normalised,
+            level=level_of(normalised, high=p.highLevelThreshold, weak=p.weakLevelThreshold),
+            stored_level=record.level,
+            consecutive_weak=record.weak_count,
+            pinned=record.pinned,
+            created=record.created,
+            last_accessed=record.last_accessed,
+        )
+
+    def _item_raw(self, record: ItemRecord, now: dt.datetime) -> float:
+        m = self._model
+        cls = m.classes[record.cls]
+        max_d = m.max_item_complexity
+        return episodic_score(
+            self.policy,
+            complexity_ratio=record.complexity / max_d if max_d else 0.0,
+            class_normalised=m.normalised(cls),
+            store_ratio=log_ratio(cls.store_count, m.max_store),
+            retrieve_ratio=log_ratio(cls.retrieve_count, m.max_retrieve),
+            age_s=(now - record.last_accessed).total_seconds(),
+        )
+
+    def _bump_update(self, tx: Transaction) -> None:
+        self._model.updates_since_sleep += 1
+        persist.write_state(tx, self._model)
+
+    # Store -------------------------------------------------------------------------------------
+
+    def store_scene(
+        self, primitives: Sequence[Primitive], *, episode: NamedNode | None = None
+    ) -> StoreResult:
+        """Encode the scene, reinforce its best class or learn a new one, record the experienced
+        scene and consolidate the class's branch, as one transaction.
+
+        The best recognised class (highest complexity) is reinforced when its confidence
+        d(class)/d(scene) reaches the policy's learn threshold; otherwise a class
+        ``C ≡ ⊓(≥n p.T)``, ``C ⊑ Scene`` is learned and linked to its direct parents and children.
+        ``episode`` links the experienced scene to an autobiographical episode.
+
+        Raises :class:`~reasoners.errors.InvalidSceneError` for duplicate ids or a scene without
+        relations, and ``TypeError`` for an episode that is not a NamedNode; nothing is written.
+        """
+        if episode is not None and not isinstance(episode, NamedNode):
+            raise TypeError(f"episode: got {episode!r}, expected a NamedNode or None")
+        scene, relations, signature = self._encode(primitives)
+        with self._write() as tx:
+            now = self._now()
+            m = self._model
+            recognised = self._recognitions(signature)
+            best = recognised[0] if recognised else None
+            confidence = best.confidence if best else 0.0
+            fresh: NamedNode | None = None
+            if best is not None and confidence >= self.policy.learnThreshold:
+                record = m.classes[best.cls]
+                old_count, old_access = record.store_count, record.last_accessed
+                m.set_counts(record, store=old_count + 1, retrieve=record.retrieve_count)
+                record.last_accessed = now
+                persist.set_value(
+                    tx, record.iri, STORE_COUNT, Literal(old_count), Literal(old_count + 1), MEMORY
+                )
+                persist.set_value(
+                    tx,
+                    record.iri,
+                    LAST_ACCESSED,
+                    persist.time_literal(old_access),
+                    persist.time_literal(now),
+                    MEMORY,
+                )
+            else:
+                record = ClassRecord(
+                    iri=persist.class_iri(m.next_class),
+                    signature=signature,
+                    store_count=1,
+                    retrieve_count=0,
+                    score=0.0,
+                    created=now,
+                    last_accessed=now,
+                )
+                m.next_class += 1
+                parents, children, removed = m.add_class(record)
+                added = {(record.iri, p) for p in parents} | {(c, record.iri) for c in children}
+                persist.write_edges(tx, added, removed)
+                fresh = record.iri
+            item = ItemRecord(
+                iri=persist.item_iri(m.next_item),
+                cls=record.iri,
+                complexity=signature.complexity,
+                created=now,
+                last_accessed=now,
+            )
+            m.next_item += 1
+            m.add_item(item)
+            persist.write_item(tx, item, scene, relations, episode)
+            self._rescore(tx, {record.iri} | m.ancestors(record.iri), {fresh} if fresh else set())
+            if fresh is not None:
+                persist.write_class(tx, record)
+            self._bump_update(tx)
+            result = StoreResult(
+                scene_item=item.iri,
+                stored_as=record.iri,
+                learned=fresh is not None,
+                recognised=tuple(recognised),
+                confidence=confidence,
+                signature=signature,
+                relations=tuple(relations),
+                parents=tuple(sorted(m.parents[record.iri], key=lambda c: c.value)),
+                scores=self._class_scores(record),
+            )
+        log.info(
+            "stored %s as %s (%s, confidence %.2f)",
+            item.iri.value,
+            record.iri.value,
+            "learned" if fresh else "reinforced",
+            confidence,
+        )
+        return result
+
+    def learn_classes(self, signatures: Sequence[Signature]) -> list[NamedNode]:
+        """Teach classes directly from signatures (importing a memory, preparing a benchmark),
+        as one transaction: each new signature becomes ``C ≡ ⊓(≥n p.T)`` with store count 1,
+        linked into the graph, and the touched branches are consolidated. Signatures already
+        learned are skipped. Returns the new classes."""
+        with self._write() as tx:
+            now = self._now()
+            m = self._model
+            added: set[tuple[NamedNode, NamedNode]] = set()
+            removed: set[tuple[NamedNode, NamedNode]] = set()
+            fresh: list[ClassRecord] = []
+            for signature in signatures:
+                if not signature or m.index.with_signature(signature) is not None:
+                    continue
+                record = ClassRecord(
+                    iri=persist.class_iri(m.next_class),
+                    signature=signature,
+                    store_count=1,
+                    retrieve_count=0,
+                    score=0.0,
+                    created=now,
+                    last_accessed=now,
+                )
+                m.next_class += 1
+                parents, children, cut = m.add_class(record)
+                for edge in cut:  # an edge added earlier in this batch is simply not written
+                    if edge in added:
+                        added.discard(edge)
+                    else:
+                        removed.add(edge)
+                added |= {(record.iri, p) for p in parents} | {(c, record.iri) for c in children}
+                fresh.append(record)
+            persist.write_edges(tx, added, removed)
+            new = {r.iri for r in fresh}
+            touched = set(new)
+            for iri in new:
+                touched |= m.ancestors(iri)
+            self._rescore(tx, touched, new)
+            for record in fresh:
+                persist.write_class(tx, record)
+            m.updates_since_sleep += len(fresh)
+            persist.write_state(tx, m)
+        return [r.iri for r in fresh]
+
+    def recognise(self, primitives: Sequence[Primitive]) -> list[Recognition]:
+        """The learned classes the scene belongs to, by confidence; writes nothing."""
+        signature = self._encode(primitives)[2]
+        with self._lock:
+            return self._recognitions(signature)
+
+    # Retrieve ----------------------------------------------------------------------------------
+
+    def retrieve(
+        self,
+        cue: Cue,
+        *,
+        spread: bool = False,
+        limit: int = 10,
+        spread_decay: float = 0.5,
+        spread_hops: int = 3,
+    ) -> RetrievalResult:
+        """Place the cue virtually (never written) and recall from it, as one transaction.
+
+        Finds the exact match, the generalisations (classes the cue belongs to), the
+        specialisations (classes containing the cue) and the ``limit`` most similar classes.
+        The recalled class and its ancestors get their retrieve count raised and are
+        re-scored. With ``spread``, activation spreads from the recalled class over the
+        subclass graph, multiplied by ``spread_decay`` per hop, up to ``spread_hops`` hops.
+
+        Raises :class:`~reasoners.errors.InvalidSceneError` for a malformed cue.
+        """
+        if limit < 1:
+            raise ValueError(f"limit: got {limit!r}, expected a positive integer")
+        signature = self._cue(cue)
+        with self._write() as tx:
+            now = self._now()
+            m = self._model
+            exact = m.index.with_signature(signature)
+            generalisations = [r for r in self._recognitions(signature) if r.cls != exact]
+            d = signature.complexity
+
+            def spec_key(match: Match) -> tuple[float, int, str]:
+                return (-match.similarity, -m.classes[match.cls].store_count, match.cls.value)
+
+            specialisations = sorted(
+                (
+                    Match(c, d / m.classes[c].signature.complexity)
+                    for c in m.index.dominating(signature)
+                    if c != exact
+                ),
+                key=spec_key,
+            )
+            similar = tuple(Match(c, s) for c, s in m.index.most_similar(signature, limit))
+            recalled = exact or (
+                specialisations[0].cls
+                if specialisations
+                else generalisations[0].cls
+                if generalisations
+                else None
+            )
+            branch: tuple[NamedNode, ...] = ()
+            if recalled is not None:
+                members = {recalled} | m.ancestors(recalled)
+                branch = tuple(sorted(members, key=lambda c: m.classes[c].signature.complexity))
+                for cls in members:
+                    record = m.classes[cls]
+                    old, old_access = record.retrieve_count, record.last_accessed
+                    m.set_counts(record, store=record.store_count, retrieve=old + 1)
+                    record.last_accessed = now
+                    persist.set_value(
+                        tx, cls, RETRIEVE_COUNT, Literal(old), Literal(old + 1), MEMORY
+                    )
+                    persist.set_value(
+                        tx,
+                        cls,
+                        LAST_ACCESSED,
+                        persist.time_literal(old_access),
+                        persist.time_literal(now),
+                        MEMORY,
+                    )
+                self._rescore(tx, members)
+            activation = None
+            if spread and recalled is not None:
+                activation = self._spread({recalled: 1.0}, spread_decay, spread_hops)
+            self._bump_update(tx)
+        log.info("retrieved %s for a cue of complexity %d", recalled and recalled.value, d)
+        return RetrievalResult(
+            signature=signature,
+            exact=exact,
+            generalisations=tuple(generalisations),
+            specialisations=tuple(specialisations),
+            similar=similar,
+            recalled=recalled,
+            branch=branch,
+            activation=activation,
+        )
+
+    def _spread(self, seeds: dict[NamedNode, float], decay: float, hops: int) -> tuple[Match, ...]:
+        m = self._model
+        activation = dict(seeds)
+        frontier = dict(seeds)
+        for _ in range(hops):
+            following: dict[NamedNode, float] = {}
+            for cls, value in frontier.items():
+                for neighbour in m.parents[cls] | m.children[cls]:
+                    passed = value * decay
+                    if passed > activation.get(neighbour, 0.0) and passed > following.get(
+                        neighbour, 0.0
+                    ):
+                        following[neighbour] = passed
+            activation.update(following)
+            frontier = following
+        ranked = sorted(activation.items(), key=lambda kv: (-kv[1], kv[0].value))
+        return tuple(Match(cls, value) for cls, value in ranked)
+
+    # Sleep -------------------------------------------------------------------------------------
+
+    def sleep(self) -> SleepReport:
+        """Systems consolidation: re-score the whole graph bottom-up, evaluate levels, forget.
+
+        A class or experienced scene that is WEAK for ``weakPassesToForget`` consecutive passes,
+        older than ``forgetGracePeriodSeconds`` and not pinned is moved to the ``trash`` graph;
+        a forgotten class takes its experienced scenes with it, and a class with a pinned
+        experienced scene is kept. One transaction.
+        """
+        started = time.perf_counter()
+        with self._write() as tx:
+            now = self._now()
+            m, p = self._model, self.policy
+            old_scores = {cls: r.score for cls, r in m.classes.items()}
+            self._rescore_all()
+            class_levels: dict[NamedNode, str] = {}
+            weak_counts: dict[NamedNode, int] = {}
+            for cls, record in m.classes.items():
+                level = level_of(
+                    m.normalised(record), high=p.highLevelThreshold, weak=p.weakLevelThreshold
+                )
+                class_levels[cls] = level
+                weak_counts[cls] = record.weak_count + 1 if level == WEAK else 0
+            raw = {iri: self._item_raw(r, now) for iri, r in m.items.items()}
+            top = max(raw.values(), default=0.0)
+            item_levels = {
+                iri: level_of(
+                    value / top if top > 0 else 0.0,
+                    high=p.highLevelThreshold,
+                    weak=p.weakLevelThreshold,
+                )
+                for iri, value in raw.items()
+            }
+            item_weak = {
+                iri: m.items[iri].weak_count + 1 if level == WEAK else 0
+                for iri, level in item_levels.items()
+            }
+            grace = dt.timedelta(seconds=p.forgetGracePeriodSeconds)
+            k = p.weakPassesToForget
+            protected = {r.cls for r in m.items.values() if r.pinned}
+            doomed_classes = [
+                cls
+                for cls, record in m.classes.items()
+                if weak_counts[cls] >= k
+                and now - record.created >= grace
+                and not record.pinned
+                and cls not in protected
+            ]
+            doomed_items = [
+                iri
+                for iri, record in m.items.items()
+                if record.cls not in doomed_classes
+                and item_weak[iri] >= k
+                and now - record.created >= grace
+                and not record.pinned
+            ]
+            self._forget(tx, doomed_classes, doomed_items, now)
+            self._rescore_all()
+            for cls, record in m.classes.items():
+                if record.score != old_scores.get(cls):
+                    persist.set_value(
+                        tx, cls, SCORE, _maybe(old_scores.get(cls)), Literal(record.score), MEMORY
+                    )
+                self._set_level(tx, record, class_levels[cls], weak_counts[cls], MEMORY)
+            for iri, item in m.items.items():
+                self._set_level(tx, item, item_levels[iri], item_weak[iri], EPISODIC)
+            m.last_sleep_at = now
+            m.updates_since_sleep = 0
+            m.sleep_passes += 1
+            persist.write_state(tx, m)
+            forgotten_items = tuple(doomed_items) + tuple(
+                i for c in doomed_classes for i in sorted(self._trashed_with(c), key=str)
+            )
+        report = SleepReport(
+            at=now,
+            rescored=len(old_scores),
+            levels={c: class_levels[c] for c in m.classes},
+            item_levels={i: item_levels[i] for i in m.items},
+            forgotten_classes=tuple(doomed_classes),
+            forgotten_items=forgotten_items,
+            duration_s=time.perf_counter() - started,
+        )
+        log.info(
+            "sleep pass: %d classes re-scored, %d classes and %d items forgotten",
+            report.rescored,
+            len(report.forgotten_classes),
+            len(report.forgotten_items),
+        )
+        return report
+
+    def _trashed_with(self, cls: NamedNode) -> list[NamedNode]:
+        m = self._model
+        return [i for i, t in m.trashed_items.items() if t.cls == cls]
+
+    def _rescore_all(self) -> None:
+        m, p = self._model, self.policy
+        max_d, max_s, max_r = m.max_complexity, m.max_store, m.max_retrieve
+        for record in sorted(m.classes.values(), key=lambda r: -r.signature.complexity):
+            record.score = semantic_score(
+                p,
+                complexity=record.signature.complexity,
+                store_count=record.store_count,
+                retrieve_count=record.retrieve_count,
+                children=[m.classes[c].score for c in m.children[record.iri]],
+                max_complexity=max_d,
+                max_store=max_s,
+                max_retrieve=max_r,
+            )
+        m.rebuild_heap()
+
+    @staticmethod
+    def _set_level(
+        tx: Transaction,
+        record: ClassRecord | ItemRecord,
+        level: str,
+        weak: int,
+        graph: NamedNode,
+    ) -> None:
+        if record.level != level:
+            persist.set_value(
+                tx, record.iri, LEVEL, _maybe_str(record.level), Literal(level), graph
+            )
+            record.level = level
+        if record.weak_count != weak:
+            persist.set_value(
+                tx,
+                record.iri,
+                CONSECUTIVE_WEAK_COUNT,
+                Literal(record.weak_count),
+                Literal(weak),
+                graph,
+            )
+            record.weak_count = weak
+
+    def _forget(
+        self,
+        tx: Transaction,
+        classes: Sequence[NamedNode],
+        items: Sequence[NamedNode],
+        now: dt.datetime,
+    ) -> None:
+        m = self._model
+        stamp = persist.time_literal(now)
+        added: set[tuple[NamedNode, NamedNode]] = set()
+        for cls in classes:
+            record = m.classes[cls]
+            own = persist.delete_class(tx, self.store, cls)
+            for quad in own:
+                if quad.predicate not in (RDFS_SUBCLASSOF, OWL_EQUIVALENT_CLASS):
+                    persist.insert_quad(tx, quad, TRASH)
+            tx.insert(cls, RDFS_SUBCLASSOF, TRASH_CLASS, TRASH)
+            tx.insert(cls, FORGOTTEN_AT, stamp, TRASH)
+            tx.insert(cls, FORGOTTEN_SIGNATURE, Literal(record.signature.to_json()), TRASH)
+            added |= m.remove_class(cls)
+            added = {(c, p) for c, p in added if c in m.classes and p in m.classes}
+            m.trashed_classes[cls] = TrashedClass(cls, record.signature, now)
+            items = [*items, *sorted(m.items_of.get(cls, ()) or self._items_of(cls), key=str)]
+        persist.write_edges(tx, added)
+        for item in items:
+            if item not in m.items:
+                continue
+            record_item = m.remove_item(item)
+            persist.move(tx, self.store, [item], EPISODIC, TRASH, follow=HAS_PRIMITIVE)
+            tx.insert(item, FORGOTTEN_AT, stamp, TRASH)
+            m.trashed_items[item] = TrashedItem(item, record_item.cls, now)
+
+    def _items_of(self, cls: NamedNode) -> list[NamedNode]:
+        return [i for i, r in self._model.items.items() if r.cls == cls]
+
+    def maybe_sleep(self) -> SleepReport | None:
+        """Run a sleep pass if ``sleepEveryUpdates`` updates or ``sleepIntervalSeconds`` seconds
+        have passed since the last one (or since the first class was learned); else None."""
+        with self._lock:
+            m, p = self._model, self.policy
+            if m.updates_since_sleep == 0:
+                return None
+            due = m.updates_since_sleep >= p.sleepEveryUpdates
+            since = m.last_sleep_at or min((r.created for r in m.classes.values()), default=None)
+            if not due and since is not None:
+                due = (self._now() - since).total_seconds() >= p.sleepIntervalSeconds
+            return self.sleep() if due else None
+
+    # Pin, restore, read ------------------------------------------------------------------------
+
+    def pin(self, iri: NamedNode, pinned: bool = True) -> None:
+        """Protect a class or experienced scene from forgetting (or lift the protection).
+
+        Raises :class:`~reasoners.errors.UnknownItemError` for an IRI that is not live."""
+        with self._write() as tx:
+            m = self._model
+            record: ClassRecord | ItemRecord
+            if iri in m.classes:
+                record, graph = m.classes[iri], MEMORY
+            elif iri in m.items:
+                record, graph = m.items[iri], EPISODIC
+            else:
+                raise self._unknown(iri)
+            if record.pinned != pinned:
+                persist.set_value(tx, iri, PINNED, Literal(record.pinned), Literal(pinned), graph)
+                record.pinned = pinned
+
+    def restore(self, iri: NamedNode) -> tuple[NamedNode, ...]:
+        """Bring a forgotten class (with the experienced scenes forgotten with it) or a forgotten
+        experienced scene back from the trash, exactly as it was (its WEAK count reset).
+
+        Returns the restored IRIs. Raises :class:`~reasoners.errors.NotInTrashError` if the trash
+        does not hold ``iri``, :class:`~reasoners.errors.RestoreConflictError` if a live class has
+        the same signature, and :class:`~reasoners.errors.UnknownItemError` for an experienced
+        scene whose class is itself in the trash.
+        """
+        with self._write() as tx:
+            m = self._model
+            if iri in m.trashed_classes:
+                restored = self._restore_class(tx, iri)
+            elif iri in m.trashed_items:
+                trashed = m.trashed_items[iri]
+                if trashed.cls not in m.classes:
+                    raise UnknownItemError(
+                        f"iri: {iri.value} was stored as {trashed.cls.value}, which is in the "
+                        "trash too; restore the class first"
+                    )
+                self._restore_items(tx, [iri])
+                restored = (iri,)
+            else:
+                raise NotInTrashError(f"iri: got {iri.value}, expected an IRI in the trash")
+        log.info("restored %s", ", ".join(r.value for r in restored))
+        return restored
+
+    def _restore_class(self, tx: Transaction, cls: NamedNode) -> tuple[NamedNode, ...]:
+        m = self._model
+        trashed = m.trashed_classes[cls]
+        rival = m.index.with_signature(trashed.signature)
+        if rival is not None:
+            raise RestoreConflictError(
+                f"iri: {cls.value} has the same signature as the live class {rival.value}; "
+                "nothing restored"
+            )
+        values = {}
+        for quad in self.store.quads(cls, None, None, TRASH):
+            values[quad.predicate] = quad.object
+            persist.delete_quad(tx, quad, TRASH)
+        record = ClassRecord(
+            iri=cls,
+            signature=trashed.signature,
+            store_count=int(persist.text(values[STORE_COUNT])),
+            retrieve_count=int(persist.text(values[RETRIEVE_COUNT])),
+            score=float(persist.text(values[SCORE])),
+            created=persist.parse_time(values[CREATED]),
+            last_accessed=persist.parse_time(values[LAST_ACCESSED]),
+            weak_count=0,
+            pinned=persist.text(values.get(PINNED, Literal(False))) == "true",
+        )
+        del m.trashed_classes[cls]
+        parents, children, removed = m.add_class(record)
+        added = {(cls, p) for p in parents} | {(c, cls) for c in children}
+        persist.write_edges(tx, added, removed)
+        items = [
+            i
+            for i, t in m.trashed_items.items()
+            if t.cls == cls and t.forgotten_at == trashed.forgotten_at
+        ]
+        self._restore_items(tx, items)
+        self._rescore(tx, {cls} | m.ancestors(cls), {cls})
+        persist.write_class(tx, record)
+        return (cls, *items)
+
+    def _restore_items(self, tx: Transaction, items: Sequence[NamedNode]) -> None:
+        m = self._model
+        for item in items:
+            trashed = m.trashed_items.pop(item)
+            values = {q.predicate: q.object for q in self.store.quads(item, None, None, TRASH)}
+            persist.move(tx, self.store, [item], TRASH, EPISODIC, follow=HAS_PRIMITIVE)
+            # move() re-inserts every triple; the trash-only ones must not reach `episodic`.
+            for prop in (FORGOTTEN_AT, CONSECUTIVE_WEAK_COUNT, LEVEL):
+                if prop in values:
+                    tx.inserts[:] = [
+                        q
+                        for q in tx.inserts
+                        if not (
+                            q.subject == item and q.predicate == prop and q.graph_name == EPISODIC
+                        )
+                    ]
+            record = ItemRecord(
+                iri=item,
+                cls=trashed.cls,
+                complexity=int(persist.text(values[COMPLEXITY])),
+                created=persist.parse_time(values[CREATED]),
+                last_accessed=persist.parse_time(values[LAST_ACCESSED]),
+                pinned=persist.text(values.get(PINNED, Literal(False))) == "true",
+            )
+            m.add_item(record)
+
+    def _unknown(self, iri: NamedNode) -> UnknownItemError:
+        m = self._model
+        if iri in m.trashed_classes or iri in m.trashed_items:
+            return UnknownItemError(f"iri: {iri.value} is in the trash; restore it first")
+        return UnknownItemError(
+            f"iri: got {iri.value!r}, expected a learned scene class or an experienced scene"
+        )
+
+    def item_scores(self, iri: NamedNode) -> ItemScores:
+        """The raw terms, normalised score and level of a class or experienced scene, now.
+
+        Raises :class:`~reasoners.errors.UnknownItemError` for an IRI that is not live."""
+        with self._lock:
+            m, p = self._model, self.policy
+            if iri in m.classes:
+                return self._class_scores(m.classes[iri])
+            if iri not in m.items:
+                raise self._unknown(iri)
+            now = self._now()
+            record = m.items[iri]
+            raw = self._item_raw(record, now)
+            top = max((self._item_raw(r, now) for r in m.items.values()), default=0.0)
+            normalised = raw / top if top > 0 else 0.0
+            cls = m.classes[record.cls]
+            return ItemScores(
+                iri=iri,
+                kind="item",
+                complexity=record.complexity,
+                store_count=cls.store_count,
+                retrieve_count=cls.retrieve_count,
+                raw_score=raw,
+                normalised=normalised,
+                level=level_of(normalised, high=p.highLevelThreshold, weak=p.weakLevelThreshold),
+                stored_level=record.level,
+                consecutive_weak=record.weak_count,
+                pinned=record.pinned,
+                created=record.created,
+                last_accessed=record.last_accessed,
+                cls=record.cls,
+            )
+
+    def classes(self) -> list[ClassSummary]:
+        """Every live learned class with its signature, direct edges and scores, simplest first."""
+        with self._lock:
+            m = self._model
+            return [
+                ClassSummary(
+                    iri=record.iri,
+                    signature=record.signature,
+                    parents=tuple(sorted(m.parents[record.iri], key=str)),
+                    children=tuple(sorted(m.children[record.iri], key=str)),
+                    items=len(m.items_of.get(record.iri, ())),
+                    scores=self._class_scores(record),
+                )
+                for record in sorted(
+                    m.classes.values(), key=lambda r: (r.signature.complexity, r.iri.value)
+                )
+            ]
+
+    def items(self) -> list[NamedNode]:
+        """Every live experienced scene, oldest first."""
+        with self._lock:
+            return sorted(self._model.items, key=lambda i: self._model.items[i].created)
+
+    def trash(self) -> list[NamedNode]:
+        """Everything in the trash that :meth:`restore` accepts."""
+        with self._lock:
+            return [*self._model.trashed_classes, *self._model.trashed_items]
+
+    def signature(self, iri: NamedNode) -> Signature:
+        """The signature of a live class. Raises UnknownItemError otherwise."""
+        with self._lock:
+            record = self._model.classes.get(iri)
+            if record is None:
+                raise self._unknown(iri)
+            return record.signature
+
+
+def _maybe(value: float | None) -> Literal | None:
+    return None if value is None else Literal(value)
+
+
+def _maybe_str(value: str | None) -> Literal | None:
+    return None if value is None else Literal(value)

@@ -1,0 +1,445 @@
+"""How the scene memory is written as triples, and read back into a :class:`MemoryModel`.
+
+Layout (DESIGN.md, "Store layout"):
+
+- ``memory``: each learned class ``C a owl:Class; rdfs:subClassOf engram:Scene;
+  owl:equivalentClass ⊓(≥n p.T)`` (an ``owl:intersectionOf`` list of ``owl:Restriction`` with
+  ``owl:minQualifiedCardinality`` and ``owl:onClass``, or the single restriction itself), its
+  direct ``rdfs:subClassOf`` edges to other learned classes, and its annotations (complexity,
+  storeCount, retrieveCount, score = raw ζ, created, lastAccessed, consecutiveWeakCount,
+  pinned, level); and ``engram:memoryState`` (last sleep, updates since).
+- ``episodic``: each experienced scene ``e a engram:ExperiencedScene, C`` with created,
+  lastAccessed, complexity, optional ``engram:happenedDuring`` episode, ``engram:hasPrimitive``
+  links to its primitives, which carry their attributes and the primary relations.
+- ``trash``: forgotten classes as ``C rdfs:subClassOf engram:Trash`` with their annotations,
+  ``engram:forgottenAt`` and ``engram:forgottenSignature`` (no definition, so nothing is
+  recognised as them), and forgotten experienced scenes with their primitives.
+"""
+
+import datetime as dt
+import re
+from collections import defaultdict
+from collections.abc import Iterable, Sequence
+
+from pyoxigraph import BlankNode, Literal, NamedNode, Quad
+
+from kg.skolem import is_skolem
+from kg.store import Store
+from kg.transaction import Transaction
+from ontologies.vocab import (
+    APEX,
+    AXIS,
+    CENTRE,
+    COLOUR,
+    COMPLEXITY,
+    CONSECUTIVE_WEAK_COUNT,
+    CREATED,
+    EPISODIC,
+    EXPERIENCED_SCENE,
+    FORGOTTEN_AT,
+    FORGOTTEN_SIGNATURE,
+    HAPPENED_DURING,
+    HAS_PRIMITIVE,
+    HEIGHT,
+    HESSIAN_OFFSET,
+    LAST_ACCESSED,
+    LAST_SLEEP_AT,
+    LEVEL,
+    MEMORY,
+    MEMORY_STATE,
+    MEMORY_STATE_INDIVIDUAL,
+    OBSERVED_AT,
+    OWL_CLASS,
+    OWL_EQUIVALENT_CLASS,
+    OWL_INTERSECTION_OF,
+    OWL_MIN_QUALIFIED_CARDINALITY,
+    OWL_NAMED_INDIVIDUAL,
+    OWL_ON_CLASS,
+    OWL_ON_PROPERTY,
+    OWL_RESTRICTION,
+    PINNED,
+    POINT_ON_AXIS,
+    RADIUS,
+    RDF_FIRST,
+    RDF_NIL,
+    RDF_REST,
+    RDF_TYPE,
+    RDFS_LABEL,
+    RDFS_SUBCLASSOF,
+    RETRIEVE_COUNT,
+    SCENE,
+    SCORE,
+    SLEEP_PASS_COUNT,
+    STORE_COUNT,
+    TRACKING_ID,
+    TRASH,
+    TRASH_CLASS,
+    UPDATES_SINCE_SLEEP,
+    XSD_DATETIME,
+    engram,
+)
+from reasoners.encode import Relation
+from reasoners.model import ClassRecord, ItemRecord, MemoryModel, TrashedClass, TrashedItem
+from reasoners.primitives import Primitive
+from reasoners.signature import Key, Signature
+
+__all__ = [
+    "class_iri",
+    "item_iri",
+    "load_model",
+    "set_value",
+    "time_literal",
+    "write_class",
+    "write_edges",
+    "write_item",
+]
+
+Term = NamedNode | Literal
+_NUMBERED = re.compile(r"-(\d+)$")
+
+
+def class_iri(number: int) -> NamedNode:
+    return engram(f"Scene-{number}")
+
+
+def item_iri(number: int) -> NamedNode:
+    return engram(f"experience-{number}")
+
+
+def time_literal(value: dt.datetime) -> Literal:
+    return Literal(value.isoformat(), datatype=XSD_DATETIME)
+
+
+def parse_time(term: object) -> dt.datetime:
+    if not isinstance(term, Literal):
+        raise ValueError(f"expected an xsd:dateTime literal, got {term!r}")
+    return dt.datetime.fromisoformat(term.value)
+
+
+def delete_quad(tx: Transaction, quad: Quad, graph: NamedNode) -> None:
+    """Delete a stored quad's triple from ``graph`` (Engram stores no RDF-star triples)."""
+    tx.delete(quad.subject, quad.predicate, quad.object, graph)  # type: ignore[arg-type]
+
+
+def insert_quad(tx: Transaction, quad: Quad, graph: NamedNode) -> None:
+    """Insert a stored quad's triple into ``graph``."""
+    tx.insert(quad.subject, quad.predicate, quad.object, graph)  # type: ignore[arg-type]
+
+
+def text(term: object) -> str:
+    """The lexical value of an IRI or literal."""
+    if not isinstance(term, NamedNode | Literal):
+        raise TypeError(f"expected an IRI or a literal, got {term!r}")
+    return term.value
+
+
+def set_value(
+    tx: Transaction,
+    subject: NamedNode,
+    prop: NamedNode,
+    old: Term | None,
+    new: Term,
+    graph: NamedNode,
+) -> None:
+    """Replace one value (``old`` is what the model holds, hence what the store holds)."""
+    if old is not None:
+        tx.delete(subject, prop, old, graph)
+    tx.insert(subject, prop, new, graph)
+
+
+# Classes -------------------------------------------------------------------------------------
+
+
+def write_class(tx: Transaction, record: ClassRecord, graph: NamedNode = MEMORY) -> None:
+    """The definition ``C ≡ ⊓(≥n p.T)``, ``C ⊑ Scene``, a label and every annotation."""
+    cls = record.iri
+    tx.insert(cls, RDF_TYPE, OWL_CLASS, graph)
+    tx.insert(cls, RDFS_SUBCLASSOF, SCENE, graph)
+    tx.insert(cls, RDFS_LABEL, Literal(cls.value.rsplit("#", 1)[-1]), graph)
+    restrictions: list[BlankNode] = []
+    for (prop, leaf), n in record.signature.items():
+        node = BlankNode()
+        tx.insert(node, RDF_TYPE, OWL_RESTRICTION, graph)
+        tx.insert(node, OWL_ON_PROPERTY, prop, graph)
+        tx.insert(node, OWL_ON_CLASS, leaf, graph)
+        tx.insert(node, OWL_MIN_QUALIFIED_CARDINALITY, Literal(n), graph)
+        restrictions.append(node)
+    if len(restrictions) == 1:  # OWL 2 has no one-operand intersection
+        tx.insert(cls, OWL_EQUIVALENT_CLASS, restrictions[0], graph)
+    else:
+        head: NamedNode | BlankNode = RDF_NIL
+        for node in reversed(restrictions):
+            cell = BlankNode()
+            tx.insert(cell, RDF_FIRST, node, graph)
+            tx.insert(cell, RDF_REST, head, graph)
+            head = cell
+        definition = BlankNode()
+        tx.insert(definition, RDF_TYPE, OWL_CLASS, graph)
+        tx.insert(definition, OWL_INTERSECTION_OF, head, graph)
+        tx.insert(cls, OWL_EQUIVALENT_CLASS, definition, graph)
+    for prop, value in class_annotations(record).items():
+        tx.insert(cls, prop, value, graph)
+
+
+def class_annotations(record: ClassRecord) -> dict[NamedNode, Term]:
+    values: dict[NamedNode, Term] = {
+        COMPLEXITY: Literal(record.signature.complexity),
+        STORE_COUNT: Literal(record.store_count),
+        RETRIEVE_COUNT: Literal(record.retrieve_count),
+        SCORE: Literal(record.score),
+        CREATED: time_literal(record.created),
+        LAST_ACCESSED: time_literal(record.last_accessed),
+        CONSECUTIVE_WEAK_COUNT: Literal(record.weak_count),
+        PINNED: Literal(record.pinned),
+    }
+    if record.level is not None:
+        values[LEVEL] = Literal(record.level)
+    return values
+
+
+def write_edges(
+    tx: Transaction,
+    added: Iterable[tuple[NamedNode, NamedNode]],
+    removed: Iterable[tuple[NamedNode, NamedNode]] = (),
+) -> None:
+    """Direct subclass edges (child, parent) between learned classes."""
+    for child, parent in removed:
+        tx.delete(child, RDFS_SUBCLASSOF, parent, MEMORY)
+    for child, parent in added:
+        tx.insert(child, RDFS_SUBCLASSOF, parent, MEMORY)
+
+
+def delete_class(tx: Transaction, store: Store, cls: NamedNode) -> list[Quad]:
+    """Delete every triple about ``cls`` in ``memory`` (definition nodes included) and return
+    its own quads (annotations, label, edges), for the caller to move what it keeps."""
+    own = list(store.quads(cls, None, None, MEMORY))
+    for quad in own:
+        delete_quad(tx, quad, MEMORY)
+    stack = [q.object for q in own if is_skolem(q.object)]
+    seen: set[NamedNode] = set()
+    while stack:
+        node = stack.pop()
+        if node in seen or not isinstance(node, NamedNode):
+            continue
+        seen.add(node)
+        for quad in store.quads(node, None, None, MEMORY):
+            delete_quad(tx, quad, MEMORY)
+            if is_skolem(quad.object):
+                stack.append(quad.object)
+    for quad in store.quads(None, RDFS_SUBCLASSOF, cls, MEMORY):
+        delete_quad(tx, quad, MEMORY)
+    return own
+
+
+# Experienced scenes --------------------------------------------------------------------------
+
+
+def write_item(
+    tx: Transaction,
+    record: ItemRecord,
+    primitives: Sequence[Primitive],
+    relations: Iterable[Relation],
+    episode: NamedNode | None,
+) -> list[NamedNode]:
+    """An experienced scene with its primitives and their primary relations; returns the
+    primitives' IRIs."""
+    item, graph = record.iri, EPISODIC
+    observed = time_literal(record.created)
+    tx.insert(item, RDF_TYPE, OWL_NAMED_INDIVIDUAL, graph)
+    tx.insert(item, RDF_TYPE, EXPERIENCED_SCENE, graph)
+    tx.insert(item, RDF_TYPE, record.cls, graph)
+    tx.insert(item, CREATED, observed, graph)
+    tx.insert(item, LAST_ACCESSED, time_literal(record.last_accessed), graph)
+    tx.insert(item, COMPLEXITY, Literal(record.complexity), graph)
+    if episode is not None:
+        tx.insert(item, HAPPENED_DURING, episode, graph)
+    iris = [NamedNode(f"{item.value}-{k}") for k in range(len(primitives))]
+    for iri, primitive in zip(iris, primitives, strict=True):
+        tx.insert(item, HAS_PRIMITIVE, iri, graph)
+        tx.insert(iri, RDF_TYPE, OWL_NAMED_INDIVIDUAL, graph)
+        tx.insert(iri, RDF_TYPE, engram(primitive.kind), graph)
+        tx.insert(iri, RDFS_LABEL, Literal(primitive.id), graph)
+        tx.insert(iri, OBSERVED_AT, observed, graph)
+        vectors = (
+            (CENTRE, primitive.centre),
+            (AXIS, primitive.axis),
+            (APEX, primitive.apex),
+            (POINT_ON_AXIS, primitive.point_on_axis),
+            (COLOUR, primitive.colour),
+        )
+        for props, vector in vectors:
+            if vector is not None:
+                for prop, value in zip(props, vector, strict=True):
+                    tx.insert(iri, prop, Literal(value), graph)
+        for prop, number in ((RADIUS, primitive.radius), (HEIGHT, primitive.height)):
+            if number is not None:
+                tx.insert(iri, prop, Literal(number), graph)
+        if primitive.hessian is not None:
+            tx.insert(iri, HESSIAN_OFFSET, Literal(primitive.hessian), graph)
+        if primitive.tracking_id is not None:
+            tx.insert(iri, TRACKING_ID, Literal(primitive.tracking_id), graph)
+    for relation in relations:
+        tx.insert(iris[relation.subject], relation.relation, iris[relation.object], graph)
+    return iris
+
+
+def move(
+    tx: Transaction,
+    store: Store,
+    subjects: Iterable[NamedNode],
+    source: NamedNode,
+    target: NamedNode,
+    *,
+    follow: NamedNode | None = None,
+) -> None:
+    """Move every triple about ``subjects`` (and about the objects they reach by ``follow``)
+    from graph ``source`` to graph ``target``."""
+    for subject in subjects:
+        quads = list(store.quads(subject, None, None, source))
+        nested = [q.object for q in quads if follow is not None and q.predicate == follow]
+        for quad in quads + [q for n in nested for q in store.quads(n, None, None, source)]:  # type: ignore[arg-type]
+            delete_quad(tx, quad, source)
+            insert_quad(tx, quad, target)
+
+
+# Reading back --------------------------------------------------------------------------------
+
+
+def load_model(store: Store) -> MemoryModel:
+    """Rebuild the in-memory mirror from the ``memory``, ``episodic`` and ``trash`` graphs."""
+    model = MemoryModel()
+    memory = _by_subject(store, MEMORY)
+    classes: list[ClassRecord] = []
+    for subject, values in memory.items():
+        if SCENE not in values.get(RDFS_SUBCLASSOF, ()):
+            continue
+        definition = values[OWL_EQUIVALENT_CLASS][0]
+        signature = _read_signature(memory, definition)
+        classes.append(
+            ClassRecord(
+                iri=subject,
+                signature=signature,
+                store_count=_int(values, STORE_COUNT),
+                retrieve_count=_int(values, RETRIEVE_COUNT),
+                score=float(_one(values, SCORE).value),
+                created=parse_time(_one(values, CREATED)),
+                last_accessed=parse_time(_one(values, LAST_ACCESSED)),
+                weak_count=_int(values, CONSECUTIVE_WEAK_COUNT),
+                pinned=_bool(values, PINNED),
+                level=values[LEVEL][0].value if LEVEL in values else None,
+            )
+        )
+    for record in sorted(classes, key=lambda r: _number(r.iri)):
+        model.index.add(record.iri, record.signature)
+        model.classes[record.iri] = record
+        model.parents[record.iri], model.children[record.iri] = set(), set()
+        model.items_of[record.iri] = set()
+        model.complexities[record.signature.complexity] += 1
+        model.store_counts[record.store_count] += 1
+        model.retrieve_counts[record.retrieve_count] += 1
+    for record in classes:
+        for parent in memory[record.iri].get(RDFS_SUBCLASSOF, ()):
+            if parent in model.classes:
+                model.parents[record.iri].add(parent)  # type: ignore[arg-type]
+                model.children[parent].add(record.iri)  # type: ignore[index]
+    model.rebuild_heap()
+    state = memory.get(MEMORY_STATE_INDIVIDUAL, {})
+    if LAST_SLEEP_AT in state:
+        model.last_sleep_at = parse_time(state[LAST_SLEEP_AT][0])
+    model.updates_since_sleep = _int(state, UPDATES_SINCE_SLEEP)
+    model.sleep_passes = _int(state, SLEEP_PASS_COUNT)
+
+    for subject, values in _by_subject(store, EPISODIC).items():
+        types = values.get(RDF_TYPE, [])
+        if EXPERIENCED_SCENE not in types:
+            continue
+        cls = next(t for t in types if t in model.classes)
+        model.add_item(
+            ItemRecord(
+                iri=subject,
+                cls=cls,  # type: ignore[arg-type]
+                complexity=_int(values, COMPLEXITY),
+                created=parse_time(_one(values, CREATED)),
+                last_accessed=parse_time(_one(values, LAST_ACCESSED)),
+                weak_count=_int(values, CONSECUTIVE_WEAK_COUNT),
+                pinned=_bool(values, PINNED),
+                level=values[LEVEL][0].value if LEVEL in values else None,
+            )
+        )
+    for subject, values in _by_subject(store, TRASH).items():
+        if TRASH_CLASS in values.get(RDFS_SUBCLASSOF, ()):
+            model.trashed_classes[subject] = TrashedClass(
+                subject,
+                Signature.from_json(_one(values, FORGOTTEN_SIGNATURE).value),
+                parse_time(_one(values, FORGOTTEN_AT)),
+            )
+        elif EXPERIENCED_SCENE in values.get(RDF_TYPE, ()):
+            cls = next(
+                t for t in values[RDF_TYPE] if t not in (EXPERIENCED_SCENE, OWL_NAMED_INDIVIDUAL)
+            )
+            model.trashed_items[subject] = TrashedItem(
+                subject,
+                cls,  # type: ignore[arg-type]
+                parse_time(_one(values, FORGOTTEN_AT)),
+            )
+    model.next_class = 1 + max(
+        (_number(c) for c in [*model.classes, *model.trashed_classes]), default=0
+    )
+    model.next_item = 1 + max((_number(i) for i in [*model.items, *model.trashed_items]), default=0)
+    return model
+
+
+def write_state(tx: Transaction, model: MemoryModel, previous: MemoryModel | None = None) -> None:
+    """Replace the memory-state individual (three values)."""
+    node = MEMORY_STATE_INDIVIDUAL
+    tx.delete_matching(node, None, None, graph=MEMORY)
+    tx.insert(node, RDF_TYPE, OWL_NAMED_INDIVIDUAL, MEMORY)
+    tx.insert(node, RDF_TYPE, MEMORY_STATE, MEMORY)
+    tx.insert(node, UPDATES_SINCE_SLEEP, Literal(model.updates_since_sleep), MEMORY)
+    tx.insert(node, SLEEP_PASS_COUNT, Literal(model.sleep_passes), MEMORY)
+    if model.last_sleep_at is not None:
+        tx.insert(node, LAST_SLEEP_AT, time_literal(model.last_sleep_at), MEMORY)
+
+
+def _by_subject(store: Store, graph: NamedNode) -> dict[NamedNode, dict[NamedNode, list[Term]]]:
+    out: dict[NamedNode, dict[NamedNode, list[Term]]] = defaultdict(lambda: defaultdict(list))
+    for quad in store.quads(graph=graph):
+        out[quad.subject][quad.predicate].append(quad.object)  # type: ignore[index, arg-type]
+    return out
+
+
+def _read_signature(memory: dict[NamedNode, dict[NamedNode, list[Term]]], node: Term) -> Signature:
+    values = memory[node]  # type: ignore[index]
+    if OWL_ON_PROPERTY in values:
+        restrictions = [node]
+    else:
+        restrictions = []
+        cell = values[OWL_INTERSECTION_OF][0]
+        while cell != RDF_NIL:
+            restrictions.append(memory[cell][RDF_FIRST][0])  # type: ignore[index]
+            cell = memory[cell][RDF_REST][0]  # type: ignore[index]
+    counts: dict[Key, int] = {}
+    for restriction in restrictions:
+        r = memory[restriction]  # type: ignore[index]
+        key = (r[OWL_ON_PROPERTY][0], r[OWL_ON_CLASS][0])
+        counts[key] = int(r[OWL_MIN_QUALIFIED_CARDINALITY][0].value)  # type: ignore[index]
+    return Signature(counts)
+
+
+def _one(values: dict[NamedNode, list[Term]], prop: NamedNode) -> Literal:
+    term = values[prop][0]
+    assert isinstance(term, Literal)
+    return term
+
+
+def _int(values: dict[NamedNode, list[Term]], prop: NamedNode) -> int:
+    return int(values[prop][0].value) if prop in values else 0
+
+
+def _bool(values: dict[NamedNode, list[Term]], prop: NamedNode) -> bool:
+    return prop in values and values[prop][0].value == "true"
+
+
+def _number(iri: NamedNode) -> int:
+    match = _NUMBERED.search(iri.value)
+    return int(match.group(1)) if match else 0

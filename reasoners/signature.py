@@ -1,0 +1,98 @@
+"""Scene signatures: for each (signature property, leaf class) the number of distinct objects.
+
+A learned class carries the signature of the scene it was learned from as
+``C ≡ ⊓ (≥n p.T)``; a scene belongs to C when its signature meets every restriction.
+
+>>> from ontologies.vocab import PLANE, SPHERE, engram
+>>> one = Signature({(engram("sphereIsAboveOf"), PLANE): 1, (engram("planeIsBelowOf"), SPHERE): 1})
+>>> two = Signature({(engram("sphereIsAboveOf"), PLANE): 1, (engram("planeIsBelowOf"), SPHERE): 2})
+>>> two.satisfies(one), one.satisfies(two), two.complexity
+(True, False, 3)
+>>> Signature.from_json(two.to_json()) == two
+True
+"""
+
+import json
+from collections.abc import Iterator, Mapping
+
+from pyoxigraph import NamedNode
+
+from reasoners.errors import InvalidSceneError
+
+__all__ = ["Key", "Signature"]
+
+Key = tuple[NamedNode, NamedNode]
+"""(signature property, leaf primitive class)."""
+
+
+class Signature(Mapping[Key, int]):
+    """An immutable multiset of signature keys; hashable, so classes can be found by signature."""
+
+    __slots__ = ("_counts", "_hash", "complexity")
+
+    def __init__(self, counts: Mapping[Key, int]) -> None:
+        for key, n in counts.items():
+            if isinstance(n, bool) or not isinstance(n, int) or n < 1:
+                raise InvalidSceneError(
+                    f"signature count of {key[0].value} on {key[1].value}: got {n!r}, "
+                    "expected a positive integer"
+                )
+        self._counts: dict[Key, int] = dict(
+            sorted(counts.items(), key=lambda item: (item[0][0].value, item[0][1].value))
+        )
+        self._hash = hash(frozenset(self._counts.items()))
+        self.complexity = sum(self._counts.values())
+        """d: the sum of the counts."""
+
+    def __getitem__(self, key: Key) -> int:
+        return self._counts[key]
+
+    def __iter__(self) -> Iterator[Key]:
+        return iter(self._counts)
+
+    def __len__(self) -> int:
+        return len(self._counts)
+
+    def __hash__(self) -> int:
+        return self._hash
+
+    def __eq__(self, other: object) -> bool:
+        if isinstance(other, Signature):
+            return self._hash == other._hash and self._counts == other._counts
+        return NotImplemented
+
+    def __repr__(self) -> str:
+        inner = ", ".join(
+            f"{p.value.rsplit('#', 1)[-1]} ≥{n} {t.value.rsplit('#', 1)[-1]}"
+            for (p, t), n in self._counts.items()
+        )
+        return f"Signature({inner})"
+
+    def satisfies(self, other: "Signature") -> bool:
+        """True when these counts meet every restriction of ``other`` (self ∈ / ⊑ other)."""
+        counts = self._counts
+        return all(counts.get(key, 0) >= n for key, n in other._counts.items())
+
+    def overlap(self, other: "Signature") -> int:
+        """Σ min(self[k], other[k]): the size of the common part of the two multisets."""
+        small, large = (self, other) if len(self) <= len(other) else (other, self)
+        return sum(min(n, large._counts.get(key, 0)) for key, n in small._counts.items())
+
+    def similarity(self, other: "Signature") -> float:
+        """Weighted Jaccard similarity Σmin / Σmax, 1.0 for equal signatures."""
+        common = self.overlap(other)
+        union = self.complexity + other.complexity - common
+        return common / union if union else 1.0
+
+    def to_json(self) -> str:
+        """``[[property IRI, leaf IRI, n], ...]``, sorted; :meth:`from_json` reads it back."""
+        return json.dumps([[p.value, t.value, n] for (p, t), n in self._counts.items()])
+
+    @classmethod
+    def from_json(cls, text: str) -> "Signature":
+        """The signature written by :meth:`to_json`; ``InvalidSceneError`` if malformed."""
+        try:
+            rows = json.loads(text)
+            return cls({(NamedNode(p), NamedNode(t)): n for p, t, n in rows})
+        except (ValueError, TypeError) as error:
+            raise InvalidSceneError(f"signature JSON: got {text[:80]!r}: {error}") from None

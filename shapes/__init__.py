@@ -1,0 +1,73 @@
+"""Perception for Engram: point clouds in, tracked and averaged geometric primitives out.
+
+"shapes" here means **geometric primitives** (spheres, cylinders, cones, planes) fitted to
+point clouds, not SHACL shapes. The package uses numpy and open3d only; it imports nothing of
+Engram's and no RDF code, so the memory client (``api``) depends on it, never the reverse.
+
+Stages, each usable on its own:
+
+- inputs: :class:`Frame` (validated arrays), :func:`frame_from_depth_image`,
+  :func:`open_source` (PLY/PCD, NumPy files, ROS 1 / ROS 2 bags), and the synthetic tabletop
+  generator :mod:`shapes.synthetic` with ground truth;
+- :func:`segment`: voxel grid, depth cut, support plane, points above it, clusters;
+- :func:`fit_cluster`: sphere / cylinder / cone / plane RANSAC and the shape choice;
+- :class:`Tracker`: stable ids; :mod:`shapes.colour`: colour per object;
+- :class:`SceneAverager`: per-id averages per shape, majority shape, scene changes;
+- :class:`Perception`: all of it for a stream of frames, yielding :class:`StableScene` events.
+
+>>> import numpy as np
+>>> from shapes.synthetic import random_scene
+>>> rng = np.random.default_rng(0)
+>>> scene = random_scene(rng, n_objects=2)
+>>> perception = Perception(seed=0)
+>>> scenes = list(perception.stable_scenes(scene.render(rng).frame for _ in range(8)))
+>>> len(scenes), len(scenes[0].primitives)
+(1, 2)
+"""
+
+from shapes.average import Observation, SceneAverager, SceneChange, SceneEvent, StableScene
+from shapes.bags import read_bag, write_bag
+from shapes.colour import colour_name, mean_colour
+from shapes.errors import InvalidCloudError, ShapesError, SourceError
+from shapes.fit import ClusterFit, FitParams, fit_cluster, pitt_choice
+from shapes.frame import Frame, frame_from_depth_image
+from shapes.io import open_source, read_cloud_file, source_length
+from shapes.pipeline import FrameResult, Perception, PerceptionParams
+from shapes.segment import Cluster, Segmentation, SegmentationParams, segment
+from shapes.track import Tracker
+from shapes.types import Primitive, ShapeKind, SupportPlane
+
+__all__ = [
+    "Cluster",
+    "ClusterFit",
+    "FitParams",
+    "Frame",
+    "FrameResult",
+    "InvalidCloudError",
+    "Observation",
+    "Perception",
+    "PerceptionParams",
+    "Primitive",
+    "SceneAverager",
+    "SceneChange",
+    "SceneEvent",
+    "Segmentation",
+    "SegmentationParams",
+    "ShapeKind",
+    "ShapesError",
+    "SourceError",
+    "StableScene",
+    "SupportPlane",
+    "Tracker",
+    "colour_name",
+    "fit_cluster",
+    "frame_from_depth_image",
+    "mean_colour",
+    "open_source",
+    "pitt_choice",
+    "read_bag",
+    "read_cloud_file",
+    "segment",
+    "source_length",
+    "write_bag",
+]

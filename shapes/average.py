@@ -1,0 +1,220 @@
+"""Averaging per tracked object (the seed's VisNode) and scene-change detection.
+
+For each tracking id the averager keeps, **separately for each shape kind**, the running mean of
+that kind's attributes (centre, axis, radius, height, apex, point on axis, Hessian offset) and
+how often the object was seen as that kind. The object's current primitive is its majority kind
+with that kind's averages, so a frame that calls a cylinder a cone does not drag the cylinder's
+height or centre. Colour is averaged over every observation.
+
+Scene changes (which the seed could only handle by a manual restart): the current scene is the
+set of confirmed objects. It changes when
+
+- an object *appears*: a new id has been seen ``min_hits`` times;
+- an object *vanishes*: the tracker deleted its id (after its missed-frame limit);
+- an object *moves*: its cluster centroid stays more than ``move_threshold_m`` away from the
+  scene's running mean for ``confirm_frames`` frames in a row (its averages then restart).
+
+Each change emits a :class:`SceneChange`. Once the scene has gone ``stable_frames`` frames
+without a change, one :class:`StableScene` is emitted with the averaged primitives; that is
+what a client writes to the memory.
+"""
+
+from __future__ import annotations
+
+import logging
+from collections.abc import Iterable, Sequence
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from shapes.types import FloatArray, Primitive, ShapeKind, vec3
+
+__all__ = ["Observation", "SceneAverager", "SceneChange", "SceneEvent", "StableScene"]
+
+log = logging.getLogger(__name__)
+
+_VECTORS = ("centre", "axis", "apex", "point_on_axis")
+_SCALARS = ("radius", "height", "hessian_offset", "inlier_ratio")
+
+
+@dataclass(frozen=True)
+class Observation:
+    """One frame's primitive for a tracked object, with its cluster's point centroid."""
+
+    primitive: Primitive
+    cluster_centroid: FloatArray
+
+    @property
+    def tracking_id(self) -> int:
+        """The tracker's id (the primitive must carry one)."""
+        if self.primitive.tracking_id is None:
+            raise ValueError("primitive.tracking_id: expected an id from the tracker, got None")
+        return self.primitive.tracking_id
+
+
+@dataclass(frozen=True)
+class SceneChange:
+    """The scene changed: its new index, and the ids that appeared, vanished or moved."""
+
+    scene_index: int
+    stamp: float | None
+    appeared: tuple[int, ...]
+    vanished: tuple[int, ...]
+    moved: tuple[int, ...]
+
+
+@dataclass(frozen=True)
+class StableScene:
+    """A scene that held still for ``frames`` frames: its averaged primitives, by id."""
+
+    scene_index: int
+    stamp: float | None
+    primitives: tuple[Primitive, ...]
+    votes: dict[int, dict[ShapeKind, int]]
+    frames: int
+
+
+SceneEvent = SceneChange | StableScene
+
+
+@dataclass
+class _KindMean:
+    count: int = 0
+    sums: dict[str, FloatArray] = field(default_factory=dict)
+
+    def add(self, p: Primitive) -> None:
+        flip = 1.0
+        if p.axis is not None and "axis" in self.sums:
+            flip = 1.0 if np.dot(self.sums["axis"], p.axis) >= 0 else -1.0
+        for name in _VECTORS + _SCALARS:
+            value = getattr(p, name)
+            if value is None:
+                continue
+            v = np.asarray(value, dtype=np.float64)
+            if name == "axis" or (name == "hessian_offset" and p.kind is ShapeKind.PLANE):
+                v = v * flip
+            self.sums[name] = self.sums.get(name, np.zeros_like(v)) + v
+        self.count += 1
+
+    def mean(self, kind: ShapeKind) -> dict[str, object]:
+        out: dict[str, object] = {}
+        for name, total in self.sums.items():
+            m = total / self.count
+            if name == "axis":
+                m = m / max(float(np.linalg.norm(m)), 1e-12)
+            out[name] = vec3(m) if name in _VECTORS else float(m)
+        if kind is ShapeKind.PLANE and "axis" in out:
+            normal = np.asarray(out["axis"], dtype=np.float64)
+            out["hessian_offset"] = -float(normal @ np.asarray(out["centre"], dtype=np.float64))
+        return out
+
+
+@dataclass
+class _Object:
+    kinds: dict[ShapeKind, _KindMean] = field(default_factory=dict)
+    last_seen: dict[ShapeKind, int] = field(default_factory=dict)
+    colour_sum: FloatArray | None = None
+    colour_n: int = 0
+    ref_sum: FloatArray = field(default_factory=lambda: np.zeros(3))
+    ref_n: int = 0
+    hits: int = 0
+    away: int = 0
+
+    def add(self, obs: Observation, frame: int) -> None:
+        p = obs.primitive
+        self.kinds.setdefault(p.kind, _KindMean()).add(p)
+        self.last_seen[p.kind] = frame
+        if p.colour is not None:
+            c = np.asarray(p.colour)
+            self.colour_sum = c if self.colour_sum is None else self.colour_sum + c
+            self.colour_n += 1
+        self.ref_sum = self.ref_sum + obs.cluster_centroid
+        self.ref_n += 1
+        self.hits += 1
+
+    def majority(self) -> ShapeKind:
+        return max(self.kinds, key=lambda k: (self.kinds[k].count, self.last_seen[k]))
+
+    def primitive(self, tracking_id: int) -> Primitive:
+        kind = self.majority()
+        fields = self.kinds[kind].mean(kind)
+        colour = None if self.colour_sum is None else vec3(self.colour_sum / self.colour_n)
+        return Primitive(kind=kind, tracking_id=tracking_id, colour=colour, **fields)  # type: ignore[arg-type]
+
+
+@dataclass
+class SceneAverager:
+    """Running averages per tracked id and a stream of scene changes and stable scenes."""
+
+    move_threshold_m: float = 0.05
+    confirm_frames: int = 3
+    stable_frames: int = 5
+    min_hits: int = 3
+    scene_index: int = -1
+    frame: int = 0
+    objects: dict[int, _Object] = field(default_factory=dict)
+    members: set[int] = field(default_factory=set)
+    quiet_frames: int = 0
+    stable_sent: bool = False
+
+    def update(
+        self,
+        observations: Sequence[Observation],
+        deleted: Iterable[int] = (),
+        stamp: float | None = None,
+    ) -> list[SceneEvent]:
+        """Take one frame's observations and the ids the tracker deleted; return the events."""
+        self.frame += 1
+        appeared, moved = [], []
+        for obs in observations:
+            tid = obs.tracking_id
+            obj = self.objects.setdefault(tid, _Object())
+            if tid in self.members and obj.ref_n:
+                ref = obj.ref_sum / obj.ref_n
+                far = float(np.linalg.norm(obs.cluster_centroid - ref)) > self.move_threshold_m
+                obj.away = obj.away + 1 if far else 0
+                if obj.away >= self.confirm_frames:
+                    moved.append(tid)
+                    self.objects[tid] = obj = _Object(hits=self.min_hits)
+            obj.add(obs, self.frame)
+            if tid not in self.members and obj.hits >= self.min_hits:
+                appeared.append(tid)
+        vanished = []
+        for tid in deleted:
+            if tid in self.members:
+                vanished.append(tid)
+                self.members.discard(tid)
+            self.objects.pop(tid, None)
+        self.members.update(appeared)
+        events: list[SceneEvent] = []
+        if appeared or vanished or moved:
+            self.scene_index += 1
+            self.quiet_frames, self.stable_sent = 0, False
+            change = SceneChange(
+                self.scene_index, stamp, tuple(appeared), tuple(sorted(vanished)), tuple(moved)
+            )
+            log.info(
+                "scene %d: appeared %s, vanished %s, moved %s",
+                change.scene_index,
+                change.appeared,
+                change.vanished,
+                change.moved,
+            )
+            events.append(change)
+        elif self.scene_index >= 0:
+            self.quiet_frames += 1
+            if self.quiet_frames >= self.stable_frames and not self.stable_sent:
+                self.stable_sent = True
+                events.append(self.stable_scene(stamp))
+        return events
+
+    def stable_scene(self, stamp: float | None = None) -> StableScene:
+        """The current averaged scene (what :meth:`update` emits once it holds still)."""
+        ids = sorted(self.members)
+        return StableScene(
+            self.scene_index,
+            stamp,
+            tuple(self.objects[i].primitive(i) for i in ids),
+            {i: {k: m.count for k, m in self.objects[i].kinds.items()} for i in ids},
+            self.quiet_frames,
+        )

@@ -1,0 +1,188 @@
+"""A vectorised RANSAC loop (MSAC scoring, adaptive iteration count) and a small
+Levenberg-Marquardt refiner, shared by the primitive models."""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from dataclasses import dataclass
+from typing import Protocol
+
+import numpy as np
+import numpy.typing as npt
+
+from shapes.types import FloatArray
+
+__all__ = ["Model", "RansacResult", "levenberg_marquardt", "ransac", "refine_if_better"]
+
+
+class Model(Protocol):
+    """What :func:`ransac` needs from a primitive model."""
+
+    @property
+    def name(self) -> str:
+        """A short name for logs."""
+        ...
+
+    @property
+    def sample_size(self) -> int:
+        """Points in a minimal sample."""
+        ...
+
+    def hypotheses(
+        self, points: FloatArray, normals: FloatArray, idx: npt.NDArray[np.intp]
+    ) -> tuple[FloatArray, npt.NDArray[np.bool_]]:
+        """Model parameters (H, k) from H minimal samples ``idx`` (H, s), and which are valid."""
+        ...
+
+    def distances(self, params: FloatArray, points: FloatArray) -> FloatArray:
+        """Distances (H, n) of every point to each of H models (H, k)."""
+        ...
+
+    def refine(self, params: FloatArray, points: FloatArray, threshold: float) -> FloatArray:
+        """Least-squares refinement of one model on its inliers."""
+        ...
+
+    def within_limits(self, params: FloatArray) -> bool:
+        """Whether one model respects the radius or angle limits."""
+        ...
+
+
+@dataclass(frozen=True)
+class RansacResult:
+    """The best model found, its inlier mask and the number of hypotheses tried."""
+
+    params: FloatArray
+    inliers: npt.NDArray[np.bool_]
+    hypotheses: int
+
+
+def _samples(rng: np.random.Generator, n: int, size: int, count: int) -> npt.NDArray[np.intp]:
+    """``count`` rows of ``size`` distinct indices below ``n``."""
+    idx = rng.integers(0, n, size=(count, size))
+    if size > 1:
+        srt = np.sort(idx, axis=1)
+        ok = (np.diff(srt, axis=1) != 0).all(axis=1)
+        idx = idx[ok]
+    return idx.astype(np.intp)
+
+
+def ransac(
+    model: Model,
+    points: FloatArray,
+    normals: FloatArray,
+    *,
+    threshold: float,
+    rng: np.random.Generator,
+    max_iterations: int = 1000,
+    probability: float = 0.99,
+    batch: int = 64,
+    refine: bool = True,
+    min_iterations: int = 0,
+    preview_points: int = 0,
+) -> RansacResult | None:
+    """Best model by MSAC cost (sum of min(d², thr²)); None if no valid hypothesis was found.
+
+    The number of hypotheses adapts as in PCL: ``log(1 - p) / log(1 - wˢ)`` with w the best
+    inlier share so far, capped by ``max_iterations`` and at least ``min_iterations`` (a wrong
+    model that explains many points would otherwise stop the search early). With
+    ``preview_points``, each batch is first ranked on that many fixed points and only the best
+    eighth is scored on all points.
+    """
+    n = len(points)
+    if n < model.sample_size:
+        return None
+    best_cost = math.inf
+    best: FloatArray | None = None
+    needed, tried = max_iterations, 0
+    thr2 = threshold * threshold
+    preview = None
+    keep = max(4, batch // 8)
+    if preview_points and n > 2 * preview_points:
+        preview = np.sort(rng.choice(n, preview_points, replace=False))
+    while tried < needed:
+        idx = _samples(rng, n, model.sample_size, min(batch, needed - tried))
+        tried += batch
+        if len(idx) == 0:
+            continue
+        params, valid = model.hypotheses(points, normals, idx)
+        params = params[valid]
+        if len(params) == 0:
+            continue
+        if preview is not None and len(params) > keep:
+            # Preemptive scoring: rank the batch on a fixed subset, score the best fully.
+            dp = model.distances(params, points[preview])
+            params = params[np.argsort(np.minimum(dp * dp, thr2).sum(axis=1))[:keep]]
+        d = model.distances(params, points)
+        cost = np.minimum(d * d, thr2).sum(axis=1)
+        k = int(np.argmin(cost))
+        if cost[k] < best_cost:
+            best_cost, best = float(cost[k]), params[k]
+            share = float((d[k] < threshold).mean())
+            if share >= 1.0:
+                needed = max(tried, min_iterations)
+            elif share > 0:
+                wanted = math.log(1 - probability) / math.log(1 - share**model.sample_size)
+                needed = min(max_iterations, max(min_iterations, math.ceil(wanted)))
+    if best is None:
+        return None
+    if refine:
+        best = refine_if_better(model, best, points, threshold)
+    d = model.distances(best[None, :], points)[0]
+    return RansacResult(best, d < threshold, tried)
+
+
+def refine_if_better(
+    model: Model, params: FloatArray, points: FloatArray, threshold: float
+) -> FloatArray:
+    """``model.refine``, kept only if its MSAC cost is not worse (refining can drift)."""
+    refined = model.refine(params, points, threshold)
+    if not model.within_limits(refined):
+        return params
+    d = model.distances(np.stack((params, refined)), points)
+    cost = np.minimum(d * d, threshold * threshold).sum(axis=1)
+    return refined if np.isfinite(cost[1]) and cost[1] <= cost[0] else params
+
+
+def levenberg_marquardt(
+    residuals: Callable[[FloatArray], FloatArray],
+    x0: FloatArray,
+    *,
+    iterations: int = 12,
+    step: float = 1e-6,
+) -> FloatArray:
+    """Minimise ``sum(residuals(x)**2)`` from ``x0``.
+
+    ``residuals`` is batched: it maps parameter rows (m, k) to residual rows (m, n), so the
+    forward-difference Jacobian costs one call.
+    """
+    x = np.asarray(x0, dtype=np.float64).copy()
+    r = residuals(x[None, :])[0]
+    cost = float(r @ r)
+    lam = 1e-3
+    k = len(x)
+    for _ in range(iterations):
+        h = step * np.maximum(1.0, np.abs(x))
+        jac = ((residuals(x + np.diag(h)) - r) / h[:, None]).T
+        jtj, jtr = jac.T @ jac, jac.T @ r
+        improved = False
+        delta = np.zeros(k)
+        for _try in range(6):
+            try:
+                delta = np.linalg.solve(
+                    jtj + lam * (np.diag(np.diag(jtj)) + 1e-9 * np.eye(k)), -jtr
+                )
+            except np.linalg.LinAlgError:
+                lam *= 10
+                continue
+            r_new = residuals((x + delta)[None, :])[0]
+            cost_new = float(r_new @ r_new)
+            if np.isfinite(cost_new) and cost_new < cost:
+                improved = cost - cost_new > 1e-6 * cost
+                x, r, cost = x + delta, r_new, cost_new
+                lam = max(lam / 10, 1e-9)
+                break
+            lam *= 10
+        if not improved or float(np.abs(delta).max()) < 1e-9:
+            break
+    return x

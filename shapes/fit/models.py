@@ -1,0 +1,318 @@
+"""The four primitive models in numpy: minimal-sample hypotheses (PCL's formulas), point
+distances, and least-squares refinement.
+
+Parameter layouts (one row per model):
+
+- plane ``[nx, ny, nz, d]`` with ``n . x + d = 0``, n unit;
+- sphere ``[cx, cy, cz, r]``;
+- cylinder ``[px, py, pz, ax, ay, az, r]``: a point on the axis, the unit axis, the radius;
+- cone ``[apx, apy, apz, ax, ay, az, theta]``: apex, unit axis from the apex into the cone,
+  half opening angle in radians.
+
+The distances are purely geometric; PITT's normal-distance weights (0.001 and 0.0006) change
+them by at most 1.6 mm and are left out. Normals are used where they matter: to build cylinder
+and cone hypotheses.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+import numpy.typing as npt
+
+from shapes.fit._ransac import levenberg_marquardt
+from shapes.types import FloatArray
+
+__all__ = ["ConeModel", "CylinderModel", "PlaneModel", "SphereModel"]
+
+Mask = npt.NDArray[np.bool_]
+Index = npt.NDArray[np.intp]
+
+
+def _unit(v: FloatArray) -> tuple[FloatArray, FloatArray]:
+    norm = np.linalg.norm(v, axis=-1)
+    return v / np.where(norm > 1e-12, norm, 1.0)[..., None], norm
+
+
+def _axial(
+    origin: FloatArray, axis: FloatArray, points: FloatArray
+) -> tuple[FloatArray, FloatArray, FloatArray]:
+    """For H lines (origin, unit axis) and n points: the axial coordinate ``t``, the distance
+    from the line ``rho`` and the squared distance from the origin, each (H, n).
+
+    Written with matrix products instead of (H, n, 3) temporaries; coordinates are taken
+    relative to the points' mean to keep the expanded squares accurate.
+    """
+    mean = points.mean(axis=0)
+    pts, org = points - mean, origin - mean
+    sq = (pts * pts).sum(axis=1)[None, :] - 2.0 * org @ pts.T + (org * org).sum(axis=1)[:, None]
+    sq = np.maximum(sq, 0.0)
+    t = axis @ pts.T - (axis * org).sum(axis=1)[:, None]
+    rho = np.sqrt(np.maximum(sq - t * t, 0.0))
+    return t, rho, sq
+
+
+def _refit_rounds(
+    params: FloatArray,
+    points: FloatArray,
+    threshold: float,
+    distance: object,
+    residual: object,
+    rounds: int = 2,
+    max_points: int = 250,
+) -> FloatArray:
+    """Refine on the inliers, re-select inliers, refine again."""
+    x = params
+    for _ in range(rounds):
+        d = distance(x[None, :], points)[0]  # type: ignore[operator]
+        inl = points[d < threshold]
+        if len(inl) < len(x):
+            break
+        if len(inl) > max_points:  # an even stride keeps the spread and the determinism
+            inl = inl[:: -(-len(inl) // max_points)]
+        x = levenberg_marquardt(lambda p, q=inl: residual(p, q), x)  # type: ignore[operator,misc]
+    return x
+
+
+@dataclass(frozen=True)
+class PlaneModel:
+    """Plane through 3 points; refined by SVD on the inliers."""
+
+    name: str = "plane"
+    sample_size: int = 3
+
+    def hypotheses(
+        self, points: FloatArray, normals: FloatArray, idx: Index
+    ) -> tuple[FloatArray, Mask]:
+        a, b, c = points[idx[:, 0]], points[idx[:, 1]], points[idx[:, 2]]
+        n, norm = _unit(np.cross(b - a, c - a))
+        d = -np.einsum("ij,ij->i", n, a)
+        return np.column_stack((n, d)), norm > 1e-9
+
+    def distances(self, params: FloatArray, points: FloatArray) -> FloatArray:
+        return np.asarray(np.abs(params[:, :3] @ points.T + params[:, 3:4]), dtype=np.float64)
+
+    def refine(self, params: FloatArray, points: FloatArray, threshold: float) -> FloatArray:
+        inl = points[self.distances(params[None, :], points)[0] < threshold]
+        if len(inl) < 3:
+            return params
+        centre = inl.mean(axis=0)
+        n = np.linalg.svd(inl - centre, full_matrices=False)[2][2]
+        n = n if n @ params[:3] >= 0 else -n
+        return np.concatenate((n, [-n @ centre]))
+
+    def within_limits(self, params: FloatArray) -> bool:
+        return bool(np.isfinite(params).all())
+
+
+@dataclass(frozen=True)
+class SphereModel:
+    """Sphere through 4 points (PCL's determinant form, as a 4x4 solve); radius limits apply."""
+
+    min_radius: float = 0.005
+    max_radius: float = 0.5
+    name: str = "sphere"
+    sample_size: int = 4
+
+    def hypotheses(
+        self, points: FloatArray, normals: FloatArray, idx: Index
+    ) -> tuple[FloatArray, Mask]:
+        p = points[idx]  # (H, 4, 3)
+        a = np.concatenate((p, np.ones((*p.shape[:2], 1))), axis=2)
+        b = -(p * p).sum(axis=2)
+        ok = np.abs(np.linalg.det(a)) > 1e-12
+        sol = np.zeros((len(p), 4))
+        if ok.any():
+            sol[ok] = np.linalg.solve(a[ok], b[ok][..., None])[..., 0]
+        centre = -sol[:, :3] / 2
+        r2 = (centre * centre).sum(axis=1) - sol[:, 3]
+        r = np.sqrt(np.maximum(r2, 0.0))
+        ok &= (r2 > 0) & (r >= self.min_radius) & (r <= self.max_radius)
+        return np.column_stack((centre, r)), ok
+
+    def distances(self, params: FloatArray, points: FloatArray) -> FloatArray:
+        sq = _axial(params[:, :3], np.zeros_like(params[:, :3]), points)[2]
+        return np.asarray(np.abs(np.sqrt(sq) - params[:, 3:4]), dtype=np.float64)
+
+    @staticmethod
+    def residuals(x: FloatArray, pts: FloatArray) -> FloatArray:
+        diff = pts[None, :, :] - x[:, None, :3]
+        return np.asarray(np.linalg.norm(diff, axis=2) - x[:, 3:4], dtype=np.float64)
+
+    def refine(self, params: FloatArray, points: FloatArray, threshold: float) -> FloatArray:
+        inl = points[self.distances(params[None, :], points)[0] < threshold]
+        x = params
+        if len(inl) >= 4:  # algebraic (Kåsa) start, then geometric least squares
+            a = np.column_stack((inl, np.ones(len(inl))))
+            sol = np.linalg.lstsq(a, -(inl * inl).sum(axis=1), rcond=None)[0]
+            c = -sol[:3] / 2
+            r2 = c @ c - sol[3]
+            if r2 > 0:
+                x = np.concatenate((c, [np.sqrt(r2)]))
+        return _refit_rounds(x, points, threshold, self.distances, self.residuals)
+
+    def within_limits(self, params: FloatArray) -> bool:
+        return bool(np.isfinite(params).all() and self.min_radius <= params[3] <= self.max_radius)
+
+
+@dataclass(frozen=True)
+class CylinderModel:
+    """Cylinder from 2 points with normals: axis = n1 x n2, centre where the normal lines cross.
+
+    With ``with_caps`` (the default) its surface includes the two end discs.
+    """
+
+    min_radius: float = 0.005
+    max_radius: float = 0.5
+    with_caps: bool = True
+    cap_band: float = 0.01
+    name: str = "cylinder"
+    sample_size: int = 2
+
+    def hypotheses(
+        self, points: FloatArray, normals: FloatArray, idx: Index
+    ) -> tuple[FloatArray, Mask]:
+        p1, p2 = points[idx[:, 0]], points[idx[:, 1]]
+        n1, n2 = normals[idx[:, 0]], normals[idx[:, 1]]
+        axis, norm = _unit(np.cross(n1, n2))
+        ok = norm > 0.1
+
+        def flat(v: FloatArray) -> FloatArray:
+            return np.asarray(v - np.einsum("ij,ij->i", v, axis)[:, None] * axis, dtype=np.float64)
+
+        q1, q2, m1, m2 = flat(p1), flat(p2), flat(n1), flat(n2)
+        # Solve q1 + s m1 = q2 + t m2 in the plane normal to the axis (2 unknowns, 3 equations).
+        aa = np.einsum("ij,ij->i", m1, m1)
+        bb = np.einsum("ij,ij->i", m1, m2)
+        cc = np.einsum("ij,ij->i", m2, m2)
+        w = q2 - q1
+        dd, ee = np.einsum("ij,ij->i", m1, w), np.einsum("ij,ij->i", m2, w)
+        den = aa * cc - bb * bb
+        ok &= np.abs(den) > 1e-9
+        s = (dd * cc - ee * bb) / np.where(ok, den, 1.0)
+        centre = q1 + s[:, None] * m1
+        r = (np.linalg.norm(q1 - centre, axis=1) + np.linalg.norm(q2 - centre, axis=1)) / 2
+        ok &= (r >= self.min_radius) & (r <= self.max_radius)
+        return np.column_stack((centre, axis, r)), ok
+
+    def lateral_distances(self, params: FloatArray, points: FloatArray) -> FloatArray:
+        """Distances to the lateral surface only (PITT's cylinder)."""
+        rho = _axial(params[:, :3], params[:, 3:6], points)[1]
+        return np.asarray(np.abs(rho - params[:, 6:7]), dtype=np.float64)
+
+    def distances(self, params: FloatArray, points: FloatArray) -> FloatArray:
+        """Distances to the lateral surface or, if nearer, one of the two end discs.
+
+        Each disc sits at the mean axial position of the points inside its rim within
+        ``cap_band`` of that end of the points (the 1st or 99th percentile). Scoring
+        the discs too keeps a flat top from luring RANSAC to a wide cylinder lying on its side.
+        """
+        if not self.with_caps:
+            return self.lateral_distances(params, points)
+        t, rho, _ = _axial(params[:, :3], params[:, 3:6], points)
+        r = params[:, 6:7]
+        # The ends of the points along the axis, ignoring the outer 1 % (stray points), ...
+        n = t.shape[1]
+        k = max(1, n // 100)
+        part = np.partition(t, (k, n - 1 - k), axis=1)
+        lo, hi = part[:, k], part[:, n - 1 - k]
+        # ... and each disc at the mean of the points inside the rim near that end (noise
+        # spreads a disc along the axis, so the extreme would sit too far out).
+        inside = rho < 0.9 * r
+        ends = []
+        for end, near in (
+            (lo, np.abs(t - lo[:, None]) < self.cap_band),
+            (hi, np.abs(t - hi[:, None]) < self.cap_band),
+        ):
+            m = inside & near
+            count = m.sum(axis=1)
+            mean = (t * m).sum(axis=1) / np.maximum(count, 1)
+            ends.append(np.where(count > 0, mean, end)[:, None])
+        excess = np.maximum(rho - r, 0.0)
+        cap = np.minimum(np.hypot(t - ends[0], excess), np.hypot(t - ends[1], excess))
+        return np.asarray(np.minimum(np.abs(rho - r), cap), dtype=np.float64)
+
+    @staticmethod
+    def residuals(x: FloatArray, pts: FloatArray) -> FloatArray:
+        axis = _unit(x[:, 3:6])[0][:, None, :]
+        v = pts[None, :, :] - x[:, None, :3]
+        radial = v - (v * axis).sum(axis=2, keepdims=True) * axis
+        return np.asarray(np.linalg.norm(radial, axis=2) - x[:, 6:7], dtype=np.float64)
+
+    def refine(self, params: FloatArray, points: FloatArray, threshold: float) -> FloatArray:
+        # Points of a flat end disc that lie within the threshold of the rim would pull the
+        # radius in: refine on the lateral band away from both ends.
+        v = points - params[:3]
+        t = v @ params[3:6]
+        inl = self.lateral_distances(params[None, :], points)[0] < threshold
+        if inl.sum() >= 10:
+            lo, hi = np.percentile(t[inl], [2.0, 98.0])
+            band = (t > lo + 1.5 * threshold) & (t < hi - 1.5 * threshold)
+            if (band & inl).sum() >= 10:
+                points = points[band]
+        x = _refit_rounds(params, points, threshold, self.lateral_distances, self.residuals)
+        axis = x[3:6] / np.linalg.norm(x[3:6])
+        return np.concatenate((x[:3], axis, [abs(x[6])]))
+
+    def within_limits(self, params: FloatArray) -> bool:
+        return bool(np.isfinite(params).all() and self.min_radius <= params[6] <= self.max_radius)
+
+
+@dataclass(frozen=True)
+class ConeModel:
+    """Cone from 3 points with normals (PCL: apex where the 3 tangent planes meet)."""
+
+    min_half_angle: float = np.radians(10.0)
+    max_half_angle: float = np.radians(80.0)
+    max_apex_distance: float = 1.0
+    name: str = "cone"
+    sample_size: int = 3
+
+    def hypotheses(
+        self, points: FloatArray, normals: FloatArray, idx: Index
+    ) -> tuple[FloatArray, Mask]:
+        p = [points[idx[:, i]] for i in range(3)]
+        n = [normals[idx[:, i]] for i in range(3)]
+        o12, o23, o31 = np.cross(n[0], n[1]), np.cross(n[1], n[2]), np.cross(n[2], n[0])
+        den = np.einsum("ij,ij->i", n[0], o23)
+        ok = np.abs(den) > 1e-6
+        dots = [np.einsum("ij,ij->i", p[i], n[i]) for i in range(3)]
+        apex = (
+            dots[0][:, None] * o23 + dots[1][:, None] * o31 + dots[2][:, None] * o12
+        ) / np.where(ok, den, 1.0)[:, None]
+        u = [_unit(p[i] - apex)[0] for i in range(3)]
+        axis, norm = _unit(np.cross(u[1] - u[0], u[2] - u[0]))
+        ok &= norm > 1e-9
+        cosines = np.stack([np.einsum("ij,ij->i", u[i], axis) for i in range(3)])
+        flip = cosines.mean(axis=0) < 0
+        axis[flip] *= -1
+        theta = np.arccos(np.clip(np.abs(cosines), -1, 1)).mean(axis=0)
+        ok &= (theta >= self.min_half_angle) & (theta <= self.max_half_angle)
+        ok &= np.linalg.norm(apex - p[0], axis=1) <= self.max_apex_distance
+        return np.column_stack((apex, axis, theta)), ok
+
+    def distances(self, params: FloatArray, points: FloatArray) -> FloatArray:
+        k, rho, sq = _axial(params[:, :3], params[:, 3:6], points)
+        c, s = np.cos(params[:, 6:7]), np.sin(params[:, 6:7])
+        along = k * c + rho * s
+        d = np.where(along >= 0, np.abs(rho * c - k * s), np.sqrt(sq))
+        return np.asarray(d, dtype=np.float64)
+
+    @staticmethod
+    def residuals(x: FloatArray, pts: FloatArray) -> FloatArray:
+        axis = _unit(x[:, 3:6])[0][:, None, :]
+        v = pts[None, :, :] - x[:, None, :3]
+        k = (v * axis).sum(axis=2)
+        rho = np.linalg.norm(v - k[..., None] * axis, axis=2)
+        return np.asarray(rho * np.cos(x[:, 6:7]) - k * np.sin(x[:, 6:7]), dtype=np.float64)
+
+    def refine(self, params: FloatArray, points: FloatArray, threshold: float) -> FloatArray:
+        x = _refit_rounds(params, points, threshold, self.distances, self.residuals)
+        axis = x[3:6] / np.linalg.norm(x[3:6])
+        return np.concatenate((x[:3], axis, [x[6]]))
+
+    def within_limits(self, params: FloatArray) -> bool:
+        return bool(
+            np.isfinite(params).all() and self.min_half_angle <= params[6] <= self.max_half_angle
+        )

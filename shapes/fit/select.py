@@ -1,0 +1,358 @@
+"""Fitting one cluster: every model is fitted, then one is chosen by the rule below.
+
+Shape-choice rule (replaces PITT's "most raw inliers, cone if ≥ 0.9 · cylinder")
+-------------------------------------------------------------------------------
+Each candidate is scored on the cluster's points by a *truncated quadratic* (MSAC) cost,
+``mean(min(d / T, 1)²)`` with one common threshold ``T = selection_threshold_m`` for all
+models, where ``d`` is the distance of a point to the candidate's *whole visible surface*:
+
+- sphere: the sphere;
+- cylinder: the lateral surface **and its two end discs** (a cylinder's flat top is part of the
+  cylinder, so it no longer hands the cluster to "plane");
+- cone: the lateral surface;
+- plane: the union of up to ``max_planes`` planes found one after another, each holding at least
+  ``min_plane_share`` of the points (a box shows up to three faces); each point then goes to
+  its nearest face and every face is refitted, so box edges do not tilt the faces.
+
+The same surfaces drive the search: cylinder hypotheses are scored with their end discs, so a
+dominant flat top cannot pull RANSAC to a wide cylinder lying on its side; sphere and cylinder
+radii are bounded by ``max_radius_per_extent`` times the cluster's size (a larger radius only
+imitates a slightly bent flat face); cylinders and cones get at least ``min_iterations``
+hypotheses, each batch ranked first on ``preview_points`` points. Only the curved candidates
+within ``refine_margin`` of the best cost are refined by least squares (Levenberg-Marquardt on
+the inliers; a cylinder on its lateral band away from the discs), and a refinement is kept only
+if it lowers the cost and respects the limits.
+
+The lowest cost wins; candidates within ``tie_margin`` of it are resolved in the order sphere,
+cylinder, cone, plane (fewest parameters first). When the support is known, a cylinder or cone
+whose axis could not rest on it (neither standing nor lying, within ``resting_tolerance_deg``)
+pays ``oblique_penalty``: a tilted cylinder is what a partly hidden cone looks like, not a
+thing found on tables. Unlike an inlier count, the cost rewards a
+model for how *closely* the points fit, not just whether they fall within a loose band: a flat
+patch of a sphere or a band of a cone that lies within a few millimetres of a plane or a cylinder
+still costs more than the surface that explains every point at noise level.
+
+Heights are measured to the support: when a cylinder's or cone's axis is within
+``upright_tolerance_deg`` of the support normal and its lowest points lie within
+``snap_distance_m`` of the support, the base is put on the support plane. The segmentation has
+to drop the bottom centimetre of each object with the table; this gives it back.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+import open3d as o3d
+
+from shapes.fit._ransac import Model, ransac, refine_if_better
+from shapes.fit.models import ConeModel, CylinderModel, PlaneModel, SphereModel
+from shapes.types import FloatArray, Primitive, ShapeKind, SupportPlane, vec3
+
+__all__ = ["ClusterFit", "FitParams", "estimate_normals", "fit_cluster", "pitt_choice"]
+
+ORDER = (ShapeKind.SPHERE, ShapeKind.CYLINDER, ShapeKind.CONE, ShapeKind.PLANE)
+
+
+@dataclass(frozen=True)
+class FitParams:
+    """Parameters of :func:`fit_cluster`. RANSAC thresholds are PITT's defaults (metres)."""
+
+    sphere_threshold_m: float = 0.007
+    cylinder_threshold_m: float = 0.008
+    cone_threshold_m: float = 0.0055
+    plane_threshold_m: float = 0.007
+    min_radius_m: float = 0.005
+    max_radius_m: float = 0.5
+    max_radius_per_extent: float = 0.67
+    min_cone_half_angle_deg: float = 10.0
+    max_cone_half_angle_deg: float = 80.0
+    max_iterations: int = 1000
+    min_iterations: int = 128
+    preview_points: int = 100
+    max_fit_points: int = 300
+    normal_neighbours: int = 30
+    selection_threshold_m: float = 0.008
+    max_planes: int = 3
+    min_plane_share: float = 0.05
+    max_plane_iterations: int = 200
+    tie_margin: float = 0.01
+    resting_tolerance_deg: float = 10.0
+    oblique_penalty: float = 0.03
+    refine_margin: float = 0.15
+    upright_tolerance_deg: float = 20.0
+    snap_distance_m: float = 0.03
+
+
+@dataclass(frozen=True, eq=False)
+class ClusterFit:
+    """The chosen primitive, every candidate's cost and PITT's inlier counts (for comparison)."""
+
+    primitive: Primitive
+    costs: dict[ShapeKind, float] = field(default_factory=dict)
+    pitt_counts: dict[ShapeKind, int] = field(default_factory=dict)
+
+
+def pitt_choice(counts: dict[ShapeKind, int]) -> ShapeKind | None:
+    """PITT's rule (§4.12 of the reference): raw inlier counts, cone first if ≥ 0.9 · cylinder.
+
+    >>> pitt_choice({ShapeKind.SPHERE: 10, ShapeKind.CYLINDER: 50,
+    ...              ShapeKind.CONE: 46, ShapeKind.PLANE: 20})
+    <ShapeKind.CONE: 'Cone'>
+    """
+    p, s = counts.get(ShapeKind.PLANE, 0), counts.get(ShapeKind.SPHERE, 0)
+    cy, co = counts.get(ShapeKind.CYLINDER, 0), counts.get(ShapeKind.CONE, 0)
+    if p == s == cy == co == 0:
+        return None
+    if co >= p and co >= s and co >= 0.9 * cy:
+        return ShapeKind.CONE
+    if cy >= p and cy >= co and cy >= s:
+        return ShapeKind.CYLINDER
+    if p >= co and p >= s and p >= cy:
+        return ShapeKind.PLANE
+    if s >= p and s >= co and s >= cy:
+        return ShapeKind.SPHERE
+    return None
+
+
+def estimate_normals(points: FloatArray, neighbours: int) -> FloatArray:
+    """Unoriented unit normals from the ``neighbours`` nearest points (open3d)."""
+    cloud = o3d.geometry.PointCloud(o3d.utility.Vector3dVector(points))
+    cloud.estimate_normals(o3d.geometry.KDTreeSearchParamKNN(neighbours))
+    return np.asarray(cloud.normals, dtype=np.float64)
+
+
+def _axial(params: FloatArray, points: FloatArray) -> tuple[FloatArray, FloatArray]:
+    v = points - params[:3]
+    t = v @ params[3:6]
+    rho = np.linalg.norm(v - np.outer(t, params[3:6]), axis=1)
+    return t, rho
+
+
+def _can_rest(kind: ShapeKind, params: FloatArray, support: SupportPlane, fp: FitParams) -> bool:
+    """Whether a cylinder or cone could rest on the support: standing (axis along the
+    support normal) or lying on its side (cylinder axis parallel to the support, cone tilted by
+    90 degrees minus its half angle), within ``resting_tolerance_deg``."""
+    tilt = math.degrees(math.acos(min(1.0, abs(float(params[3:6] @ np.asarray(support.normal))))))
+    lying = 90.0 if kind is ShapeKind.CYLINDER else 90.0 - math.degrees(float(params[6]))
+    tol = fp.resting_tolerance_deg
+    return tilt <= tol or abs(tilt - lying) <= tol
+
+
+def _cost(d: FloatArray, threshold: float) -> float:
+    return float(np.mean(np.minimum(d / threshold, 1.0) ** 2))
+
+
+def _orient_up(axis: FloatArray, support: SupportPlane | None, tol_deg: float) -> bool:
+    """Whether the axis is upright with respect to the support."""
+    if support is None:
+        return False
+    return abs(float(axis @ np.asarray(support.normal))) >= math.cos(math.radians(tol_deg))
+
+
+def _build_cylinder(
+    params: FloatArray, points: FloatArray, support: SupportPlane | None, fp: FitParams
+) -> Primitive:
+    p0, axis, r = params[:3], params[3:6].copy(), float(params[6])
+    upright = _orient_up(axis, support, fp.upright_tolerance_deg)
+    if support is not None and float(axis @ np.asarray(support.normal)) < 0:
+        axis = -axis
+    t, rho = _axial(np.concatenate((p0, axis, [r])), points)
+    lo, hi = (float(v) for v in np.percentile(t, [0.5, 99.5]))
+    cap = (t > hi - 2 * fp.selection_threshold_m) & (rho < 0.8 * r)
+    if cap.sum() >= 10:
+        hi = float(np.median(t[cap]))
+    if upright and support is not None:
+        n = np.asarray(support.normal)
+        t_plane = -float(n @ p0 + support.offset) / float(n @ axis)
+        if lo - t_plane < fp.snap_distance_m:
+            lo = t_plane
+    base = p0 + lo * axis
+    return Primitive(
+        ShapeKind.CYLINDER,
+        centre=vec3(p0 + (lo + hi) / 2 * axis),
+        axis=vec3(axis),
+        radius=r,
+        height=hi - lo,
+        point_on_axis=vec3(base),
+    )
+
+
+def _build_cone(
+    params: FloatArray, points: FloatArray, support: SupportPlane | None, fp: FitParams
+) -> Primitive:
+    apex, axis, theta = params[:3], params[3:6], float(params[6])
+    k = (points - apex) @ axis
+    height = float(np.percentile(k, 99.5))
+    if support is not None and _orient_up(axis, support, fp.upright_tolerance_deg):
+        n = np.asarray(support.normal)
+        denom = float(n @ axis)
+        k_plane = -float(n @ apex + support.offset) / denom
+        if k_plane > 0 and k_plane - height < fp.snap_distance_m:
+            height = k_plane
+    return Primitive(
+        ShapeKind.CONE,
+        centre=vec3(apex + 0.75 * height * axis),
+        axis=vec3(axis),
+        radius=height * math.tan(theta),
+        height=height,
+        apex=vec3(apex),
+    )
+
+
+def _build_plane(params: FloatArray, points: FloatArray, inliers: FloatArray) -> Primitive:
+    n = params[:3].copy()
+    centre = inliers.mean(axis=0)
+    outward = float(n @ (centre - points.mean(axis=0)))
+    if outward < -1e-4 or (abs(outward) <= 1e-4 and n[2] < 0):
+        n = -n
+    return Primitive(
+        ShapeKind.PLANE, centre=vec3(centre), axis=vec3(n), hessian_offset=float(-n @ centre)
+    )
+
+
+def fit_cluster(
+    points: FloatArray,
+    *,
+    support: SupportPlane | None = None,
+    params: FitParams | None = None,
+    rng: np.random.Generator,
+) -> ClusterFit | None:
+    """Fit sphere, cylinder, cone and plane(s) to one cluster and choose one (rule above).
+
+    Returns None if the cluster has too few points (fewer than 10) for any model.
+    Deterministic for a given ``rng`` state.
+    """
+    fp = params or FitParams()
+    if len(points) < 10:
+        return None
+    # Normals come from the full-resolution points: with the same number of neighbours their
+    # patches are smaller than on the sample, so a short band of a cylinder's side below its
+    # top keeps normals square to the axis.
+    all_normals = estimate_normals(points, min(fp.normal_neighbours, len(points) - 1))
+    if len(points) > fp.max_fit_points:
+        chosen = np.sort(rng.choice(len(points), fp.max_fit_points, replace=False))
+        sample, normals = points[chosen], all_normals[chosen]
+    else:
+        sample, normals = points, all_normals
+    t_sel = fp.selection_threshold_m
+    # A sphere or cylinder is seen over a good part of its circumference (a third of it already
+    # spans 1.7 radii), so its radius is bounded by the cluster's size: wider ones only imitate
+    # a flat face with a slight bend.
+    extent = float(np.linalg.norm(np.ptp(sample, axis=0)))
+    max_radius = min(fp.max_radius_m, fp.max_radius_per_extent * extent)
+    models: dict[ShapeKind, tuple[Model, float]] = {
+        ShapeKind.SPHERE: (SphereModel(fp.min_radius_m, max_radius), fp.sphere_threshold_m),
+        ShapeKind.CYLINDER: (
+            CylinderModel(fp.min_radius_m, max_radius, with_caps=True),
+            fp.cylinder_threshold_m,
+        ),
+        ShapeKind.CONE: (
+            ConeModel(
+                math.radians(fp.min_cone_half_angle_deg), math.radians(fp.max_cone_half_angle_deg)
+            ),
+            fp.cone_threshold_m,
+        ),
+    }
+    costs: dict[ShapeKind, float] = {}
+    counts: dict[ShapeKind, int] = {}
+    fitted: dict[ShapeKind, FloatArray] = {}
+    surface: dict[ShapeKind, FloatArray] = {}
+
+    def score(kind: ShapeKind, params: FloatArray) -> None:
+        model = models[kind][0]
+        d = model.distances(params[None, :], sample)[0]
+        fitted[kind], surface[kind], costs[kind] = params, d, _cost(d, t_sel)
+
+    for kind, (model, thr) in models.items():
+        res = ransac(
+            model,
+            sample,
+            normals,
+            threshold=thr,
+            rng=rng,
+            max_iterations=fp.max_iterations,
+            refine=False,
+            min_iterations=0 if kind is ShapeKind.SPHERE else fp.min_iterations,
+            preview_points=fp.preview_points,
+        )
+        if res is not None:
+            pitt_d = (
+                CylinderModel(with_caps=False).distances(res.params[None, :], sample)[0]
+                if kind is ShapeKind.CYLINDER
+                else model.distances(res.params[None, :], sample)[0]
+            )
+            counts[kind] = int((pitt_d < thr).sum())
+            score(kind, res.params)
+    # Planes, one after another on what the previous ones left.
+    plane_model = PlaneModel()
+    remaining = np.ones(len(sample), dtype=bool)
+    plane_d = np.full(len(sample), np.inf)
+    planes: list[tuple[FloatArray, FloatArray]] = []
+    for _ in range(fp.max_planes):
+        if remaining.sum() < max(10, fp.min_plane_share * len(sample)):
+            break
+        res = ransac(
+            plane_model,
+            sample[remaining],
+            normals[remaining],
+            threshold=fp.plane_threshold_m,
+            rng=rng,
+            max_iterations=fp.max_plane_iterations,
+        )
+        if res is None or res.inliers.sum() < max(10, fp.min_plane_share * len(sample)):
+            break
+        if not planes:
+            counts[ShapeKind.PLANE] = int(res.inliers.sum())
+        d = plane_model.distances(res.params[None, :], sample)[0]
+        plane_d = np.minimum(plane_d, d)
+        planes.append((res.params, sample[remaining][res.inliers]))
+        remaining &= d >= fp.plane_threshold_m
+    if len(planes) > 1:
+        # Points along a box edge lie within the threshold of both faces: give each point to
+        # its nearest face and refit every face on its own points, so edges do not tilt them.
+        stacked = np.array([p for p, _ in planes])
+        d_all = plane_model.distances(stacked, sample)
+        nearest = d_all.argmin(axis=0)
+        refitted = []
+        for i, (p, inl) in enumerate(planes):
+            own = sample[(nearest == i) & (d_all[i] < fp.plane_threshold_m)]
+            if len(own) >= 3:
+                centre = own.mean(axis=0)
+                n = np.linalg.svd(own - centre, full_matrices=False)[2][2]
+                n = n if n @ p[:3] >= 0 else -n
+                p, inl = np.concatenate((n, [-n @ centre])), own
+            refitted.append((p, inl))
+        planes = refitted
+        plane_d = plane_model.distances(np.array([p for p, _ in planes]), sample).min(axis=0)
+    if planes:
+        surface[ShapeKind.PLANE], costs[ShapeKind.PLANE] = plane_d, _cost(plane_d, t_sel)
+    if not costs:
+        return None
+    # Least-squares refinement only for the curved candidates still in the running.
+    best = min(costs.values())
+    for kind in list(fitted):
+        if costs[kind] <= best + fp.refine_margin:
+            model, thr = models[kind]
+            score(kind, refine_if_better(model, fitted[kind], sample, thr))
+    choice = dict(costs)
+    if support is not None:
+        for kind in (ShapeKind.CYLINDER, ShapeKind.CONE):
+            if kind in fitted and not _can_rest(kind, fitted[kind], support, fp):
+                choice[kind] += fp.oblique_penalty
+    best = min(choice.values())
+    kind = next(k for k in ORDER if k in choice and choice[k] <= best + fp.tie_margin)
+    ratio = float((surface[kind] < t_sel).mean())
+    if kind is ShapeKind.SPHERE:
+        c = fitted[kind]
+        prim = Primitive(ShapeKind.SPHERE, centre=vec3(c[:3]), radius=float(c[3]))
+    elif kind is ShapeKind.CYLINDER:
+        prim = _build_cylinder(fitted[kind], points, support, fp)
+    elif kind is ShapeKind.CONE:
+        prim = _build_cone(fitted[kind], points, support, fp)
+    else:
+        plane, inl = max(planes, key=lambda p: len(p[1]))
+        prim = _build_plane(plane, sample, inl)
+    prim = Primitive(**{**prim.__dict__, "inlier_ratio": ratio})
+    return ClusterFit(prim, costs, counts)

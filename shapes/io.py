@@ -1,0 +1,120 @@
+"""Point-cloud sources: PLY/PCD files (open3d), NumPy files, ROS bags, chosen by path.
+
+>>> import tempfile, pathlib
+>>> path = pathlib.Path(tempfile.mkdtemp()) / "cloud.npy"
+>>> np.save(path, np.array([[0.0, 0.0, 1.0], [0.1, 0.0, 1.0]]))
+>>> [f.points.shape for f in open_source(path)]
+[(2, 3)]
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterator
+from pathlib import Path
+
+import numpy as np
+import open3d as o3d
+
+from shapes.bags import bag_message_count, read_bag
+from shapes.errors import InvalidCloudError, SourceError
+from shapes.frame import Frame
+from shapes.types import FloatArray
+
+__all__ = ["CLOUD_SUFFIXES", "open_source", "read_cloud_file", "source_length"]
+
+CLOUD_SUFFIXES = (".ply", ".pcd", ".xyz", ".xyzrgb", ".pts")
+ARRAY_SUFFIXES = (".npy", ".npz")
+BAG_SUFFIXES = (".bag", ".mcap", ".db3")
+
+
+def read_cloud_file(path: str | Path, *, world_from_sensor: FloatArray | None = None) -> Frame:
+    """One frame from a PLY/PCD/XYZ file (open3d), with its colours if the file has them.
+
+    Raises SourceError if the file is missing or holds no point, InvalidCloudError if the
+    points are not finite.
+    """
+    p = Path(path)
+    if not p.is_file():
+        raise SourceError(f"cloud file: {str(p)!r} does not exist or is not a file")
+    if p.suffix.lower() not in CLOUD_SUFFIXES:
+        raise SourceError(f"cloud file: expected a suffix in {CLOUD_SUFFIXES}, got {str(p)!r}")
+    cloud = o3d.io.read_point_cloud(p, remove_nan_points=True, remove_infinite_points=True)
+    points = np.asarray(cloud.points, dtype=np.float64)
+    if len(points) == 0:
+        raise SourceError(f"cloud file {str(p)!r}: no point could be read (empty or not a cloud)")
+    colours = np.asarray(cloud.colors, dtype=np.float64) if cloud.has_colors() else None
+    pose = np.eye(4) if world_from_sensor is None else world_from_sensor
+    return Frame(points, colours, None, p.stem, pose)
+
+
+def _read_array(path: Path, pose: FloatArray) -> Frame:
+    try:
+        data = np.load(path, allow_pickle=False)
+    except (OSError, ValueError) as exc:
+        raise SourceError(f"array file {str(path)!r}: cannot be read ({exc})") from exc
+    if isinstance(data, np.lib.npyio.NpzFile):
+        with data:
+            if "points" not in data.files:
+                raise SourceError(
+                    f"array file {str(path)!r}: expected an array named 'points' (and optionally "
+                    f"'colours'), got {data.files}"
+                )
+            points, colours = data["points"], data["colours"] if "colours" in data.files else None
+    else:
+        arr = np.asarray(data)
+        if arr.ndim == 2 and arr.shape[1] == 6:
+            points, colours = arr[:, :3], arr[:, 3:]
+        else:
+            points, colours = arr, None
+    try:
+        return Frame(points, colours, None, path.stem, pose)
+    except InvalidCloudError as exc:
+        raise InvalidCloudError(f"array file {str(path)!r}: {exc}") from exc
+
+
+def _is_ros2_dir(path: Path) -> bool:
+    return path.is_dir() and (path / "metadata.yaml").is_file()
+
+
+def open_source(
+    path: str | Path,
+    *,
+    topic: str | None = None,
+    world_from_sensor: FloatArray | None = None,
+) -> Iterator[Frame]:
+    """Frames from a point-cloud file, a NumPy file or a ROS bag, chosen by the path.
+
+    - ``.ply``, ``.pcd``, ``.xyz``, ``.xyzrgb``, ``.pts``: one frame (open3d);
+    - ``.npy`` with ``(N, 3)`` points or ``(N, 6)`` points and RGB; ``.npz`` with ``points``
+      and optional ``colours``: one frame;
+    - ``.bag`` (ROS 1), a ROS 2 bag directory or its ``.mcap``/``.db3`` file: one frame per
+      PointCloud2 message (``topic`` picks one topic).
+
+    Raises SourceError for a missing path or an unknown kind of file.
+    """
+    p = Path(path)
+    pose = np.eye(4) if world_from_sensor is None else world_from_sensor
+    if not p.exists():
+        raise SourceError(f"source: {str(p)!r} does not exist")
+    suffix = p.suffix.lower()
+    if suffix in BAG_SUFFIXES or _is_ros2_dir(p):
+        yield from read_bag(p, topic=topic, world_from_sensor=pose)
+    elif suffix in CLOUD_SUFFIXES:
+        yield read_cloud_file(p, world_from_sensor=pose)
+    elif suffix in ARRAY_SUFFIXES:
+        yield _read_array(p, pose)
+    else:
+        raise SourceError(
+            f"source: expected a point-cloud file {CLOUD_SUFFIXES}, a NumPy file "
+            f"{ARRAY_SUFFIXES}, a ROS 1 .bag or a ROS 2 bag directory, got {str(p)!r}"
+        )
+
+
+def source_length(path: str | Path, *, topic: str | None = None) -> int:
+    """How many frames :func:`open_source` yields at most (for a progress bar)."""
+    p = Path(path)
+    if p.suffix.lower() in BAG_SUFFIXES or _is_ros2_dir(p):
+        return bag_message_count(p, topic)
+    if not p.exists():
+        raise SourceError(f"source: {str(p)!r} does not exist")
+    return 1

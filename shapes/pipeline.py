@@ -1,0 +1,110 @@
+"""The whole perception chain for a stream of frames: segment, fit, track, colour, average.
+
+>>> from shapes.synthetic import random_scene
+>>> rng = np.random.default_rng(7)
+>>> scene = random_scene(rng, n_objects=2, kinds=("Sphere",))
+>>> perception = Perception(seed=0)
+>>> results = [perception.process(scene.render(rng).frame) for _ in range(8)]
+>>> [p.kind.value for p in results[-1].primitives]
+['Sphere', 'Sphere']
+>>> [type(e).__name__ for r in results for e in r.events]
+['SceneChange', 'StableScene']
+"""
+
+from __future__ import annotations
+
+import logging
+from collections.abc import Iterable, Iterator
+from dataclasses import dataclass, field, replace
+
+import numpy as np
+
+from shapes.average import Observation, SceneAverager, SceneEvent, StableScene
+from shapes.colour import mean_colour
+from shapes.fit import FitParams, fit_cluster
+from shapes.frame import Frame
+from shapes.segment import SegmentationParams, segment
+from shapes.track import Tracker
+from shapes.types import Primitive, SupportPlane
+
+__all__ = ["FrameResult", "Perception", "PerceptionParams"]
+
+log = logging.getLogger(__name__)
+
+
+@dataclass(frozen=True)
+class PerceptionParams:
+    """Every knob of the chain; the defaults are PITT's where PITT had one (see each stage)."""
+
+    segmentation: SegmentationParams = field(default_factory=SegmentationParams)
+    fit: FitParams = field(default_factory=FitParams)
+    gate_m: float = 0.20
+    forget_after: int = 3
+    weight_old: float = 0.6
+    weight_new: float = 0.4
+    move_threshold_m: float = 0.05
+    confirm_frames: int = 3
+    stable_frames: int = 5
+    min_hits: int = 3
+
+
+@dataclass(frozen=True, eq=False)
+class FrameResult:
+    """One frame's output: the support, this frame's primitives (with ids), and scene events."""
+
+    index: int
+    stamp: float | None
+    support: SupportPlane | None
+    primitives: tuple[Primitive, ...]
+    events: tuple[SceneEvent, ...]
+
+
+class Perception:
+    """Stateful chain: call :meth:`process` once per frame, in order.
+
+    Deterministic for a given ``seed``: frame k uses a generator seeded with ``(seed, k)``.
+    """
+
+    def __init__(self, params: PerceptionParams | None = None, *, seed: int = 0) -> None:
+        self.params = params or PerceptionParams()
+        p = self.params
+        self.seed = seed
+        self.frames = 0
+        self.tracker = Tracker(p.gate_m, p.forget_after, p.weight_old, p.weight_new)
+        self.averager = SceneAverager(
+            p.move_threshold_m, p.confirm_frames, p.stable_frames, p.min_hits
+        )
+
+    def process(self, frame: Frame) -> FrameResult:
+        """Run one frame through the chain."""
+        index = self.frames
+        self.frames += 1
+        rng = np.random.default_rng([self.seed, index])
+        seg = segment(frame, self.params.segmentation, seed=self.seed + index)
+        fitted = []
+        for cluster in seg.clusters:
+            fit = fit_cluster(cluster.points, support=seg.support, params=self.params.fit, rng=rng)
+            if fit is not None:
+                fitted.append((cluster, fit.primitive))
+        ids = self.tracker.update([c.centroid for c, _ in fitted])
+        primitives, observations = [], []
+        for (cluster, prim), tid in zip(fitted, ids, strict=True):
+            colour = None if cluster.colours is None else mean_colour(cluster.colours)
+            prim = replace(prim, tracking_id=tid, colour=colour, stamp=frame.stamp)
+            primitives.append(prim)
+            observations.append(Observation(prim, cluster.centroid))
+        events = self.averager.update(observations, self.tracker.deleted, frame.stamp)
+        log.debug("frame %d: %d primitives, %d events", index, len(primitives), len(events))
+        return FrameResult(index, frame.stamp, seg.support, tuple(primitives), tuple(events))
+
+    def run(self, frames: Iterable[Frame]) -> Iterator[FrameResult]:
+        """Process frames lazily, one result per frame."""
+        for frame in frames:
+            yield self.process(frame)
+
+    def stable_scenes(self, frames: Iterable[Frame]) -> Iterator[StableScene]:
+        """Only the stable scenes of a stream: what a memory client consumes."""
+        for result in self.run(frames):
+            for event in result.events:
+                if isinstance(event, StableScene):
+                    yield event

@@ -1,0 +1,135 @@
+"""One real Engram server per test module (loopback, on-disk store), and directive helpers.
+
+``tests/api/conftest.py`` starts a server per test; the ARMOR tests share one per module to stay
+fast, and isolate themselves by using a fresh reference name per test.
+"""
+
+import socket
+import threading
+import time
+import uuid
+from collections.abc import Callable, Iterator
+from pathlib import Path
+from typing import Any
+
+import httpx
+import pytest
+import uvicorn
+
+from api.config import Settings
+from api.main import create_app
+
+DATA = Path(__file__).parent / "data"
+TEST_IRI = "http://www.semanticweb.org/emarolab/ontologies/armor-test"
+
+
+def _free_port() -> int:
+    with socket.socket() as probe:
+        probe.bind(("127.0.0.1", 0))
+        port: int = probe.getsockname()[1]
+        return port
+
+
+class Armor:
+    """Sends directives to a running server."""
+
+    def __init__(self, http: httpx.Client, url: str) -> None:
+        self.http = http
+        self.url = url
+
+    def call(
+        self,
+        command: str,
+        first: str = "",
+        second: str = "",
+        args: list[str] | None = None,
+        *,
+        ref: str,
+        client: str = "tester",
+        values: str | None = None,
+    ) -> dict[str, Any]:
+        body = {
+            "armor_request": {
+                "client_name": client,
+                "reference_name": ref,
+                "command": command,
+                "primary_command_spec": first,
+                "secondary_command_spec": second,
+                "args": args or [],
+            }
+        }
+        params = {"values": values} if values else None
+        response = self.http.post("/armor_interface_srv", json=body, params=params)
+        assert response.status_code == 200, response.text
+        result: dict[str, Any] = response.json()["armor_response"]
+        return result
+
+    def call_list(self, directives: list[dict[str, Any]]) -> dict[str, Any]:
+        response = self.http.post(
+            "/armor_interface_serialized_srv", json={"armor_requests": directives}
+        )
+        assert response.status_code == 200, response.text
+        result: dict[str, Any] = response.json()
+        return result
+
+    def load_empty(
+        self, ref: str, *, buffered: bool = False, buffered_reasoner: bool = True
+    ) -> None:
+        result = self.call(
+            "LOAD",
+            "FILE",
+            "",
+            ["", "http://ex.org/" + ref, str(buffered), "PELLET", str(buffered_reasoner)],
+            ref=ref,
+        )
+        assert result["success"], result
+
+
+def start_live_server(
+    data_dir: Path, **overrides: Any
+) -> tuple[uvicorn.Server, threading.Thread, str]:
+    settings = Settings(host="127.0.0.1", port=_free_port(), data_dir=data_dir, **overrides)
+    config = uvicorn.Config(
+        create_app(settings), host=settings.host, port=settings.port, log_level="warning"
+    )
+    server = uvicorn.Server(config)
+    thread = threading.Thread(target=server.run, daemon=True)
+    thread.start()
+    deadline = time.monotonic() + 30
+    while not server.started:
+        if not thread.is_alive() or time.monotonic() > deadline:
+            raise RuntimeError("the test server did not start")
+        time.sleep(0.02)
+    return server, thread, f"http://{settings.host}:{settings.port}"
+
+
+@pytest.fixture(scope="module")
+def armor_server(tmp_path_factory: pytest.TempPathFactory) -> Iterator[Armor]:
+    """A server over a fresh on-disk store, shared by the tests of one module."""
+    server, thread, url = start_live_server(tmp_path_factory.mktemp("armor"))
+    with httpx.Client(base_url=url, timeout=60) as http:
+        yield Armor(http, url)
+    server.should_exit = True
+    thread.join(timeout=30)
+
+
+@pytest.fixture
+def armor(armor_server: Armor) -> Armor:
+    return armor_server
+
+
+@pytest.fixture
+def ref() -> str:
+    """A reference name no other test uses."""
+    return "ref_" + uuid.uuid4().hex[:10]
+
+
+@pytest.fixture
+def loaded(armor: Armor, ref: str) -> Callable[..., str]:
+    """Load an empty reference (unbuffered manipulation by default) and return its name."""
+
+    def load(**flags: bool) -> str:
+        armor.load_empty(ref, **flags)
+        return ref
+
+    return load

@@ -1,0 +1,129 @@
+"""Property tests: own-class membership, transitive reduction, score bounds, pinning, restore,
+and the signature -> OWL -> signature round trip."""
+
+import random
+
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+from pyoxigraph import NamedNode
+
+from kg import Store
+from ontologies.vocab import PRIMITIVE_LEAF_TYPES, engram
+from reasoners import persist
+from reasoners.memory import SceneMemory
+from reasoners.model import ClassRecord
+from reasoners.signature import Signature
+
+from .conftest import START, FakeClock, random_scene
+from .test_forgetting import set_policy
+
+SETTINGS = settings(
+    max_examples=15, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture]
+)
+
+
+def stored_memory(seed: int, count: int) -> tuple[SceneMemory, list, FakeClock]:
+    clock = FakeClock(START)
+    memory = SceneMemory(Store(), clock=clock)
+    rng = random.Random(seed)
+    results = []
+    for _ in range(count):
+        scene = random_scene(rng)
+        if memory.encoder.signature(scene).complexity:
+            results.append((scene, memory.store_scene(scene)))
+        clock.advance(minutes=rng.randint(1, 90))
+    return memory, results, clock
+
+
+@SETTINGS
+@given(seed=st.integers(0, 10_000), count=st.integers(1, 25))
+def test_a_scene_always_belongs_to_the_class_it_was_stored_as(seed: int, count: int) -> None:
+    memory, results, _ = stored_memory(seed, count)
+    for scene, result in results:
+        assert result.stored_as in {r.cls for r in memory.recognise(scene)}
+
+
+@SETTINGS
+@given(seed=st.integers(0, 10_000), count=st.integers(2, 30))
+def test_edges_are_the_transitive_reduction_of_signature_dominance(seed: int, count: int) -> None:
+    memory, _, _ = stored_memory(seed, count)
+    classes = {c.iri: c.signature for c in memory.classes()}
+    below = {  # a ⊏ b: a meets all of b's restrictions and differs
+        (a, b) for a in classes for b in classes if a != b and classes[a].satisfies(classes[b])
+    }
+    reduction = {
+        (a, b) for a, b in below if not any((a, c) in below and (c, b) in below for c in classes)
+    }
+    edges = {(c.iri, p) for c in memory.classes() for p in c.parents}
+    assert edges == reduction
+
+
+@SETTINGS
+@given(seed=st.integers(0, 10_000), count=st.integers(1, 25), sleep=st.booleans())
+def test_scores_lie_in_the_unit_interval_and_the_best_is_one(
+    seed: int, count: int, sleep: bool
+) -> None:
+    memory, results, _ = stored_memory(seed, count)
+    if sleep:
+        memory.sleep()
+    if not results:
+        return
+    scores = [c.scores.normalised for c in memory.classes()]
+    assert all(0.0 <= s <= 1.0 for s in scores) and max(scores) == 1.0
+    items = [memory.item_scores(i).normalised for i in memory.items()]
+    assert all(0.0 <= s <= 1.0 for s in items) and max(items) == 1.0
+
+
+@SETTINGS
+@given(seed=st.integers(0, 10_000), count=st.integers(2, 20), data=st.data())
+def test_nothing_pinned_is_forgotten_and_restore_gives_back_the_definition(
+    seed: int, count: int, data: st.DataObject
+) -> None:
+    memory, results, clock = stored_memory(seed, count)
+    if not results:
+        return
+    # A harsh policy: everything below the best is WEAK and goes at the first pass.
+    set_policy(
+        memory.store, weakLevelThreshold=0.99, weakPassesToForget=1, forgetGracePeriodSeconds=0.0
+    )
+    memory = SceneMemory(memory.store, clock=clock)
+    classes = [c.iri for c in memory.classes()]
+    pinned = data.draw(st.sets(st.sampled_from(classes)))
+    pinned_items = data.draw(st.sets(st.sampled_from(memory.items())))
+    for iri in [*pinned, *pinned_items]:
+        memory.pin(iri)
+    signatures = {c: memory.signature(c) for c in classes}
+    clock.advance(hours=1)
+    report = memory.sleep()
+    assert not set(report.forgotten_classes) & pinned
+    assert not set(report.forgotten_items) & pinned_items
+    live = {c.iri for c in memory.classes()}
+    for item in memory.items():  # semantic and episodic memory stay consistent
+        assert memory.item_scores(item).cls in live
+    for cls in report.forgotten_classes:
+        memory.restore(cls)
+        assert memory.signature(cls) == signatures[cls]
+    assert {c.iri for c in memory.classes()} == set(classes)
+    assert SceneMemory(memory.store, clock=clock).classes() == memory.classes()
+
+
+keys = st.tuples(
+    st.sampled_from(
+        [engram(f"{leaf}IsAboveOf") for leaf in ("sphere", "cone", "plane")]
+        + [engram("cylinderIsParallelWith")]
+    ),
+    st.sampled_from(PRIMITIVE_LEAF_TYPES),
+)
+
+
+@SETTINGS
+@given(counts=st.dictionaries(keys, st.integers(1, 6), min_size=1, max_size=8))
+def test_signature_to_owl_to_signature(counts: dict[tuple[NamedNode, NamedNode], int]) -> None:
+    signature = Signature(counts)
+    store = Store()
+    record = ClassRecord(engram("Scene-7"), signature, 1, 0, 0.5, START, START)
+    with store.transaction() as tx:
+        persist.write_class(tx, record)
+    model = persist.load_model(store)
+    assert model.classes[engram("Scene-7")].signature == signature
+    assert Signature.from_json(signature.to_json()) == signature

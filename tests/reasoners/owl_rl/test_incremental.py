@@ -1,0 +1,199 @@
+"""An incremental REASON gives what a full one gives; retractions fall back to recomputation."""
+
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+from pyoxigraph import Literal, NamedNode
+
+from kg import Store
+from reasoners.owl_rl import AssertedChanges, materialise
+
+from .conftest import ASSERTED, INFERRED, graph_triples, owlrl_inferences
+
+EX = "http://example.org/h#"
+RDF = "http://www.w3.org/1999/02/22-rdf-syntax-ns#"
+RDFS = "http://www.w3.org/2000/01/rdf-schema#"
+OWL = "http://www.w3.org/2002/07/owl#"
+INTEGER = NamedNode("http://www.w3.org/2001/XMLSchema#integer")
+
+Triple = tuple[str, str, str | int]
+classes = st.sampled_from([f"C{i}" for i in range(5)])
+properties = st.sampled_from([f"p{i}" for i in range(4)])
+individuals = st.sampled_from([f"i{i}" for i in range(6)])
+property_kinds = st.sampled_from(["SymmetricProperty", "TransitiveProperty", "FunctionalProperty"])
+
+
+def _n(name: str) -> str:
+    return name if ":" in name else EX + name
+
+
+@st.composite
+def axioms(draw: st.DrawFn) -> list[Triple]:
+    """One T-Box axiom, as triples with named (not blank) restriction and list nodes."""
+    kind = draw(st.integers(0, 10))
+    c1, c2, p1, p2 = draw(classes), draw(classes), draw(properties), draw(properties)
+    c3, value, kind_of_property = draw(classes), draw(individuals), draw(property_kinds)
+    # Nodes are named after their content: RDF lists stay well formed (one rdf:first a node).
+    r = f"R{kind}_{p1}_{c2}_{value}"
+    head, tail = f"L_{c2}_{c3}", f"M_{c3}"
+    return [
+        [(c1, RDFS + "subClassOf", c2)],
+        [(c1, OWL + "equivalentClass", c2)],
+        [(p1, RDFS + "domain", c1)],
+        [(p1, RDFS + "range", c1)],
+        [(p1, OWL + "inverseOf", p2)],
+        [(p1, RDF + "type", OWL + kind_of_property)],
+        [(p1, RDFS + "subPropertyOf", p2)],
+        [
+            (r, OWL + "onProperty", p1),
+            (r, OWL + "someValuesFrom", c2),
+            (c1, OWL + "equivalentClass", r),
+        ],
+        [
+            (r, OWL + "onProperty", p1),
+            (r, OWL + "hasValue", draw(individuals)),
+            (r, RDFS + "subClassOf", c1),
+        ],
+        [(r, OWL + "onProperty", p1), (r, OWL + "allValuesFrom", c2), (c1, RDFS + "subClassOf", r)],
+        [
+            (c1, OWL + "intersectionOf", head),
+            (head, RDF + "first", c2),
+            (head, RDF + "rest", tail),
+            (tail, RDF + "first", c3),
+            (tail, RDF + "rest", RDF + "nil"),
+        ],
+    ][kind]
+
+
+@st.composite
+def facts(draw: st.DrawFn) -> list[Triple]:
+    kind = draw(st.integers(0, 2))
+    if kind == 0:
+        return [(draw(individuals), RDF + "type", draw(classes))]
+    if kind == 1:
+        return [(draw(individuals), draw(properties), draw(individuals))]
+    return [(draw(individuals), "level", draw(st.integers(0, 2)))]
+
+
+statements = st.lists(st.one_of(axioms(), facts()), max_size=14).map(
+    lambda groups: [t for group in groups for t in group]
+)
+
+
+def _terms(triple: Triple) -> tuple[NamedNode, NamedNode, NamedNode | Literal]:
+    s, p, o = triple
+    obj = Literal(str(o), datatype=INTEGER) if isinstance(o, int) else NamedNode(_n(o))
+    return NamedNode(_n(s)), NamedNode(_n(p)), obj
+
+
+def _insert(store: Store, triples: list[Triple]) -> None:
+    with store.transaction() as tx:
+        for triple in triples:
+            tx.insert(*_terms(triple), ASSERTED)
+
+
+def _full(triples: list[Triple]) -> set[str]:
+    store = Store()
+    _insert(store, triples)
+    materialise(store, asserted=ASSERTED, inferred=INFERRED)
+    return graph_triples(store)
+
+
+@settings(max_examples=60, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(
+    base=statements,
+    additions=st.lists(st.one_of(axioms(), facts()), min_size=1, max_size=5),
+    listed=st.booleans(),
+)
+def test_incremental_equals_full_recomputation(
+    base: list[Triple], additions: list[list[Triple]], listed: bool
+) -> None:
+    """With the additions listed by the caller (``changes=``) or found by reading the graph."""
+    store = Store()
+    _insert(store, base)
+    materialise(store, asserted=ASSERTED, inferred=INFERRED)
+    added = [t for group in additions for t in group]
+    _insert(store, added)
+    changes = AssertedChanges(added=[_terms(t) for t in added]) if listed else None
+    report = materialise(store, asserted=ASSERTED, inferred=INFERRED, changes=changes)
+    assert report.incremental
+    assert graph_triples(store) == _full(base + added)
+    assert report.inferred_total == len(graph_triples(store))
+
+
+@settings(max_examples=30, deadline=None)
+@given(triples=statements.filter(bool), data=st.data())
+def test_retraction_recomputes_and_equals_full(triples: list[Triple], data: st.DataObject) -> None:
+    store = Store()
+    _insert(store, triples)
+    materialise(store, asserted=ASSERTED, inferred=INFERRED)
+    gone = data.draw(st.sampled_from(triples))
+    with store.transaction() as tx:
+        s, p, o = gone
+        obj = Literal(str(o), datatype=INTEGER) if isinstance(o, int) else NamedNode(_n(o))
+        tx.delete(NamedNode(_n(s)), NamedNode(_n(p)), obj, ASSERTED)
+    report = materialise(store, asserted=ASSERTED, inferred=INFERRED)
+    assert not report.incremental
+    assert graph_triples(store) == _full([t for t in triples if t != gone])
+
+
+def test_nothing_changed_is_a_cheap_no_op() -> None:
+    store = Store()
+    _insert(store, [("C0", RDFS + "subClassOf", "C1"), ("i0", RDF + "type", "C0")])
+    first = materialise(store, asserted=ASSERTED, inferred=INFERRED)
+    again = materialise(store, asserted=ASSERTED, inferred=INFERRED)
+    assert (again.added, again.removed, again.incremental) == (0, 0, True)
+    assert again.inferred_total == first.inferred_total == len(graph_triples(store))
+
+
+def test_a_newly_asserted_triple_leaves_the_inferred_graph() -> None:
+    store = Store()
+    _insert(store, [("C0", RDFS + "subClassOf", "C1"), ("i0", RDF + "type", "C0")])
+    materialise(store, asserted=ASSERTED, inferred=INFERRED)
+    derived = f"<{EX}i0> <{RDF}type> <{EX}C1>"
+    assert derived in graph_triples(store)
+    _insert(store, [("i0", RDF + "type", "C1")])
+    report = materialise(store, asserted=ASSERTED, inferred=INFERRED)
+    assert report.incremental and report.removed == 1
+    assert derived not in graph_triples(store)
+    assert derived in graph_triples(store, ASSERTED)
+
+
+@settings(max_examples=40, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(triples=statements)
+def test_random_ontologies_equal_owlrl(triples: list[Triple]) -> None:
+    store = Store()
+    _insert(store, triples)
+    materialise(store, asserted=ASSERTED, inferred=INFERRED)
+    assert graph_triples(store) == owlrl_inferences(store)
+
+
+def test_listed_changes_use_the_stored_form_of_literals_and_removals_recompute() -> None:
+    store = Store()
+    _insert(store, [("C0", RDFS + "subClassOf", "C1"), ("p0", RDFS + "domain", "C0")])
+    materialise(store, asserted=ASSERTED, inferred=INFERRED)
+    double = NamedNode("http://www.w3.org/2001/XMLSchema#double")
+    value = (NamedNode(EX + "i0"), NamedNode(EX + "p0"), Literal("0.5000", datatype=double))
+    with store.transaction() as tx:
+        tx.insert(*value, ASSERTED)
+    report = materialise(
+        store, asserted=ASSERTED, inferred=INFERRED, changes=AssertedChanges(added=[value])
+    )
+    assert report.incremental and report.added == 2  # i0 a C0, i0 a C1
+    # the stored form is "0.5": a later comparison with the graph finds nothing new
+    with store.transaction() as tx:  # a write elsewhere, so that the graph is read again
+        tx.insert(
+            NamedNode(EX + "x"),
+            NamedNode(EX + "y"),
+            NamedNode(EX + "z"),
+            NamedNode(EX + "other-graph"),
+        )
+    again = materialise(store, asserted=ASSERTED, inferred=INFERRED)
+    assert again.incremental
+    assert (again.added, again.removed) == (0, 0)
+    with store.transaction() as tx:
+        tx.delete(*value, ASSERTED)
+    report = materialise(
+        store, asserted=ASSERTED, inferred=INFERRED, changes=AssertedChanges(removed=[value])
+    )
+    assert not report.incremental and report.removed == 2
+    assert not any(EX + "i0" in t for t in graph_triples(store))
