@@ -1,5 +1,6 @@
 """The ``engram`` command line."""
 
+import gc
 import logging
 from pathlib import Path
 from typing import Annotated, Any
@@ -11,8 +12,9 @@ from rich.console import Console
 from api.cli_episodes import app as episodes_app
 from api.cli_perceive import perceive_command
 from api.config import Settings
+from api.demo import run_demo
 from api.main import create_app
-from api.summary import print_summary
+from api.summary import memory_sizes, print_summary, reset_memories
 from kg import DEFAULT_GRAPHS, EngramError, Store, ensure_ontology, export
 from kg.export import FORMATS
 from ontologies.vocab import GRAPHS
@@ -62,23 +64,45 @@ def _serve(settings: Settings) -> None:
 def demo(
     data: DataOption = None,
     serve: Annotated[bool, typer.Option(help="Serve the store when done.")] = True,
+    reset: Annotated[
+        bool, typer.Option(help="Empty the memories of the data directory before the demo.")
+    ] = False,
     host: HostOption = None,
     port: PortOption = None,
 ) -> None:
-    """The main job: initialise the store, load the ontology, show what it holds, serve it."""
+    """The main job: a scripted memory life from point clouds to forgetting, then serve it.
+
+    Synthetic scenes are perceived and stored, cues recalled, nights slept; what was learned,
+    recalled and forgotten is printed, the memory exported for Protégé, and the store served.
+    """
     settings = _settings(data_dir=data, host=host, port=port)
     store = _open(settings)
     status = ensure_ontology(store)
-    print_summary(console, store, status)
+    held = {name: size for name, size in memory_sizes(store).items() if size}
+    if held and not reset:
+        console.print(
+            f"[red]{settings.data_dir} already holds a memory ({held}); run the demo with "
+            "--reset to empty it first, or with --data on another directory[/red]"
+        )
+        raise typer.Exit(2)
+    if held:
+        reset_memories(store)
+        console.print(f"emptied the memories of {settings.data_dir}: {held}")
+    console.print(
+        f"[bold]Engram[/bold] store at {store.path}: ontology {status.version.value} "
+        f"({status.action})"
+    )
+    run_demo(store, settings.data_dir, console)
     store.flush()
-    del store  # release the directory for the server
+    del store
+    gc.collect()  # the demo's services hold the store in cycles; free them to unlock the directory
     if serve:
         _serve(settings)
 
 
 @app.command()
 def serve(data: DataOption = None, host: HostOption = None, port: PortOption = None) -> None:
-    """Serve the store over HTTP: /health, /sparql (read-only), /export, /backup."""
+    """Serve the store over HTTP: SPARQL, export, the ARMOR directive API, episodes, streams."""
     _serve(_settings(data_dir=data, host=host, port=port))
 
 

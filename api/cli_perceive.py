@@ -89,7 +89,10 @@ def perceive_command(
             ):
                 stored += 1
                 progress.console.print(_describe(result))
-    except (ArmorPyException, ShapesError) as error:
+    except ShapesError as error:  # the source is bad: an input error
+        console.print(f"[red]{error}[/red]")
+        raise typer.Exit(2) from None
+    except ArmorPyException as error:  # the memory refused or could not be reached
         console.print(f"[red]{error}[/red]")
         raise typer.Exit(1) from None
     console.print(f"{stored} scene(s) stored from {source}")

@@ -44,6 +44,13 @@ class Settings(BaseSettings):
         2, ge=1, le=64, description="Worker processes that answer SPARQL queries in parallel."
     )
 
+    sleep_check_s: float = Field(
+        30.0,
+        gt=0,
+        le=86400,
+        description="How often the server checks whether the memory's sleep pass is due, in s.",
+    )
+
     @property
     def store_dir(self) -> Path:
         return self.data_dir / "store"

@@ -1,12 +1,15 @@
 """The FastAPI application over one on-disk store."""
 
+import asyncio
 import logging
 from collections.abc import AsyncIterator
 from contextlib import asynccontextmanager
 
 from fastapi import FastAPI
+from starlette.concurrency import run_in_threadpool
 
 from api.armor import ArmorEngine
+from api.armor.memory import sleep_if_due
 from api.config import Settings, get_settings
 from api.errors import install_error_handlers
 from api.routes import admin, armor, episodes, export, health, sparql, streams
@@ -14,10 +17,21 @@ from episodes import EpisodeMemory
 from episodes.streams import RecordingRegistry
 from kg import Store, ensure_ontology
 from kg.sandbox import QueryRunner
+from reasoners.memory import SceneMemory
 
 __all__ = ["create_app"]
 
 log = logging.getLogger(__name__)
+
+
+async def _sleep_when_due(memory: SceneMemory, period_s: float) -> None:
+    """Check every ``period_s`` whether the policy's sleep interval has passed, and sleep then.
+
+    Updates also trigger the pass (every N of them); this covers a memory left alone.
+    """
+    while True:
+        await asyncio.sleep(period_s)
+        await run_in_threadpool(sleep_if_due, memory)
 
 
 def create_app(settings: Settings | None = None) -> FastAPI:
@@ -42,21 +56,24 @@ def create_app(settings: Settings | None = None) -> FastAPI:
         state = app.state
         state.settings, state.store, state.runner = settings, store, runner
         state.recordings = recordings
-        state.armor = ArmorEngine(store)
+        state.scene_memory = scene_memory = SceneMemory(store)
+        state.armor = ArmorEngine(store, scene_memory=scene_memory)
         state.episodes = EpisodeMemory(store, data_dir=settings.data_dir, recordings=recordings)
+        sleeper = asyncio.create_task(_sleep_when_due(scene_memory, settings.sleep_check_s))
         try:
             yield
         finally:
+            sleeper.cancel()
             recordings.close_all()  # a recording still open at shutdown ends as a complete file
             runner.close()
             store.flush()
             # release the store's directory lock
-            state.store = state.runner = state.armor = state.episodes = None
+            state.store = state.runner = state.armor = state.episodes = state.scene_memory = None
 
     app = FastAPI(
         title="Engram",
         summary="A human-like memory for robots, kept as a knowledge graph",
-        version="0.1.0",
+        version="0.2.0",
         lifespan=lifespan,
     )
     install_error_handlers(app)

@@ -5,9 +5,21 @@ from rich.table import Table
 
 from kg import OntologyStatus, Store
 from kg.store import Binding
-from ontologies.vocab import DEFAULT_POLICY, GRAPH_NS, OWL_NS, TBOX
+from ontologies.vocab import (
+    DEFAULT_POLICY,
+    EPISODES,
+    EPISODIC,
+    GRAPH_NS,
+    MEMORY,
+    OWL_NS,
+    TBOX,
+    TRASH,
+)
 
-__all__ = ["print_summary"]
+__all__ = ["MEMORY_GRAPHS", "memory_sizes", "print_summary", "reset_memories"]
+
+MEMORY_GRAPHS = (MEMORY, EPISODIC, TRASH, EPISODES)
+"""The graphs a robot's life fills; the T-Box and the ARMOR references are not among them."""
 
 
 def _text(term: Binding) -> str:
@@ -42,3 +54,16 @@ def print_summary(console: Console, store: Store, status: OntologyStatus | None 
     for row in store.select("policy_values", graph=TBOX, policy=DEFAULT_POLICY):
         policy.add_row(_text(row["label"]), _text(row["value"]))
     console.print(policy)
+
+
+def memory_sizes(store: Store) -> dict[str, int]:
+    """Triples in each memory graph, by short name."""
+    sizes = store.graph_sizes()
+    return {g.value.removeprefix(GRAPH_NS): sizes.get(g.value, 0) for g in MEMORY_GRAPHS}
+
+
+def reset_memories(store: Store) -> None:
+    """Empty the memory graphs in one transaction (the T-Box and references stay)."""
+    with store.transaction() as tx:
+        for graph in MEMORY_GRAPHS:
+            tx.clear_graph(graph)

@@ -95,6 +95,10 @@ def export(store: Store, graphs: Sequence[str] = DEFAULT_GRAPHS, format: str = "
         _require_xml_characters(triples)
     body = serialize(triples, format=rdf_format, prefixes=PREFIXES)
     assert body is not None  # serialize returns bytes when given no output
+    if rdf_format == RdfFormat.RDF_XML:
+        # XML parsers turn a raw carriage return into a line feed; only a character reference
+        # keeps it. The serialiser writes "\n" line ends, so every "\r" is inside a literal.
+        body = body.replace(b"\r", b"&#13;")
     return body
 
 

@@ -61,6 +61,14 @@ class SignatureIndex:
     def signature(self, cls: NamedNode) -> Signature:
         return self._signature[cls]
 
+    def position(self, cls: NamedNode) -> int:
+        """The bit position of an indexed class (stable until it is removed)."""
+        return self._position[cls]
+
+    def slots(self) -> list[NamedNode | None]:
+        """The class at every bit position (None where a class was removed)."""
+        return self._classes
+
     def classes(self) -> list[NamedNode]:
         """Every indexed class, in the order they were added."""
         return [cls for cls in self._classes if cls is not None]

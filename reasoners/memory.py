@@ -46,6 +46,7 @@ from ontologies.vocab import (
     LAST_ACCESSED,
     LEVEL,
     MEMORY,
+    MEMORY_STATE_INDIVIDUAL,
     OWL_EQUIVALENT_CLASS,
     PINNED,
     RDFS_SUBCLASSOF,
@@ -54,6 +55,7 @@ from ontologies.vocab import (
     STORE_COUNT,
     TRASH,
     TRASH_CLASS,
+    UPDATES_SINCE_SLEEP,
 )
 from reasoners import persist
 from reasoners.encode import Encoder, Relation
@@ -75,7 +77,7 @@ from reasoners.results import (
     SleepReport,
     StoreResult,
 )
-from reasoners.scoring import WEAK, episodic_score, level_of, log_ratio, semantic_score
+from reasoners.scoring import WEAK, episodic_score, level_of, log_ratio
 from reasoners.signature import Signature
 
 __all__ = ["Clock", "Cue", "SceneMemory"]
@@ -113,7 +115,7 @@ class SceneMemory:
         self._lock = threading.RLock()
         self.policy: Policy = load_policy(store, policy)
         self.encoder = Encoder.from_store(store, self.policy)
-        self._model: MemoryModel = persist.load_model(store)
+        self._model: MemoryModel = persist.load_model(store, self._weights())
         log.info(
             "scene memory opened: %d classes, %d experienced scenes",
             len(self._model.classes),
@@ -121,6 +123,10 @@ class SceneMemory:
         )
 
     # Helpers -----------------------------------------------------------------------------------
+
+    def _weights(self) -> tuple[float, float, float, float]:
+        p = self.policy
+        return (p.complexityWeight, p.childrenWeight, p.storeWeight, p.retrieveWeight)
 
     def _now(self) -> dt.datetime:
         now = self._clock()
@@ -136,7 +142,7 @@ class SceneMemory:
                 with self.store.transaction() as tx:
                     yield tx
             except BaseException:
-                self._model = persist.load_model(self.store)
+                self._model = persist.load_model(self.store, self._weights())
                 raise
 
     def _scene(self, primitives: Sequence[Primitive], field: str = "primitives") -> list[Primitive]:
@@ -199,26 +205,26 @@ class SceneMemory:
         classes: set[NamedNode],
         fresh: set[NamedNode] | frozenset[NamedNode] = frozenset(),
     ) -> None:
-        """Synaptic consolidation: re-score ``classes`` bottom-up (children before parents) with
-        the current maxima; ``fresh`` classes have no triples written yet."""
-        m, p = self._model, self.policy
-        max_d, max_s, max_r = m.max_complexity, m.max_store, m.max_retrieve
-        for cls in sorted(classes, key=lambda c: -m.classes[c].signature.complexity):
-            record = m.classes[cls]
-            old = record.score
-            new = semantic_score(
-                p,
-                complexity=record.signature.complexity,
-                store_count=record.store_count,
-                retrieve_count=record.retrieve_count,
-                children=[m.classes[c].score for c in m.children[cls]],
-                max_complexity=max_d,
-                max_store=max_s,
-                max_retrieve=max_r,
-            )
-            m.set_score(record, new)
-            if cls not in fresh and new != old:
-                persist.set_value(tx, cls, SCORE, Literal(old), Literal(new), MEMORY)
+        """Synaptic consolidation. The model re-derives the score terms of the classes whose
+        counts or children changed and of their ancestors, bottom-up; the maxima apply on read.
+        The ``engram:score`` annotation of ``classes`` (the ones this update touched, whose own
+        terms it rewrites anyway) is brought up to date; ``fresh`` classes are written whole
+        later. Nothing else is rewritten: every other class's stored ζ is refreshed by the next
+        sleep pass."""
+        m = self._model
+        m.refresh()
+        for cls in classes - fresh:
+            self._write_score(tx, m.classes[cls])
+        for cls in fresh:
+            m.classes[cls].score = m.zeta(m.classes[cls])
+
+    def _write_score(
+        self, tx: Transaction, record: ClassRecord, value: float | None = None
+    ) -> None:
+        new = self._model.zeta(record) if value is None else value
+        if new != record.score:
+            persist.set_value(tx, record.iri, SCORE, Literal(record.score), Literal(new), MEMORY)
+            record.score = new
 
     def _class_scores(self, record: ClassRecord) -> ItemScores:
         m, p = self._model, self.policy
@@ -229,7 +235,7 @@ class SceneMemory:
             complexity=record.signature.complexity,
             store_count=record.store_count,
             retrieve_count=record.retrieve_count,
-            raw_score=record.score,
+            raw_score=m.zeta(record),
             normalised=normalised,
             level=level_of(normalised, high=p.highLevelThreshold, weak=p.weakLevelThreshold),
             stored_level=record.level,
@@ -239,22 +245,32 @@ class SceneMemory:
             last_accessed=record.last_accessed,
         )
 
-    def _item_raw(self, record: ItemRecord, now: dt.datetime) -> float:
+    def _item_raw(
+        self,
+        record: ItemRecord,
+        now: dt.datetime,
+        normalised: dict[NamedNode, float] | None = None,
+    ) -> float:
         m = self._model
         cls = m.classes[record.cls]
         max_d = m.max_item_complexity
         return episodic_score(
             self.policy,
             complexity_ratio=record.complexity / max_d if max_d else 0.0,
-            class_normalised=m.normalised(cls),
+            class_normalised=m.normalised(cls) if normalised is None else normalised[cls.iri],
             store_ratio=log_ratio(cls.store_count, m.max_store),
             retrieve_ratio=log_ratio(cls.retrieve_count, m.max_retrieve),
             age_s=(now - record.last_accessed).total_seconds(),
         )
 
     def _bump_update(self, tx: Transaction) -> None:
-        self._model.updates_since_sleep += 1
-        persist.write_state(tx, self._model)
+        m = self._model
+        m.updates_since_sleep += 1
+        if m.has_state:
+            old, new = Literal(m.updates_since_sleep - 1), Literal(m.updates_since_sleep)
+            persist.set_value(tx, MEMORY_STATE_INDIVIDUAL, UPDATES_SINCE_SLEEP, old, new, MEMORY)
+        else:
+            persist.write_state(tx, m)
 
     # Store -------------------------------------------------------------------------------------
 
@@ -323,9 +339,9 @@ class SceneMemory:
             m.next_item += 1
             m.add_item(item)
             persist.write_item(tx, item, scene, relations, episode)
-            self._rescore(tx, {record.iri} | m.ancestors(record.iri), {fresh} if fresh else set())
+            self._rescore(tx, {record.iri}, {fresh} if fresh else set())
             if fresh is not None:
-                persist.write_class(tx, record)
+                persist.write_class(tx, record, stored=m.stored_restrictions)
             self._bump_update(tx)
             result = StoreResult(
                 scene_item=item.iri,
@@ -381,12 +397,9 @@ class SceneMemory:
                 fresh.append(record)
             persist.write_edges(tx, added, removed)
             new = {r.iri for r in fresh}
-            touched = set(new)
-            for iri in new:
-                touched |= m.ancestors(iri)
-            self._rescore(tx, touched, new)
+            self._rescore(tx, new, new)
             for record in fresh:
-                persist.write_class(tx, record)
+                persist.write_class(tx, record, stored=m.stored_restrictions)
             m.updates_since_sleep += len(fresh)
             persist.write_state(tx, m)
         return [r.iri for r in fresh]
@@ -516,17 +529,21 @@ class SceneMemory:
         with self._write() as tx:
             now = self._now()
             m, p = self._model, self.policy
-            old_scores = {cls: r.score for cls, r in m.classes.items()}
-            self._rescore_all()
+            rescored = len(m.classes)
+            zetas = m.zetas()
+            top = m.max_score
             class_levels: dict[NamedNode, str] = {}
             weak_counts: dict[NamedNode, int] = {}
             for cls, record in m.classes.items():
                 level = level_of(
-                    m.normalised(record), high=p.highLevelThreshold, weak=p.weakLevelThreshold
+                    zetas[cls] / top if top > 0 else 0.0,
+                    high=p.highLevelThreshold,
+                    weak=p.weakLevelThreshold,
                 )
                 class_levels[cls] = level
                 weak_counts[cls] = record.weak_count + 1 if level == WEAK else 0
-            raw = {iri: self._item_raw(r, now) for iri, r in m.items.items()}
+            normalised = {cls: zetas[cls] / top if top > 0 else 0.0 for cls in zetas}
+            raw = {iri: self._item_raw(r, now, normalised) for iri, r in m.items.items()}
             top = max(raw.values(), default=0.0)
             item_levels = {
                 iri: level_of(
@@ -560,12 +577,9 @@ class SceneMemory:
                 and not record.pinned
             ]
             self._forget(tx, doomed_classes, doomed_items, now)
-            self._rescore_all()
+            zetas = m.zetas()  # systems consolidation: every class's stored ζ brought up to date
             for cls, record in m.classes.items():
-                if record.score != old_scores.get(cls):
-                    persist.set_value(
-                        tx, cls, SCORE, _maybe(old_scores.get(cls)), Literal(record.score), MEMORY
-                    )
+                self._write_score(tx, record, zetas[cls])
                 self._set_level(tx, record, class_levels[cls], weak_counts[cls], MEMORY)
             for iri, item in m.items.items():
                 self._set_level(tx, item, item_levels[iri], item_weak[iri], EPISODIC)
@@ -578,7 +592,7 @@ class SceneMemory:
             )
         report = SleepReport(
             at=now,
-            rescored=len(old_scores),
+            rescored=rescored,
             levels={c: class_levels[c] for c in m.classes},
             item_levels={i: item_levels[i] for i in m.items},
             forgotten_classes=tuple(doomed_classes),
@@ -596,22 +610,6 @@ class SceneMemory:
     def _trashed_with(self, cls: NamedNode) -> list[NamedNode]:
         m = self._model
         return [i for i, t in m.trashed_items.items() if t.cls == cls]
-
-    def _rescore_all(self) -> None:
-        m, p = self._model, self.policy
-        max_d, max_s, max_r = m.max_complexity, m.max_store, m.max_retrieve
-        for record in sorted(m.classes.values(), key=lambda r: -r.signature.complexity):
-            record.score = semantic_score(
-                p,
-                complexity=record.signature.complexity,
-                store_count=record.store_count,
-                retrieve_count=record.retrieve_count,
-                children=[m.classes[c].score for c in m.children[record.iri]],
-                max_complexity=max_d,
-                max_store=max_s,
-                max_retrieve=max_r,
-            )
-        m.rebuild_heap()
 
     @staticmethod
     def _set_level(
@@ -658,6 +656,10 @@ class SceneMemory:
             tx.insert(cls, FORGOTTEN_SIGNATURE, Literal(record.signature.to_json()), TRASH)
             added |= m.remove_class(cls)
             added = {(c, p) for c, p in added if c in m.classes and p in m.classes}
+            for key, n in record.signature.items():
+                if not m.restrictions[(key, n)] and (key, n) in m.stored_restrictions:
+                    persist.delete_restriction(tx, key, n)
+                    m.stored_restrictions.discard((key, n))
             m.trashed_classes[cls] = TrashedClass(cls, record.signature, now)
             items = [*items, *sorted(m.items_of.get(cls, ()) or self._items_of(cls), key=str)]
         persist.write_edges(tx, added)
@@ -765,8 +767,8 @@ class SceneMemory:
             if t.cls == cls and t.forgotten_at == trashed.forgotten_at
         ]
         self._restore_items(tx, items)
-        self._rescore(tx, {cls} | m.ancestors(cls), {cls})
-        persist.write_class(tx, record)
+        self._rescore(tx, set(), {cls})
+        persist.write_class(tx, record, stored=m.stored_restrictions)
         return (cls, *items)
 
     def _restore_items(self, tx: Transaction, items: Sequence[NamedNode]) -> None:
@@ -871,10 +873,6 @@ class SceneMemory:
             if record is None:
                 raise self._unknown(iri)
             return record.signature
-
-
-def _maybe(value: float | None) -> Literal | None:
-    return None if value is None else Literal(value)
 
 
 def _maybe_str(value: str | None) -> Literal | None:

@@ -1,27 +1,58 @@
-"""The in-memory mirror of the scene memory: records, direct subclass edges, maxima.
+"""The in-memory mirror of the scene memory: records, direct subclass edges, maxima, scores.
 
 The store is the source of truth; :mod:`reasoners.persist` fills a :class:`MemoryModel` from
 its triples on open, and the memory rebuilds it from the store after a failed transaction.
+
+Semantic scores are derived, not stored state. ζ is linear in the class's own terms
+(DESIGN.md, step 7): with ``Z_x = u_x + a_c·mean(Z_x of direct children)`` for the three own
+terms ``u_d = d``, ``u_s = ln(1+s)``, ``u_r = ln(1+r)``,
+
+    ζ = a_d·Z_d / max d  +  a_s·Z_s / ln(1+max s)  +  a_r·Z_r / ln(1+max r)
+
+which unfolds to ``a_d·d̂ + a_c·mean(ζ of direct children) + a_s·ŝ + a_r·r̂``. The ``Z`` terms
+do not depend on the maxima, so a change of maximum changes three coefficients and rewrites
+nothing; a change of a class's counts or children changes the ``Z`` of that class and of its
+ancestors only (synaptic consolidation), propagated bottom-up. ``Z`` is kept in fixed point
+(integers) so that the incremental sums equal a recomputation from scratch bit for bit: a
+reopened memory derives exactly the scores the running one had.
+
+>>> from ontologies.vocab import PLANE, engram
+>>> model = MemoryModel(weights=(0.2, 0.2, 0.3, 0.3))
+>>> t = dt.datetime(2025, 1, 1, tzinfo=dt.UTC)
+>>> sig = Signature({(engram("sphereIsAboveOf"), PLANE): 1})
+>>> record = ClassRecord(engram("Scene-1"), sig, 1, 0, 0.0, t, t)
+>>> _ = model.add_class(record)
+>>> model.zeta(record), model.normalised(record)
+(0.5, 1.0)
 """
 
 import datetime as dt
 import heapq
-import itertools
+import math
 from collections import Counter
-from collections.abc import Iterator
+from collections.abc import Iterable
 from dataclasses import dataclass, field
 
+import numpy as np
+from numpy.typing import NDArray
 from pyoxigraph import NamedNode
 
 from reasoners.index import SignatureIndex
-from reasoners.signature import Signature
+from reasoners.signature import Key, Signature
 
-__all__ = ["ClassRecord", "ItemRecord", "MemoryModel", "TrashedClass", "TrashedItem"]
+__all__ = ["SCALE", "ClassRecord", "ItemRecord", "MemoryModel", "TrashedClass", "TrashedItem"]
+
+SCALE = 1 << 40
+"""Fixed-point scale of the ``Z`` terms (resolution about 1e-12)."""
+
+Restriction = tuple[Key, int]
+"""One restriction ``≥n p.T`` as ((p, T), n)."""
 
 
 @dataclass
 class ClassRecord:
-    """A learned scene class: its signature and the raw terms of its score."""
+    """A learned scene class: its signature, the raw terms of its score, and the ζ last
+    written to the store (``score``; the live ζ is :meth:`MemoryModel.zeta`)."""
 
     iri: NamedNode
     signature: Signature
@@ -33,6 +64,10 @@ class ClassRecord:
     weak_count: int = 0
     pinned: bool = False
     level: str | None = None
+    z: tuple[int, int, int] = (0, 0, 0)
+    """Z_d, Z_s, Z_r in fixed point (SCALE)."""
+    sums: list[int] = field(default_factory=lambda: [0, 0, 0])
+    """Σ Z_x over the direct children, in fixed point."""
 
 
 @dataclass
@@ -63,10 +98,18 @@ class TrashedItem:
     forgotten_at: dt.datetime
 
 
+def _fixed(value: float) -> int:
+    return round(value * SCALE)
+
+
 @dataclass
 class MemoryModel:
-    """Everything the memory needs to answer without querying the store."""
+    """Everything the memory needs to answer without querying the store.
 
+    ``weights`` are (a_d, a_c, a_s, a_r) of the semantic score.
+    """
+
+    weights: tuple[float, float, float, float] = (0.2, 0.2, 0.3, 0.3)
     index: SignatureIndex = field(default_factory=SignatureIndex)
     classes: dict[NamedNode, ClassRecord] = field(default_factory=dict)
     parents: dict[NamedNode, set[NamedNode]] = field(default_factory=dict)
@@ -79,13 +122,21 @@ class MemoryModel:
     item_complexities: Counter[int] = field(default_factory=Counter)
     store_counts: Counter[int] = field(default_factory=Counter)
     retrieve_counts: Counter[int] = field(default_factory=Counter)
+    restrictions: Counter[Restriction] = field(default_factory=Counter)
+    """How many live classes use each restriction node (shared between classes)."""
+    stored_restrictions: set[Restriction] = field(default_factory=set)
+    """The restriction nodes the ``memory`` graph holds."""
     next_class: int = 1
     next_item: int = 1
     last_sleep_at: dt.datetime | None = None
     updates_since_sleep: int = 0
     sleep_passes: int = 0
-    _heap: list[tuple[float, int, NamedNode]] = field(default_factory=list)
-    _tick: Iterator[int] = field(default_factory=itertools.count)
+    has_state: bool = False
+    """Whether the ``memory`` graph holds the memory-state individual."""
+    _dirty: set[NamedNode] = field(default_factory=set)
+    _z: NDArray[np.float64] = field(default_factory=lambda: np.zeros((3, 64)))
+    _top: tuple[tuple[int, tuple[float, float, float]], float] | None = None
+    _version: int = 0
 
     # Maxima ------------------------------------------------------------------------------------
 
@@ -105,36 +156,170 @@ class MemoryModel:
     def max_retrieve(self) -> int:
         return max(self.retrieve_counts, default=0)
 
+    # Scores ------------------------------------------------------------------------------------
+
+    def coefficients(self) -> tuple[float, float, float]:
+        """The factors that turn Z_d, Z_s, Z_r into ζ with the current maxima."""
+        a_d, _, a_s, a_r = self.weights
+        d, s, r = self.max_complexity, self.max_store, self.max_retrieve
+        return (
+            a_d / d if d else 0.0,
+            a_s / math.log1p(s) if s else 0.0,
+            a_r / math.log1p(r) if r else 0.0,
+        )
+
+    def zeta(self, record: ClassRecord) -> float:
+        """The live raw ζ of a class."""
+        self.refresh()
+        cd, cs, cr = self.coefficients()
+        zd, zs, zr = record.z
+        return cd * (zd / SCALE) + cs * (zs / SCALE) + cr * (zr / SCALE)
+
+    def zetas(self) -> dict[NamedNode, float]:
+        """The live raw ζ of every class."""
+        self.refresh()
+        cd, cs, cr = self.coefficients()
+        return {
+            cls: cd * (r.z[0] / SCALE) + cs * (r.z[1] / SCALE) + cr * (r.z[2] / SCALE)
+            for cls, r in self.classes.items()
+        }
+
     @property
     def max_score(self) -> float:
-        """The largest stored ζ among live classes (a max-heap with lazy deletion)."""
-        heap = self._heap
-        while heap:
-            negative, _, cls = heap[0]
-            record = self.classes.get(cls)
-            if record is not None and record.score == -negative:
-                return -negative
-            heapq.heappop(heap)
-        return 0.0
-
-    def set_score(self, record: ClassRecord, score: float) -> None:
-        record.score = score
-        heapq.heappush(self._heap, (-score, next(self._tick), record.iri))
-
-    def rebuild_heap(self) -> None:
-        self._heap = [(-r.score, next(self._tick), r.iri) for r in self.classes.values()]
-        heapq.heapify(self._heap)
+        """The largest live ζ (vectorised over all classes; cached until something changes)."""
+        self.refresh()
+        key = (self._version, self.coefficients())
+        if self._top is None or self._top[0] != key:
+            best = 0.0
+            slots = self.index.slots()
+            if self.classes:
+                cd, cs, cr = key[1]
+                z = self._z[:, : len(slots)]
+                position = int(np.argmax(cd * z[0] + cs * z[1] + cr * z[2]))
+                cls = slots[position]
+                if cls is not None:
+                    best = self.zeta(self.classes[cls])
+            self._top = (key, best)
+        return self._top[1]
 
     def normalised(self, record: ClassRecord) -> float:
         top = self.max_score
-        return record.score / top if top > 0 else 0.0
+        return self.zeta(record) / top if top > 0 else 0.0
 
     def set_counts(self, record: ClassRecord, *, store: int, retrieve: int) -> None:
         _move(self.store_counts, record.store_count, store)
         _move(self.retrieve_counts, record.retrieve_count, retrieve)
         record.store_count, record.retrieve_count = store, retrieve
+        self._dirty.add(record.iri)
+
+    def _own(self, record: ClassRecord) -> tuple[int, int, int]:
+        a_c = self.weights[1]
+        n = len(self.children[record.iri])
+        own = (
+            record.signature.complexity * SCALE,
+            _fixed(math.log1p(record.store_count)),
+            _fixed(math.log1p(record.retrieve_count)),
+        )
+        if not n:
+            return own
+        return (
+            own[0] + round(a_c * (record.sums[0] / n)),
+            own[1] + round(a_c * (record.sums[1] / n)),
+            own[2] + round(a_c * (record.sums[2] / n)),
+        )
+
+    def refresh(self) -> None:
+        """Re-derive Z of the changed classes and their ancestors, children before parents
+        (a child is always more complex than its parents)."""
+        if not self._dirty:
+            return
+        queue = [(-self.classes[c].signature.complexity, c.value, c) for c in self._dirty]
+        heapq.heapify(queue)
+        queued = set(self._dirty)
+        self._dirty.clear()
+        while queue:
+            _, _, cls = heapq.heappop(queue)
+            record = self.classes[cls]
+            new = self._own(record)
+            old = record.z
+            if new == old:
+                continue
+            record.z = new
+            self._set_row(cls, new)
+            delta = (new[0] - old[0], new[1] - old[1], new[2] - old[2])
+            for parent in self.parents[cls]:
+                sums = self.classes[parent].sums
+                sums[0] += delta[0]
+                sums[1] += delta[1]
+                sums[2] += delta[2]
+                if parent not in queued:
+                    queued.add(parent)
+                    item = self.classes[parent]
+                    heapq.heappush(queue, (-item.signature.complexity, parent.value, parent))
+        self._version += 1
+
+    def _set_row(self, cls: NamedNode, z: tuple[int, int, int]) -> None:
+        position = self.index.position(cls)
+        if position >= self._z.shape[1]:
+            grown = np.zeros((3, max(2 * self._z.shape[1], position + 1)))
+            grown[:, : self._z.shape[1]] = self._z
+            self._z = grown
+        self._z[0, position] = z[0] / SCALE
+        self._z[1, position] = z[1] / SCALE
+        self._z[2, position] = z[2] / SCALE
+        self._version += 1
+
+    def _link(self, child: NamedNode, parent: NamedNode) -> None:
+        self.parents[child].add(parent)
+        self.children[parent].add(child)
+        sums, z = self.classes[parent].sums, self.classes[child].z
+        sums[0] += z[0]
+        sums[1] += z[1]
+        sums[2] += z[2]
+        self._dirty.add(parent)
+
+    def _unlink(self, child: NamedNode, parent: NamedNode) -> None:
+        self.parents[child].discard(parent)
+        self.children[parent].discard(child)
+        sums, z = self.classes[parent].sums, self.classes[child].z
+        sums[0] -= z[0]
+        sums[1] -= z[1]
+        sums[2] -= z[2]
+        self._dirty.add(parent)
 
     # Classes and edges -------------------------------------------------------------------------
+
+    def _register(self, record: ClassRecord) -> None:
+        cls = record.iri
+        self.index.add(cls, record.signature)
+        self.classes[cls] = record
+        self.parents.setdefault(cls, set())
+        self.children.setdefault(cls, set())
+        self.items_of.setdefault(cls, set())
+        self.complexities[record.signature.complexity] += 1
+        self.store_counts[record.store_count] += 1
+        self.retrieve_counts[record.retrieve_count] += 1
+        self.restrictions.update(record.signature.items())
+        record.z, record.sums = (0, 0, 0), [0, 0, 0]
+        self._set_row(cls, record.z)
+
+    def load(
+        self, records: Iterable[ClassRecord], edges: Iterable[tuple[NamedNode, NamedNode]]
+    ) -> None:
+        """Bulk-load classes and their stored (child, parent) edges; Z is derived from scratch."""
+        for record in records:
+            self._register(record)
+        for child, parent in edges:
+            if child in self.classes and parent in self.classes:
+                self.parents[child].add(parent)
+                self.children[parent].add(child)
+        for record in sorted(self.classes.values(), key=lambda r: -r.signature.complexity):
+            record.sums = [
+                sum(self.classes[c].z[x] for c in self.children[record.iri]) for x in range(3)
+            ]
+            record.z = self._own(record)
+            self._set_row(record.iri, record.z)
+        self._dirty.clear()
 
     def add_class(
         self, record: ClassRecord
@@ -150,36 +335,33 @@ class MemoryModel:
         parents = {p for p in ancestors if self.children[p].isdisjoint(ancestors)}
         children = {c for c in descendants if self.parents[c].isdisjoint(descendants)}
         removed: set[tuple[NamedNode, NamedNode]] = set()
+        self._register(record)
         for p in parents:
             for c in children & self.children[p]:
-                self.children[p].discard(c)
-                self.parents[c].discard(p)
+                self._unlink(c, p)
                 removed.add((c, p))
-        self.index.add(cls, record.signature)
-        self.classes[cls] = record
-        self.parents[cls] = set(parents)
-        self.children[cls] = set(children)
-        for p in parents:
-            self.children[p].add(cls)
         for c in children:
-            self.parents[c].add(cls)
-        self.items_of.setdefault(cls, set())
-        self.complexities[record.signature.complexity] += 1
-        self.store_counts[record.store_count] += 1
-        self.retrieve_counts[record.retrieve_count] += 1
-        self.set_score(record, record.score)
+            self._link(c, cls)
+        for p in parents:
+            self._link(cls, p)
+        self._dirty.add(cls)
         return parents, children, removed
 
     def remove_class(self, cls: NamedNode) -> set[tuple[NamedNode, NamedNode]]:
         """Unlink a class; returns the (child, parent) edges that must now be added so the graph
         stays the transitive reduction of signature dominance."""
-        record = self.classes.pop(cls)
-        self.index.remove(cls)
-        parents, children = self.parents.pop(cls), self.children.pop(cls)
+        record = self.classes[cls]
+        parents, children = set(self.parents[cls]), set(self.children[cls])
         for p in parents:
-            self.children[p].discard(cls)
+            self._unlink(cls, p)
         for c in children:
-            self.parents[c].discard(cls)
+            self._unlink(c, cls)
+        self.classes.pop(cls)
+        self._set_row(cls, (0, 0, 0))
+        self.index.remove(cls)
+        self.parents.pop(cls)
+        self.children.pop(cls)
+        self._dirty.discard(cls)
         added: set[tuple[NamedNode, NamedNode]] = set()
         for c in children:
             for p in parents:
@@ -189,12 +371,13 @@ class MemoryModel:
                     for q in self.parents[c]
                 )
                 if not between:
-                    self.parents[c].add(p)
-                    self.children[p].add(c)
+                    self._link(c, p)
                     added.add((c, p))
         _move(self.complexities, record.signature.complexity, None)
         _move(self.store_counts, record.store_count, None)
         _move(self.retrieve_counts, record.retrieve_count, None)
+        self.restrictions.subtract(record.signature.items())
+        self.restrictions += Counter()  # drop the restrictions no live class uses
         self.items_of.pop(cls, None)
         return added
 

@@ -17,6 +17,7 @@ Layout (DESIGN.md, "Store layout"):
 """
 
 import datetime as dt
+import hashlib
 import re
 from collections import defaultdict
 from collections.abc import Iterable, Sequence
@@ -48,7 +49,6 @@ from ontologies.vocab import (
     MEMORY,
     MEMORY_STATE,
     MEMORY_STATE_INDIVIDUAL,
-    OBSERVED_AT,
     OWL_CLASS,
     OWL_EQUIVALENT_CLASS,
     OWL_INTERSECTION_OF,
@@ -69,6 +69,7 @@ from ontologies.vocab import (
     RETRIEVE_COUNT,
     SCENE,
     SCORE,
+    SKOLEM_PREFIX,
     SLEEP_PASS_COUNT,
     STORE_COUNT,
     TRACKING_ID,
@@ -95,6 +96,7 @@ __all__ = [
 ]
 
 Term = NamedNode | Literal
+RESTRICTION_PREFIX = SKOLEM_PREFIX + "min-"
 _NUMBERED = re.compile(r"-(\d+)$")
 
 
@@ -150,20 +152,57 @@ def set_value(
 # Classes -------------------------------------------------------------------------------------
 
 
-def write_class(tx: Transaction, record: ClassRecord, graph: NamedNode = MEMORY) -> None:
-    """The definition ``C ≡ ⊓(≥n p.T)``, ``C ⊑ Scene``, a label and every annotation."""
+def restriction_iri(key: Key, n: int) -> NamedNode:
+    """The skolem IRI of the restriction ``≥n p.T``: one node per restriction, shared by every
+    class that uses it (the export gives each use its own blank node again, as OWL 2 DL wants)."""
+    digest = hashlib.sha256(f"{key[0].value} {key[1].value} {n}".encode()).hexdigest()[:32]
+    return NamedNode(f"{RESTRICTION_PREFIX}{digest}")
+
+
+def is_restriction(term: object) -> bool:
+    """True for a shared restriction node written by :func:`write_class`."""
+    return isinstance(term, NamedNode) and term.value.startswith(RESTRICTION_PREFIX)
+
+
+def write_restriction(tx: Transaction, key: Key, n: int, graph: NamedNode = MEMORY) -> None:
+    node = restriction_iri(key, n)
+    tx.insert(node, RDF_TYPE, OWL_RESTRICTION, graph)
+    tx.insert(node, OWL_ON_PROPERTY, key[0], graph)
+    tx.insert(node, OWL_ON_CLASS, key[1], graph)
+    tx.insert(node, OWL_MIN_QUALIFIED_CARDINALITY, Literal(n), graph)
+
+
+def delete_restriction(tx: Transaction, key: Key, n: int, graph: NamedNode = MEMORY) -> None:
+    node = restriction_iri(key, n)
+    tx.delete(node, RDF_TYPE, OWL_RESTRICTION, graph)
+    tx.delete(node, OWL_ON_PROPERTY, key[0], graph)
+    tx.delete(node, OWL_ON_CLASS, key[1], graph)
+    tx.delete(node, OWL_MIN_QUALIFIED_CARDINALITY, Literal(n), graph)
+
+
+def write_class(
+    tx: Transaction,
+    record: ClassRecord,
+    graph: NamedNode = MEMORY,
+    *,
+    stored: set[tuple[Key, int]] | None = None,
+) -> None:
+    """The definition ``C ≡ ⊓(≥n p.T)``, ``C ⊑ Scene``, a label and every annotation.
+
+    Restriction nodes are shared: those in ``stored`` (the ones the graph already holds) are
+    not written again, and the new ones are added to it. Without ``stored``, all are written.
+    """
     cls = record.iri
     tx.insert(cls, RDF_TYPE, OWL_CLASS, graph)
     tx.insert(cls, RDFS_SUBCLASSOF, SCENE, graph)
     tx.insert(cls, RDFS_LABEL, Literal(cls.value.rsplit("#", 1)[-1]), graph)
-    restrictions: list[BlankNode] = []
-    for (prop, leaf), n in record.signature.items():
-        node = BlankNode()
-        tx.insert(node, RDF_TYPE, OWL_RESTRICTION, graph)
-        tx.insert(node, OWL_ON_PROPERTY, prop, graph)
-        tx.insert(node, OWL_ON_CLASS, leaf, graph)
-        tx.insert(node, OWL_MIN_QUALIFIED_CARDINALITY, Literal(n), graph)
-        restrictions.append(node)
+    restrictions: list[NamedNode] = []
+    for key, n in record.signature.items():
+        if stored is None or (key, n) not in stored:
+            write_restriction(tx, key, n, graph)
+            if stored is not None:
+                stored.add((key, n))
+        restrictions.append(restriction_iri(key, n))
     if len(restrictions) == 1:  # OWL 2 has no one-operand intersection
         tx.insert(cls, OWL_EQUIVALENT_CLASS, restrictions[0], graph)
     else:
@@ -210,12 +249,13 @@ def write_edges(
 
 
 def delete_class(tx: Transaction, store: Store, cls: NamedNode) -> list[Quad]:
-    """Delete every triple about ``cls`` in ``memory`` (definition nodes included) and return
-    its own quads (annotations, label, edges), for the caller to move what it keeps."""
+    """Delete every triple about ``cls`` in ``memory`` (its own definition nodes included, the
+    shared restriction nodes not) and return its own quads (annotations, label, edges), for the
+    caller to move what it keeps."""
     own = list(store.quads(cls, None, None, MEMORY))
     for quad in own:
         delete_quad(tx, quad, MEMORY)
-    stack = [q.object for q in own if is_skolem(q.object)]
+    stack = [q.object for q in own if is_skolem(q.object) and not is_restriction(q.object)]
     seen: set[NamedNode] = set()
     while stack:
         node = stack.pop()
@@ -224,7 +264,7 @@ def delete_class(tx: Transaction, store: Store, cls: NamedNode) -> list[Quad]:
         seen.add(node)
         for quad in store.quads(node, None, None, MEMORY):
             delete_quad(tx, quad, MEMORY)
-            if is_skolem(quad.object):
+            if is_skolem(quad.object) and not is_restriction(quad.object):
                 stack.append(quad.object)
     for quad in store.quads(None, RDFS_SUBCLASSOF, cls, MEMORY):
         delete_quad(tx, quad, MEMORY)
@@ -242,10 +282,14 @@ def write_item(
     episode: NamedNode | None,
 ) -> list[NamedNode]:
     """An experienced scene with its primitives and their primary relations; returns the
-    primitives' IRIs."""
+    primitives' IRIs.
+
+    Everything the scene was is kept (time, class, episode, every attribute of every primitive,
+    every relation the encoder fired), without redundancy: the primitives share the scene's
+    time, and ``owl:NamedIndividual`` declarations are left to the export, which adds them.
+    """
     item, graph = record.iri, EPISODIC
     observed = time_literal(record.created)
-    tx.insert(item, RDF_TYPE, OWL_NAMED_INDIVIDUAL, graph)
     tx.insert(item, RDF_TYPE, EXPERIENCED_SCENE, graph)
     tx.insert(item, RDF_TYPE, record.cls, graph)
     tx.insert(item, CREATED, observed, graph)
@@ -256,10 +300,8 @@ def write_item(
     iris = [NamedNode(f"{item.value}-{k}") for k in range(len(primitives))]
     for iri, primitive in zip(iris, primitives, strict=True):
         tx.insert(item, HAS_PRIMITIVE, iri, graph)
-        tx.insert(iri, RDF_TYPE, OWL_NAMED_INDIVIDUAL, graph)
         tx.insert(iri, RDF_TYPE, engram(primitive.kind), graph)
         tx.insert(iri, RDFS_LABEL, Literal(primitive.id), graph)
-        tx.insert(iri, OBSERVED_AT, observed, graph)
         vectors = (
             (CENTRE, primitive.centre),
             (AXIS, primitive.axis),
@@ -305,12 +347,21 @@ def move(
 # Reading back --------------------------------------------------------------------------------
 
 
-def load_model(store: Store) -> MemoryModel:
-    """Rebuild the in-memory mirror from the ``memory``, ``episodic`` and ``trash`` graphs."""
-    model = MemoryModel()
+def load_model(
+    store: Store, weights: tuple[float, float, float, float] = (0.2, 0.2, 0.3, 0.3)
+) -> MemoryModel:
+    """Rebuild the in-memory mirror from the ``memory``, ``episodic`` and ``trash`` graphs;
+    ``weights`` (a_d, a_c, a_s, a_r) are the policy's semantic-score weights."""
+    model = MemoryModel(weights=weights)
     memory = _by_subject(store, MEMORY)
     classes: list[ClassRecord] = []
+    edges: list[tuple[NamedNode, NamedNode]] = []
     for subject, values in memory.items():
+        if is_restriction(subject) and OWL_ON_PROPERTY in values:
+            key = (values[OWL_ON_PROPERTY][0], values[OWL_ON_CLASS][0])
+            n = int(values[OWL_MIN_QUALIFIED_CARDINALITY][0].value)
+            model.stored_restrictions.add((key, n))  # type: ignore[arg-type]
+            continue
         if SCENE not in values.get(RDFS_SUBCLASSOF, ()):
             continue
         definition = values[OWL_EQUIVALENT_CLASS][0]
@@ -329,20 +380,9 @@ def load_model(store: Store) -> MemoryModel:
                 level=values[LEVEL][0].value if LEVEL in values else None,
             )
         )
-    for record in sorted(classes, key=lambda r: _number(r.iri)):
-        model.index.add(record.iri, record.signature)
-        model.classes[record.iri] = record
-        model.parents[record.iri], model.children[record.iri] = set(), set()
-        model.items_of[record.iri] = set()
-        model.complexities[record.signature.complexity] += 1
-        model.store_counts[record.store_count] += 1
-        model.retrieve_counts[record.retrieve_count] += 1
-    for record in classes:
-        for parent in memory[record.iri].get(RDFS_SUBCLASSOF, ()):
-            if parent in model.classes:
-                model.parents[record.iri].add(parent)  # type: ignore[arg-type]
-                model.children[parent].add(record.iri)  # type: ignore[index]
-    model.rebuild_heap()
+        edges += [(subject, p) for p in values.get(RDFS_SUBCLASSOF, ()) if p != SCENE]  # type: ignore[misc]
+    model.load(sorted(classes, key=lambda r: _number(r.iri)), edges)
+    model.has_state = MEMORY_STATE_INDIVIDUAL in memory
     state = memory.get(MEMORY_STATE_INDIVIDUAL, {})
     if LAST_SLEEP_AT in state:
         model.last_sleep_at = parse_time(state[LAST_SLEEP_AT][0])
@@ -392,6 +432,7 @@ def load_model(store: Store) -> MemoryModel:
 def write_state(tx: Transaction, model: MemoryModel, previous: MemoryModel | None = None) -> None:
     """Replace the memory-state individual (three values)."""
     node = MEMORY_STATE_INDIVIDUAL
+    model.has_state = True
     tx.delete_matching(node, None, None, graph=MEMORY)
     tx.insert(node, RDF_TYPE, OWL_NAMED_INDIVIDUAL, MEMORY)
     tx.insert(node, RDF_TYPE, MEMORY_STATE, MEMORY)

@@ -5,6 +5,7 @@ import shlex
 from pathlib import Path
 
 import httpx
+import pytest
 
 from tests.conftest import LiveServer
 
@@ -38,3 +39,11 @@ def test_the_worked_example_answers_as_shown(live_server: LiveServer) -> None:
     )
     expected = _blocks("")[0]
     assert answer.text.replace("\r\n", "\n") == expected
+
+
+def test_the_client_example_learns_the_class_the_readme_names(
+    live_server: LiveServer, capsys: pytest.CaptureFixture[str]
+) -> None:
+    code = _blocks("python")[0].replace("http://127.0.0.1:8000", live_server.url)
+    exec(compile(code, "README.md", "exec"), {})
+    assert capsys.readouterr().out.strip() == "['true'] ['4']"

@@ -1,6 +1,7 @@
 """Dispatch: a directive's key to its handler, mount checks, and one transaction per list."""
 
 import logging
+import threading
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 
@@ -21,6 +22,7 @@ from api.armor.names import ValueStyle
 from api.armor.references import Registry
 from api.armor.session import Session
 from kg import Store
+from reasoners.memory import SceneMemory
 
 __all__ = ["COMMANDS", "ArmorEngine", "Command", "directive_key"]
 
@@ -131,6 +133,9 @@ _NEEDS_NO_REFERENCE = {
 }
 
 
+_SIMPLE_WRITES = ("ADD_", "REMOVE_", "REPLACE_", "DISJOINT_IND_")
+_NO_COMMAND = Command(lambda ctx: Outcome(), "", "")
+_SLOW_QUERIES = {"QUERY_SPARQL_", "QUERY_SPARQL_FORMATTED"}
 _BEFORE_DISPATCH = {NO_REFERENCE, NO_COMMAND, UNKNOWN_COMMAND}
 """Codes ARMOR answers before reaching a reference, leaving ``is_consistent`` false."""
 
@@ -149,11 +154,28 @@ def directive_key(request: ArmorDirectiveReq) -> str:
 class ArmorEngine:
     """Runs directives against the references kept in ``store``."""
 
-    def __init__(self, store: Store) -> None:
+    def __init__(self, store: Store, *, scene_memory: SceneMemory | None = None) -> None:
         self.store = store
         self.registry = Registry(store)
         self.commands = dict(COMMANDS)
-        self.memory = MemoryDirectives(store)
+        self.memory = MemoryDirectives(store, scene_memory)
+        self._running = 0  # lists being executed, in any thread
+        self._counting = threading.Lock()
+
+    def is_quick_read(self, request: ArmorDirectiveReq) -> bool:
+        """True for a directive that reads a few triples and takes no lock: any QUERY but
+        QUERY SPARQL (whose caller-written query may run long). The HTTP route runs these on
+        its event loop instead of a worker thread.
+
+        >>> engine = ArmorEngine(Store())
+        >>> engine.is_quick_read(ArmorDirectiveReq(command="QUERY", primary_command_spec="IND"))
+        True
+        >>> engine.is_quick_read(ArmorDirectiveReq(command="QUERY", primary_command_spec="SPARQL"))
+        False
+        """
+        key = directive_key(request)
+        command = self.commands.get(key)
+        return command is not None and command.kind == "query" and key not in _SLOW_QUERIES
 
     def register(self, key: str, command: Command) -> None:
         """Add a directive to the table (memory directives, plugins)."""
@@ -169,6 +191,49 @@ class ArmorEngine:
         self, requests: Sequence[ArmorDirectiveReq], *, style: ValueStyle = "armor"
     ) -> ArmorDirectiveListRes:
         """Every directive in order, then one commit if none failed (otherwise nothing stays)."""
+        result = self._execute_list(requests, style, wait=True)
+        assert result is not None
+        return result
+
+    def execute_now(
+        self, request: ArmorDirectiveReq, *, style: ValueStyle = "armor"
+    ) -> ArmorDirectiveRes | None:
+        """One directive, if it cannot be made to wait; None (nothing done) otherwise.
+
+        For callers that must not block (the HTTP route's event loop): a quick read
+        (:meth:`is_quick_read`) always runs; a simple write (ADD, REMOVE, REPLACE, DISJOINT IND)
+        runs if its reference reasons only on REASON (so that the commit involves no reasoning),
+        no other list is running, and the reference's lock is free.
+        """
+        if self.is_quick_read(request):
+            return self.execute(request, style=style)
+        key = directive_key(request)
+        reference = self.registry.get(request.reference_name)
+        if (
+            self._running
+            or not key.startswith(_SIMPLE_WRITES)
+            or self.commands.get(key, _NO_COMMAND).kind != "manipulation"
+            or reference is None
+            or not (reference.buffered_reasoner or reference.buffered_manipulation)
+        ):
+            return None
+        result = self._execute_list([request], style, wait=False)
+        return None if result is None else result.armor_responses[0]
+
+    def _execute_list(
+        self, requests: Sequence[ArmorDirectiveReq], style: ValueStyle, *, wait: bool
+    ) -> ArmorDirectiveListRes | None:
+        with self._counting:
+            self._running += 1
+        try:
+            return self._run_list(requests, style, wait=wait)
+        finally:
+            with self._counting:
+                self._running -= 1
+
+    def _run_list(
+        self, requests: Sequence[ArmorDirectiveReq], style: ValueStyle, *, wait: bool
+    ) -> ArmorDirectiveListRes | None:
         writers = {
             r.reference_name
             for r in requests
@@ -178,7 +243,9 @@ class ArmorEngine:
             and not directive_key(r).startswith("QUERY_")
             and directive_key(r) not in _NEEDS_NO_REFERENCE
         }
-        with self.registry.locked(writers):
+        with self.registry.locked(writers, wait=wait) as locked:
+            if not locked:
+                return None
             session = Session(
                 self.store,
                 self.registry,

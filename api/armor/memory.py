@@ -16,7 +16,6 @@ answer, in the request's value style) and ``sparql_queried_objects`` (every deta
 
 import dataclasses
 import logging
-import threading
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import Any
@@ -29,8 +28,10 @@ from api.armor.models import ArmorDirectiveRes, QueryItem
 from api.armor.names import is_value_type, resolve, styled, to_literal
 from kg import Store
 from ontologies.vocab import ENGRAM_NS
+from reasoners.errors import MemoryReasonerError
+from reasoners.memory import SceneMemory
 
-__all__ = ["MEMORY_COMMANDS", "MemoryDirectives", "SceneDraft"]
+__all__ = ["MEMORY_COMMANDS", "MemoryDirectives", "SceneDraft", "sleep_if_due"]
 
 log = logging.getLogger(__name__)
 
@@ -65,26 +66,12 @@ def _memory_iri(name: str, field_name: str) -> NamedNode:
 
 
 class MemoryDirectives:
-    """The scene memory behind the memory directives (opened on first use) and open scenes."""
+    """The scene memory behind the memory directives, and the scenes clients have open."""
 
-    def __init__(self, store: Store) -> None:
+    def __init__(self, store: Store, memory: SceneMemory | None = None) -> None:
         self.store = store
+        self.memory = memory if memory is not None else SceneMemory(store)
         self.scenes: dict[SceneKey, SceneDraft] = {}
-        self._memory: Any = None
-        self._lock = threading.Lock()
-
-    @property
-    def memory(self) -> Any:
-        with self._lock:
-            if self._memory is None:
-                try:
-                    from reasoners.memory import SceneMemory
-                except ImportError as error:
-                    raise MemoryDirectiveError(
-                        f"the scene memory (reasoners.memory) is not installed: {error}"
-                    ) from None
-                self._memory = SceneMemory(self.store)
-            return self._memory
 
 
 def _key(ctx: Context) -> SceneKey:
@@ -92,9 +79,7 @@ def _key(ctx: Context) -> SceneKey:
 
 
 def _errors(*more: type[Exception]) -> tuple[type[Exception], ...]:
-    """The scene memory's errors (imported late: the memory may not be installed)."""
-    from reasoners.errors import MemoryReasonerError
-
+    """The scene memory's errors, and ``more``."""
     return (MemoryReasonerError, ValueError, *more)
 
 
@@ -235,7 +220,31 @@ def scene_updated(ctx: Context) -> Outcome:
         pairs += [("level", result.scores.level), ("score", f"{result.scores.normalised:.6g}")]
         response.sparql_queried_objects = _items(pairs)
 
-    return _deferred(ctx, lambda: memory.store_scene(primitives, episode=episode), fill)
+    def store() -> Any:
+        result = memory.store_scene(primitives, episode=episode)
+        sleep_if_due(memory)
+        return result
+
+    return _deferred(ctx, store, fill)
+
+
+def sleep_if_due(memory: SceneMemory) -> None:
+    """The periodic sleep pass, when the policy says one is due; its own transaction.
+
+    The scene is already stored, so a failing pass is logged, not reported as the scene's.
+    """
+    try:
+        report = memory.maybe_sleep()
+    except Exception:
+        log.exception("the periodic sleep pass failed; the memory is as before it")
+        return
+    if report is not None:
+        log.info(
+            "sleep pass: %d rescored, %d classes and %d items forgotten",
+            report.rescored,
+            len(report.forgotten_classes),
+            len(report.forgotten_items),
+        )
 
 
 # Retrieval, sleep, pin, restore, scores ---------------------------------------------------------
@@ -299,7 +308,12 @@ def _retrieve(ctx: Context, *, spread: bool) -> Outcome:
         ]
         response.sparql_queried_objects = _items(pairs)
 
-    return _deferred(ctx, lambda: memory.retrieve(cue, spread=spread), fill)
+    def retrieve() -> Any:
+        result = memory.retrieve(cue, spread=spread)
+        sleep_if_due(memory)
+        return result
+
+    return _deferred(ctx, retrieve, fill)
 
 
 def retrieve_scene(ctx: Context) -> Outcome:

@@ -186,19 +186,29 @@ class Registry:
                 self._references[name] = reference
 
     @contextmanager
-    def locked(self, names: Iterable[str]) -> Iterator[None]:
-        """Hold the write locks of ``names``, taken in sorted order so that lists never deadlock."""
+    def locked(self, names: Iterable[str], *, wait: bool = True) -> Iterator[bool]:
+        """Hold the write locks of ``names``, taken in sorted order so that lists never deadlock.
+
+        Yields True once they are held; with ``wait=False``, yields False at once (holding none)
+        if one of them is taken.
+        """
         with self._locks_guard:
             locks = [self._locks.setdefault(name, threading.Lock()) for name in sorted(set(names))]
         for taken, lock in enumerate(locks):
             try:
-                lock.acquire()
+                acquired = lock.acquire(blocking=wait)
             except BaseException:
+                acquired = False
                 for held in locks[:taken]:
                     held.release()
                 raise
+            if not acquired:
+                for held in locks[:taken]:
+                    held.release()
+                yield False
+                return
         try:
-            yield
+            yield True
         finally:
             for lock in reversed(locks):
                 lock.release()

@@ -379,6 +379,18 @@ class Session:
                 self.reason_now(reference)
             except Exception:  # the assertions still commit; the next REASON recomputes
                 log.exception("reasoning over the list's writes failed for reference %s", name)
+        if self.changes or self.references:  # a list that only read takes no store lock
+            self._write()
+        self._settle_reasoner()
+        self.registry.publish(self.references)
+        for key, draft in self.scenes.items():
+            if draft is None:
+                self._scenes_base.pop(key, None)
+            else:
+                self._scenes_base[key] = draft
+        self.changes, self.workspaces = {}, {}
+
+    def _write(self) -> None:
         with self.store.transaction() as tx:
             for graph, changes in self.changes.items():
                 if changes.cleared:
@@ -391,14 +403,6 @@ class Session:
                     tx.deletes.extend(old.settings_quads())
                 if reference is not None and (old is None or _settings_changed(old, reference)):
                     tx.inserts.extend(reference.settings_quads())
-        self._settle_reasoner()
-        self.registry.publish(self.references)
-        for key, draft in self.scenes.items():
-            if draft is None:
-                self._scenes_base.pop(key, None)
-            else:
-                self._scenes_base[key] = draft
-        self.changes, self.workspaces = {}, {}
 
 
 def _settings_changed(old: Reference, new: Reference) -> bool:

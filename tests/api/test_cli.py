@@ -11,13 +11,6 @@ from api.cli import app
 runner = CliRunner()
 
 
-def test_demo_without_serving_initialises_the_store(tmp_path: Path) -> None:
-    result = runner.invoke(app, ["demo", "--no-serve", "--data", str(tmp_path)])
-    assert result.exit_code == 0, result.output
-    assert "Engram store" in result.output
-    assert (tmp_path / "store").is_dir()
-
-
 @pytest.mark.parametrize(("format", "parser"), [("rdfxml", "xml"), ("turtle", "turtle")])
 def test_export_writes_a_parseable_ontology(tmp_path: Path, format: str, parser: str) -> None:
     target = tmp_path / "engram.owl"

@@ -158,6 +158,14 @@ def test_rdfxml_export_refuses_characters_xml_cannot_carry(empty_store: Store) -
     assert b"bell" in export(empty_store, ["memory"], "turtle")
 
 
+@pytest.mark.parametrize("label", ["\r", "a\r\nb", "tab\there"])
+def test_rdfxml_export_keeps_carriage_returns_and_tabs(empty_store: Store, label: str) -> None:
+    with empty_store.transaction() as tx:
+        tx.insert(engram("x"), RDFS_LABEL, Literal(label), MEMORY)
+    graph = parsed(export(empty_store, ["memory"], "rdfxml"), "rdfxml")
+    assert rdflib.Literal(label) in set(graph.objects(rdflib.URIRef(engram("x").value), None))
+
+
 def test_export_without_the_tbox_declares_entities_as_the_tbox_does(
     memory_with_two_classes: Store,
 ) -> None:

@@ -1,0 +1,89 @@
+"""The perception client and the demo: point clouds in, scenes in the memory, results out."""
+
+import gc
+from pathlib import Path
+
+import numpy as np
+import pytest
+import rdflib
+from typer.testing import CliRunner
+
+from api.cli import app
+from api.client import ArmorClient
+from api.demo import SCENES
+from api.perceive import perceive
+from api.summary import memory_sizes
+from kg import Store
+from shapes import Frame
+from shapes.bags import write_bag
+from shapes.synthetic import TabletopScene
+from tests.conftest import LiveServer
+
+runner = CliRunner()
+
+
+def _world_frames(title: str | None, count: int, seed: int = 0) -> list[Frame]:
+    """Frames of a demo scene (None: the empty table) with points in the world frame, as a bag
+    without tf would hold them."""
+    rng = np.random.default_rng(seed)
+    scene = SCENES[title] if title else TabletopScene(())
+    frames = []
+    for index in range(count):
+        frame = scene.render(rng).frame
+        frames.append(Frame(frame.world_points(), frame.colours, float(index), "world"))
+    return frames
+
+
+def test_perceive_local_stores_each_stable_scene(tmp_path: Path) -> None:
+    bag = tmp_path / "breakfast"
+    write_bag(bag, _world_frames("breakfast", 8))
+    data = tmp_path / "data"
+    result = runner.invoke(app, ["perceive", str(bag), "--local", "--data", str(data)])
+    assert result.exit_code == 0, result.output
+    assert "learned Scene-1" in result.output
+    assert "1 scene(s) stored" in result.output
+    gc.collect()  # the command ran in this process; let its store go
+    store = Store(data / "store")
+    assert memory_sizes(store)["memory"] > 0
+
+
+@pytest.mark.parametrize(
+    ("arguments", "fragment"),
+    [
+        (["missing.ply", "--local"], "does not exist"),
+        (["notes.txt", "--local"], "expected a point-cloud file"),
+    ],
+)
+def test_perceive_refuses_bad_sources(tmp_path: Path, arguments: list[str], fragment: str) -> None:
+    (tmp_path / "notes.txt").write_text("not a cloud")
+    arguments = [str(tmp_path / arguments[0]), *arguments[1:], "--data", str(tmp_path / "d")]
+    result = runner.invoke(app, ["perceive", *arguments])
+    assert result.exit_code == 2
+    assert fragment in " ".join(result.output.split())  # rich wraps long lines
+
+
+def test_perceive_over_http_recognises_a_scene_seen_again(live_server: LiveServer) -> None:
+    frames = _world_frames("two cans", 8) + _world_frames("two cans", 8, seed=1)
+    # a gap of empty tables between the two views makes them two stable scenes
+    empty = _world_frames(None, 4)
+    with ArmorClient("camera", "engram", base_url=live_server.url, timeout=60) as client:
+        first = list(perceive(frames[:8] + empty, client))
+        again = list(perceive(frames[8:], client))
+    assert [r.learned for r in first] == [True]
+    assert [r.learned for r in again] == [False]
+    assert again[0].stored_as == first[0].stored_as
+
+
+@pytest.mark.slow
+def test_demo_learns_recalls_forgets_and_exports(tmp_path: Path) -> None:
+    result = runner.invoke(app, ["demo", "--no-serve", "--data", str(tmp_path)])
+    assert result.exit_code == 0, result.output
+    output = result.output
+    assert "learned" in output and "recognised" in output
+    assert "In the trash: Scene-4" in output  # the scene seen once and never recalled
+    assert "Restored from the trash on request: Scene-4" in output
+    export = rdflib.Graph().parse(tmp_path / "engram.owl", format="xml")
+    assert len(list(export.subjects(rdflib.RDF.type, rdflib.OWL.Ontology))) == 1
+    again = runner.invoke(app, ["demo", "--no-serve", "--data", str(tmp_path)])
+    assert again.exit_code == 2
+    assert "--reset" in again.output
