@@ -24,32 +24,32 @@ __all__ = [
 ]
 
 
-def _settings(request: Request) -> Settings:
+async def _settings(request: Request) -> Settings:
     settings: Settings = request.app.state.settings
     return settings
 
 
-def _store(request: Request) -> Store:
+async def _store(request: Request) -> Store:
     store: Store = request.app.state.store
     return store
 
 
-def _runner(request: Request) -> QueryRunner:
+async def _runner(request: Request) -> QueryRunner:
     runner: QueryRunner = request.app.state.runner
     return runner
 
 
-def _armor(request: Request) -> ArmorEngine:
+async def _armor(request: Request) -> ArmorEngine:
     engine: ArmorEngine = request.app.state.armor
     return engine
 
 
-def _episodes(request: Request) -> EpisodeMemory:
+async def _episodes(request: Request) -> EpisodeMemory:
     memory: EpisodeMemory = request.app.state.episodes
     return memory
 
 
-def _recordings(request: Request) -> RecordingRegistry:
+async def _recordings(request: Request) -> RecordingRegistry:
     registry: RecordingRegistry = request.app.state.recordings
     return registry
 
@@ -62,7 +62,7 @@ EpisodesDep = Annotated[EpisodeMemory, Depends(_episodes)]
 RecordingsDep = Annotated[RecordingRegistry, Depends(_recordings)]
 
 
-def require_token(
+async def require_token(
     settings: SettingsDep, authorization: Annotated[str | None, Header()] = None
 ) -> None:
     """Let the request through if no token is configured or it carries the right bearer token."""

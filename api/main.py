@@ -77,6 +77,7 @@ def create_app(settings: Settings | None = None) -> FastAPI:
         lifespan=lifespan,
     )
     install_error_handlers(app)
-    for module in (health, sparql, export, admin, episodes, armor, streams):
+    # armor first: route matching is a sizeable share of a directive's time
+    for module in (armor, health, sparql, export, admin, episodes, streams):
         app.include_router(module.router)
     return app

@@ -22,7 +22,7 @@ Directives are many and small, so the request path is kept short:
 from collections.abc import Awaitable, Callable, Coroutine
 from typing import Annotated, Any, Literal, TypeVar, cast, get_args
 
-from fastapi import APIRouter, Depends, Header, HTTPException, Query, Request, Response
+from fastapi import APIRouter, Depends, HTTPException, Query, Request, Response
 from fastapi.concurrency import run_in_threadpool
 from fastapi.routing import APIRoute
 from pydantic import BaseModel, ValidationError
@@ -37,7 +37,7 @@ from api.armor.models import (
 )
 from api.armor.names import ValueStyle
 from api.config import Settings
-from api.deps import require_token
+from api.deps import ArmorDep, require_token
 
 Message = TypeVar("Message", bound=BaseModel)
 Handler = Callable[[Request], Coroutine[Any, Any, Response]]
@@ -46,20 +46,6 @@ _LIST_ON_LOOP = 8
 """Longest list of quick reads answered on the event loop."""
 
 
-async def _engine(request: Request) -> ArmorEngine:
-    engine: ArmorEngine = request.app.state.armor
-    return engine
-
-
-async def _require_token(
-    request: Request, authorization: Annotated[str | None, Header()] = None
-) -> None:
-    """:func:`api.deps.require_token`, without a trip to the thread pool."""
-    settings: Settings = request.app.state.settings
-    require_token(settings, authorization)
-
-
-Engine = Annotated[ArmorEngine, Depends(_engine)]
 Values = Annotated[
     Literal["armor", "plain", "short"],
     Query(description="How query results are written: ARMOR's strings, plain values, short names"),
@@ -98,7 +84,7 @@ async def _well_formed(
     settings: Settings = request.app.state.settings
     if settings.token is not None:
         try:
-            require_token(settings, request.headers.get("authorization"))
+            await require_token(settings, request.headers.get("authorization"))
         except HTTPException:
             return None
     body = await request.body()
@@ -144,12 +130,12 @@ class _ArmorRoute(APIRoute):
         return handler
 
 
-router = APIRouter(tags=["armor"], dependencies=[Depends(_require_token)], route_class=_ArmorRoute)
+router = APIRouter(tags=["armor"], dependencies=[Depends(require_token)], route_class=_ArmorRoute)
 
 
 @router.post("/armor_interface_srv", summary="One ARMOR directive", response_model=ArmorResponse)
 async def armor_interface_srv(
-    body: ArmorRequest, engine: Engine, values: Values = "armor"
+    body: ArmorRequest, engine: ArmorDep, values: Values = "armor"
 ) -> Response:
     """``armor_msgs/ArmorDirective``: every protocol outcome, failures included, answers 200."""
     return await _single(engine, body, values)
@@ -161,7 +147,7 @@ async def armor_interface_srv(
     response_model=ArmorDirectiveListRes,
 )
 async def armor_interface_serialized_srv(
-    body: ArmorDirectiveListReq, engine: Engine, values: Values = "armor"
+    body: ArmorDirectiveListReq, engine: ArmorDep, values: Values = "armor"
 ) -> Response:
     """``armor_msgs/ArmorDirectiveList``: in order, one transaction, one response each."""
     return await _list(engine, body, values)
