@@ -47,17 +47,15 @@ from typing import Any
 
 import httpx
 import owlrl
-import rdflib
-from owlrl.AxiomaticTriples import OWLRL_Datatypes_Disjointness
-from owlrl.XsdDatatypes import OWL_RL_Datatypes
-from pyoxigraph import RdfFormat, parse
-from rdflib.namespace import OWL, RDF, RDFS
 
 from api.armor import ArmorDirectiveReq, ArmorEngine
 from kg import Store
 from ontologies.vocab import reference_graph
 from reasoners.owl_rl import materialise
 from reasoners.owl_rl.synthetic import EX, scene_ontology
+
+sys.path.insert(0, str(Path(__file__).parent))
+from reasoning import owlrl_closure
 
 ROOT = Path(__file__).resolve().parent.parent
 SERVER = """
@@ -78,7 +76,6 @@ async def bare() -> dict[str, str]:
 uvicorn.run(app, host="127.0.0.1", port=int(sys.argv[2]), log_level="warning", access_log=False)
 """
 """A bare endpoint under the same uvicorn settings: the HTTP stack's ceiling for these clients."""
-_ERRORS = "http://www.daml.org/2002/03/agents/agent-ont#"
 Directive = dict[str, Any]
 
 
@@ -264,27 +261,6 @@ def _inferred(store: Store, ref: str) -> set[str]:
     return {f"{q.subject} {q.predicate} {q.object}" for q in store.quads(graph=graph)}
 
 
-def _owlrl(asserted: bytes) -> tuple[float, set[str]]:
-    """owlrl's closure time and additions, minus what tests/reasoners/owl_rl filters."""
-    graph = rdflib.Graph()
-    graph.parse(data=asserted, format="nt")
-    before = set(graph)
-    start = time.perf_counter()
-    owlrl.DeductiveClosure(owlrl.OWLRL_Semantics).expand(graph)
-    elapsed = time.perf_counter() - start
-    kept = rdflib.Graph()
-    for s, p, o in set(graph) - before:
-        if isinstance(s, rdflib.Literal | rdflib.BNode) or (p == OWL.sameAs and s == o):
-            continue
-        if p == RDF.type and o == RDFS.Datatype and s in OWL_RL_Datatypes:
-            continue
-        if (s, p, o) in OWLRL_Datatypes_Disjointness or str(p).startswith(_ERRORS):
-            continue
-        kept.add((s, p, o))
-    triples = parse(kept.serialize(format="nt", encoding="utf-8"), format=RdfFormat.N_TRIPLES)
-    return elapsed, {f"{t.subject} {t.predicate} {t.object}" for t in triples}
-
-
 def _execute(engine: ArmorEngine, *directives: Directive) -> None:
     result = engine.execute_list([ArmorDirectiveReq.model_validate(d) for d in directives])
     if not result.success:
@@ -366,7 +342,7 @@ def reason(sizes: list[int], owlrl_50k: bool, runs: int) -> None:
             triples = asserted.count(b"\n")
             print(f"\n## {triples} asserted triples ({path.name})")
             if with_owlrl:
-                baseline, expected = _owlrl(asserted)
+                baseline, expected = owlrl_closure(asserted)
                 same = _inferred(engine.store, "onto") == expected
                 print(f"owlrl {baseline:.2f} s; identical inferences: {same}")
             else:

@@ -26,6 +26,7 @@ import os
 import platform
 import random
 import shutil
+import signal
 import statistics
 import subprocess
 import sys
@@ -107,17 +108,22 @@ def hermit_seconds(
         "with o: owlready2.sync_reasoner_hermit(w, infer_property_values=False, debug=0)\n"
     )
     began = time.perf_counter()
+    # Its own process group, so that a timeout also stops the JVM owlready2 starts (left
+    # running, it would slow down every measurement after it).
+    process = subprocess.Popen(
+        [sys.executable, "-c", code, path.as_uri()],
+        stdout=subprocess.DEVNULL,
+        stderr=subprocess.PIPE,
+        start_new_session=True,
+    )
     try:
-        subprocess.run(
-            [sys.executable, "-c", code, path.as_uri()],
-            check=True,
-            timeout=timeout,
-            capture_output=True,
-        )
+        _, stderr = process.communicate(timeout=timeout)
     except subprocess.TimeoutExpired:
+        os.killpg(process.pid, signal.SIGKILL)
+        process.communicate()
         return None
-    except subprocess.CalledProcessError as error:
-        output = error.stderr.decode(errors="replace")
+    if process.returncode:
+        output = stderr.decode(errors="replace")
         reason = "out of memory" if "OutOfMemoryError" in output else "error"
         print(f"  HermiT failed after {time.perf_counter() - began:.1f} s ({reason})", flush=True)
         return float("nan")

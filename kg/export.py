@@ -117,8 +117,53 @@ def export_triples(store: Store, graphs: Sequence[str] = DEFAULT_GRAPHS) -> list
     headers = {t.subject for t in content if t.predicate == RDF_TYPE and t.object == OWL_ONTOLOGY}
     sources = [t.object for t in content if t.subject in headers and t.predicate == OWL_VERSION_IRI]
     # Sorted so that two exports of the same memory differ only in blank node labels.
-    body = sorted((t for t in content if t.subject not in headers), key=_sort_key)
+    body = _unshare(sorted((t for t in content if t.subject not in headers), key=_sort_key))
     return _header(graphs, sources) + body + _declarations(body, _tbox_kinds(store))
+
+
+def _unshare(triples: list[Triple]) -> list[Triple]:
+    """Give every use of a blank node its own copy of the node's description.
+
+    The store may share one class-expression node between several axioms (the scene memory
+    keeps one node per restriction ``≥n p.T`` for all the classes that use it); the OWL 2 RDF
+    mapping, and so OWL 2 DL and the OWL API, want each anonymous expression used once.
+
+    >>> from pyoxigraph import BlankNode, NamedNode
+    >>> r, p = BlankNode(), NamedNode("http://x/p")
+    >>> a, b = NamedNode("http://x/a"), NamedNode("http://x/b")
+    >>> out = _unshare([Triple(a, p, r), Triple(b, p, r), Triple(r, p, a)])
+    >>> len(out), len({t.object for t in out if t.predicate == p and t.subject in (a, b)})
+    (4, 2)
+    """
+    uses: dict[BlankNode, int] = defaultdict(int)
+    described: dict[BlankNode, list[Triple]] = defaultdict(list)
+    for t in triples:
+        if isinstance(t.object, BlankNode):
+            uses[t.object] += 1
+        if isinstance(t.subject, BlankNode):
+            described[t.subject].append(t)
+    if all(n <= 1 for n in uses.values()):
+        return triples
+    out: list[Triple] = []
+
+    def copy(node: BlankNode, path: frozenset[BlankNode]) -> BlankNode:
+        fresh = BlankNode()
+        for t in described.get(node, ()):
+            obj = t.object
+            if isinstance(obj, BlankNode) and obj not in path:
+                obj = copy(obj, path | {node})
+            out.append(Triple(fresh, t.predicate, obj))
+        return fresh
+
+    seen: set[BlankNode] = set()
+    for t in triples:
+        node = t.object
+        if isinstance(node, BlankNode) and uses[node] > 1:
+            if node in seen:
+                t = Triple(t.subject, t.predicate, copy(node, frozenset()))
+            seen.add(node)
+        out.append(t)
+    return out
 
 
 def _tbox_kinds(store: Store) -> dict[NamedNode, NamedNode]:

@@ -7,6 +7,13 @@ index (:mod:`reasoners.index`) rebuilt from the store's triples when the memory 
 if a transaction fails, so the store stays the source of truth. Methods may be called from
 several threads; they are serialised.
 
+Semantic scores are derived from each class's raw terms (complexity, store and retrieve
+counts), its children and the global maxima (:mod:`reasoners.model`): an update re-derives the
+touched class and its ancestors in memory and writes only what it changed in the store (the
+touched class's counters, time and ``engram:score``, the new class and its edges, the new
+experienced scene). The sleep pass brings every class's stored ``engram:score`` and level up to
+date, so SPARQL readers see consolidated scores after each pass.
+
 >>> import datetime as dt
 >>> from kg import Store
 >>> from reasoners.primitives import Primitive
@@ -325,7 +332,7 @@ class SceneMemory:
                     last_accessed=now,
                 )
                 m.next_class += 1
-                parents, children, removed = m.add_class(record)
+                parents, children, removed = m.add_class(record, [r.cls for r in recognised])
                 added = {(record.iri, p) for p in parents} | {(c, record.iri) for c in children}
                 persist.write_edges(tx, added, removed)
                 fresh = record.iri

@@ -6,11 +6,15 @@ Layout (DESIGN.md, "Store layout"):
   owl:equivalentClass ⊓(≥n p.T)`` (an ``owl:intersectionOf`` list of ``owl:Restriction`` with
   ``owl:minQualifiedCardinality`` and ``owl:onClass``, or the single restriction itself), its
   direct ``rdfs:subClassOf`` edges to other learned classes, and its annotations (complexity,
-  storeCount, retrieveCount, score = raw ζ, created, lastAccessed, consecutiveWeakCount,
-  pinned, level); and ``engram:memoryState`` (last sleep, updates since).
+  storeCount, retrieveCount, score = raw ζ as of the class's last update or sleep pass,
+  created, lastAccessed, consecutiveWeakCount and pinned when not 0 / false, level); and
+  ``engram:memoryState`` (last sleep, updates since). A restriction ``≥n p.T`` is one node
+  (:func:`restriction_iri`) shared by every class that uses it, written with the first such
+  class and deleted with the last; the export gives each use its own blank node.
 - ``episodic``: each experienced scene ``e a engram:ExperiencedScene, C`` with created,
   lastAccessed, complexity, optional ``engram:happenedDuring`` episode, ``engram:hasPrimitive``
-  links to its primitives, which carry their attributes and the primary relations.
+  links to its primitives, which carry their type, id and attributes and the primary relations
+  (the scene's time is the primitives' time; the export declares the individuals).
 - ``trash``: forgotten classes as ``C rdfs:subClassOf engram:Trash`` with their annotations,
   ``engram:forgottenAt`` and ``engram:forgottenSignature`` (no definition, so nothing is
   recognised as them), and forgotten experienced scenes with their primitives.
@@ -221,6 +225,8 @@ def write_class(
 
 
 def class_annotations(record: ClassRecord) -> dict[NamedNode, Term]:
+    """The annotations of a class; a zero WEAK count and ``pinned`` false are left out (that
+    is what their absence means when the class is read back)."""
     values: dict[NamedNode, Term] = {
         COMPLEXITY: Literal(record.signature.complexity),
         STORE_COUNT: Literal(record.store_count),
@@ -228,9 +234,11 @@ def class_annotations(record: ClassRecord) -> dict[NamedNode, Term]:
         SCORE: Literal(record.score),
         CREATED: time_literal(record.created),
         LAST_ACCESSED: time_literal(record.last_accessed),
-        CONSECUTIVE_WEAK_COUNT: Literal(record.weak_count),
-        PINNED: Literal(record.pinned),
     }
+    if record.weak_count:
+        values[CONSECUTIVE_WEAK_COUNT] = Literal(record.weak_count)
+    if record.pinned:
+        values[PINNED] = Literal(record.pinned)
     if record.level is not None:
         values[LEVEL] = Literal(record.level)
     return values

@@ -47,7 +47,9 @@ class ItemScores:
     store_count: int
     retrieve_count: int
     raw_score: float
-    """ζ: stored for a class (as of its last consolidation); computed now for an item."""
+    """ζ now: derived for a class from its raw terms, its children and the maxima (the store's
+    ``engram:score`` holds it as of the class's last update or the last sleep pass); computed
+    for an item with the time decay."""
     normalised: float
     """ζ divided by the largest ζ of its kind: the best item is 1."""
     level: str
