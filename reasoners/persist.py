@@ -24,7 +24,7 @@ import datetime as dt
 import hashlib
 import re
 from collections import defaultdict
-from collections.abc import Iterable, Sequence
+from collections.abc import Iterable, Mapping, Sequence
 
 from pyoxigraph import BlankNode, Literal, NamedNode, Quad
 
@@ -359,25 +359,34 @@ def load_model(
     store: Store, weights: tuple[float, float, float, float] = (0.2, 0.2, 0.3, 0.3)
 ) -> MemoryModel:
     """Rebuild the in-memory mirror from the ``memory``, ``episodic`` and ``trash`` graphs;
-    ``weights`` (a_d, a_c, a_s, a_r) are the policy's semantic-score weights."""
+    ``weights`` (a_d, a_c, a_s, a_r) are the policy's semantic-score weights.
+
+    Only what the model holds is read, by the ``memory_load_*`` queries: the experienced
+    scenes' primitives and relations, and the trashed scenes' and classes' other values, are not.
+    """
     model = MemoryModel(weights=weights)
-    memory = _by_subject(store, MEMORY)
+    nodes = _rows_by_subject(store.select("memory_load_restrictions", g=MEMORY), "restriction")
+    restrictions: dict[str, tuple[Key, int]] = {}
+    for node, values in nodes.items():
+        key = (values[OWL_ON_PROPERTY][0], values[OWL_ON_CLASS][0])
+        restrictions[node.value] = (key, int(values[OWL_MIN_QUALIFIED_CARDINALITY][0].value))  # type: ignore[assignment]
+        if is_restriction(node):
+            model.stored_restrictions.add(restrictions[node.value])
+    definitions = {
+        row["class"]: row["restrictions"].value.split()
+        for row in store.select("memory_load_definitions", g=MEMORY)
+    }
     classes: list[ClassRecord] = []
-    edges: list[tuple[NamedNode, NamedNode]] = []
-    for subject, values in memory.items():
-        if is_restriction(subject) and OWL_ON_PROPERTY in values:
-            key = (values[OWL_ON_PROPERTY][0], values[OWL_ON_CLASS][0])
-            n = int(values[OWL_MIN_QUALIFIED_CARDINALITY][0].value)
-            model.stored_restrictions.add((key, n))  # type: ignore[arg-type]
-            continue
-        if SCENE not in values.get(RDFS_SUBCLASSOF, ()):
-            continue
-        definition = values[OWL_EQUIVALENT_CLASS][0]
-        signature = _read_signature(memory, definition)
+    for subject, values in _rows_by_subject(
+        store.select("memory_load_classes", g=MEMORY), "class"
+    ).items():
+        if subject not in definitions:
+            raise KeyError(f"learned class {subject} has no owl:equivalentClass definition")
+        counts = dict(restrictions[node] for node in definitions[subject])
         classes.append(
             ClassRecord(
                 iri=subject,
-                signature=signature,
+                signature=Signature(counts),
                 store_count=_int(values, STORE_COUNT),
                 retrieve_count=_int(values, RETRIEVE_COUNT),
                 score=float(_one(values, SCORE).value),
@@ -388,20 +397,24 @@ def load_model(
                 level=values[LEVEL][0].value if LEVEL in values else None,
             )
         )
-        edges += [(subject, p) for p in values.get(RDFS_SUBCLASSOF, ()) if p != SCENE]  # type: ignore[misc]
-    model.load(sorted(classes, key=lambda r: _number(r.iri)), edges)
-    model.has_state = MEMORY_STATE_INDIVIDUAL in memory
-    state = memory.get(MEMORY_STATE_INDIVIDUAL, {})
+    edges = [
+        (row["child"], NamedNode(parent))
+        for row in store.select("memory_load_edges", g=MEMORY)
+        for parent in row["parents"].value.split()
+    ]
+    model.load(sorted(classes, key=lambda r: _number(r.iri)), edges)  # type: ignore[arg-type]
+    state: dict[NamedNode, list[Term]] = defaultdict(list)
+    for quad in store.quads(MEMORY_STATE_INDIVIDUAL, None, None, MEMORY):
+        state[quad.predicate].append(quad.object)  # type: ignore[arg-type]
+    model.has_state = bool(state)
     if LAST_SLEEP_AT in state:
         model.last_sleep_at = parse_time(state[LAST_SLEEP_AT][0])
     model.updates_since_sleep = _int(state, UPDATES_SINCE_SLEEP)
     model.sleep_passes = _int(state, SLEEP_PASS_COUNT)
 
-    for subject, values in _by_subject(store, EPISODIC).items():
-        types = values.get(RDF_TYPE, [])
-        if EXPERIENCED_SCENE not in types:
-            continue
-        cls = next(t for t in types if t in model.classes)
+    items = store.select("memory_load_items", g=EPISODIC)
+    for subject, values in _rows_by_subject(items, "item").items():
+        cls = next(t for t in values[RDF_TYPE] if t in model.classes)
         model.add_item(
             ItemRecord(
                 iri=subject,
@@ -414,14 +427,15 @@ def load_model(
                 level=values[LEVEL][0].value if LEVEL in values else None,
             )
         )
-    for subject, values in _by_subject(store, TRASH).items():
-        if TRASH_CLASS in values.get(RDFS_SUBCLASSOF, ()):
+    trash = _rows_by_subject(store.select("memory_load_trash", g=TRASH), "subject")
+    for subject, values in trash.items():
+        if TRASH_CLASS in values[_KIND]:
             model.trashed_classes[subject] = TrashedClass(
                 subject,
                 Signature.from_json(_one(values, FORGOTTEN_SIGNATURE).value),
                 parse_time(_one(values, FORGOTTEN_AT)),
             )
-        elif EXPERIENCED_SCENE in values.get(RDF_TYPE, ()):
+        else:
             cls = next(
                 t for t in values[RDF_TYPE] if t not in (EXPERIENCED_SCENE, OWL_NAMED_INDIVIDUAL)
             )
@@ -450,29 +464,42 @@ def write_state(tx: Transaction, model: MemoryModel, previous: MemoryModel | Non
         tx.insert(node, LAST_SLEEP_AT, time_literal(model.last_sleep_at), MEMORY)
 
 
-def _by_subject(store: Store, graph: NamedNode) -> dict[NamedNode, dict[NamedNode, list[Term]]]:
-    out: dict[NamedNode, dict[NamedNode, list[Term]]] = defaultdict(lambda: defaultdict(list))
-    for quad in store.quads(graph=graph):
-        out[quad.subject][quad.predicate].append(quad.object)  # type: ignore[index, arg-type]
+_KIND = engram("_kind")
+"""Not stored: the key under which :func:`_rows_by_subject` keeps the trash query's ``?kind``."""
+
+_COLUMNS: dict[str, NamedNode] = {
+    "property": OWL_ON_PROPERTY,
+    "onClass": OWL_ON_CLASS,
+    "n": OWL_MIN_QUALIFIED_CARDINALITY,
+    "storeCount": STORE_COUNT,
+    "retrieveCount": RETRIEVE_COUNT,
+    "score": SCORE,
+    "created": CREATED,
+    "lastAccessed": LAST_ACCESSED,
+    "weakCount": CONSECUTIVE_WEAK_COUNT,
+    "pinned": PINNED,
+    "level": LEVEL,
+    "type": RDF_TYPE,
+    "complexity": COMPLEXITY,
+    "forgottenSignature": FORGOTTEN_SIGNATURE,
+    "forgottenAt": FORGOTTEN_AT,
+    "kind": _KIND,
+}
+"""The ``memory_load_*`` query columns, as the properties whose values they hold."""
+
+
+def _rows_by_subject(
+    rows: Iterable[Mapping[str, Term]], subject: str
+) -> dict[NamedNode, dict[NamedNode, list[Term]]]:
+    """The values of each ``subject`` in query rows, per property (each distinct value once, in
+    the order of the rows), as the loaders read them."""
+    out: dict[NamedNode, dict[NamedNode, list[Term]]] = {}
+    for row in rows:
+        values = out.setdefault(row[subject], defaultdict(list))  # type: ignore[arg-type]
+        for column, term in row.items():
+            if column != subject and term not in (seen := values[_COLUMNS[column]]):
+                seen.append(term)
     return out
-
-
-def _read_signature(memory: dict[NamedNode, dict[NamedNode, list[Term]]], node: Term) -> Signature:
-    values = memory[node]  # type: ignore[index]
-    if OWL_ON_PROPERTY in values:
-        restrictions = [node]
-    else:
-        restrictions = []
-        cell = values[OWL_INTERSECTION_OF][0]
-        while cell != RDF_NIL:
-            restrictions.append(memory[cell][RDF_FIRST][0])  # type: ignore[index]
-            cell = memory[cell][RDF_REST][0]  # type: ignore[index]
-    counts: dict[Key, int] = {}
-    for restriction in restrictions:
-        r = memory[restriction]  # type: ignore[index]
-        key = (r[OWL_ON_PROPERTY][0], r[OWL_ON_CLASS][0])
-        counts[key] = int(r[OWL_MIN_QUALIFIED_CARDINALITY][0].value)  # type: ignore[index]
-    return Signature(counts)
 
 
 def _one(values: dict[NamedNode, list[Term]], prop: NamedNode) -> Literal:

@@ -1,0 +1,88 @@
+"""Reopening reads back exactly the model the writing process held (``persist.load_model``)."""
+
+import random
+from pathlib import Path
+
+from kg import Store
+from ontologies.vocab import PRIMITIVE_LEAF_TYPES, engram
+from reasoners import persist
+from reasoners.memory import SceneMemory
+from reasoners.model import MemoryModel
+from reasoners.signature import Signature
+
+from .conftest import FakeClock, plane, random_scene, sphere, worked_example
+
+BIG = [sphere("ball", 0.0, 0.0, 0.3), plane("table", 0.2, 0.2, 0.0), sphere("o", 0.4, 0.4, 0.3)]
+SMALL = [sphere("a", 0.0, 0.9, 0.9), sphere("b", 0.5, 0.9, 0.9)]
+FIELDS = [
+    "classes",
+    "parents",
+    "children",
+    "items",
+    "items_of",
+    "trashed_classes",
+    "trashed_items",
+    "complexities",
+    "item_complexities",
+    "store_counts",
+    "retrieve_counts",
+    "restrictions",
+    "stored_restrictions",
+    "next_class",
+    "next_item",
+    "last_sleep_at",
+    "updates_since_sleep",
+    "sleep_passes",
+    "has_state",
+]
+
+
+def model_of(memory: SceneMemory) -> MemoryModel:
+    return memory._model  # the mirror under test; the public API only shows parts of it
+
+
+def assert_same_model(loaded: MemoryModel, built: MemoryModel) -> None:
+    for name in FIELDS:
+        assert getattr(loaded, name) == getattr(built, name), name
+
+
+def test_the_loaded_model_equals_the_one_built_in_the_same_process(
+    tmp_path: Path, clock: FakeClock
+) -> None:
+    memory = SceneMemory(Store(tmp_path / "store"), clock=clock)
+    assert_same_model(persist.load_model(memory.store), model_of(memory))  # empty
+    rng = random.Random(5)
+    for _ in range(20):
+        memory.store_scene(BIG)
+        clock.advance(seconds=30)
+    for _ in range(3):
+        memory.retrieve(BIG)
+    memory.store_scene(SMALL)
+    one = Signature({(engram("sphereIsAboveOf"), PRIMITIVE_LEAF_TYPES[0]): 3})
+    [single] = memory.learn_classes([one])
+    memory.pin(single)  # a class defined by one restriction, kept through the sleep passes
+    memory.store_scene(worked_example())
+    for _ in range(12):
+        memory.store_scene(random_scene(rng, 2, 5))
+        clock.advance(seconds=5)
+    big = memory.recognise(BIG)[0].cls
+    memory.pin(big)
+    [kept] = [i for i in memory.items() if memory.item_scores(i).cls == big][:1]
+    memory.pin(kept)
+    clock.advance(days=2)
+    for _ in range(memory.policy.weakPassesToForget):
+        memory.sleep()
+    built = model_of(memory)
+    assert built.classes and built.items
+    assert built.trashed_classes and built.trashed_items  # the trash is read back too
+    assert any(len(r.signature) == 1 for r in built.classes.values())  # one-restriction class
+    assert any(len(r.signature) > 1 for r in built.classes.values())  # an intersection
+    assert any(built.parents.values()) and built.last_sleep_at is not None
+    assert any(r.pinned for r in built.classes.values())
+    assert any(r.pinned for r in built.items.values())
+    assert any(r.level is not None for r in built.items.values())
+    assert_same_model(persist.load_model(memory.store, built.weights), built)
+    del memory  # closes the store, which one process at a time may open
+    reopened = Store(tmp_path / "store")
+    assert_same_model(persist.load_model(reopened, built.weights), built)
+    assert_same_model(model_of(SceneMemory(reopened, clock=clock)), built)
