@@ -1,7 +1,7 @@
 """The ``engram`` command line."""
 
+import copy
 import gc
-import logging
 from pathlib import Path
 from typing import Annotated, Any
 
@@ -52,7 +52,9 @@ def _open(settings: Settings) -> Store:
 
 
 def _serve(settings: Settings) -> None:
-    logging.basicConfig(level=logging.INFO, format="%(levelname)s %(name)s: %(message)s")
+    # Engram's own loggers go through uvicorn's handler, at INFO, like the server's.
+    log_config = copy.deepcopy(uvicorn.config.LOGGING_CONFIG)
+    log_config["root"] = {"handlers": ["default"], "level": "INFO"}
     console.print(
         f"Serving {settings.store_dir} on http://{settings.host}:{settings.port} "
         "(SPARQL at /sparql, OWL export at /export, API docs at /docs); Ctrl-C stops."
@@ -62,6 +64,7 @@ def _serve(settings: Settings) -> None:
         host=settings.host,
         port=settings.port,
         log_level="info",
+        log_config=log_config,
         access_log=False,  # a line per request costs more than a directive does
     )
 

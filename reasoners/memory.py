@@ -322,16 +322,7 @@ class SceneMemory:
                     MEMORY,
                 )
             else:
-                record = ClassRecord(
-                    iri=persist.class_iri(m.next_class),
-                    signature=signature,
-                    store_count=1,
-                    retrieve_count=0,
-                    score=0.0,
-                    created=now,
-                    last_accessed=now,
-                )
-                m.next_class += 1
+                record = _new_class(m, signature, now)
                 parents, children, removed = m.add_class(record, [r.cls for r in recognised])
                 added = {(record.iri, p) for p in parents} | {(c, record.iri) for c in children}
                 persist.write_edges(tx, added, removed)
@@ -384,16 +375,7 @@ class SceneMemory:
             for signature in signatures:
                 if not signature or m.index.with_signature(signature) is not None:
                     continue
-                record = ClassRecord(
-                    iri=persist.class_iri(m.next_class),
-                    signature=signature,
-                    store_count=1,
-                    retrieve_count=0,
-                    score=0.0,
-                    created=now,
-                    last_accessed=now,
-                )
-                m.next_class += 1
+                record = _new_class(m, signature, now)
                 parents, children, cut = m.add_class(record)
                 for edge in cut:  # an edge added earlier in this batch is simply not written
                     if edge in added:
@@ -884,3 +866,18 @@ class SceneMemory:
 
 def _maybe_str(value: str | None) -> Literal | None:
     return None if value is None else Literal(value)
+
+
+def _new_class(model: MemoryModel, signature: Signature, now: dt.datetime) -> ClassRecord:
+    """A class learned now from ``signature``, stored once, under the model's next number."""
+    record = ClassRecord(
+        iri=persist.class_iri(model.next_class),
+        signature=signature,
+        store_count=1,
+        retrieve_count=0,
+        score=0.0,
+        created=now,
+        last_accessed=now,
+    )
+    model.next_class += 1
+    return record
