@@ -124,25 +124,14 @@ class EpisodeMemory:
         record: bool = False,
     ) -> Episode:
         """Begin an episode (now by default); with ``record``, open its stream recording."""
-        if episode_id is not None:
-            check_id(episode_id, "id")
+        episode_id = check_id(episode_id, "id") if episode_id is not None else new_id()
         started = self._time(begin, "begin")
-        if not record:
-            made = lifecycle.begin_episode(
-                self.store,
-                activity=activity,
-                activity_type=activity_type,
-                arguments=arguments,
-                begin=started,
-                episode_id=episode_id,
-            )
-            return self.get(made)
-
-        episode_id = episode_id or new_id()
-        if lifecycle.episode_times(self.store, episode_iri(episode_id)) is not None:
-            raise EpisodeStateError(f"id: an episode {episode_id!r} already exists")
-        path = self.streams_path(episode_id)
-        self.recordings.open(episode_id, path)
+        path = self.streams_path(episode_id) if record else None
+        if path is not None:
+            # checked before opening, so that a taken id never touches that episode's streams
+            if lifecycle.episode_times(self.store, episode_iri(episode_id)) is not None:
+                raise EpisodeStateError(f"id: an episode {episode_id!r} already exists")
+            self.recordings.open(episode_id, path)
         try:
             lifecycle.begin_episode(
                 self.store,
@@ -153,8 +142,9 @@ class EpisodeMemory:
                 episode_id=episode_id,
             )
         except BaseException:
-            self.recordings.close(episode_id)
-            shutil.rmtree(path, ignore_errors=True)
+            if path is not None:
+                self.recordings.close(episode_id)
+                shutil.rmtree(path, ignore_errors=True)
             raise
         return self.get(episode_id)
 
