@@ -12,6 +12,7 @@ from api.armor import ArmorEngine
 from api.armor.memory import sleep_if_due
 from api.config import Settings, get_settings
 from api.errors import install_error_handlers
+from api.memory_state import live_memory_state
 from api.routes import admin, armor, episodes, export, health, sparql, streams
 from episodes import EpisodeMemory
 from episodes.streams import RecordingRegistry
@@ -58,7 +59,12 @@ def create_app(settings: Settings | None = None) -> FastAPI:
         state.recordings = recordings
         state.scene_memory = scene_memory = SceneMemory(store)
         state.armor = ArmorEngine(store, scene_memory=scene_memory)
-        state.episodes = EpisodeMemory(store, data_dir=settings.data_dir, recordings=recordings)
+        state.episodes = EpisodeMemory(
+            store,
+            data_dir=settings.data_dir,
+            recordings=recordings,
+            memory_state=live_memory_state(scene_memory),
+        )
         sleeper = asyncio.create_task(_sleep_when_due(scene_memory, settings.sleep_check_s))
         try:
             yield

@@ -14,7 +14,7 @@ from pyoxigraph import Literal, NamedNode
 from episodes import _rdf
 from episodes.errors import EpisodeNotFoundError, EpisodeStateError, InvalidInputError
 from episodes.model import Annotation, Argument, Episode, MemorySnapshot, StreamDescriptor
-from episodes.snapshot import load_snapshot, read_memory_state, write_snapshot
+from episodes.snapshot import MemoryState, load_snapshot, read_memory_state, write_snapshot
 from episodes.streamlink import read_descriptors, write_descriptors
 from episodes.terms import (
     ArgumentKind,
@@ -132,13 +132,15 @@ def begin_episode(
     end: dt.datetime | str | None = None,
     streams: Iterable[StreamDescriptor] = (),
     snapshots: bool = True,
+    memory_state: MemoryState = read_memory_state,
 ) -> str:
     """Record that an episode began, with a snapshot of the scene memory; return its id.
 
     With ``end`` (and ``streams``) a finished episode is recorded whole, in the same
     transaction, e.g. one imported from a bag; ``snapshots=False`` leaves out the scene
-    memory's state, which is not known for a past episode. Raises :class:`InvalidInputError`
-    for a bad name, time or argument, and :class:`EpisodeStateError` if ``episode_id`` is taken.
+    memory's state, which is not known for a past episode; ``memory_state`` reads it. Raises
+    :class:`InvalidInputError` for a bad name, time or argument, and :class:`EpisodeStateError`
+    if ``episode_id`` is taken.
     """
 
     activity = check_name(activity, "activity")
@@ -152,6 +154,8 @@ def begin_episode(
     checked = _check_arguments(arguments)
     episode_id = episode_id or new_id()
     episode = episode_iri(episode_id, "id")
+    # read before the write lock is taken: the scene memory takes its own lock, then the store's
+    snapshot = memory_state(store) if snapshots else None
     with store.transaction() as tx:
         if episode_times(store, episode) is not None:
             raise EpisodeStateError(f"id: an episode {episode_id!r} already exists")
@@ -178,10 +182,10 @@ def begin_episode(
                 tx.insert(link, RDF_TYPE, PROV_USAGE, EPISODES)
                 tx.insert(link, PROV_ENTITY_PROPERTY, what, EPISODES)
             tx.insert(link, PROV_HAD_ROLE, role_node, EPISODES)
-        if snapshots:
+        if snapshot is not None:
             state = part_iri(episode, "state", "begin")
             tx.insert(episode, STATE_AT_BEGIN, state, EPISODES)
-            write_snapshot(tx, state, read_memory_state(store))
+            write_snapshot(tx, state, snapshot)
         if ended is not None:
             tx.insert(episode, PROV_ENDED_AT_TIME, to_literal(ended), EPISODES)
             write_descriptors(tx, episode, streams)
@@ -216,14 +220,17 @@ def end_episode(
     *,
     end: dt.datetime | str,
     streams: Iterable[StreamDescriptor] = (),
+    memory_state: MemoryState = read_memory_state,
 ) -> None:
-    """Record the end of a running episode, the memory's state then, and its streams.
+    """Record the end of a running episode, the memory's state then (read by
+    ``memory_state``), and its streams.
 
     Raises :class:`EpisodeNotFoundError`, :class:`InvalidInputError` for an end before the
     begin, and :class:`EpisodeStateError` if the episode has already ended.
     """
 
     ended = parse_time(end, "end")
+    snapshot = memory_state(store)  # before the write lock, as in begin_episode
     with store.transaction() as tx:
         episode, began, already = require_episode(store, episode_id)
         if already is not None:
@@ -237,7 +244,7 @@ def end_episode(
         tx.insert(episode, PROV_ENDED_AT_TIME, to_literal(ended), EPISODES)
         state = part_iri(episode, "state", "end")
         tx.insert(episode, STATE_AT_END, state, EPISODES)
-        write_snapshot(tx, state, read_memory_state(store))
+        write_snapshot(tx, state, snapshot)
         write_descriptors(tx, episode, streams)
     log.info("episode %s ended", episode_id)
 

@@ -43,6 +43,7 @@ from episodes.model import (
     Recollection,
     StreamDescriptor,
 )
+from episodes.snapshot import MemoryState, read_memory_state
 from episodes.streamlink import descriptors_from_recording, descriptors_from_stats
 from episodes.streams import Recorder, RecordingRegistry, Replayer, import_bag
 from episodes.terms import check_id, episode_iri, new_id
@@ -60,7 +61,9 @@ class EpisodeMemory:
 
     ``data_dir`` holds the stream files (none are written without it); ``clock`` gives "now"
     (time-zone aware) for default times and for phrases like "one month ago"; ``recordings``
-    is the process's ``episodes.streams.RecordingRegistry`` (one is made when omitted).
+    is the process's ``episodes.streams.RecordingRegistry`` (one is made when omitted);
+    ``memory_state`` reads the scene memory's state for the episodes' snapshots (by default
+    from the stored scores, see :mod:`episodes.snapshot`).
     """
 
     def __init__(
@@ -70,8 +73,10 @@ class EpisodeMemory:
         data_dir: Path | None = None,
         clock: Clock = system_clock,
         recordings: Any = None,
+        memory_state: MemoryState = read_memory_state,
     ) -> None:
         self.store = store
+        self.memory_state = memory_state
         self.data_dir = data_dir
         self.clock = clock
         self._recordings = recordings
@@ -140,6 +145,7 @@ class EpisodeMemory:
                 arguments=arguments,
                 begin=started,
                 episode_id=episode_id,
+                memory_state=self.memory_state,
             )
         except BaseException:
             if path is not None:
@@ -161,7 +167,9 @@ class EpisodeMemory:
                 "end", ended.isoformat(), f"a time not before the begin {episode.begin.isoformat()}"
             )
         streams = self._close_streams(episode_id)
-        lifecycle.end_episode(self.store, episode_id, end=ended, streams=streams)
+        lifecycle.end_episode(
+            self.store, episode_id, end=ended, streams=streams, memory_state=self.memory_state
+        )
         return self.get(episode_id)
 
     def _close_streams(self, episode_id: str) -> list[StreamDescriptor]:

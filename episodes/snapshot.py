@@ -1,9 +1,14 @@
-"""The scene memory's state at an episode's begin and end, read from the graph with SPARQL.
+"""The scene memory's state at an episode's begin and end.
 
 The scene memory (``reasoners/``) writes learned classes with their ``engram:score`` into the
-``memory`` graph and experienced scenes into the ``episodic`` graph; this module only reads
-them, so the two packages share the graph, not code.
+``memory`` graph and experienced scenes into the ``episodic`` graph; :func:`read_memory_state`
+only reads them with SPARQL, so the two packages share the graph, not code. The stored score of
+a class is the one its last update or the last sleep pass consolidated; a process that holds the
+live scene memory passes a :data:`MemoryState` of its own that ranks by the live scores (the
+server does, see ``api.main``).
 """
+
+from collections.abc import Callable
 
 from pyoxigraph import Literal, NamedNode
 
@@ -23,11 +28,14 @@ from ontologies.vocab import (
     SNAPSHOT_CLASS_ENTRY,
 )
 
-__all__ = ["load_snapshot", "read_memory_state", "write_snapshot"]
+__all__ = ["MemoryState", "load_snapshot", "read_memory_state", "write_snapshot"]
+
+MemoryState = Callable[[Store], MemorySnapshot]
+"""How the scene memory's state is read when an episode begins or ends."""
 
 
 def read_memory_state(store: Store) -> MemorySnapshot:
-    """Counts of learned classes and episodic items, and the ten best classes by score."""
+    """Counts of learned classes and episodic items, and the ten best classes by stored score."""
     counts = store.select("episodes_memory_counts")
     row = counts[0] if counts else {}
     best = tuple(

@@ -101,7 +101,9 @@ class Transaction:
         _require_graph(graph)
         if not isinstance(predicate, NamedNode):
             raise TypeError(f"predicate must be a NamedNode, got {predicate!r}")
-        return Quad(self._skolem.term(subject), predicate, self._skolem.term(obj), graph)
+        if isinstance(subject, BlankNode) or isinstance(obj, BlankNode):
+            return Quad(self._skolem.term(subject), predicate, self._skolem.term(obj), graph)
+        return Quad(subject, predicate, obj, graph)
 
 
 def _require_graph(graph: object) -> None:

@@ -134,6 +134,7 @@ COMPLEXITY = engram("complexity")
 STORE_COUNT = engram("storeCount")
 RETRIEVE_COUNT = engram("retrieveCount")
 SCORE = engram("score")
+CLASS_SIGNATURE = engram("signature")
 LEVEL = engram("level")
 CREATED = engram("created")
 LAST_ACCESSED = engram("lastAccessed")
@@ -276,3 +277,9 @@ IS_COAXIAL_WITH = engram("isCoaxialWith")
 IS_ALONG_X_WITH = engram("isAlongXWith")
 IS_ALONG_Y_WITH = engram("isAlongYWith")
 IS_ALONG_Z_WITH = engram("isAlongZWith")
+
+# --- Bulk writes (kg.Store.fill_graph, issue 4 REASON) --------------------------------------
+BULK_WRITES = NamedNode(GRAPH_NS + "bulk-writes")
+"""Markers of bulk writes in progress: a graph named here may be half-written (see
+``kg.Store.fill_graph``); opening the store clears it (``kg.Store.recover_bulk_writes``)."""
+UNFINISHED_BULK_WRITE = engram("UnfinishedBulkWrite")

@@ -30,6 +30,7 @@ True
 """
 
 import datetime as dt
+import heapq
 import logging
 import threading
 import time
@@ -194,17 +195,14 @@ class SceneMemory:
         return self.encoder.cue_signature(items)  # type: ignore[arg-type]
 
     def _recognitions(self, signature: Signature) -> list[Recognition]:
-        m = self._model
-        found = [
-            Recognition(
-                cls,
-                m.classes[cls].signature.complexity / signature.complexity,
-                m.classes[cls].signature.complexity,
-            )
-            for cls in m.index.recognised(signature)
+        """Most complex (most confident) first, then most stored, then by IRI."""
+        classes, d = self._model.classes, signature.complexity
+        rows = [(classes[cls], cls) for cls in self._model.index.recognised(signature)]
+        rows.sort(key=lambda row: (-row[0].signature.complexity, -row[0].store_count, row[1].value))
+        return [
+            Recognition(cls, record.signature.complexity / d, record.signature.complexity)
+            for record, cls in rows
         ]
-        found.sort(key=lambda r: (-r.confidence, -m.classes[r.cls].store_count, r.cls.value))
-        return found
 
     def _rescore(
         self,
@@ -844,6 +842,15 @@ class SceneMemory:
                     m.classes.values(), key=lambda r: (r.signature.complexity, r.iri.value)
                 )
             ]
+
+    def state(self, best: int = 10) -> tuple[int, int, list[tuple[NamedNode, float]]]:
+        """(learned classes, experienced scenes, the ``best`` classes by live raw score ζ as
+        (class, ζ), best first, ties by IRI)."""
+        with self._lock:
+            m = self._model
+            zetas = m.zetas()
+            top = heapq.nsmallest(best, zetas.items(), key=lambda kv: (-kv[1], kv[0].value))
+            return len(m.classes), len(m.items), top
 
     def items(self) -> list[NamedNode]:
         """Every live experienced scene, oldest first."""

@@ -28,7 +28,6 @@ reopened memory derives exactly the scores the running one had.
 
 import datetime as dt
 import functools
-import heapq
 import math
 from collections import Counter
 from collections.abc import Iterable
@@ -230,35 +229,37 @@ class MemoryModel:
         )
 
     def refresh(self) -> None:
-        """Re-derive Z of the changed classes and their ancestors, children before parents
-        (a child is always more complex than its parents)."""
+        """Re-derive Z of the changed classes and their ancestors, children before parents: a
+        child is always more complex than its parents, so classes are taken by decreasing
+        complexity (classes of equal complexity never lie on one branch)."""
         if not self._dirty:
             return
         classes, parents, own = self.classes, self.parents, self._own
-        queue = [(-classes[c].signature.complexity, c.value, c) for c in self._dirty]
-        heapq.heapify(queue)
+        waiting: dict[int, list[NamedNode]] = {}
+        for cls in self._dirty:
+            waiting.setdefault(classes[cls].signature.complexity, []).append(cls)
         queued = set(self._dirty)
         self._dirty.clear()
         changed: list[ClassRecord] = []
-        while queue:
-            cls = heapq.heappop(queue)[2]
-            record = classes[cls]
-            new = own(record)
-            old = record.z
-            if new == old:
-                continue
-            record.z = new
-            changed.append(record)
-            d0, d1, d2 = new[0] - old[0], new[1] - old[1], new[2] - old[2]
-            for parent in parents[cls]:
-                above = classes[parent]
-                sums = above.sums
-                sums[0] += d0
-                sums[1] += d1
-                sums[2] += d2
-                if parent not in queued:
-                    queued.add(parent)
-                    heapq.heappush(queue, (-above.signature.complexity, parent.value, parent))
+        while waiting:
+            for cls in waiting.pop(max(waiting)):
+                record = classes[cls]
+                new = own(record)
+                old = record.z
+                if new == old:
+                    continue
+                record.z = new
+                changed.append(record)
+                d0, d1, d2 = new[0] - old[0], new[1] - old[1], new[2] - old[2]
+                for parent in parents[cls]:
+                    above = classes[parent]
+                    sums = above.sums
+                    sums[0] += d0
+                    sums[1] += d1
+                    sums[2] += d2
+                    if parent not in queued:
+                        queued.add(parent)
+                        waiting.setdefault(above.signature.complexity, []).append(parent)
         self._set_rows(changed)
 
     def _set_row(self, cls: NamedNode, z: tuple[int, int, int]) -> None:
@@ -273,9 +274,7 @@ class MemoryModel:
         position = self.index.position
         positions = [position(r.iri) for r in records]
         self._grow(max(positions))
-        self._z[:, positions] = np.array(
-            [(r.z[0] / SCALE, r.z[1] / SCALE, r.z[2] / SCALE) for r in records]
-        ).T
+        self._z[:, positions] = np.array([r.z for r in records], dtype=np.float64).T / SCALE
         self._version += 1
 
     def _grow(self, position: int) -> None:

@@ -35,6 +35,7 @@ from ontologies.vocab import (
     APEX,
     AXIS,
     CENTRE,
+    CLASS_SIGNATURE,
     COLOUR,
     COMPLEXITY,
     CONSECUTIVE_WEAK_COUNT,
@@ -228,6 +229,7 @@ def class_annotations(record: ClassRecord) -> dict[NamedNode, Term]:
     """The annotations of a class; a zero WEAK count and ``pinned`` false are left out (that
     is what their absence means when the class is read back)."""
     values: dict[NamedNode, Term] = {
+        CLASS_SIGNATURE: Literal(record.signature.to_json()),
         COMPLEXITY: Literal(record.signature.complexity),
         STORE_COUNT: Literal(record.store_count),
         RETRIEVE_COUNT: Literal(record.retrieve_count),
@@ -372,21 +374,26 @@ def load_model(
         restrictions[node.value] = (key, int(values[OWL_MIN_QUALIFIED_CARDINALITY][0].value))  # type: ignore[assignment]
         if is_restriction(node):
             model.stored_restrictions.add(restrictions[node.value])
-    definitions = {
-        row["class"]: row["restrictions"].value.split()
-        for row in store.select("memory_load_definitions", g=MEMORY)
-    }
+    rows = _rows_by_subject(store.select("memory_load_classes", g=MEMORY), "class")
+    definitions: dict[NamedNode, list[str]] = {}
+    if any(CLASS_SIGNATURE not in values for values in rows.values()):
+        # A class written without its engram:signature: walk the owl:intersectionOf lists.
+        definitions = {
+            row["class"]: row["restrictions"].value.split()  # type: ignore[misc]
+            for row in store.select("memory_load_definitions", g=MEMORY)
+        }
     classes: list[ClassRecord] = []
-    for subject, values in _rows_by_subject(
-        store.select("memory_load_classes", g=MEMORY), "class"
-    ).items():
-        if subject not in definitions:
+    for subject, values in rows.items():
+        if CLASS_SIGNATURE in values:
+            signature = Signature.from_json(_one(values, CLASS_SIGNATURE).value)
+        elif subject in definitions:
+            signature = Signature(dict(restrictions[node] for node in definitions[subject]))
+        else:
             raise KeyError(f"learned class {subject} has no owl:equivalentClass definition")
-        counts = dict(restrictions[node] for node in definitions[subject])
         classes.append(
             ClassRecord(
                 iri=subject,
-                signature=Signature(counts),
+                signature=signature,
                 store_count=_int(values, STORE_COUNT),
                 retrieve_count=_int(values, RETRIEVE_COUNT),
                 score=float(_one(values, SCORE).value),
@@ -481,6 +488,7 @@ _COLUMNS: dict[str, NamedNode] = {
     "level": LEVEL,
     "type": RDF_TYPE,
     "complexity": COMPLEXITY,
+    "signature": CLASS_SIGNATURE,
     "forgottenSignature": FORGOTTEN_SIGNATURE,
     "forgottenAt": FORGOTTEN_AT,
     "kind": _KIND,

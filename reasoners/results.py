@@ -1,7 +1,8 @@
-"""What the scene memory's operations return (frozen dataclasses, safe to share)."""
+"""What the scene memory's operations return (frozen dataclasses, named tuples: safe to share)."""
 
 import datetime as dt
 from dataclasses import dataclass
+from typing import NamedTuple
 
 from pyoxigraph import NamedNode
 
@@ -19,9 +20,11 @@ __all__ = [
 ]
 
 
-@dataclass(frozen=True)
-class Recognition:
-    """The scene (or cue) belongs to ``cls``; ``confidence`` = d(cls) / d(scene)."""
+class Recognition(NamedTuple):
+    """The scene (or cue) belongs to ``cls``; ``confidence`` = d(cls) / d(scene).
+
+    A named tuple rather than a dataclass: a scene in a large memory belongs to hundreds of
+    classes, and every update builds all of them."""
 
     cls: NamedNode
     confidence: float

@@ -4,7 +4,7 @@ import random
 from pathlib import Path
 
 from kg import Store
-from ontologies.vocab import PRIMITIVE_LEAF_TYPES, engram
+from ontologies.vocab import CLASS_SIGNATURE, MEMORY, PRIMITIVE_LEAF_TYPES, engram
 from reasoners import persist
 from reasoners.memory import SceneMemory
 from reasoners.model import MemoryModel
@@ -86,3 +86,21 @@ def test_the_loaded_model_equals_the_one_built_in_the_same_process(
     reopened = Store(tmp_path / "store")
     assert_same_model(persist.load_model(reopened, built.weights), built)
     assert_same_model(model_of(SceneMemory(reopened, clock=clock)), built)
+
+
+def test_classes_without_a_signature_annotation_are_read_from_their_definitions(
+    tmp_path: Path, clock: FakeClock
+) -> None:
+    """A store written before ``engram:signature`` existed (or a class whose annotation was
+    dropped) opens from the ``owl:intersectionOf`` lists, to the same model."""
+    memory = SceneMemory(Store(tmp_path / "store"), clock=clock)
+    rng = random.Random(11)
+    for _ in range(15):
+        memory.store_scene(random_scene(rng, 2, 5))
+    one = Signature({(engram("sphereIsAboveOf"), PRIMITIVE_LEAF_TYPES[0]): 2})
+    memory.learn_classes([one])
+    built = model_of(memory)
+    with memory.store.transaction() as tx:
+        tx.delete_matching(None, CLASS_SIGNATURE, None, graph=MEMORY)
+    assert not list(memory.store.quads(None, CLASS_SIGNATURE, None, MEMORY))
+    assert_same_model(persist.load_model(memory.store, built.weights), built)
