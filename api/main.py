@@ -8,6 +8,7 @@ from contextlib import asynccontextmanager
 from fastapi import FastAPI
 from starlette.concurrency import run_in_threadpool
 
+from api import fast_armor
 from api.armor import ArmorEngine
 from api.armor.memory import sleep_if_due
 from api.config import Settings, get_settings
@@ -86,4 +87,5 @@ def create_app(settings: Settings | None = None) -> FastAPI:
     # armor first: route matching is a sizeable share of a directive's time
     for module in (armor, health, sparql, export, admin, episodes, streams):
         app.include_router(module.router)
+    fast_armor.install(app)  # well-formed ARMOR requests skip the router (api/fast_armor.py)
     return app

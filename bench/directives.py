@@ -6,7 +6,11 @@ connection. A "simple directive" alternates ``ADD IND CLASS`` and ``QUERY IND`` 
 with buffered reasoning (the RDS tutorial's advice), each directive its own request and
 transaction. Baselines in the same run: ``GET /health`` (HTTP with no work) and the same
 directives on an in-process ``ArmorEngine`` (no HTTP). Target: at least 2,000 simple
-directives/s with 8 clients.
+directives/s with 8 clients. The clients are threads of one process (``http.client``, about
+40 µs of client work a request): the bare endpoint's rate shows they are not what limits the
+server's. Since the machine may be shared, the server process's CPU time per request (from
+``/proc``) is printed too, for the directives and for the bare endpoint: it moves much less
+with the other load than the rates do.
 
 **REASON.** On the synthetic scene ontologies of ``reasoners.owl_rl.synthetic`` (about 10k and
 50k triples), loaded with LOAD FILE into an engine on an on-disk store:
@@ -203,6 +207,32 @@ def run_clients(
     return sum(counts) / elapsed
 
 
+def _cpu_seconds(pid: int) -> float | None:
+    """CPU time (user + system) a process has used so far; None where /proc is not there."""
+    try:
+        fields = Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()
+    except OSError:
+        return None
+    return (int(fields[11]) + int(fields[12])) / os.sysconf("SC_CLK_TCK")
+
+
+def run_measured(server: "Server", clients: int, seconds: float, path: str, lean: bool) -> str:
+    """``run_clients``, with the server's CPU time per request: on a shared machine the rate
+    depends on the other load, the CPU time much less."""
+    before = _cpu_seconds(server.process.pid)
+    start = time.perf_counter()
+    rate = run_clients(server.url, clients, seconds, path, lean=lean)
+    elapsed = time.perf_counter() - start
+    after = _cpu_seconds(server.process.pid)
+    if before is None or after is None:
+        return f"{rate:.0f}/s"
+    used = after - before
+    return (
+        f"{rate:.0f}/s, server process {1e6 * used / (rate * elapsed):.0f} µs CPU a request "
+        f"({used / elapsed:.0%} of a core)"
+    )
+
+
 def in_process(seconds: float) -> float:
     with tempfile.TemporaryDirectory(prefix="engram-bench-") as data:
         engine = ArmorEngine(Store(Path(data) / "store"))
@@ -233,6 +263,8 @@ def throughput(seconds: float, *, lean: bool) -> None:
             one = run_clients(server.url, 1, seconds, lean=lean)
             eight = run_clients(server.url, 8, seconds, lean=lean)
             bare.append(run_clients(bare_server.url, 8, seconds, "/health", lean=lean))
+            cpu_bare = run_measured(bare_server, 8, seconds / 2, "/health", lean)
+            cpu_directives = run_measured(server, 8, seconds / 2, "/armor_interface_srv", lean)
         finally:
             server.stop()
             bare_server.stop()
@@ -246,6 +278,7 @@ def throughput(seconds: float, *, lean: bool) -> None:
         f"before, {bare[1]:.0f} after (directives reach {eight / ceiling:.0%} of it)"
     )
     print(f"  for reference GET /health (a store read), 8 clients: {health:.0f} requests/s")
+    print(f"  CPU, 8 clients: directives {cpu_directives}; bare endpoint {cpu_bare}")
     print(
         f"  baseline in-process engine, no HTTP, 1 thread: {local:8.0f} directives/s "
         f"(HTTP with 8 clients = {eight / local:.2f}x)"

@@ -234,14 +234,15 @@ class ArmorEngine:
     def _run_list(
         self, requests: Sequence[ArmorDirectiveReq], style: ValueStyle, *, wait: bool
     ) -> ArmorDirectiveListRes | None:
+        keys = [directive_key(r) for r in requests]
         writers = {
             r.reference_name
-            for r in requests
+            for r, key in zip(requests, keys, strict=True)
             if r.reference_name
-            and (command := self.commands.get(directive_key(r))) is not None
+            and (command := self.commands.get(key)) is not None
             and command.kind != "query"
-            and not directive_key(r).startswith("QUERY_")
-            and directive_key(r) not in _NEEDS_NO_REFERENCE
+            and not key.startswith("QUERY_")
+            and key not in _NEEDS_NO_REFERENCE
         }
         with self.registry.locked(writers, wait=wait) as locked:
             if not locked:

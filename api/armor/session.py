@@ -189,6 +189,8 @@ class Session:
             raise ValueError(f"{quad} is not in a graph of reference {reference.name!r}")
 
     def _pending(self, reference: Reference) -> bool:
+        if not self.changes:
+            return False
         return any(
             not self.changes[graph].is_empty for graph in reference.graphs if graph in self.changes
         )
@@ -213,7 +215,10 @@ class Session:
             if workspace is not None:
                 found.extend(workspace.quads(subject, predicate, obj, g))
                 continue
-            changes = self.changes.get(g, ChangeSet())
+            changes = self.changes.get(g)
+            if changes is None:  # the common case, kept short: a directive reads many patterns
+                found.extend(self.store.quads(subject, predicate, obj, g))
+                continue
             if not changes.cleared:
                 found.extend(
                     q
@@ -342,6 +347,8 @@ class Session:
 
     def _settle_reasoner(self) -> None:
         """After the commit: keep the reasoner's state in step with what was committed."""
+        if not (self.prepared or self.unreasoned):
+            return
         for name in sorted(set(self.prepared) | set(self.unreasoned)):
             reference = self.references.get(name) or Reference(name=name, prefix="")
             prepared = self.prepared.pop(name, None)

@@ -5,6 +5,10 @@ opts out of ARMOR's string formats for query results.
 
 Directives are many and small, so the request path is kept short:
 
+- a well-formed request (JSON content type, a body that validates, a valid ``values``, the
+  token if one is set) is answered by :mod:`api.fast_armor` ahead of FastAPI's router, with the
+  functions below; any other request reaches the routes here, so that every error (422, 400,
+  401) is FastAPI's own;
 - a directive that cannot be made to wait runs on the event loop, since it costs less than the
   trip to a worker thread (:meth:`~api.armor.ArmorEngine.execute_now`): a query that reads a few
   triples (every QUERY but QUERY SPARQL; it takes no lock), and a simple write (ADD, REMOVE,
@@ -12,39 +16,32 @@ Directives are many and small, so the request path is kept short:
   running and the reference's lock is free. Everything else (SPARQL, REASON, LOAD, SAVE, the
   memory pipeline, lists with writes, any write that might wait) runs in the thread pool, so
   that it never holds up other requests;
-- a well-formed request (JSON content type, a body that validates, a valid ``values``, the
-  token if one is set) is parsed by pydantic straight from the bytes and answered without
-  FastAPI's dependency solving (:class:`_ArmorRoute`); any other request takes FastAPI's usual
-  path, so that every error (422, 400, 401) is FastAPI's own;
-- the response is written by pydantic once (FastAPI would validate the returned model again).
+- the response is written by pydantic once, as bytes (FastAPI would validate the returned model
+  again).
 """
 
-from collections.abc import Awaitable, Callable, Coroutine
-from typing import Annotated, Any, Literal, TypeVar, cast, get_args
+from collections.abc import Sequence
+from typing import Annotated, Literal
 
-from fastapi import APIRouter, Depends, HTTPException, Query, Request, Response
+from fastapi import APIRouter, Depends, Query, Response
 from fastapi.concurrency import run_in_threadpool
-from fastapi.routing import APIRoute
-from pydantic import BaseModel, ValidationError
-from starlette.middleware.body_limit import MAX_BODY_SIZE_SCOPE_KEY
 
 from api.armor import ArmorEngine
 from api.armor.models import (
     ArmorDirectiveListReq,
     ArmorDirectiveListRes,
+    ArmorDirectiveReq,
     ArmorRequest,
     ArmorResponse,
 )
 from api.armor.names import ValueStyle
-from api.config import Settings
 from api.deps import ArmorDep, require_token
 
-Message = TypeVar("Message", bound=BaseModel)
-Handler = Callable[[Request], Coroutine[Any, Any, Response]]
-_STYLES = frozenset(get_args(ValueStyle))
+__all__ = ["answer_list", "answer_single", "router"]
+
 _LIST_ON_LOOP = 8
 """Longest list of quick reads answered on the event loop."""
-
+_SINGLE_OPEN = b'{"armor_response":'
 
 Values = Annotated[
     Literal["armor", "plain", "short"],
@@ -52,85 +49,33 @@ Values = Annotated[
 ]
 
 
-def _json(message: BaseModel) -> Response:
-    return Response(message.model_dump_json(), media_type="application/json")
-
-
-async def _single(engine: ArmorEngine, body: ArmorRequest, values: ValueStyle) -> Response:
-    request = body.armor_request
+async def answer_single(
+    engine: ArmorEngine, request: ArmorDirectiveReq, values: ValueStyle
+) -> bytes:
+    """The JSON body answering one directive (an :class:`ArmorResponse`)."""
     response = engine.execute_now(request, style=values)
     if response is None:
         response = await run_in_threadpool(engine.execute, request, style=values)
-    return _json(ArmorResponse(armor_response=response))
+    # ArmorResponse(armor_response=response).model_dump_json(), without building the wrapper
+    return b"".join((_SINGLE_OPEN, response.__pydantic_serializer__.to_json(response), b"}"))
 
 
-async def _list(engine: ArmorEngine, body: ArmorDirectiveListReq, values: ValueStyle) -> Response:
-    requests = body.armor_requests
+async def answer_list(
+    engine: ArmorEngine, requests: Sequence[ArmorDirectiveReq], values: ValueStyle
+) -> bytes:
+    """The JSON body answering a list of directives (an :class:`ArmorDirectiveListRes`)."""
     if len(requests) <= _LIST_ON_LOOP and all(engine.is_quick_read(r) for r in requests):
-        return _json(engine.execute_list(requests, style=values))
-    return _json(await run_in_threadpool(engine.execute_list, requests, style=values))
+        result = engine.execute_list(requests, style=values)
+    else:
+        result = await run_in_threadpool(engine.execute_list, requests, style=values)
+    return result.__pydantic_serializer__.to_json(result)
 
 
-async def _well_formed(
-    request: Request, model: type[Message]
-) -> tuple[ArmorEngine, Message, ValueStyle] | None:
-    """The engine, body and value style of a request FastAPI would accept as is, else None."""
-    content_type = request.headers.get("content-type", "")
-    if content_type.partition(";")[0].strip().lower() != "application/json":
-        return None
-    values = request.query_params.get("values", "armor")
-    if values not in _STYLES or MAX_BODY_SIZE_SCOPE_KEY in request.scope:
-        return None
-    settings: Settings = request.app.state.settings
-    if settings.token is not None:
-        try:
-            await require_token(settings, request.headers.get("authorization"))
-        except HTTPException:
-            return None
-    body = await request.body()
-    if not body:
-        return None
-    try:
-        message = model.model_validate_json(body)
-    except ValidationError:
-        return None
-    engine: ArmorEngine = request.app.state.armor
-    return engine, message, cast(ValueStyle, values)
+def _json(content: bytes) -> Response:
+    return Response(content, media_type="application/json")
 
 
-def _shortcut(
-    model: type[Message], answer: Callable[[ArmorEngine, Message, ValueStyle], Awaitable[Response]]
-) -> Callable[[Request], Awaitable[Response | None]]:
-    async def shortcut(request: Request) -> Response | None:
-        parsed = await _well_formed(request, model)
-        return None if parsed is None else await answer(*parsed)
-
-    return shortcut
-
-
-_SHORTCUTS = {
-    "/armor_interface_srv": _shortcut(ArmorRequest, _single),
-    "/armor_interface_serialized_srv": _shortcut(ArmorDirectiveListReq, _list),
-}
-
-
-class _ArmorRoute(APIRoute):
-    """FastAPI's route, with the shortcut for well-formed requests (see the module docstring)."""
-
-    def get_route_handler(self) -> Handler:
-        usual = super().get_route_handler()
-        shortcut = _SHORTCUTS.get(self.path)
-        if shortcut is None:
-            return usual
-
-        async def handler(request: Request) -> Response:
-            response = await shortcut(request)
-            return response if response is not None else await usual(request)
-
-        return handler
-
-
-router = APIRouter(tags=["armor"], dependencies=[Depends(require_token)], route_class=_ArmorRoute)
+router = APIRouter(tags=["armor"], dependencies=[Depends(require_token)])
 
 
 @router.post("/armor_interface_srv", summary="One ARMOR directive", response_model=ArmorResponse)
@@ -138,7 +83,7 @@ async def armor_interface_srv(
     body: ArmorRequest, engine: ArmorDep, values: Values = "armor"
 ) -> Response:
     """``armor_msgs/ArmorDirective``: every protocol outcome, failures included, answers 200."""
-    return await _single(engine, body, values)
+    return _json(await answer_single(engine, body.armor_request, values))
 
 
 @router.post(
@@ -150,4 +95,4 @@ async def armor_interface_serialized_srv(
     body: ArmorDirectiveListReq, engine: ArmorDep, values: Values = "armor"
 ) -> Response:
     """``armor_msgs/ArmorDirectiveList``: in order, one transaction, one response each."""
-    return await _list(engine, body, values)
+    return _json(await answer_list(engine, body.armor_requests, values))
