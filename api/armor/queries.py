@@ -17,12 +17,15 @@ from api.armor.references import Reference
 from ontologies.vocab import (
     OWL_EQUIVALENT_CLASS,
     OWL_INTERSECTION_OF,
+    OWL_NAMED_INDIVIDUAL,
     OWL_NOTHING,
     OWL_NS,
     OWL_ON_CLASS,
     OWL_ON_PROPERTY,
+    OWL_THING,
     RDF_FIRST,
     RDF_REST,
+    RDF_TYPE,
     RDFS_SUBCLASSOF,
     SKOLEM_PREFIX,
     XSD_NS,
@@ -60,14 +63,41 @@ def _column(rows: list[dict[str, NamedNode | Literal]], name: str) -> list[Named
     return [row[name] for row in rows if name in row]
 
 
-def _classes_of(ctx: Context, ind: NamedNode) -> list[NamedNode | Literal]:
-    rows = ctx.session.select(ctx.reference(), "armor_ind_classes", ind=ind, skolem=_SKOLEM)
-    return _column(rows, "class")
+_NOT_CLASSES = frozenset((OWL_THING, OWL_NAMED_INDIVIDUAL))
+
+
+def _classes_of(ctx: Context, ind: NamedNode) -> list[NamedNode]:
+    """Every named class of ``ind`` with all its ancestors, without owl:Thing.
+
+    The answer of ``sparql/armor_ind_classes.rq`` (``?ind rdf:type ?type . ?type
+    rdfs:subClassOf* ?class``, distinct IRIs, neither skolem IRIs nor owl:Thing or
+    owl:NamedIndividual) read as triple patterns: a SPARQL query costs about twice the
+    patterns, and QUERY IND is one of the directives clients send most. The patterns go through
+    the session, so they read both graphs of the reference and the list's own pending writes,
+    as the query does. The traversal passes through class expressions (skolem IRIs) and stops
+    at literals, which cannot be subjects; the classes come in the order they are reached.
+    """
+    reference = ctx.reference()
+    session = ctx.session
+    todo = list(dict.fromkeys(quad.object for quad in session.quads(reference, ind, RDF_TYPE)))
+    seen = set(todo)
+    classes = []
+    while todo:
+        node = todo.pop()
+        if not isinstance(node, NamedNode):
+            continue
+        if node not in _NOT_CLASSES and not node.value.startswith(SKOLEM_PREFIX):
+            classes.append(node)
+        for quad in session.quads(reference, node, RDFS_SUBCLASSOF):
+            if quad.object not in seen:
+                seen.add(quad.object)
+                todo.append(quad.object)
+    return classes
 
 
 def query_ind(ctx: Context) -> Outcome:
     """The classes of an individual; ``success=false`` with code 0 if it has none (ARMOR)."""
-    classes = _classes_of(ctx, ctx.name(0, "individual"))
+    classes: list[NamedNode | Literal] = list(_classes_of(ctx, ctx.name(0, "individual")))
     if not classes:
         return Outcome(success=False)
     return Outcome(queried_objects=_strings(ctx, classes))
@@ -106,7 +136,7 @@ def query_class_ind(ctx: Context) -> Outcome:
     """
     ind = ctx.name(0, "individual")
     bottom = is_true(ctx.args[1]) if len(ctx.args) > 1 else False
-    classes = [c for c in _classes_of(ctx, ind) if isinstance(c, NamedNode)]
+    classes = _classes_of(ctx, ind)
     if not bottom:
         return Outcome(queried_objects=_strings(ctx, list(classes)))
     reference = ctx.reference()
