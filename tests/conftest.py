@@ -49,11 +49,27 @@ class LiveServer:
     client: httpx.Client
 
 
-def _free_port() -> int:
+def free_port() -> int:
+    """A TCP port on 127.0.0.1 that was free a moment ago."""
     with socket.socket() as probe:
         probe.bind(("127.0.0.1", 0))
         port: int = probe.getsockname()[1]
         return port
+
+
+def serve(app: Any, settings: Settings) -> tuple[uvicorn.Server, threading.Thread, str]:
+    """Run ``app`` with uvicorn in a daemon thread on ``settings``' host and port; returns once
+    it serves, with its base URL. Stop it with ``server.should_exit = True; thread.join()``."""
+    config = uvicorn.Config(app, host=settings.host, port=settings.port, log_level="warning")
+    server = uvicorn.Server(config)
+    thread = threading.Thread(target=server.run, daemon=True)
+    thread.start()
+    deadline = time.monotonic() + 30
+    while not server.started:
+        if not thread.is_alive() or time.monotonic() > deadline:
+            raise RuntimeError("the test server did not start")
+        time.sleep(0.02)
+    return server, thread, f"http://{settings.host}:{settings.port}"
 
 
 @pytest.fixture
@@ -63,19 +79,8 @@ def start_server(tmp_path: Path) -> Iterator[Callable[..., LiveServer]]:
 
     def start(**overrides: Any) -> LiveServer:
         overrides.setdefault("data_dir", tmp_path / f"data-{len(running)}")
-        settings = Settings(host="127.0.0.1", port=_free_port(), **overrides)
-        config = uvicorn.Config(
-            create_app(settings), host=settings.host, port=settings.port, log_level="warning"
-        )
-        server = uvicorn.Server(config)
-        thread = threading.Thread(target=server.run, daemon=True)
-        thread.start()
-        deadline = time.monotonic() + 30
-        while not server.started:
-            if not thread.is_alive() or time.monotonic() > deadline:
-                raise RuntimeError("the test server did not start")
-            time.sleep(0.02)
-        url = f"http://{settings.host}:{settings.port}"
+        settings = Settings(host="127.0.0.1", port=free_port(), **overrides)
+        server, thread, url = serve(create_app(settings), settings)
         client = httpx.Client(base_url=url, timeout=60)
         running.append((server, thread, client))
         return LiveServer(url, settings, client)

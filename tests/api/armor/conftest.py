@@ -4,9 +4,7 @@
 fast, and isolate themselves by using a fresh reference name per test.
 """
 
-import socket
 import threading
-import time
 import uuid
 from collections.abc import Callable, Iterator
 from pathlib import Path
@@ -18,16 +16,10 @@ import uvicorn
 
 from api.config import Settings
 from api.main import create_app
+from tests.conftest import free_port, serve
 
 DATA = Path(__file__).parent / "data"
 TEST_IRI = "http://www.semanticweb.org/emarolab/ontologies/armor-test"
-
-
-def _free_port() -> int:
-    with socket.socket() as probe:
-        probe.bind(("127.0.0.1", 0))
-        port: int = probe.getsockname()[1]
-        return port
 
 
 class Armor:
@@ -88,19 +80,8 @@ class Armor:
 def start_live_server(
     data_dir: Path, **overrides: Any
 ) -> tuple[uvicorn.Server, threading.Thread, str]:
-    settings = Settings(host="127.0.0.1", port=_free_port(), data_dir=data_dir, **overrides)
-    config = uvicorn.Config(
-        create_app(settings), host=settings.host, port=settings.port, log_level="warning"
-    )
-    server = uvicorn.Server(config)
-    thread = threading.Thread(target=server.run, daemon=True)
-    thread.start()
-    deadline = time.monotonic() + 30
-    while not server.started:
-        if not thread.is_alive() or time.monotonic() > deadline:
-            raise RuntimeError("the test server did not start")
-        time.sleep(0.02)
-    return server, thread, f"http://{settings.host}:{settings.port}"
+    settings = Settings(host="127.0.0.1", port=free_port(), data_dir=data_dir, **overrides)
+    return serve(create_app(settings), settings)
 
 
 @pytest.fixture(scope="module")

@@ -6,9 +6,6 @@ off (every request then takes FastAPI's usual route); the status, the headers (b
 the body bytes must be the same. A counter in front of FastAPI's stack tells which path answered.
 """
 
-import socket
-import threading
-import time
 from collections.abc import Callable, Iterator
 from dataclasses import dataclass
 from pathlib import Path
@@ -16,7 +13,6 @@ from typing import Any
 
 import httpx
 import pytest
-import uvicorn
 from fastapi import FastAPI
 from starlette.types import ASGIApp, Receive, Scope, Send
 
@@ -26,17 +22,11 @@ from api.deps import require_token
 from api.fast_armor import ArmorFastPath
 from api.main import create_app
 from kg.errors import StoreError
+from tests.conftest import free_port, serve
 
 SINGLE = "/armor_interface_srv"
 LIST = "/armor_interface_serialized_srv"
 REF = "fast"
-
-
-def _free_port() -> int:
-    with socket.socket() as probe:
-        probe.bind(("127.0.0.1", 0))
-        port: int = probe.getsockname()[1]
-        return port
 
 
 class _Counting:
@@ -85,19 +75,10 @@ def _same(fast: httpx.Response, usual: httpx.Response) -> None:
 def _serve(
     data_dir: Path, prepare: Callable[[FastAPI], None] = lambda app: None, **overrides: Any
 ) -> Iterator[Served]:
-    settings = Settings(host="127.0.0.1", port=_free_port(), data_dir=data_dir, **overrides)
+    settings = Settings(host="127.0.0.1", port=free_port(), data_dir=data_dir, **overrides)
     app = create_app(settings)
     prepare(app)
-    config = uvicorn.Config(app, host=settings.host, port=settings.port, log_level="critical")
-    server = uvicorn.Server(config)
-    thread = threading.Thread(target=server.run, daemon=True)
-    thread.start()
-    deadline = time.monotonic() + 30
-    while not server.started:
-        if not thread.is_alive() or time.monotonic() > deadline:
-            raise RuntimeError("the test server did not start")
-        time.sleep(0.02)
-    url = f"http://{settings.host}:{settings.port}"
+    server, thread, url = serve(app, settings)
     with httpx.Client(base_url=url, timeout=60) as http:
         http.get("/health").raise_for_status()  # builds the middleware stack
         layer: Any = app.middleware_stack
