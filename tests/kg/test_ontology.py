@@ -20,13 +20,13 @@ def test_first_load_then_unchanged(empty_store: Store) -> None:
 
 
 def test_new_version_replaces_the_old_one(store_with_ontology: Store, tmp_path: Path) -> None:
-    edited = ENGRAM_TTL.read_text().replace("ontology/0.2.1>", "ontology/9.9.9>")
+    edited = ENGRAM_TTL.read_text().replace("ontology/0.2.2>", "ontology/9.9.9>")
     edited = edited.replace("engram:Cone a owl:Class ;", "engram:Cone a owl:Thing ;")
     path = tmp_path / "engram.ttl"
     path.write_text(edited)
     status = ensure_ontology(store_with_ontology, path)
     assert status.action == "replaced"
-    assert status.previous == NamedNode("https://w3id.org/engram/ontology/0.2.1")
+    assert status.previous == NamedNode("https://w3id.org/engram/ontology/0.2.2")
     assert stored_version(store_with_ontology) == NamedNode(
         "https://w3id.org/engram/ontology/9.9.9"
     )
@@ -54,7 +54,7 @@ def test_malformed_ontology_file_changes_nothing(
     store_with_ontology: Store, tmp_path: Path
 ) -> None:
     path = tmp_path / "broken.ttl"
-    path.write_text(ENGRAM_TTL.read_text().replace("0.2.1>", "0.3.0>") + "\nengram:oops .")
+    path.write_text(ENGRAM_TTL.read_text().replace("0.2.2>", "0.3.0>") + "\nengram:oops .")
     before = len(store_with_ontology)
     with pytest.raises(SyntaxError):
         ensure_ontology(store_with_ontology, path)

@@ -1,0 +1,63 @@
+"""HermiT opens the export of a memory after a sleep pass forgot classes (the trash graph).
+
+A forgotten class is written ``C rdfs:subClassOf engram:Trash`` and its experienced scenes move
+to ``trash`` still typed ``engram:ExperiencedScene`` and ``C`` (and with ``engram:hasPrimitive``,
+whose domain is ``ExperiencedScene``). The T-Box once made ``engram:Scene`` and ``engram:Trash``
+disjoint, which made every forgotten scene both, the export inconsistent and HermiT (through
+owlready2 or Protégé) refuse it; Trash is now a status, disjoint only with GeometricPrimitive
+and MemoryPolicy.
+"""
+
+import shutil
+from pathlib import Path
+
+import pytest
+
+from kg import export
+from ontologies.vocab import GRAPHS
+from reasoners.memory import SceneMemory
+
+from .conftest import FakeClock
+from .test_forgetting import BIG, SMALL
+
+pytestmark = [
+    pytest.mark.slow,
+    pytest.mark.skipif(
+        shutil.which("java") is None, reason="HermiT needs Java; scripts/test installs it"
+    ),
+]
+
+
+@pytest.fixture
+def slept(memory: SceneMemory, clock: FakeClock) -> SceneMemory:
+    """A memory whose sleep passes forgot the class of a scene seen once, with that scene."""
+    pytest.importorskip("owlready2")
+    for _ in range(30):
+        memory.store_scene(BIG)
+    for _ in range(5):
+        memory.retrieve(BIG)
+    memory.store_scene(SMALL)
+    clock.advance(seconds=memory.policy.forgetGracePeriodSeconds + 1)
+    forgotten = [
+        cls
+        for _ in range(memory.policy.weakPassesToForget)
+        for cls in memory.sleep().forgotten_classes
+    ]
+    assert forgotten and set(forgotten) <= set(memory.trash())
+    assert len(memory.trash()) > len(forgotten)  # the forgotten scene went with its class
+    return memory
+
+
+def consistent(memory: SceneMemory, graphs: list[str], path: Path) -> bool:
+    from .hermit_cli import is_consistent
+
+    path.write_bytes(export(memory.store, graphs, "rdfxml"))
+    return is_consistent(path, timeout=300)
+
+
+def test_the_export_without_the_trash_is_consistent(slept: SceneMemory, tmp_path: Path) -> None:
+    assert consistent(slept, ["tbox", "memory", "episodic"], tmp_path / "live.owl")
+
+
+def test_the_export_with_the_trash_is_consistent(slept: SceneMemory, tmp_path: Path) -> None:
+    assert consistent(slept, list(GRAPHS), tmp_path / "all.owl")
