@@ -16,7 +16,8 @@ with the other load than the rates do.
 50k triples), loaded with LOAD FILE into an engine on an on-disk store:
 
 1. a full REASON directive through the engine (reading the reference, the closure, and the one
-   transaction writing every inferred triple), against owlrl 7.6.2's
+   all-or-nothing write of every inferred triple, bulk loaded by ``kg.Store.fill_graph``),
+   against owlrl 7.6.2's
    ``DeductiveClosure(OWLRL_Semantics).expand()`` on an rdflib graph of the same triples (parse
    not timed); owlrl at 50k only with ``--owlrl-50k`` (about 100 s). The ratio is owlrl ÷ the
    median of the REASONs run just before and after owlrl, in the same process. Identity: the

@@ -4,9 +4,10 @@ What it measures, on synthetic scene ontologies (``reasoners.owl_rl.synthetic``:
 chains, defined classes with existential, data-range, value and intersection restrictions,
 inverse / symmetric / transitive properties, data properties) of about 10k and 50k triples:
 
-1. Full REASON: ``materialise()`` on a fresh in-memory store holding the ontology in the
-   asserted graph: reading the graph, the closure, and the one transaction writing every
-   inferred triple, all timed.
+1. Full REASON: ``materialise()`` on a fresh store (in memory; on disk, as served, with
+   ``--disk``) holding the ontology in the asserted graph: reading the graph, the closure, and
+   the one all-or-nothing write of every inferred triple (bulk loaded, see
+   ``kg.Store.fill_graph``), all timed.
 2. owlrl 7.6.2: ``DeductiveClosure(OWLRL_Semantics).expand()`` on an rdflib ``Graph`` parsed
    from the same N-Triples (parsing not timed). By default at 10k only (about 25 s a run);
    ``--owlrl-50k`` adds 50k (about 2 minutes a run). Nothing is extrapolated: a size without an
@@ -28,12 +29,16 @@ Run from the repository root::
     .venv/bin/python bench/reasoning.py                  # 10k + 50k, owlrl at 10k, 3 rounds
     .venv/bin/python bench/reasoning.py --owlrl-50k      # owlrl at 50k too (slow)
     .venv/bin/python bench/reasoning.py --repeats 1 --incremental 10
+    .venv/bin/python bench/reasoning.py --disk --sizes 50000 --owlrl-50k   # as served
 """
 
 import argparse
+import atexit
 import os
 import platform
+import shutil
 import statistics
+import tempfile
 import time
 
 import owlrl
@@ -54,8 +59,11 @@ XSD = "http://www.w3.org/2001/XMLSchema#"
 _ERRORS = "http://www.daml.org/2002/03/agents/agent-ont#"
 
 
+_DISK: list[str] = []  # a directory for on-disk stores (--disk), else in-memory stores
+
+
 def _store(document: bytes) -> Store:
-    store = Store()
+    store = Store(tempfile.mkdtemp(dir=_DISK[0])) if _DISK else Store()
     with store.transaction() as tx:
         tx.load(document, format=RdfFormat.N_TRIPLES, graph=ASSERTED)
     return store
@@ -138,10 +146,16 @@ def main() -> None:
     parser.add_argument("--owlrl-50k", action="store_true", help="run owlrl at 50k as well")
     parser.add_argument("--incremental", type=int, default=20, help="incremental REASONs at 50k")
     parser.add_argument("--sizes", default="10000,50000", help="ontology sizes in triples")
+    parser.add_argument("--disk", action="store_true", help="on-disk stores (as served)")
     args = parser.parse_args()
+    if args.disk:
+        _DISK.append(tempfile.mkdtemp(prefix="engram-bench-"))
+        atexit.register(shutil.rmtree, _DISK[0], True)
     sizes = [int(s) for s in args.sizes.split(",")]
     python = platform.python_version()
-    print(f"# REASON vs owlrl {owlrl.__version__}: Python {python}, {os.cpu_count()} CPUs")
+    kind = "on-disk" if args.disk else "in-memory"
+    print(f"# REASON ({kind} stores) vs owlrl {owlrl.__version__}: Python {python}, ", end="")
+    print(f"{os.cpu_count()} CPUs, load average {os.getloadavg()[0]:.2f}")
 
     for size in sizes:
         document = ("\n".join(scene_ontology(size, seed=1)) + "\n").encode()

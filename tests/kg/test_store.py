@@ -1,5 +1,6 @@
 """Reading the store through named queries with bound terms, and the tracer that sees it all."""
 
+import logging
 from pathlib import Path
 
 import pytest
@@ -79,3 +80,143 @@ def test_backup_reopens_with_the_same_content(disk_store: Store, tmp_path: Path)
     assert copy.graph_sizes() == disk_store.graph_sizes()
     with pytest.raises(FileExistsError):
         disk_store.backup(target)
+
+
+# Bulk writes (Store.fill_graph, Store.recover_bulk_writes) -------------------------------------
+# (imports here: this section was appended to the file)
+import signal  # noqa: E402
+import subprocess  # noqa: E402
+import sys  # noqa: E402
+import textwrap  # noqa: E402
+import threading  # noqa: E402
+import time  # noqa: E402
+
+from pyoxigraph import QuerySolutions  # noqa: E402
+
+from kg import TransactionError  # noqa: E402
+from ontologies.vocab import BULK_WRITES  # noqa: E402
+
+_BULK_GRAPH = NamedNode("https://w3id.org/engram/graph/ref/bulk/inferred")
+
+
+def _bulk_document(n: int) -> bytes:
+    lines = [f'<http://ex.org/s{i}> <http://ex.org/p{i % 7}> "{i}" .\n' for i in range(n)]
+    return "".join(lines).encode()
+
+
+def _markers(store: Store) -> list[object]:
+    return list(store.quads(graph=BULK_WRITES))
+
+
+def test_fill_graph_writes_every_triple_and_leaves_no_marker(tmp_path: Path) -> None:
+    store = Store(tmp_path / "store")
+    with store.transaction() as tx:
+        tx.insert(engram("Scene-1"), RDFS_LABEL, Literal("kept"), MEMORY)
+    before = store.generation
+    store.fill_graph(_BULK_GRAPH, _bulk_document(3_000))
+    assert store.generation == before + 1
+    assert store.graph_sizes() == {MEMORY.value: 1, _BULK_GRAPH.value: 3_000}
+    assert _markers(store) == []
+    objects = {q.object for q in store.quads(NamedNode("http://ex.org/s42"), graph=_BULK_GRAPH)}
+    assert objects == {Literal("42")}
+
+
+def test_fill_graph_refuses_a_graph_that_holds_triples_and_writes_nothing(
+    empty_store: Store,
+) -> None:
+    with empty_store.transaction() as tx:
+        tx.insert(engram("old"), RDFS_LABEL, Literal("old"), _BULK_GRAPH)
+    with pytest.raises(ValueError, match="holds triples, expected an empty graph"):
+        empty_store.fill_graph(_BULK_GRAPH, _bulk_document(10))
+    assert empty_store.graph_sizes() == {_BULK_GRAPH.value: 1}
+    with pytest.raises(TypeError, match="NamedNode"):
+        empty_store.fill_graph("not a graph", _bulk_document(1))  # type: ignore[arg-type]
+
+
+def test_fill_graph_with_malformed_ntriples_leaves_the_graph_empty(tmp_path: Path) -> None:
+    store = Store(tmp_path / "store")
+    document = _bulk_document(2_000) + b"<http://ex.org/broken> this is not N-Triples .\n"
+    with pytest.raises(TransactionError, match="graph left empty"):
+        store.fill_graph(_BULK_GRAPH, document)
+    assert store.graph_sizes() == {}
+    assert _markers(store) == []
+
+
+def test_failure_after_the_bulk_load_leaves_the_graph_empty(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    store = Store(tmp_path / "store")
+
+    def fail(self: Store, marker: object) -> None:
+        assert len(list(self.quads(graph=_BULK_GRAPH))) == 1_000  # loaded, not yet finished
+        raise OSError("injected failure between the load and the marker's removal")
+
+    monkeypatch.setattr(Store, "_end_bulk_write", fail)
+    with pytest.raises(TransactionError, match="injected failure"):
+        store.fill_graph(_BULK_GRAPH, _bulk_document(1_000))
+    assert store.graph_sizes() == {}
+    assert _markers(store) == []
+
+
+CRASHING_BULK_WRITER = textwrap.dedent(
+    """
+    import os, signal, sys
+    from pyoxigraph import Literal, NamedNode
+    from kg import Store
+    from ontologies.vocab import MEMORY, RDFS_LABEL, engram
+
+    store = Store(sys.argv[1])
+    with store.transaction() as tx:
+        tx.insert(engram("Scene-1"), RDFS_LABEL, Literal("kept"), MEMORY)
+    store.flush()
+    Store._end_bulk_write = lambda self, marker: os.kill(os.getpid(), signal.SIGKILL)
+    lines = [f'<http://ex.org/s{i}> <http://ex.org/p> "{i}" .' for i in range(5000)]
+    store.fill_graph(NamedNode(sys.argv[2]), ("\\n".join(lines) + "\\n").encode())
+    print("not killed", flush=True)
+    """
+)
+
+
+def test_a_process_killed_during_a_bulk_write_reopens_without_the_half_written_graph(
+    tmp_path: Path, caplog: pytest.LogCaptureFixture
+) -> None:
+    path = tmp_path / "store"
+    script = [sys.executable, "-c", CRASHING_BULK_WRITER, str(path), _BULK_GRAPH.value]
+    result = subprocess.run(script, capture_output=True, text=True, timeout=60)
+    assert result.returncode == -signal.SIGKILL, result.stderr
+    with caplog.at_level(logging.WARNING, logger="kg.store"):
+        store = Store(path)  # opening recovers
+    assert f"clearing {_BULK_GRAPH}" in caplog.text, "the writer died before the marker's removal"
+    assert store.graph_sizes() == {MEMORY.value: 1}
+    assert _markers(store) == []
+    assert store.recover_bulk_writes() == []
+
+
+def test_readers_see_a_filled_graph_empty_or_whole(tmp_path: Path) -> None:
+    """Oxigraph ingests the bulk loader's files at once: a reader never counts a part."""
+    store = Store(tmp_path / "store")
+    query = f"SELECT (COUNT(*) AS ?n) {{ GRAPH {_BULK_GRAPH} {{ ?s ?p ?o }} }}"
+    reads: list[tuple[float, int]] = []
+    done = threading.Event()
+
+    def read() -> None:
+        while not done.is_set():
+            rows = store.query_graphs(query, graphs=[_BULK_GRAPH])
+            assert isinstance(rows, QuerySolutions)
+            count = int(next(iter(rows))["n"].value)
+            reads.append((time.perf_counter(), count))
+            time.sleep(0.001)
+
+    reader = threading.Thread(target=read)
+    reader.start()
+    try:
+        time.sleep(0.02)
+        start = time.perf_counter()
+        store.fill_graph(_BULK_GRAPH, _bulk_document(60_000))
+        end = time.perf_counter()
+        time.sleep(0.02)
+    finally:
+        done.set()
+        reader.join()
+    assert any(start < at < end for at, _ in reads), "the reader ran during the load"
+    assert {count for _, count in reads} == {0, 60_000}
