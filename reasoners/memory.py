@@ -564,7 +564,9 @@ class SceneMemory:
                 and not record.pinned
             ]
             self._forget(tx, doomed_classes, doomed_items, now)
-            zetas = m.zetas()  # systems consolidation: every class's stored ζ brought up to date
+            if doomed_classes:  # the graph changed: ζ of the forgotten classes' neighbours too
+                zetas = m.zetas()
+            # systems consolidation: every class's stored ζ brought up to date
             for cls, record in m.classes.items():
                 self._write_score(tx, record, zetas[cls])
                 self._set_level(tx, record, class_levels[cls], weak_counts[cls], MEMORY)

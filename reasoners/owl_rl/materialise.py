@@ -436,16 +436,11 @@ def _fill(
     triples), as N-Triples text, which the engine's facts already are; a small one through a
     transaction, which costs less below :data:`_BULK_MIN` triples.
     """
-    lines: list[str] = []
-    for p, index in engine.sp.items():
-        for s, objects in index.items():
-            if s[0] != '"':
-                head = f"{s} {p} "
-                lines.extend([f"{head}{o} .\n" for o in objects if (s, p, o) not in asserted])
-    if len(lines) < _BULK_MIN:
-        return _write(store, graph, _stream_outputs(engine, asserted), [], terms)
-    store.fill_graph(graph, "".join(lines).encode())
-    return len(lines), True
+    facts = list(_stream_outputs(engine, asserted))
+    if len(facts) < _BULK_MIN:
+        return _write(store, graph, facts, [], terms)
+    store.fill_graph(graph, "".join([f"{s} {p} {o} .\n" for s, p, o in facts]).encode())
+    return len(facts), True
 
 
 def _write(
