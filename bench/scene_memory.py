@@ -162,6 +162,7 @@ def run(size: int, args: argparse.Namespace, rng: random.Random) -> dict[str, ob
             hermit = hermit_seconds(memory, scene, workdir, args.hermit_timeout)
         sleep_s = timed(memory.sleep)
         classes = len(memory.classes())
+        store.flush()  # as the server does when it stops
         del memory, store
         gc.collect()  # closes the store, which one process at a time may open
         began = time.perf_counter()
