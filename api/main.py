@@ -27,13 +27,21 @@ log = logging.getLogger(__name__)
 
 
 async def _sleep_when_due(memory: SceneMemory, period_s: float) -> None:
-    """Check every ``period_s`` whether the policy's sleep interval has passed, and sleep then.
+    """Check every ``period_s`` whether the policy's sleep interval has passed, and sleep then;
+    then flush what the store committed since the last check.
 
-    Updates also trigger the pass (every N of them); this covers a memory left alone.
+    Updates also trigger the pass (every N of them); this covers a memory left alone. The flush
+    writes the store's in-memory tables to its files, so that opening it after a crash replays
+    only what came after (committed writes are safe either way, in the write-ahead log).
     """
+    store = memory.store
+    flushed = store.generation
     while True:
         await asyncio.sleep(period_s)
         await run_in_threadpool(sleep_if_due, memory)
+        if store.generation != flushed:
+            flushed = store.generation
+            await run_in_threadpool(store.flush)
 
 
 def create_app(settings: Settings | None = None) -> FastAPI:
