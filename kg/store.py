@@ -362,6 +362,12 @@ def _update_text(cleared: list[NamedNode], deletes: list[Quad], inserts: list[Qu
 
 
 def _quad_block(quads: list[Quad]) -> str:
+    """``GRAPH <g> { s p o . ... }`` per graph (one string per triple from pyoxigraph: the
+    update texts of a sleep pass hold tens of thousands of quads)."""
+    by_graph: dict[NamedNode, list[str]] = {}
+    for quad in quads:
+        by_graph.setdefault(quad.graph_name, []).append(str(quad.triple))  # type: ignore[arg-type]
     return "\n".join(
-        f"GRAPH {q.graph_name} {{ {q.subject} {q.predicate} {q.object} }}" for q in quads
+        "GRAPH {} {{ {} }}".format(graph, " .\n".join(triples))
+        for graph, triples in by_graph.items()
     )
