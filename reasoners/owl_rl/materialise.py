@@ -152,6 +152,12 @@ _BULK_MIN = 5_000
 
 
 def _slot(store: Store, asserted: NamedNode, inferred: NamedNode) -> _Slot:
+    """The state kept for a pair of graphs; ``TypeError`` for a graph that is not a NamedNode,
+    ``ValueError`` if the two are one graph."""
+    _check_graph("asserted", asserted)
+    _check_graph("inferred", inferred)
+    if asserted == inferred:
+        raise ValueError(f"inferred: got {inferred}, expected a graph other than asserted")
     with _slots_lock:
         return _slots.setdefault(store, {}).setdefault(_key(asserted, inferred), _Slot())
 
@@ -247,10 +253,6 @@ def materialise(
     that is not a NamedNode.
     """
     _check_reasoner(reasoner)
-    _check_graph("asserted", asserted)
-    _check_graph("inferred", inferred)
-    if asserted == inferred:
-        raise ValueError(f"inferred: got {inferred}, expected a graph other than asserted")
     slot = _slot(store, asserted, inferred)
     with slot.lock, _gc_paused():
         try:
@@ -500,8 +502,6 @@ def record(
     A retraction, or more new triples than an incremental run is worth, drops the state: the
     next REASON recomputes.
     """
-    _check_graph("asserted", asserted)
-    _check_graph("inferred", inferred)
     slot = _slot(store, asserted, inferred)
     with slot.lock:
         state = slot.state
@@ -519,8 +519,6 @@ def is_consistent(store: Store, *, asserted: NamedNode, inferred: NamedNode) -> 
     Uses the last REASON's closure when nothing was written since; otherwise computes the
     closure in memory (nothing is written).
     """
-    _check_graph("asserted", asserted)
-    _check_graph("inferred", inferred)
     state = _slot(store, asserted, inferred).state
     if (
         state is not None

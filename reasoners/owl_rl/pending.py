@@ -178,10 +178,6 @@ def prepare(
     that is not a NamedNode; the kept state is then dropped.
     """
     _check_reasoner(reasoner)
-    _check_graph("asserted", asserted)
-    _check_graph("inferred", inferred)
-    if asserted == inferred:
-        raise ValueError(f"inferred: got {inferred}, expected a graph other than asserted")
     slot = _slot(store, asserted, inferred)
     if after is not None:
         after._supersede()

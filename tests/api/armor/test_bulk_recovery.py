@@ -3,34 +3,13 @@
 import signal
 import subprocess
 import sys
-import textwrap
 from collections.abc import Callable
 from pathlib import Path
 
 from api.config import Settings
 from tests.conftest import LiveServer
+from tests.reasoners.owl_rl.conftest import KILLED_REASON
 
-KILLED_REASON = textwrap.dedent(
-    """
-    import os, signal, sys
-    from pyoxigraph import RdfFormat
-    from kg import Store
-    from ontologies.vocab import reference_graph
-    from reasoners.owl_rl import materialise
-    from reasoners.owl_rl.synthetic import scene_ontology
-
-    asserted, inferred = reference_graph("onto"), reference_graph("onto", inferred=True)
-    store = Store(sys.argv[1])
-    with store.transaction() as tx:
-        tx.load(
-            "\\n".join(scene_ontology(3_000, seed=7)).encode(),
-            format=RdfFormat.N_TRIPLES,
-            graph=asserted,
-        )
-    Store._end_bulk_write = lambda self, marker: os.kill(os.getpid(), signal.SIGKILL)
-    materialise(store, asserted=asserted, inferred=inferred)
-    """
-)
 COUNT = "SELECT (COUNT(*) AS ?n) WHERE { GRAPH <%s> { ?s ?p ?o } }"
 REF = "https://w3id.org/engram/graph/ref/onto"
 
@@ -47,7 +26,7 @@ def test_the_server_clears_a_closure_whose_bulk_write_was_killed(
     data_dir = tmp_path / "data"
     store_dir = Settings(data_dir=data_dir).store_dir
     killed = subprocess.run(
-        [sys.executable, "-c", KILLED_REASON, str(store_dir)],
+        [sys.executable, "-c", KILLED_REASON, str(store_dir), "onto"],
         capture_output=True,
         text=True,
         timeout=120,

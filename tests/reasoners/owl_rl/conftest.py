@@ -1,5 +1,6 @@
 """Helpers for the OWL 2 RL tests: load a reference, read what REASON wrote, ask owlrl."""
 
+import textwrap
 from collections.abc import Callable
 
 import owlrl
@@ -15,6 +16,31 @@ from ontologies.vocab import reference_graph
 
 ASSERTED = reference_graph("test")
 INFERRED = reference_graph("test", inferred=True)
+KILLED_REASON = textwrap.dedent(
+    """
+    import os, signal, sys
+    from pyoxigraph import RdfFormat
+    from kg import Store
+    from ontologies.vocab import reference_graph
+    from reasoners.owl_rl import materialise
+    from reasoners.owl_rl.synthetic import scene_ontology
+
+    name = sys.argv[2]
+    asserted, inferred = reference_graph(name), reference_graph(name, inferred=True)
+    store = Store(sys.argv[1])
+    with store.transaction() as tx:
+        tx.load(
+            "\\n".join(scene_ontology(3_000, seed=7)).encode(),
+            format=RdfFormat.N_TRIPLES,
+            graph=asserted,
+        )
+    Store._end_bulk_write = lambda self, marker: os.kill(os.getpid(), signal.SIGKILL)
+    materialise(store, asserted=asserted, inferred=inferred)
+    print("not killed", flush=True)
+    """
+)
+"""A script (store path, reference name) that loads a 3k-triple scene ontology and is killed
+between the bulk load of its full REASON and the end of that write."""
 Loader = Callable[[str | bytes, RdfFormat], Store]
 
 

@@ -6,7 +6,6 @@ import logging
 import signal
 import subprocess
 import sys
-import textwrap
 from pathlib import Path
 
 import pytest
@@ -17,7 +16,14 @@ from ontologies.vocab import BULK_WRITES, RDF_TYPE
 from reasoners.owl_rl import AssertedChanges, materialise
 from reasoners.owl_rl.synthetic import EX, scene_ontology
 
-from .conftest import ASSERTED, INFERRED, Loader, graph_triples, owlrl_inferences
+from .conftest import (
+    ASSERTED,
+    INFERRED,
+    KILLED_REASON,
+    Loader,
+    graph_triples,
+    owlrl_inferences,
+)
 
 materialise_module = importlib.import_module("reasoners.owl_rl.materialise")
 SCENE = "\n".join(scene_ontology(3_000, seed=7)).encode()
@@ -117,36 +123,12 @@ def test_a_failure_between_the_load_and_its_end_leaves_the_old_graph_and_a_clean
     assert not report.incremental and report.added == len(graph_triples(reopened))
 
 
-KILLED_REASON = textwrap.dedent(
-    """
-    import os, signal, sys
-    from pyoxigraph import RdfFormat
-    from kg import Store
-    from ontologies.vocab import reference_graph
-    from reasoners.owl_rl import materialise
-    from reasoners.owl_rl.synthetic import scene_ontology
-
-    asserted, inferred = reference_graph("test"), reference_graph("test", inferred=True)
-    store = Store(sys.argv[1])
-    with store.transaction() as tx:
-        tx.load(
-            "\\n".join(scene_ontology(3_000, seed=7)).encode(),
-            format=RdfFormat.N_TRIPLES,
-            graph=asserted,
-        )
-    Store._end_bulk_write = lambda self, marker: os.kill(os.getpid(), signal.SIGKILL)
-    materialise(store, asserted=asserted, inferred=inferred)
-    print("not killed", flush=True)
-    """
-)
-
-
 def test_a_process_killed_during_a_full_reason_reopens_without_a_partial_closure(
     tmp_path: Path, monkeypatch: pytest.MonkeyPatch, caplog: pytest.LogCaptureFixture
 ) -> None:
     path = tmp_path / "store"
     result = subprocess.run(
-        [sys.executable, "-c", KILLED_REASON, str(path)],
+        [sys.executable, "-c", KILLED_REASON, str(path), "test"],
         capture_output=True,
         text=True,
         timeout=120,
