@@ -51,7 +51,14 @@ from ontologies.vocab import (
     XSD_NS,
 )
 
-__all__ = ["DEFAULT_GRAPHS", "FORMATS", "ExportFormat", "export", "export_triples"]
+__all__ = [
+    "DEFAULT_GRAPHS",
+    "FORMATS",
+    "ExportFormat",
+    "export",
+    "export_triples",
+    "typed_cardinality",
+]
 
 ExportFormat = Lit["rdfxml", "turtle"]
 FORMATS: dict[str, tuple[RdfFormat, str]] = {
@@ -113,7 +120,7 @@ def export_triples(store: Store, graphs: Sequence[str] = DEFAULT_GRAPHS) -> list
     content: dict[Triple, None] = {}  # ordered and without duplicates
     for name in graphs:
         for quad in store.quads(graph=GRAPHS[name]):
-            content[deskolemise.triple(_typed_cardinality(quad.triple))] = None
+            content[deskolemise.triple(typed_cardinality(quad.triple))] = None
     headers = {t.subject for t in content if t.predicate == RDF_TYPE and t.object == OWL_ONTOLOGY}
     sources = [t.object for t in content if t.subject in headers and t.predicate == OWL_VERSION_IRI]
     # Sorted so that two exports of the same memory differ only in blank node labels.
@@ -194,7 +201,8 @@ def _sort_key(triple: Triple) -> tuple[bool, str, str, str]:
     return (isinstance(subject, BlankNode), str(subject), str(triple.predicate), str(triple.object))
 
 
-def _typed_cardinality(triple: Triple) -> Triple:
+def typed_cardinality(triple: Triple) -> Triple:
+    """The store keeps cardinalities as xsd:integer; OWL wants xsd:nonNegativeInteger."""
     if triple.predicate in CARDINALITY_PREDICATES and isinstance(triple.object, Literal):
         return Triple(
             triple.subject,

@@ -14,17 +14,16 @@ import re
 import tempfile
 from pathlib import Path
 
-from pyoxigraph import Literal, NamedNode, Quad, RdfFormat, Triple, parse, serialize
+from pyoxigraph import NamedNode, Quad, RdfFormat, Triple, parse, serialize
 
 from api.armor.errors import ResourceError
 from api.armor.owlxml import OwlXmlError, owlxml_triples
+from kg.export import typed_cardinality
 from kg.skolem import Deskolemiser, Skolemiser
 from ontologies.vocab import (
-    CARDINALITY_PREDICATES,
     OWL_ONTOLOGY,
     PREFIXES,
     RDF_TYPE,
-    XSD_NON_NEGATIVE_INTEGER,
 )
 
 __all__ = ["FORMATS", "detect_format", "parse_ontology", "write_ontology"]
@@ -88,7 +87,7 @@ def write_ontology(quads: list[Quad], path: Path, kind: str) -> None:
     OWL/XML references are written as RDF/XML. Raises :class:`ResourceError` on failure.
     """
     deskolemise = Deskolemiser()
-    triples = [deskolemise.triple(_typed_cardinality(q.triple)) for q in quads]
+    triples = [deskolemise.triple(typed_cardinality(q.triple)) for q in quads]
     rdf_format = FORMATS.get(kind, RdfFormat.RDF_XML)
     try:
         body = serialize(triples, format=rdf_format, prefixes=PREFIXES)
@@ -102,17 +101,6 @@ def write_ontology(quads: list[Quad], path: Path, kind: str) -> None:
         os.replace(temp, path)
     except (OSError, ValueError) as error:
         raise ResourceError(f"args[0]: cannot write {path}: {error}") from None
-
-
-def _typed_cardinality(triple: Triple) -> Triple:
-    """The store keeps cardinalities as xsd:integer; OWL wants xsd:nonNegativeInteger."""
-    if triple.predicate in CARDINALITY_PREDICATES and isinstance(triple.object, Literal):
-        return Triple(
-            triple.subject,
-            triple.predicate,
-            Literal(triple.object.value, datatype=XSD_NON_NEGATIVE_INTEGER),
-        )
-    return triple
 
 
 def file_kind(path: str) -> str:
