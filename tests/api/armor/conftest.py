@@ -22,6 +22,26 @@ DATA = Path(__file__).parent / "data"
 TEST_IRI = "http://www.semanticweb.org/emarolab/ontologies/armor-test"
 
 
+def directive(
+    command: str,
+    first: str = "",
+    second: str = "",
+    args: list[str] | None = None,
+    *,
+    ref: str,
+    client: str = "tester",
+) -> dict[str, Any]:
+    """One ``armor_msgs/ArmorDirectiveReq`` as JSON."""
+    return {
+        "client_name": client,
+        "reference_name": ref,
+        "command": command,
+        "primary_command_spec": first,
+        "secondary_command_spec": second,
+        "args": args or [],
+    }
+
+
 class Armor:
     """Sends directives to a running server."""
 
@@ -40,16 +60,7 @@ class Armor:
         client: str = "tester",
         values: str | None = None,
     ) -> dict[str, Any]:
-        body = {
-            "armor_request": {
-                "client_name": client,
-                "reference_name": ref,
-                "command": command,
-                "primary_command_spec": first,
-                "secondary_command_spec": second,
-                "args": args or [],
-            }
-        }
+        body = {"armor_request": directive(command, first, second, args, ref=ref, client=client)}
         params = {"values": values} if values else None
         response = self.http.post("/armor_interface_srv", json=body, params=params)
         assert response.status_code == 200, response.text

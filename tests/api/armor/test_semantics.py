@@ -3,25 +3,7 @@
 import threading
 from collections.abc import Callable
 
-from tests.api.armor.conftest import Armor
-
-
-def _directive(
-    ref: str,
-    command: str,
-    first: str = "",
-    second: str = "",
-    args: list[str] | None = None,
-    client: str = "tester",
-) -> dict[str, object]:
-    return {
-        "client_name": client,
-        "reference_name": ref,
-        "command": command,
-        "primary_command_spec": first,
-        "secondary_command_spec": second,
-        "args": args or [],
-    }
+from tests.api.armor.conftest import Armor, directive
 
 
 def test_mount_conflict_sequence(armor: Armor, loaded: Callable[..., str]) -> None:
@@ -135,11 +117,11 @@ def test_list_executes_in_order_and_later_directives_see_earlier_writes(
     ref = loaded()
     result = armor.call_list(
         [
-            _directive(ref, "ADD", "IND", "CLASS", ["a", "Box"]),
-            _directive(ref, "QUERY", "IND", "CLASS", ["Box"]),
-            _directive(ref, "REMOVE", "IND", "CLASS", ["a", "Box"]),
-            _directive(ref, "QUERY", "IND", "", ["a"]),
-            _directive(ref, "ADD", "IND", "CLASS", ["b", "Box"]),
+            directive("ADD", "IND", "CLASS", ["a", "Box"], ref=ref),
+            directive("QUERY", "IND", "CLASS", ["Box"], ref=ref),
+            directive("REMOVE", "IND", "CLASS", ["a", "Box"], ref=ref),
+            directive("QUERY", "IND", "", ["a"], ref=ref),
+            directive("ADD", "IND", "CLASS", ["b", "Box"], ref=ref),
         ]
     )
     assert result["success"] is True
@@ -162,11 +144,11 @@ def test_a_failing_directive_undoes_the_whole_list(
     armor.call("ADD", "IND", "CLASS", ["kept", "Box"], ref=ref)
     result = armor.call_list(
         [
-            _directive(ref, "ADD", "IND", "CLASS", ["a", "Box"]),
-            _directive(ref, "REMOVE", "IND", "", ["kept"]),
-            _directive(ref, "ADD", "DATAPROP", "IND", ["size", "a", "INTEGER", "huge"]),
-            _directive(ref, "ADD", "IND", "CLASS", ["b", "Box"]),
-            _directive(ref, "MOUNT", client="x"),
+            directive("ADD", "IND", "CLASS", ["a", "Box"], ref=ref),
+            directive("REMOVE", "IND", "", ["kept"], ref=ref),
+            directive("ADD", "DATAPROP", "IND", ["size", "a", "INTEGER", "huge"], ref=ref),
+            directive("ADD", "IND", "CLASS", ["b", "Box"], ref=ref),
+            directive("MOUNT", client="x", ref=ref),
         ]
     )
     assert result["success"] is False
@@ -182,11 +164,11 @@ def test_empty_list_and_list_across_references(armor: Armor, ref: str) -> None:
     assert armor.call_list([]) == {"success": True, "is_consistent": False, "armor_responses": []}
     result = armor.call_list(
         [
-            _directive(ref + "_1", "LOAD", "FILE", "", ["", "http://ex.org/one"]),
-            _directive(ref + "_2", "LOAD", "FILE", "", ["", "http://ex.org/two"]),
-            _directive(ref + "_1", "ADD", "IND", "CLASS", ["a", "A"]),
-            _directive(ref + "_2", "ADD", "IND", "CLASS", ["a", "A"]),
-            _directive(ref + "_1", "QUERY", "IND", "CLASS", ["A"]),
+            directive("LOAD", "FILE", "", ["", "http://ex.org/one"], ref=ref + "_1"),
+            directive("LOAD", "FILE", "", ["", "http://ex.org/two"], ref=ref + "_2"),
+            directive("ADD", "IND", "CLASS", ["a", "A"], ref=ref + "_1"),
+            directive("ADD", "IND", "CLASS", ["a", "A"], ref=ref + "_2"),
+            directive("QUERY", "IND", "CLASS", ["A"], ref=ref + "_1"),
         ]
     )
     assert result["success"] and result["is_consistent"]
@@ -204,8 +186,8 @@ def test_concurrent_writers_lose_no_update_and_readers_see_committed_states(
             # each list adds a pair; a reader must never see one half of a pair
             result = armor.call_list(
                 [
-                    _directive(ref, "ADD", "IND", "CLASS", [f"w{worker}_{i}_a", "Item"]),
-                    _directive(ref, "ADD", "IND", "CLASS", [f"w{worker}_{i}_b", "Item"]),
+                    directive("ADD", "IND", "CLASS", [f"w{worker}_{i}_a", "Item"], ref=ref),
+                    directive("ADD", "IND", "CLASS", [f"w{worker}_{i}_b", "Item"], ref=ref),
                 ]
             )
             if not result["success"]:
