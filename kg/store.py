@@ -9,10 +9,12 @@
 '1'
 """
 
+import functools
 import logging
 import os
 import threading
 from collections.abc import Callable, Iterator, Mapping, Sequence
+from concurrent.futures import ThreadPoolExecutor
 from contextlib import contextmanager
 from pathlib import Path
 from typing import Any
@@ -76,6 +78,7 @@ class Store:
         self._write_lock = threading.Lock()
         self._tracers: list[Tracer] = [tracer] if tracer else []
         self._generation = 0
+        self._committer: ThreadPoolExecutor | None = None
         if self.path is not None:
             self.recover_bulk_writes()
 
@@ -202,20 +205,47 @@ class Store:
     # Writes ------------------------------------------------------------------------------------
 
     @contextmanager
-    def transaction(self) -> Iterator[Transaction]:
+    def transaction(
+        self, *, alongside: Callable[[], object] | None = None
+    ) -> Iterator[Transaction]:
         """Collect changes in the ``with`` block and apply them atomically when it ends.
 
         If the block raises, nothing is written. If the write itself fails,
         :class:`TransactionError` is raised and the store is unchanged.
+
+        ``alongside`` is called in this thread while another thread applies the write (Oxigraph
+        releases the GIL while it writes): work that must be done when the transaction returns
+        but does not feed it, such as in-memory bookkeeping. Its exceptions propagate once the
+        write has finished, and they do not undo the write.
         """
         with self._write_lock:
             tx = Transaction()
             yield tx
-            self._commit(tx)
+            write = self._prepare(tx)
+            if alongside is None:
+                write()
+                return
+            if self._committer is None:
+                self._committer = ThreadPoolExecutor(1, thread_name_prefix="engram-commit")
+            started = threading.Event()
 
-    def _commit(self, tx: Transaction) -> None:
+            def start_and_write() -> None:
+                started.set()
+                write()
+
+            done = self._committer.submit(start_and_write)
+            # Waiting here hands the GIL to the writer, which keeps it only until Oxigraph
+            # releases it; otherwise it could wait a whole switch interval (5 ms) to start.
+            started.wait()
+            try:
+                alongside()
+            finally:
+                done.result()
+
+    def _prepare(self, tx: Transaction) -> Callable[[], None]:
+        """The write that commits ``tx``, with every read and every Python step done first."""
         if tx.is_empty:
-            return
+            return lambda: None
         deletes = list(tx.deletes)
         for pattern in tx.patterns:
             deletes.extend(
@@ -223,18 +253,25 @@ class Store:
                     pattern.subject, pattern.predicate, pattern.object, pattern.graph
                 )
             )
-        try:
-            if not (deletes or tx.cleared):
-                self._trace("extend", f"INSERT {len(tx.inserts)} quads", {})
-                self._store.extend(tx.inserts)
-            else:
-                text = _update_text(tx.cleared, deletes, tx.inserts)
-                self._trace("update", text, {})
-                self._store.update(text)
-        except (OSError, SyntaxError, ValueError) as error:
-            raise TransactionError(f"transaction not applied, store unchanged: {error}") from error
-        self._generation += 1
-        log.debug("committed %d deletions, %d insertions", len(deletes), len(tx.inserts))
+        if not (deletes or tx.cleared):
+            self._trace("extend", f"INSERT {len(tx.inserts)} quads", {})
+            apply: Callable[[], None] = functools.partial(self._store.extend, tx.inserts)
+        else:
+            text = _update_text(tx.cleared, deletes, tx.inserts)
+            self._trace("update", text, {})
+            apply = functools.partial(self._store.update, text)
+
+        def write() -> None:
+            try:
+                apply()
+            except (OSError, SyntaxError, ValueError) as error:
+                raise TransactionError(
+                    f"transaction not applied, store unchanged: {error}"
+                ) from error
+            self._generation += 1
+            log.debug("committed %d deletions, %d insertions", len(deletes), len(tx.inserts))
+
+        return write
 
     # Bulk writes -------------------------------------------------------------------------------
 

@@ -36,6 +36,7 @@ import threading
 import time
 from collections.abc import Callable, Iterator, Sequence
 from contextlib import contextmanager
+from operator import attrgetter
 
 from pyoxigraph import Literal, NamedNode
 
@@ -98,6 +99,13 @@ Cue = Signature | Sequence[Primitive] | Sequence[tuple[str, str, str]]
 ``("Sphere", "isAboveOf", "Plane")``, or a signature."""
 
 
+_RECOGNITION_ORDER = (
+    (attrgetter("iri.value"), False),
+    (attrgetter("store_count"), True),
+    (attrgetter("signature.complexity"), True),
+)
+
+
 def _utc_now() -> dt.datetime:
     return dt.datetime.now(dt.UTC)
 
@@ -143,11 +151,16 @@ class SceneMemory:
         return now
 
     @contextmanager
-    def _write(self) -> Iterator[Transaction]:
-        """One transaction; if anything fails, the model is rebuilt from the unchanged store."""
+    def _write(self, *, refresh_alongside: bool = False) -> Iterator[Transaction]:
+        """One transaction; if anything fails, the model is rebuilt from the store.
+
+        With ``refresh_alongside``, the model's pending re-scoring (the ancestors of what the
+        transaction touched) runs while the store applies the write, instead of before it.
+        """
         with self._lock:
+            alongside = self._model.refresh if refresh_alongside else None
             try:
-                with self.store.transaction() as tx:
+                with self.store.transaction(alongside=alongside) as tx:
                     yield tx
             except BaseException:
                 self._model = persist.load_model(self.store, self._weights())
@@ -197,11 +210,11 @@ class SceneMemory:
     def _recognitions(self, signature: Signature) -> list[Recognition]:
         """Most complex (most confident) first, then most stored, then by IRI."""
         classes, d = self._model.classes, signature.complexity
-        rows = [(classes[cls], cls) for cls in self._model.index.recognised(signature)]
-        rows.sort(key=lambda row: (-row[0].signature.complexity, -row[0].store_count, row[1].value))
+        records = [classes[cls] for cls in self._model.index.recognised(signature)]
+        for key, descending in _RECOGNITION_ORDER:  # stable sorts, last key first
+            records.sort(key=key, reverse=descending)
         return [
-            Recognition(cls, record.signature.complexity / d, record.signature.complexity)
-            for record, cls in rows
+            Recognition(r.iri, r.signature.complexity / d, r.signature.complexity) for r in records
         ]
 
     def _rescore(
@@ -215,9 +228,12 @@ class SceneMemory:
         The ``engram:score`` annotation of ``classes`` (the ones this update touched, whose own
         terms it rewrites anyway) is brought up to date; ``fresh`` classes are written whole
         later. Nothing else is rewritten: every other class's stored ζ is refreshed by the next
-        sleep pass."""
+        sleep pass. Only the classes at least as complex as these are re-derived here (that is
+        all their ζ depend on); their ancestors may be left to :meth:`MemoryModel.refresh`."""
         m = self._model
-        m.refresh()
+        m.refresh(
+            down_to=min((m.classes[c].signature.complexity for c in classes | fresh), default=0)
+        )
         for cls in classes - fresh:
             self._write_score(tx, m.classes[cls])
         for cls in fresh:
@@ -296,49 +312,55 @@ class SceneMemory:
         if episode is not None and not isinstance(episode, NamedNode):
             raise TypeError(f"episode: got {episode!r}, expected a NamedNode or None")
         scene, relations, signature = self._encode(primitives)
-        with self._write() as tx:
-            now = self._now()
-            m = self._model
-            recognised = self._recognitions(signature)
-            best = recognised[0] if recognised else None
-            confidence = best.confidence if best else 0.0
-            fresh: NamedNode | None = None
-            if best is not None and confidence >= self.policy.learnThreshold:
-                record = m.classes[best.cls]
-                old_count, old_access = record.store_count, record.last_accessed
-                m.set_counts(record, store=old_count + 1, retrieve=record.retrieve_count)
-                record.last_accessed = now
-                persist.set_value(
-                    tx, record.iri, STORE_COUNT, Literal(old_count), Literal(old_count + 1), MEMORY
+        with self._lock:  # the result reads the model the transaction left
+            with self._write(refresh_alongside=True) as tx:
+                now = self._now()
+                m = self._model
+                recognised = self._recognitions(signature)
+                best = recognised[0] if recognised else None
+                confidence = best.confidence if best else 0.0
+                fresh: NamedNode | None = None
+                if best is not None and confidence >= self.policy.learnThreshold:
+                    record = m.classes[best.cls]
+                    old_count, old_access = record.store_count, record.last_accessed
+                    m.set_counts(record, store=old_count + 1, retrieve=record.retrieve_count)
+                    record.last_accessed = now
+                    persist.set_value(
+                        tx,
+                        record.iri,
+                        STORE_COUNT,
+                        Literal(old_count),
+                        Literal(old_count + 1),
+                        MEMORY,
+                    )
+                    persist.set_value(
+                        tx,
+                        record.iri,
+                        LAST_ACCESSED,
+                        persist.time_literal(old_access),
+                        persist.time_literal(now),
+                        MEMORY,
+                    )
+                else:
+                    record = _new_class(m, signature, now)
+                    parents, children, removed = m.add_class(record, [r.cls for r in recognised])
+                    added = {(record.iri, p) for p in parents} | {(c, record.iri) for c in children}
+                    persist.write_edges(tx, added, removed)
+                    fresh = record.iri
+                item = ItemRecord(
+                    iri=persist.item_iri(m.next_item),
+                    cls=record.iri,
+                    complexity=signature.complexity,
+                    created=now,
+                    last_accessed=now,
                 )
-                persist.set_value(
-                    tx,
-                    record.iri,
-                    LAST_ACCESSED,
-                    persist.time_literal(old_access),
-                    persist.time_literal(now),
-                    MEMORY,
-                )
-            else:
-                record = _new_class(m, signature, now)
-                parents, children, removed = m.add_class(record, [r.cls for r in recognised])
-                added = {(record.iri, p) for p in parents} | {(c, record.iri) for c in children}
-                persist.write_edges(tx, added, removed)
-                fresh = record.iri
-            item = ItemRecord(
-                iri=persist.item_iri(m.next_item),
-                cls=record.iri,
-                complexity=signature.complexity,
-                created=now,
-                last_accessed=now,
-            )
-            m.next_item += 1
-            m.add_item(item)
-            persist.write_item(tx, item, scene, relations, episode)
-            self._rescore(tx, {record.iri}, {fresh} if fresh else set())
-            if fresh is not None:
-                persist.write_class(tx, record, stored=m.stored_restrictions)
-            self._bump_update(tx)
+                m.next_item += 1
+                m.add_item(item)
+                persist.write_item(tx, item, scene, relations, episode)
+                self._rescore(tx, {record.iri}, {fresh} if fresh else set())
+                if fresh is not None:
+                    persist.write_class(tx, record, stored=m.stored_restrictions)
+                self._bump_update(tx)
             result = StoreResult(
                 scene_item=item.iri,
                 stored_as=record.iri,

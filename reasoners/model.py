@@ -68,6 +68,13 @@ class ClassRecord:
     """Z_d, Z_s, Z_r in fixed point (SCALE)."""
     sums: list[int] = field(default_factory=lambda: [0, 0, 0])
     """Σ Z_x over the direct children, in fixed point."""
+    up: list["ClassRecord"] = field(default_factory=list, repr=False, compare=False)
+    """The records of the direct parents (``MemoryModel.parents`` as records, so that
+    :meth:`MemoryModel.refresh` walks a branch without hashing IRIs)."""
+    fan_in: int = field(default=0, repr=False, compare=False)
+    """The number of direct children."""
+    mark: int = field(default=0, repr=False, compare=False)
+    """The last refresh that queued this record."""
 
 
 @dataclass
@@ -136,9 +143,12 @@ class MemoryModel:
     has_state: bool = False
     """Whether the ``memory`` graph holds the memory-state individual."""
     _dirty: set[NamedNode] = field(default_factory=set)
+    _dirty_top: int = 0
+    """At least the largest complexity in ``_dirty`` (0 when nothing is pending)."""
     _z: NDArray[np.float64] = field(default_factory=lambda: np.zeros((3, 64)))
     _top: tuple[tuple[int, tuple[float, float, float]], float] | None = None
     _version: int = 0
+    _refreshes: int = 0
 
     # Maxima ------------------------------------------------------------------------------------
 
@@ -171,8 +181,9 @@ class MemoryModel:
         )
 
     def zeta(self, record: ClassRecord) -> float:
-        """The live raw ζ of a class."""
-        self.refresh()
+        """The live raw ζ of a class (brought up to date by refreshing only the classes at
+        least as complex as it: its Z depends on its descendants alone)."""
+        self.refresh(down_to=record.signature.complexity)
         cd, cs, cr = self.coefficients()
         zd, zs, zr = record.z
         return cd * (zd / SCALE) + cs * (zs / SCALE) + cr * (zr / SCALE)
@@ -212,38 +223,42 @@ class MemoryModel:
         _move(self.store_counts, record.store_count, store)
         _move(self.retrieve_counts, record.retrieve_count, retrieve)
         record.store_count, record.retrieve_count = store, retrieve
-        self._dirty.add(record.iri)
+        self._touch(record)
 
     def _own(self, record: ClassRecord) -> tuple[int, int, int]:
-        a_c = self.weights[1]
-        n = len(self.children[record.iri])
         u_d = record.signature.complexity * SCALE
         u_s, u_r = _log_fixed(record.store_count), _log_fixed(record.retrieve_count)
+        n = record.fan_in
         if not n:
             return (u_d, u_s, u_r)
-        sums = record.sums
+        a_c, sums = self.weights[1], record.sums
         return (
             u_d + round(a_c * (sums[0] / n)),
             u_s + round(a_c * (sums[1] / n)),
             u_r + round(a_c * (sums[2] / n)),
         )
 
-    def refresh(self) -> None:
+    def refresh(self, down_to: int = 0) -> None:
         """Re-derive Z of the changed classes and their ancestors, children before parents: a
         child is always more complex than its parents, so classes are taken by decreasing
-        complexity (classes of equal complexity never lie on one branch)."""
-        if not self._dirty:
+        complexity (classes of equal complexity never lie on one branch).
+
+        With ``down_to``, stop before the classes of lower complexity (they stay pending): every
+        class of complexity ``down_to`` or more is then current.
+        """
+        if self._dirty_top < down_to or not self._dirty:
             return
-        classes, parents, own = self.classes, self.parents, self._own
-        waiting: dict[int, list[NamedNode]] = {}
+        self._refreshes += 1
+        mark, own = self._refreshes, self._own
+        waiting: dict[int, list[ClassRecord]] = {}
         for cls in self._dirty:
-            waiting.setdefault(classes[cls].signature.complexity, []).append(cls)
-        queued = set(self._dirty)
+            record = self.classes[cls]
+            record.mark = mark
+            waiting.setdefault(record.signature.complexity, []).append(record)
         self._dirty.clear()
         changed: list[ClassRecord] = []
-        while waiting:
-            for cls in waiting.pop(max(waiting)):
-                record = classes[cls]
+        while waiting and max(waiting) >= down_to:
+            for record in waiting.pop(max(waiting)):
                 new = own(record)
                 old = record.z
                 if new == old:
@@ -251,16 +266,22 @@ class MemoryModel:
                 record.z = new
                 changed.append(record)
                 d0, d1, d2 = new[0] - old[0], new[1] - old[1], new[2] - old[2]
-                for parent in parents[cls]:
-                    above = classes[parent]
+                for above in record.up:
                     sums = above.sums
                     sums[0] += d0
                     sums[1] += d1
                     sums[2] += d2
-                    if parent not in queued:
-                        queued.add(parent)
-                        waiting.setdefault(above.signature.complexity, []).append(parent)
+                    if above.mark != mark:
+                        above.mark = mark
+                        waiting.setdefault(above.signature.complexity, []).append(above)
+        self._dirty.update(record.iri for level in waiting.values() for record in level)
+        self._dirty_top = max(waiting, default=0)
         self._set_rows(changed)
+
+    def _touch(self, record: ClassRecord) -> None:
+        """Queue a class whose own terms or children changed for the next refresh."""
+        self._dirty.add(record.iri)
+        self._dirty_top = max(self._dirty_top, record.signature.complexity)
 
     def _set_row(self, cls: NamedNode, z: tuple[int, int, int]) -> None:
         position = self.index.position(cls)
@@ -284,22 +305,33 @@ class MemoryModel:
             self._z = grown
 
     def _link(self, child: NamedNode, parent: NamedNode) -> None:
-        self.parents[child].add(parent)
-        self.children[parent].add(child)
+        self._connect(child, parent)
         sums, z = self.classes[parent].sums, self.classes[child].z
         sums[0] += z[0]
         sums[1] += z[1]
         sums[2] += z[2]
-        self._dirty.add(parent)
+        self._touch(self.classes[parent])
 
     def _unlink(self, child: NamedNode, parent: NamedNode) -> None:
-        self.parents[child].discard(parent)
-        self.children[parent].discard(child)
-        sums, z = self.classes[parent].sums, self.classes[child].z
+        self.parents[child].remove(parent)
+        self.children[parent].remove(child)
+        below, above = self.classes[child], self.classes[parent]
+        below.up.remove(above)
+        above.fan_in -= 1
+        sums, z = above.sums, below.z
         sums[0] -= z[0]
         sums[1] -= z[1]
         sums[2] -= z[2]
-        self._dirty.add(parent)
+        self._touch(self.classes[parent])
+
+    def _connect(self, child: NamedNode, parent: NamedNode) -> None:
+        """Record the edge child ⊑ parent (Z sums are the caller's business)."""
+        if parent not in self.parents[child]:
+            self.parents[child].add(parent)
+            self.children[parent].add(child)
+            above = self.classes[parent]
+            self.classes[child].up.append(above)
+            above.fan_in += 1
 
     # Classes and edges -------------------------------------------------------------------------
 
@@ -314,7 +346,7 @@ class MemoryModel:
         self.store_counts[record.store_count] += 1
         self.retrieve_counts[record.retrieve_count] += 1
         self.restrictions.update(record.signature.items())
-        record.z, record.sums = (0, 0, 0), [0, 0, 0]
+        record.z, record.sums, record.up, record.fan_in = (0, 0, 0), [0, 0, 0], [], 0
         self._set_row(cls, record.z)
 
     def load(
@@ -325,8 +357,7 @@ class MemoryModel:
             self._register(record)
         for child, parent in edges:
             if child in self.classes and parent in self.classes:
-                self.parents[child].add(parent)
-                self.children[parent].add(child)
+                self._connect(child, parent)
         for record in sorted(self.classes.values(), key=lambda r: -r.signature.complexity):
             record.sums = [
                 sum(self.classes[c].z[x] for c in self.children[record.iri]) for x in range(3)
@@ -361,7 +392,7 @@ class MemoryModel:
             self._link(c, cls)
         for p in parents:
             self._link(cls, p)
-        self._dirty.add(cls)
+        self._touch(record)
         return parents, children, removed
 
     def remove_class(self, cls: NamedNode) -> set[tuple[NamedNode, NamedNode]]:

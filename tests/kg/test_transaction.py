@@ -5,13 +5,14 @@ import signal
 import subprocess
 import sys
 import textwrap
+import threading
 import time
 from pathlib import Path
 
 import pytest
 from pyoxigraph import BlankNode, DefaultGraph, Literal, NamedNode, RdfFormat
 
-from kg import Store
+from kg import Store, TransactionError
 from kg.skolem import is_skolem
 from ontologies.vocab import (
     MEMORY,
@@ -86,6 +87,67 @@ def test_empty_transaction_writes_nothing(empty_store: Store) -> None:
     assert empty_store.generation == 0
 
 
+def test_work_alongside_the_write_runs_in_this_thread_and_finishes_with_it(
+    empty_store: Store,
+) -> None:
+    seen: list[tuple[str, int]] = []
+
+    def bookkeeping() -> None:
+        seen.append((threading.current_thread().name, len(empty_store)))
+
+    with empty_store.transaction(alongside=bookkeeping) as tx:
+        tx.insert(SCENE_1, RDFS_LABEL, Literal("a"), MEMORY)
+    assert seen and seen[0][0] == threading.current_thread().name
+    assert len(empty_store) == 1 and empty_store.generation == 1
+    with empty_store.transaction(alongside=bookkeeping):
+        pass  # nothing to write: the work still runs
+    assert len(seen) == 2 and empty_store.generation == 1
+
+
+class _DiskFull:
+    """A pyoxigraph store whose writes fail, as on a full disk."""
+
+    def __init__(self, inner: object) -> None:
+        self._inner = inner
+
+    def __getattr__(self, name: str) -> object:
+        return getattr(self._inner, name)
+
+    def update(self, text: str) -> None:
+        raise OSError("disk full")
+
+
+def test_a_failing_write_with_work_alongside_raises_and_changes_nothing(
+    store_with_ontology: Store, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    before = snapshot(store_with_ontology)
+    monkeypatch.setattr(store_with_ontology, "_store", _DiskFull(store_with_ontology._store))
+    ran: list[bool] = []
+    with (
+        pytest.raises(TransactionError, match="store unchanged: disk full"),
+        store_with_ontology.transaction(alongside=lambda: ran.append(True)) as tx,
+    ):
+        tx.insert(SCENE_1, RDFS_LABEL, Literal("a"), MEMORY)
+        tx.delete(SCENE_1, RDFS_LABEL, Literal("b"), MEMORY)
+    assert ran == [True]
+    monkeypatch.undo()
+    assert snapshot(store_with_ontology) == before
+
+
+def test_failing_work_alongside_propagates_after_the_write_is_applied(
+    empty_store: Store,
+) -> None:
+    def broken() -> None:
+        raise RuntimeError("bookkeeping failed")
+
+    with (
+        pytest.raises(RuntimeError, match="bookkeeping failed"),
+        empty_store.transaction(alongside=broken) as tx,
+    ):
+        tx.insert(SCENE_1, RDFS_LABEL, Literal("a"), MEMORY)
+    assert len(empty_store) == 1  # the write does not depend on the work alongside it
+
+
 @pytest.mark.parametrize(
     ("graph", "message"),
     [(None, "graph must be a NamedNode"), (DefaultGraph(), "graph must be a NamedNode")],
@@ -134,7 +196,7 @@ WRITER = textwrap.dedent(
     """
     import sys
     from pyoxigraph import Literal
-    from kg import Store
+    from kg import Store, TransactionError
     from ontologies.vocab import MEMORY, engram
 
     store = Store(sys.argv[1])
