@@ -5,10 +5,10 @@ Steps (PITT's, with its quirks fixed; see ``shared/reference/pitt-perception.md`
 1. depth cut in the sensor frame (``z <= max_depth_m``), then transform to the world frame;
 2. voxel grid (``voxel_m``): each occupied voxel becomes the mean of its points. It is computed in
    numpy so that every full-resolution point keeps the index of its voxel;
-3. support plane: open3d RANSAC on the voxels, repeated until a horizontal plane (normal within
-   ``max_support_tilt_deg`` of world z) holding at least ``min_support_fraction`` of the voxels is
-   found; its normal is turned to point up. The threshold is 1 cm, not PITT's 2 cm, which ate
-   the bottom of every object;
+3. support plane: RANSAC (numpy, seeded) on the voxels, repeated until a horizontal plane
+   (normal within ``max_support_tilt_deg`` of world z) holding at least
+   ``min_support_fraction`` of the voxels is found; its normal is turned to point up. The
+   threshold is 1 cm, not PITT's 2 cm, which ate the bottom of every object;
 4. points above the support: more than ``above_margin_m`` and less than ``max_height_m`` above
    the plane, inside the support's xy bounding box shrunk by ``edge_margin_m``;
 5. statistical outlier removal and DBSCAN (open3d) on those voxels; clusters with fewer than
@@ -99,6 +99,53 @@ def _cloud(points: FloatArray) -> o3d.geometry.PointCloud:
     return o3d.geometry.PointCloud(o3d.utility.Vector3dVector(points))
 
 
+_HYPOTHESES_PER_PASS = 32
+"""Plane hypotheses scored against every point at once (bounds the distance matrix)."""
+_CONFIDENCE = 1 - 1e-7
+"""RANSAC stops once a better plane is this unlikely to be left among the unscored samples."""
+
+
+def ransac_plane(
+    points: FloatArray, threshold: float, iterations: int, rng: np.random.Generator
+) -> tuple[FloatArray, npt.NDArray[np.intp]] | None:
+    """RANSAC: of up to ``iterations`` planes through three random points, the one with the
+    most points within ``threshold`` (the first on a tie). It stops early, as usual, once the
+    samples scored make a better plane unlikely (``_CONFIDENCE``, from the best inlier ratio so
+    far). Returns the unit normal and the indices of its points, or None if no sample spans a
+    plane.
+
+    In numpy with the caller's generator, so that a seed fixes the result: open3d's
+    ``segment_plane`` runs its iterations on parallel threads and, even seeded, its result
+    varies with their scheduling (seen as a flaky determinism test on a loaded machine).
+    """
+    if len(points) < 3:
+        return None
+    samples = rng.integers(0, len(points), size=(iterations, 3))
+    a, b, c = points[samples[:, 0]], points[samples[:, 1]], points[samples[:, 2]]
+    normals = np.cross(b - a, c - a)
+    lengths = np.linalg.norm(normals, axis=1)
+    spanning = lengths > 1e-12
+    if not spanning.any():
+        return None
+    normals = normals[spanning] / lengths[spanning, None]
+    offsets = -np.einsum("ij,ij->i", normals, a[spanning])
+    best, best_count = 0, -1
+    for start in range(0, len(normals), _HYPOTHESES_PER_PASS):
+        stop = start + _HYPOTHESES_PER_PASS
+        distances = np.abs(points @ normals[start:stop].T + offsets[start:stop])
+        counts = np.count_nonzero(distances <= threshold, axis=0)
+        k = int(np.argmax(counts))
+        if counts[k] > best_count:
+            best, best_count = start + k, int(counts[k])
+        all_inliers = (best_count / len(points)) ** 3  # one sample of three all on the plane
+        if all_inliers >= 1 or (
+            all_inliers > 0 and stop >= math.log(1 - _CONFIDENCE) / math.log1p(-all_inliers)
+        ):
+            break
+    inliers = np.flatnonzero(np.abs(points @ normals[best] + offsets[best]) <= threshold)
+    return normals[best], inliers
+
+
 def find_support(
     voxels: FloatArray, params: SegmentationParams, seed: int
 ) -> tuple[SupportPlane, npt.NDArray[np.bool_]] | None:
@@ -106,19 +153,16 @@ def find_support(
     cos_tilt = math.cos(math.radians(params.max_support_tilt_deg))
     remaining = np.arange(len(voxels))
     min_inliers = max(3, int(params.min_support_fraction * len(voxels)))
+    rng = np.random.default_rng(seed)
     for _ in range(params.max_support_attempts):
         if len(remaining) < min_inliers:
             return None
-        o3d.utility.random.seed(seed)
-        model, inliers = _cloud(voxels[remaining]).segment_plane(
-            params.support_threshold_m, 3, params.support_iterations
+        found = ransac_plane(
+            voxels[remaining], params.support_threshold_m, params.support_iterations, rng
         )
-        inl = np.asarray(inliers, dtype=np.intp)
-        if len(inl) < min_inliers:
+        if found is None or len(found[1]) < min_inliers:
             return None
-        n = np.asarray(model[:3], dtype=np.float64)
-        scale = float(np.linalg.norm(n))
-        n = n / scale
+        n, inl = found
         if abs(n[2]) >= cos_tilt:
             sign = 1.0 if n[2] > 0 else -1.0
             # Refit by least squares on the inliers for a plane free of sampling noise.
