@@ -12,8 +12,9 @@ A learned class carries the signature of the scene it was learned from as
 True
 """
 
+import functools
 import json
-from collections.abc import Iterator, Mapping
+from collections.abc import ItemsView, Iterator, Mapping, ValuesView
 
 from pyoxigraph import NamedNode
 
@@ -25,20 +26,41 @@ Key = tuple[NamedNode, NamedNode]
 """(signature property, leaf primitive class)."""
 
 
+@functools.lru_cache(maxsize=8192)
+def _named(iri: str) -> NamedNode:
+    """One NamedNode per IRI: a memory of 10,000 classes reads ~300,000 IRIs of ~200 kinds."""
+    return NamedNode(iri)
+
+
+@functools.lru_cache(maxsize=8192)
+def _key_order(key: Key) -> tuple[str, str]:
+    return key[0].value, key[1].value
+
+
+def _order(item: tuple[Key, int]) -> tuple[str, str]:
+    """Signatures keep their keys sorted by IRI (reading ``.value`` makes a new string each
+    time, so the few distinct keys' orders are cached)."""
+    return _key_order(item[0])
+
+
 class Signature(Mapping[Key, int]):
     """An immutable multiset of signature keys; hashable, so classes can be found by signature."""
 
     __slots__ = ("_counts", "_hash", "complexity")
 
     def __init__(self, counts: Mapping[Key, int]) -> None:
+        self._set(counts, ordered=False)
+
+    def _set(self, counts: Mapping[Key, int], *, ordered: bool) -> None:
+        """Validate ``counts`` and keep them sorted by IRI (``ordered``: they already are)."""
         for key, n in counts.items():
             if isinstance(n, bool) or not isinstance(n, int) or n < 1:
                 raise InvalidSceneError(
                     f"signature count of {key[0].value} on {key[1].value}: got {n!r}, "
                     "expected a positive integer"
                 )
-        self._counts: dict[Key, int] = dict(
-            sorted(counts.items(), key=lambda item: (item[0][0].value, item[0][1].value))
+        self._counts: dict[Key, int] = (
+            dict(counts) if ordered else dict(sorted(counts.items(), key=_order))
         )
         self._hash = hash(frozenset(self._counts.items()))
         self.complexity = sum(self._counts.values())
@@ -52,6 +74,12 @@ class Signature(Mapping[Key, int]):
 
     def __len__(self) -> int:
         return len(self._counts)
+
+    def items(self) -> ItemsView[Key, int]:
+        return self._counts.items()  # the dict's own view, not Mapping's item by item lookups
+
+    def values(self) -> ValuesView[int]:
+        return self._counts.values()
 
     def __hash__(self) -> int:
         return self._hash
@@ -93,6 +121,11 @@ class Signature(Mapping[Key, int]):
         """The signature written by :meth:`to_json`; ``InvalidSceneError`` if malformed."""
         try:
             rows = json.loads(text)
-            return cls({(NamedNode(p), NamedNode(t)): n for p, t, n in rows})
+            counts = {(_named(p), _named(t)): n for p, t, n in rows}
+            pairs = [(p, t) for p, t, _ in rows]
         except (ValueError, TypeError) as error:
             raise InvalidSceneError(f"signature JSON: got {text[:80]!r}: {error}") from None
+        signature = cls.__new__(cls)
+        # to_json writes the keys in order: then only strings are compared, no IRIs read back
+        signature._set(counts, ordered=len(counts) == len(pairs) and pairs == sorted(pairs))
+        return signature

@@ -1,9 +1,11 @@
 """Property tests: own-class membership, transitive reduction, score bounds, pinning, restore,
 and the signature -> OWL -> signature round trip."""
 
+import json
 import random
 from dataclasses import replace
 
+import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 from pyoxigraph import NamedNode
@@ -11,6 +13,7 @@ from pyoxigraph import NamedNode
 from kg import Store
 from ontologies.vocab import PRIMITIVE_LEAF_TYPES, engram
 from reasoners import persist
+from reasoners.errors import InvalidSceneError
 from reasoners.memory import SceneMemory
 from reasoners.model import ClassRecord, MemoryModel
 from reasoners.signature import Signature
@@ -128,6 +131,20 @@ def test_signature_to_owl_to_signature(counts: dict[tuple[NamedNode, NamedNode],
     model = persist.load_model(store)
     assert model.classes[engram("Scene-7")].signature == signature
     assert Signature.from_json(signature.to_json()) == signature
+    # rows in any order read back to the same signature, its keys in IRI order
+    rows = json.loads(signature.to_json())
+    shuffled = Signature.from_json(json.dumps(rows[::-1]))
+    assert shuffled == signature and list(shuffled) == list(signature)
+    assert list(signature) == sorted(signature, key=lambda key: (key[0].value, key[1].value))
+
+
+@pytest.mark.parametrize(
+    "text",
+    ['[["http://x/p", "http://x/T", 0]]', '[["http://x/p", 5, 1]]', '[["http://x/p"]]', "{"],
+)
+def test_malformed_signature_json_is_refused(text: str) -> None:
+    with pytest.raises(InvalidSceneError, match="signature"):
+        Signature.from_json(text)
 
 
 @SETTINGS
