@@ -137,10 +137,8 @@ def ransac_plane(
         k = int(np.argmax(counts))
         if counts[k] > best_count:
             best, best_count = start + k, int(counts[k])
-        all_inliers = (best_count / len(points)) ** 3  # one sample of three all on the plane
-        if all_inliers >= 1 or (
-            all_inliers > 0 and stop >= math.log(1 - _CONFIDENCE) / math.log1p(-all_inliers)
-        ):
+        p_good = (best_count / len(points)) ** 3  # that a sample's three points are all inliers
+        if p_good >= 1 or (p_good > 0 and stop >= math.log(1 - _CONFIDENCE) / math.log1p(-p_good)):
             break
     inliers = np.flatnonzero(np.abs(points @ normals[best] + offsets[best]) <= threshold)
     return normals[best], inliers
