@@ -284,6 +284,28 @@ class SceneMemory:
             age_s=(now - record.last_accessed).total_seconds(),
         )
 
+    def _count_use(
+        self, tx: Transaction, record: ClassRecord, now: dt.datetime, *, retrieved: bool
+    ) -> None:
+        """Raise a class's store count (or retrieve count) by one and set its access time to
+        ``now``, in the model and in the transaction."""
+        if retrieved:
+            prop, old = RETRIEVE_COUNT, record.retrieve_count
+            self._model.set_counts(record, store=record.store_count, retrieve=old + 1)
+        else:
+            prop, old = STORE_COUNT, record.store_count
+            self._model.set_counts(record, store=old + 1, retrieve=record.retrieve_count)
+        persist.set_value(tx, record.iri, prop, Literal(old), Literal(old + 1), MEMORY)
+        persist.set_value(
+            tx,
+            record.iri,
+            LAST_ACCESSED,
+            persist.time_literal(record.last_accessed),
+            persist.time_literal(now),
+            MEMORY,
+        )
+        record.last_accessed = now
+
     def _bump_update(self, tx: Transaction) -> None:
         m = self._model
         m.updates_since_sleep += 1
@@ -322,25 +344,7 @@ class SceneMemory:
                 fresh: NamedNode | None = None
                 if best is not None and confidence >= self.policy.learnThreshold:
                     record = m.classes[best.cls]
-                    old_count, old_access = record.store_count, record.last_accessed
-                    m.set_counts(record, store=old_count + 1, retrieve=record.retrieve_count)
-                    record.last_accessed = now
-                    persist.set_value(
-                        tx,
-                        record.iri,
-                        STORE_COUNT,
-                        Literal(old_count),
-                        Literal(old_count + 1),
-                        MEMORY,
-                    )
-                    persist.set_value(
-                        tx,
-                        record.iri,
-                        LAST_ACCESSED,
-                        persist.time_literal(old_access),
-                        persist.time_literal(now),
-                        MEMORY,
-                    )
+                    self._count_use(tx, record, now, retrieved=False)
                 else:
                     record = _new_class(m, signature, now)
                     parents, children, removed = m.add_class(record, [r.cls for r in recognised])
@@ -474,21 +478,7 @@ class SceneMemory:
                 members = {recalled} | m.ancestors(recalled)
                 branch = tuple(sorted(members, key=lambda c: m.classes[c].signature.complexity))
                 for cls in members:
-                    record = m.classes[cls]
-                    old, old_access = record.retrieve_count, record.last_accessed
-                    m.set_counts(record, store=record.store_count, retrieve=old + 1)
-                    record.last_accessed = now
-                    persist.set_value(
-                        tx, cls, RETRIEVE_COUNT, Literal(old), Literal(old + 1), MEMORY
-                    )
-                    persist.set_value(
-                        tx,
-                        cls,
-                        LAST_ACCESSED,
-                        persist.time_literal(old_access),
-                        persist.time_literal(now),
-                        MEMORY,
-                    )
+                    self._count_use(tx, m.classes[cls], now, retrieved=True)
                 self._rescore(tx, members)
             activation = None
             if spread and recalled is not None:

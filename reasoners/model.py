@@ -306,11 +306,7 @@ class MemoryModel:
 
     def _link(self, child: NamedNode, parent: NamedNode) -> None:
         self._connect(child, parent)
-        sums, z = self.classes[parent].sums, self.classes[child].z
-        sums[0] += z[0]
-        sums[1] += z[1]
-        sums[2] += z[2]
-        self._touch(self.classes[parent])
+        self._add_to_sums(self.classes[parent], self.classes[child].z, 1)
 
     def _unlink(self, child: NamedNode, parent: NamedNode) -> None:
         self.parents[child].remove(parent)
@@ -318,11 +314,13 @@ class MemoryModel:
         below, above = self.classes[child], self.classes[parent]
         below.up.remove(above)
         above.fan_in -= 1
-        sums, z = above.sums, below.z
-        sums[0] -= z[0]
-        sums[1] -= z[1]
-        sums[2] -= z[2]
-        self._touch(self.classes[parent])
+        self._add_to_sums(above, below.z, -1)
+
+    def _add_to_sums(self, record: ClassRecord, z: tuple[int, int, int], sign: int) -> None:
+        """Add (or with ``sign`` -1 take away) a child's Z to a class's sums, and queue it."""
+        for x in range(3):
+            record.sums[x] += sign * z[x]
+        self._touch(record)
 
     def _connect(self, child: NamedNode, parent: NamedNode) -> None:
         """Record the edge child ⊑ parent (Z sums are the caller's business)."""
@@ -365,6 +363,7 @@ class MemoryModel:
             record.z = self._own(record)
             self._set_row(record.iri, record.z)
         self._dirty.clear()
+        self._dirty_top = 0
 
     def add_class(
         self, record: ClassRecord, ancestors: Iterable[NamedNode] | None = None

@@ -169,20 +169,24 @@ def is_restriction(term: object) -> bool:
     return isinstance(term, NamedNode) and term.value.startswith(RESTRICTION_PREFIX)
 
 
-def write_restriction(tx: Transaction, key: Key, n: int, graph: NamedNode = MEMORY) -> None:
+def _restriction_triples(key: Key, n: int) -> list[tuple[NamedNode, NamedNode, Term]]:
     node = restriction_iri(key, n)
-    tx.insert(node, RDF_TYPE, OWL_RESTRICTION, graph)
-    tx.insert(node, OWL_ON_PROPERTY, key[0], graph)
-    tx.insert(node, OWL_ON_CLASS, key[1], graph)
-    tx.insert(node, OWL_MIN_QUALIFIED_CARDINALITY, Literal(n), graph)
+    return [
+        (node, RDF_TYPE, OWL_RESTRICTION),
+        (node, OWL_ON_PROPERTY, key[0]),
+        (node, OWL_ON_CLASS, key[1]),
+        (node, OWL_MIN_QUALIFIED_CARDINALITY, Literal(n)),
+    ]
+
+
+def write_restriction(tx: Transaction, key: Key, n: int, graph: NamedNode = MEMORY) -> None:
+    for triple in _restriction_triples(key, n):
+        tx.insert(*triple, graph)
 
 
 def delete_restriction(tx: Transaction, key: Key, n: int, graph: NamedNode = MEMORY) -> None:
-    node = restriction_iri(key, n)
-    tx.delete(node, RDF_TYPE, OWL_RESTRICTION, graph)
-    tx.delete(node, OWL_ON_PROPERTY, key[0], graph)
-    tx.delete(node, OWL_ON_CLASS, key[1], graph)
-    tx.delete(node, OWL_MIN_QUALIFIED_CARDINALITY, Literal(n), graph)
+    for triple in _restriction_triples(key, n):
+        tx.delete(*triple, graph)
 
 
 def write_class(

@@ -13,6 +13,7 @@ from rdflib.namespace import OWL, RDF, RDFS
 
 from kg import Store
 from ontologies.vocab import reference_graph
+from reasoners.owl_rl import materialise
 
 ASSERTED = reference_graph("test")
 INFERRED = reference_graph("test", inferred=True)
@@ -60,6 +61,15 @@ def load() -> Loader:
 def graph_triples(store: Store, graph: NamedNode = INFERRED) -> set[str]:
     """The triples of a graph, each as an N-Triples line without the final dot."""
     return {f"{q.subject} {q.predicate} {q.object}" for q in store.quads(graph=graph)}
+
+
+def recomputed(store: Store) -> set[str]:
+    """The inferred graph a full REASON gives over a fresh copy of the store's asserted graph."""
+    fresh = Store()
+    with fresh.transaction() as tx:
+        tx.load(store.graph_ntriples(ASSERTED), format=RdfFormat.N_TRIPLES, graph=ASSERTED)
+    materialise(fresh, asserted=ASSERTED, inferred=INFERRED)
+    return graph_triples(fresh)
 
 
 def owlrl_inferences(store: Store) -> set[str]:
