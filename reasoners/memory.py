@@ -83,8 +83,10 @@ from reasoners.results import (
     Match,
     Recognition,
     RetrievalResult,
+    ScoreTerms,
     SleepReport,
     StoreResult,
+    TrashEntry,
 )
 from reasoners.scoring import WEAK, episodic_score, level_of, log_ratio
 from reasoners.signature import Signature
@@ -883,6 +885,90 @@ class SceneMemory:
             if record is None:
                 raise self._unknown(iri)
             return record.signature
+
+    # Read-only views for explanations ----------------------------------------------------------
+
+    def now(self) -> dt.datetime:
+        """The memory clock's current time."""
+        return self._now()
+
+    def relatives(self, iri: NamedNode) -> tuple[tuple[NamedNode, ...], tuple[NamedNode, ...]]:
+        """(direct parents, direct children) of a live class, each sorted by IRI.
+
+        Raises :class:`~reasoners.errors.UnknownItemError` for an IRI that is not a live class."""
+        with self._lock:
+            m = self._model
+            if iri not in m.classes:
+                raise self._unknown(iri)
+            return (
+                tuple(sorted(m.parents[iri], key=str)),
+                tuple(sorted(m.children[iri], key=str)),
+            )
+
+    def score_terms(self, iri: NamedNode) -> ScoreTerms:
+        """The terms ζ of a live class adds up now (raises UnknownItemError otherwise)."""
+        with self._lock:
+            m = self._model
+            record = m.classes.get(iri)
+            if record is None:
+                raise self._unknown(iri)
+            children = sorted(m.children[iri], key=str)
+            return ScoreTerms(
+                complexity=record.signature.complexity,
+                max_complexity=m.max_complexity,
+                store_count=record.store_count,
+                max_store=m.max_store,
+                retrieve_count=record.retrieve_count,
+                max_retrieve=m.max_retrieve,
+                children_zeta=tuple(m.zeta(m.classes[c]) for c in children),
+                weights=m.weights,
+                zeta=m.zeta(record),
+                max_zeta=m.max_score,
+            )
+
+    def recognitions(self, signature: Signature) -> list[Recognition]:
+        """The live classes a signature belongs to, most confident first; writes nothing."""
+        with self._lock:
+            return self._recognitions(signature)
+
+    def closest(self, signature: Signature, limit: int = 5) -> list[Match]:
+        """The ``limit`` live classes most similar to a signature, best first; writes nothing."""
+        with self._lock:
+            return [Match(c, s) for c, s in self._model.index.most_similar(signature, limit)]
+
+    def trashed(self, iri: NamedNode) -> TrashEntry | None:
+        """What the trash holds under ``iri``, or None."""
+        with self._lock:
+            m = self._model
+            if iri in m.trashed_classes:
+                c = m.trashed_classes[iri]
+                return TrashEntry(iri, "class", c.forgotten_at, signature=c.signature)
+            if iri in m.trashed_items:
+                i = m.trashed_items[iri]
+                return TrashEntry(iri, "item", i.forgotten_at, cls=i.cls)
+            return None
+
+    def maxima(self) -> dict[str, int]:
+        """The largest class complexity, experienced-scene complexity, store and retrieve counts
+        that the scores are normalised by."""
+        with self._lock:
+            m = self._model
+            return {
+                "complexity": m.max_complexity,
+                "item_complexity": m.max_item_complexity,
+                "store": m.max_store,
+                "retrieve": m.max_retrieve,
+            }
+
+    def items_of(self, cls: NamedNode) -> list[NamedNode]:
+        """The live experienced scenes stored as ``cls``, sorted by IRI."""
+        with self._lock:
+            return sorted(self._model.items_of.get(cls, ()), key=str)
+
+    def live_class(self, signature: Signature) -> NamedNode | None:
+        """The live class learned with exactly this signature, or None."""
+        with self._lock:
+            return self._model.index.with_signature(signature)
 
 
 def _maybe_str(value: str | None) -> Literal | None:

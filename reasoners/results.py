@@ -131,3 +131,36 @@ class ClassSummary:
     children: tuple[NamedNode, ...]
     items: int
     scores: ItemScores
+
+
+@dataclass(frozen=True)
+class ScoreTerms:
+    """The terms of a class's semantic score ζ now, as DESIGN.md step 7 adds them up:
+    ``ζ = a_d·d/max d + a_c·mean(ζ of direct children) + a_s·ln(1+s)/ln(1+max s)
+    + a_r·ln(1+r)/ln(1+max r)``; ``normalised`` = ζ / ``max_zeta``."""
+
+    complexity: int
+    max_complexity: int
+    store_count: int
+    max_store: int
+    retrieve_count: int
+    max_retrieve: int
+    children_zeta: tuple[float, ...]
+    """ζ of each direct child."""
+    weights: tuple[float, float, float, float]
+    """(a_d, a_c, a_s, a_r)."""
+    zeta: float
+    max_zeta: float
+
+
+@dataclass(frozen=True)
+class TrashEntry:
+    """Something in the trash: a class (with its signature) or an experienced scene (with its
+    class), and when it was forgotten."""
+
+    iri: NamedNode
+    kind: str
+    """"class" or "item"."""
+    forgotten_at: dt.datetime
+    signature: Signature | None = None
+    cls: NamedNode | None = None
