@@ -24,6 +24,7 @@ from pyoxigraph import NamedNode
 
 from api.armor.context import Context, Outcome
 from api.armor.errors import MemoryDirectiveError
+from api.armor.memory_explain import query_memory_explain
 from api.armor.models import ArmorDirectiveRes, QueryItem
 from api.armor.names import is_value_type, resolve, styled, to_literal
 from kg import Store
@@ -418,6 +419,7 @@ MEMORY_COMMANDS: dict[str, tuple[Callable[[Context], Outcome], str]] = {
     "MEMORY_RESTORE_": (memory_restore, "[class or item]"),
     "QUERY_MEMORY_SCORES": (query_memory_scores, "[class or item]"),
     "QUERY_MEMORY_LEVEL": (query_memory_level, "[class or item]"),
+    "QUERY_MEMORY_EXPLAIN": (query_memory_explain, "[class, item or forgotten IRI]"),
 }
 SCENE_ADDS: dict[str, Callable[[Context, SceneDraft], Outcome]] = {
     "ADD_IND_CLASS": scene_add_ind_class,
