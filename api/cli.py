@@ -9,6 +9,7 @@ import typer
 import uvicorn
 from rich.console import Console
 
+from api.cli_ask import ask_command
 from api.cli_episodes import app as episodes_app
 from api.cli_perceive import perceive_command
 from api.config import Settings
@@ -27,6 +28,7 @@ app = typer.Typer(
 console = Console()
 app.add_typer(episodes_app, name="episodes")
 app.command("perceive")(perceive_command)
+app.command("ask")(ask_command)
 
 DataOption = Annotated[
     Path | None, typer.Option("--data", help="Data directory (default: $ENGRAM_DATA_DIR).")

@@ -10,6 +10,7 @@ from typing import Any
 from fastapi import FastAPI, Request
 from fastapi.responses import JSONResponse
 
+from api.ask.errors import SpeechUnavailableError
 from api.negotiation import NotAcceptable
 from episodes import to_jsonable
 from episodes.errors import EpisodeStateError, InvalidInputError, NotFoundError
@@ -29,6 +30,7 @@ from kg.errors import (
     ResultTooLargeError,
     StoreError,
 )
+from reasoners.errors import UnknownItemError
 
 __all__ = ["install_error_handlers"]
 
@@ -49,6 +51,8 @@ _STATUS: list[tuple[type[Exception], int]] = [
     (RecordingStateError, 409),
     (CorruptRecordingError, 409),
     (StreamError, 400),
+    (UnknownItemError, 404),
+    (SpeechUnavailableError, 503),
     (EngramError, 400),
 ]
 

@@ -14,7 +14,7 @@ from api.armor.memory import sleep_if_due
 from api.config import Settings, get_settings
 from api.errors import install_error_handlers
 from api.memory_state import live_memory_state
-from api.routes import admin, armor, episodes, export, health, sparql, streams
+from api.routes import admin, armor, ask, episodes, export, health, sparql, streams
 from episodes import EpisodeMemory
 from episodes.streams import RecordingRegistry
 from kg import Store, ensure_ontology
@@ -93,7 +93,7 @@ def create_app(settings: Settings | None = None) -> FastAPI:
     )
     install_error_handlers(app)
     # armor first: route matching is a sizeable share of a directive's time
-    for module in (armor, health, sparql, export, admin, episodes, streams):
+    for module in (armor, health, sparql, export, admin, episodes, streams, ask):
         app.include_router(module.router)
     fast_armor.install(app)  # well-formed ARMOR requests skip the router (api/fast_armor.py)
     return app

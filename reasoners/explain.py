@@ -101,6 +101,10 @@ def local(iri: NamedNode | str) -> str:
     return text.rsplit("#", 1)[-1].rsplit("/", 1)[-1]
 
 
+def _times(n: int) -> str:
+    return {0: "never", 1: "once", 2: "twice"}.get(n, f"{n} times")
+
+
 def _say_count(n: int, noun: str) -> str:
     return f"{n} {noun}{'' if n == 1 else 's'}"
 
@@ -118,15 +122,26 @@ class RestrictionCheck:
     def met(self) -> bool:
         return self.found >= self.required
 
-    @property
-    def words(self) -> str:
-        """ "a sphere above at least 1 plane" for sphereIsAboveOf ≥1 Plane."""
+    def _phrase(self) -> str:
         name = self.prop
         kind = next((k for k in _KINDS if name.lower().startswith(k)), "")
         rest = name[len(kind) :]
         relation = _RELATION_WORDS.get(rest[:1].lower() + rest[1:], rest)
-        subject = f"a {kind} " if kind else ""
-        return f"{subject}{relation} at least {_say_count(self.required, self.leaf.lower())}"
+        return f"a {kind} {relation}" if kind else relation
+
+    @property
+    def words(self) -> str:
+        """The restriction: "a sphere above at least 1 plane" for sphereIsAboveOf ≥1 Plane."""
+        return f"{self._phrase()} at least {_say_count(self.required, self.leaf.lower())}"
+
+    @property
+    def extra_words(self) -> str:
+        """For a part beyond a class (``required`` more than the class asks, ``found`` in all):
+        "a plane below 2 spheres (1 more)"."""
+        leaf = self.leaf.lower()
+        if self.found == self.required:
+            return f"{self._phrase()} {_say_count(self.found, leaf)}"
+        return f"{self._phrase()} {_say_count(self.found, leaf)} ({self.required} more)"
 
 
 def _checks(required: Signature, found: Signature) -> tuple[RestrictionCheck, ...]:
@@ -148,7 +163,7 @@ def _beyond(signature: Signature, cls: Signature) -> tuple[RestrictionCheck, ...
 
 
 def _list(checks: Sequence[RestrictionCheck], *, found: bool = True) -> str:
-    parts = [f"{c.words} (it had {c.found})" if found else c.words for c in checks]
+    parts = [f"{c.words} (it had {c.found})" if found else c.extra_words for c in checks]
     return "; ".join(parts) if parts else "nothing"
 
 
@@ -423,9 +438,10 @@ class ForgettingExplanation:
                 )
             counts = ""
             if self.store_count is not None:
-                counts = (
-                    f"; it had been stored {_say_count(self.store_count, 'time')} and "
-                    f"retrieved {_say_count(self.retrieve_count or 0, 'time')}"
+                counts = f"; it had been stored {_times(self.store_count)} and " + (
+                    f"retrieved {_times(self.retrieve_count)}"
+                    if self.retrieve_count
+                    else "never retrieved"
                 )
             text = (
                 f"I forgot {name} at {when} because its level was WEAK at "

@@ -402,7 +402,11 @@ class Asker:
             explanations = explain(self.scenes, _iri(name))
         except MemoryReasonerError:
             return _Reply(f"I never knew {name}.", {"known": False})
-        return _Reply(" ".join(e.words for e in explanations), {"known": True}, explanations)
+        words: list[str] = []
+        for explanation in explanations:  # a forgetting explanation says the restore's words
+            if not any(explanation.words in said for said in words):
+                words.append(explanation.words)
+        return _Reply(" ".join(words), {"known": True}, explanations)
 
     def _explain_last_scene(self, parsed: Parsed) -> _Reply:
         items = self.scenes.items()

@@ -29,10 +29,10 @@ import numpy as np
 from numpy.typing import NDArray
 from scipy.signal import resample_poly
 
+from api.ask.errors import SpeechUnavailableError
 from api.ask.grammar import jsgf
 from api.ask.vocabulary import Names
 from episodes.errors import InvalidInputError
-from kg.errors import EngramError
 
 __all__ = [
     "Heard",
@@ -40,6 +40,7 @@ __all__ = [
     "SpeechUnavailableError",
     "pcm16k",
     "pronounce",
+    "speak",
     "synthesise",
 ]
 
@@ -48,10 +49,6 @@ log = logging.getLogger(__name__)
 RATE = 16_000
 VOICE = "en-us"
 MAX_AUDIO_S = 30.0
-
-
-class SpeechUnavailableError(EngramError):
-    """espeak-ng or pocketsphinx is not installed (HTTP 503)."""
 
 
 def _espeak() -> str:
@@ -73,6 +70,11 @@ def synthesise(text: str, *, voice: str = VOICE, words_per_minute: int = 160) ->
         timeout=60,
     )
     return result.stdout
+
+
+def speak(text: str, *, voice: str = VOICE) -> None:
+    """Say ``text`` aloud on the machine's audio output with espeak-ng."""
+    subprocess.run([_espeak(), "-v", voice, text], check=False, timeout=120)
 
 
 def pcm16k(wav: bytes) -> NDArray[np.int16]:
