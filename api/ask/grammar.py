@@ -60,19 +60,20 @@ FORMS: tuple[Form, ...] = (
             rf"when was the (?P<which>last|first) time (?P<agent>.+?) {_DID}(?P<activity>.+)",
         ),
         "when did Anna last show you motor babbling",
-        "when did <agent> (last | first) [show you | do] <activity>",
+        "(when did <agent> (last | first) [show you | do] <activity>)"
+        " | (when was the (last | first) time <agent> did <activity>)",
     ),
     Form(
         "episode_count",
         (rf"how (?:many times|often) did (?P<agent>.+?) {_DO}(?P<activity>.+)",),
         "how many times did Anna do waving",
-        "how many times did <agent> [show you | do] <activity>",
+        "how (many times | often) did <agent> [show you | do] <activity>",
     ),
     Form(
         "episode_between",
         (rf"what happened (?P<time>{_TIME})", rf"what did you do (?P<time>{_TIME})"),
         "what happened yesterday afternoon",
-        "what happened <time>",
+        "(what happened | what did you do) <time>",
     ),
     Form(
         "episode_who",
@@ -83,7 +84,8 @@ FORMS: tuple[Form, ...] = (
             rf"(?P<agent>.+?) {_DID}(?P<activity>.+)",
         ),
         "who was there when Anna last did motor babbling",
-        "who was there when <agent> (last | first) [did | showed you] <activity>",
+        "who was there ((when <agent> [last | first] [did | showed you] <activity>)"
+        " | (the (last | first) time <agent> did <activity>))",
     ),
     Form(
         "scene_know",
@@ -101,7 +103,7 @@ FORMS: tuple[Form, ...] = (
         "scene_best",
         (r"what do you remember (?:best|most)", r"what do you know best"),
         "what do you remember best",
-        "what do you remember best",
+        "what do you remember (best | most)",
     ),
     Form(
         "scene_forgot",
@@ -143,13 +145,13 @@ FORMS: tuple[Form, ...] = (
             rf"why do you (?:still )?remember (?P<name>{_NAME})",
         ),
         "how well do you remember Scene-1",
-        "how well do you remember <name>",
+        "(how well | why) do you remember <name>",
     ),
     Form(
         "explain_any",
         (rf"(?:explain|tell me about) (?P<name>{_NAME})",),
         "explain Scene-3",
-        "explain <name>",
+        "(explain | tell me about) <name>",
     ),
 )
 
@@ -239,6 +241,24 @@ def closest(text: str, count: int = 3) -> list[str]:
     return [f.example for f in ranked[:count]]
 
 
+SPOKEN_OBJECTS = ("ball", "sphere", "cone", "cylinder", "cup", "table", "plane")
+"""The object words the recogniser listens for: fewer than the text grammar reads, each far
+from the others in sound ("apple" was heard for "cone", "can" for "cone")."""
+SPOKEN_RELATIONS = (
+    "on",
+    "above",
+    "under",
+    "below",
+    "behind",
+    "in front of",
+    "to the left of",
+    "to the right of",
+    "parallel to",
+    "perpendicular to",
+)
+"""The relation phrases the recogniser listens for."""
+
+
 def _alternatives(words: list[str]) -> str:
     return "(" + " | ".join(words) + ")" if words else "<VOID>"
 
@@ -258,8 +278,7 @@ def jsgf(names: Names, *, scene_numbers: int = 30, known: set[str] | None = None
     agents = sorted({s for n in names.participants if (s := sayable(n))})
     activities = sorted({s for n in names.activities if (s := sayable(n))})
     numbers = [say_number(n) for n in range(1, scene_numbers + 1)]
-    objects = sorted(OBJECTS)
-    relations = sorted(RELATIONS)
+    objects, relations = list(SPOKEN_OBJECTS), list(SPOKEN_RELATIONS)
     rules = [
         "#JSGF V1.0;",
         "grammar ask;",
@@ -268,7 +287,7 @@ def jsgf(names: Names, *, scene_numbers: int = 30, known: set[str] | None = None
         f"<activity> = {_alternatives(activities)};",
         f"<time> = {_alternatives(list(TIMES))};",
         f"<name> = (scene | experience) {_alternatives(numbers)};",
-        "<object> = [a | an | the] " + _alternatives(objects) + ";",
+        "<object> = (a | the) " + _alternatives(objects) + ";",
         "<relation> = " + _alternatives(relations) + ";",
         "<thing> = <object> <relation> <object>;",
     ]

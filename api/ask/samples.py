@@ -1,0 +1,105 @@
+"""A lived week to ask, and the questions the speech tests and ``bench/ask.py`` ask it (as the
+synthetic clouds of :mod:`shapes.synthetic` serve tests, demo and benchmarks).
+
+The clock runs from Monday 2026-03-02 08:00 UTC and stops at Wednesday 2026-03-04 10:00.
+"""
+
+import datetime as dt
+
+from episodes import ArgumentSpec, EpisodeMemory
+from kg import Store, ensure_ontology
+from reasoners.memory import SceneMemory
+from reasoners.primitives import Primitive
+
+__all__ = ["EPISODES", "NOW", "SPOKEN", "START", "Clock", "live_a_week"]
+
+START = dt.datetime(2026, 3, 2, 8, 0, tzinfo=dt.UTC)
+NOW = dt.datetime(2026, 3, 4, 10, 0, tzinfo=dt.UTC)
+
+
+class Clock:
+    """A clock moved by hand."""
+
+    def __init__(self) -> None:
+        self.now = START
+
+    def __call__(self) -> dt.datetime:
+        return self.now
+
+
+def sphere(name: str, x: float, y: float, z: float) -> Primitive:
+    return Primitive(name, "Sphere", centre=(x, y, z), radius=0.05)
+
+
+def plane(name: str, x: float, y: float, z: float) -> Primitive:
+    return Primitive(name, "Plane", centre=(x, y, z), axis=(0, 0, 1), hessian=-z)
+
+
+def cone(name: str, x: float, y: float, z: float) -> Primitive:
+    return Primitive(name, "Cone", centre=(x, y, z), axis=(0, 0, 1), radius=0.05, height=0.1)
+
+
+BALL_ON_TABLE = [sphere("ball", 0.3, 0.3, 0.3), plane("table", 0.3, 0.1, 0.1)]
+TWO_BALLS = [*BALL_ON_TABLE, sphere("orange", 0.3, 0.3, 0.5)]
+CONE_BEHIND = [sphere("ball", 0.3, 0.1, 0.3), cone("hat", 0.3, 0.6, 0.3)]
+LONE = [sphere("a", 0.0, 0.9, 0.9), sphere("b", 0.5, 0.9, 0.9)]
+EPISODES = [
+    # (activity, agent, others, begin)
+    ("motor babbling", "Anna", ["Peter"], "2026-03-02T09:00:00+00:00"),
+    ("motor babbling", "Anna", ["Peter", "HyungJin"], "2026-03-03T14:00:00+00:00"),
+    ("pointing", "HyungJin", [], "2026-03-03T15:30:00+00:00"),
+    ("waving", "Peter", ["Anna"], "2026-02-25T11:00:00+00:00"),
+]
+
+
+def live_a_week(store: Store, clock: Clock) -> tuple[SceneMemory, EpisodeMemory]:
+    """The memories of the module docstring: Scene-1 two balls on a table (seen 30 times),
+    Scene-2 two spheres side by side (LONE, forgotten on Tuesday), Scene-3 a ball on a table
+    (the parent of Scene-1), Scene-4 a cone behind a ball, the last scene (learned: nothing
+    fitted it)."""
+    ensure_ontology(store)
+    scenes = SceneMemory(store, clock=clock)
+    episodes = EpisodeMemory(store, clock=clock)
+    for activity, agent, others, begin in EPISODES:
+        arguments = [ArgumentSpec("agent", agent)]
+        arguments += [ArgumentSpec("partner", name) for name in others]
+        episode = episodes.begin(activity, arguments=arguments, begin=begin)
+        episodes.end(episode.id, end=dt.datetime.fromisoformat(begin) + dt.timedelta(minutes=20))
+    for _ in range(30):
+        scenes.store_scene(TWO_BALLS)
+    for _ in range(5):
+        scenes.retrieve(TWO_BALLS)
+    scenes.store_scene(LONE)
+    clock.now = START + dt.timedelta(days=1)
+    for _ in range(scenes.policy.weakPassesToForget):
+        scenes.sleep()
+    scenes.store_scene(BALL_ON_TABLE)
+    clock.now = NOW
+    scenes.store_scene(CONE_BEHIND)
+    return scenes, episodes
+
+
+SPOKEN = (
+    "when did anna last show you motor babbling",
+    "when did hyungjin first do pointing",
+    "how many times did anna do motor babbling",
+    "how many times did peter do waving",
+    "what happened yesterday afternoon",
+    "what happened last week",
+    "who was there when anna last did motor babbling",
+    "who was there the first time peter did waving",
+    "what do you know about a ball on a table",
+    "what do you know about a cone behind a ball",
+    "have you seen a cone behind a sphere",
+    "have you seen a cup on a table",
+    "what do you remember best",
+    "what did you forget this week",
+    "what did you forget",
+    "why did you forget scene two",
+    "why is scene one a kind of scene three",
+    "why did you not recognise the last scene",
+    "why did you learn scene three",
+    "how well do you remember scene one",
+    "explain scene four",
+)
+"""The questions of the speech tests and benchmark, as a person would say them."""
