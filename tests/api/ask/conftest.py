@@ -1,13 +1,18 @@
 """The lived week of :mod:`api.ask.samples` (episodes and scenes, one scene class forgotten)
 to ask: "now" is Wednesday 2026-03-04 10:00 UTC."""
 
+from collections.abc import Iterator
 from pathlib import Path
 
+import httpx
 import pytest
 
 from api.ask import Asker
 from api.ask.samples import TWO_BALLS, Clock, live_a_week
+from api.config import Settings
+from api.main import create_app
 from kg import Store
+from tests.conftest import LiveServer, free_port, serve
 
 __all__ = ["TWO_BALLS"]
 
@@ -23,12 +28,27 @@ def asker(clock: Clock) -> Asker:
     return Asker(*live_a_week(Store(), clock))
 
 
-@pytest.fixture
-def lived_data_dir(tmp_path: Path) -> Path:
+def write_lived_week(data: Path) -> Path:
     """A data directory holding the lived week (for the CLI and the server)."""
-    data = tmp_path / "data"
     store = Store(data / "store")
     live_a_week(store, Clock())
     store.flush()
     del store
     return data
+
+
+@pytest.fixture
+def lived_data_dir(tmp_path: Path) -> Path:
+    return write_lived_week(tmp_path / "data")
+
+
+@pytest.fixture(scope="module")
+def lived_server(tmp_path_factory: pytest.TempPathFactory) -> Iterator[LiveServer]:
+    """A server over the lived week, shared by the tests of one module."""
+    data = write_lived_week(tmp_path_factory.mktemp("lived"))
+    settings = Settings(host="127.0.0.1", port=free_port(), data_dir=data)
+    server, thread, url = serve(create_app(settings), settings)
+    with httpx.Client(base_url=url, timeout=60) as client:
+        yield LiveServer(url, settings, client)
+    server.should_exit = True
+    thread.join(timeout=30)
