@@ -172,13 +172,12 @@ class Asker:
     # Episodes ----------------------------------------------------------------------------------
 
     def _cue(self, parsed: Parsed) -> tuple[Cue, str, str]:
-        names = self.names.get()
         agent_text = parsed.slots["agent"]
         activity_text = parsed.slots["activity"]
         if activity_text.lower().startswith("the "):
             activity_text = activity_text[4:]
-        agent = names.find(agent_text, "participant") or agent_text
-        activity = names.find(activity_text, "activity") or activity_text
+        agent = self.names.find(agent_text, "participant") or agent_text
+        activity = self.names.find(activity_text, "activity") or activity_text
         return Cue(activity, agent=agent), agent, activity
 
     def _episode_when(self, parsed: Parsed) -> _Reply:
@@ -303,9 +302,14 @@ class Asker:
             if result.similar:
                 words += f" The closest I have seen is {local(result.similar[0].cls)}."
             return _Reply(words, data)
-        times = sum(self.scenes.item_scores(c).store_count for c in containing)
         listed = ", ".join(self._class_words(c) for c in containing[:3])
-        return _Reply(f"Yes, I have seen {thing} {_times(times)}: in {listed}.", data)
+        if len(containing) == 1:
+            return _Reply(f"Yes, I have seen {thing}: in {listed}.", data)
+        return _Reply(
+            f"Yes, I have seen {thing} in {_count(len(containing), 'kind')} of scene; the "
+            f"closest: {listed}.",
+            data,
+        )
 
     def _scene_best(self, parsed: Parsed) -> _Reply:
         classes, items, best = self.scenes.state(3)

@@ -9,6 +9,7 @@ memories hold (activities and participants of episodes).
 
 import datetime as dt
 import threading
+import time
 from dataclasses import dataclass
 
 from pyoxigraph import Literal
@@ -176,38 +177,60 @@ class Names:
 
 
 class NameCache:
-    """The names of ``store``'s episodes, read again when the episodes graph may have changed
-    (any transaction since the last read), at most once per ``max_age_s`` seconds."""
+    """The names of ``store``'s episodes, read once and read again only when needed.
 
-    def __init__(self, store: Store, *, max_age_s: float = 1.0) -> None:
+    Reading them scans every episode (about 0.3 s at 10,000), so a question does not pay for it:
+    names are only ever added, and :meth:`find` reads them again when a name is missing (at
+    most once per ``retry_s``), :meth:`get` when the store changed and they are older than
+    ``max_age_s`` (the speech grammar uses that).
+    """
+
+    def __init__(self, store: Store, *, max_age_s: float = 5.0, retry_s: float = 1.0) -> None:
         self.store = store
         self.max_age_s = max_age_s
+        self.retry_s = retry_s
         self._lock = threading.Lock()
         self._names: Names | None = None
         self._generation = -1
         self._read_at = 0.0
 
-    def get(self) -> Names:
-        import time
+    def _read(self) -> Names:
+        self._generation = self.store.generation
+        self._read_at = time.monotonic()
+        activities: list[str] = []
+        participants: list[str] = []
+        for row in self.store.select("ask_episode_names"):
+            name, kind = row["name"], row["kind"]
+            if isinstance(name, Literal) and isinstance(kind, Literal):
+                (activities if kind.value == "activity" else participants).append(name.value)
+        self._names = Names(tuple(activities), tuple(participants))
+        return self._names
 
+    def get(self) -> Names:
+        """The names, read again if the store changed more than ``max_age_s`` seconds ago."""
         with self._lock:
-            now = time.monotonic()
             stale = self._generation != self.store.generation
-            if self._names is None or (stale and now - self._read_at >= self.max_age_s):
-                self._generation = self.store.generation
-                self._read_at = now
-                activities: list[str] = []
-                participants: list[str] = []
-                for row in self.store.select("ask_episode_names"):
-                    name, kind = row["name"], row["kind"]
-                    if isinstance(name, Literal) and isinstance(kind, Literal):
-                        target = activities if kind.value == "activity" else participants
-                        target.append(name.value)
-                self._names = Names(tuple(activities), tuple(participants))
+            if self._names is None or (
+                stale and time.monotonic() - self._read_at >= self.max_age_s
+            ):
+                return self._read()
             return self._names
+
+    def find(self, text: str, kind: str) -> str | None:
+        """The stored name equal to ``text`` ignoring case and spacing; None if there is none
+        (after reading the names again, if the store changed since they were read)."""
+        with self._lock:
+            names = self._names or self._read()
+            found = names.find(text, kind)
+            if (
+                found is None
+                and self._generation != self.store.generation
+                and time.monotonic() - self._read_at >= self.retry_s
+            ):
+                found = self._read().find(text, kind)
+            return found
 
     def refresh(self) -> Names:
         """Read the names now."""
         with self._lock:
-            self._names = None
-        return self.get()
+            return self._read()

@@ -81,7 +81,11 @@ def test_what_do_you_know_about_a_ball_on_a_table(asker: Asker) -> None:
 def test_have_you_seen(asker: Asker) -> None:
     seen = ask(asker, "Have you seen a cone behind a sphere?")
     assert seen["answer"]["seen"] is True  # type: ignore[index]
-    assert str(seen["words"]).startswith("Yes, I have seen a cone behind a sphere once: in Scene-4")
+    assert str(seen["words"]).startswith("Yes, I have seen a cone behind a sphere: in Scene-4 (")
+    on_table = ask(asker, "have you seen a ball on a table")
+    assert str(on_table["words"]).startswith(
+        "Yes, I have seen a ball on a table in 2 kinds of scene; the closest: Scene-3 (seen once"
+    )
     not_seen = ask(asker, "have you seen a cup on a table")
     assert not_seen["answer"]["seen"] is False  # type: ignore[index]
     assert str(not_seen["words"]).startswith("No, I have not seen a cup on a table.")
