@@ -19,6 +19,8 @@ from rich.console import Console
 from rich.table import Table
 
 from api.armor import ArmorEngine
+from api.ask import Asker
+from api.ask.dialogue import questions_for, talk
 from api.client import ArmorClient, LocalTransport
 from api.perceive import perceive
 from episodes import ArgumentSpec, Cue, EpisodeMemory
@@ -268,4 +270,7 @@ def run_demo(store: Store, data_dir: Path, console: Console) -> Path:
     partial.write_bytes(body)
     partial.replace(target)
     console.print(f"OWL export for Protégé: [bold]{target}[/bold] ({len(body):,} bytes)")
+    console.rule("Asking the memory in words")
+    asker = Asker(memory, demo.episodes)
+    talk(asker, questions_for(asker, agent="HyungJin", activity="tidying"), console)
     return target

@@ -82,6 +82,11 @@ def test_demo_learns_recalls_forgets_and_exports(tmp_path: Path) -> None:
     assert "learned" in output and "recognised" in output
     assert "In the trash: Scene-4" in output  # the scene seen once and never recalled
     assert "Restored from the trash on request: Scene-4" in output
+    asked = output.split("Asking the memory in words", 1)[1]
+    assert "> When did HyungJin last show you tidying?" in asked
+    assert "The last time HyungJin did tidying was three days ago" in asked
+    assert "> Why did you forget experience-" in asked and "because its level was WEAK" in asked
+    assert "> Why did you not recognise the last scene?" in asked
     export = rdflib.Graph().parse(tmp_path / "engram.owl", format="xml")
     assert len(list(export.subjects(rdflib.RDF.type, rdflib.OWL.Ontology))) == 1
     again = runner.invoke(app, ["demo", "--no-serve", "--data", str(tmp_path)])
