@@ -3,6 +3,7 @@
 
 import base64
 import json
+import shlex
 from collections.abc import Callable
 from pathlib import Path
 
@@ -148,3 +149,15 @@ def test_engram_ask_on_the_data_directory(lived_data_dir: Path, tmp_path: Path) 
     assert body["words"] == "Anna did motor babbling twice."
     assert answer.read_bytes()[:4] == b"RIFF"
     assert runner.invoke(app, ["ask", "--data", str(lived_data_dir)]).exit_code == 2
+
+
+def test_the_readme_example_answers_as_shown(lived_data_dir: Path) -> None:
+    readme = (Path(__file__).resolve().parents[3] / "README.md").read_text(encoding="utf-8")
+    section = readme.split("## Asking the memory", 1)[1]
+    command = section.split("```sh\n", 1)[1].splitlines()[0]
+    expected = section.split("```text\n", 1)[1].split("```", 1)[0].strip()
+    words = shlex.split(command)
+    assert words[:2] == ["engram", "ask"]
+    result = CliRunner().invoke(app, [*words[1:], "--data", str(lived_data_dir)])
+    assert result.exit_code == 0, result.output
+    assert result.output.strip() == expected
