@@ -949,16 +949,31 @@ class SceneMemory:
             return None
 
     def maxima(self) -> dict[str, int]:
-        """The largest class complexity, experienced-scene complexity, store and retrieve counts
-        that the scores are normalised by."""
+        """How many live classes and experienced scenes there are, and the largest class
+        complexity, experienced-scene complexity, store and retrieve counts that the scores
+        are normalised by."""
         with self._lock:
             m = self._model
             return {
+                "classes": len(m.classes),
+                "items": len(m.items),
                 "complexity": m.max_complexity,
                 "item_complexity": m.max_item_complexity,
                 "store": m.max_store,
                 "retrieve": m.max_retrieve,
             }
+
+    def best(self, count: int = 3) -> list[tuple[NamedNode, float]]:
+        """The ``count`` live classes of largest live raw score ζ as (class, ζ), best first,
+        ties by IRI (as :meth:`state`, without a pass over every class in Python)."""
+        with self._lock:
+            return self._model.top(count)
+
+    def last_seen(self, cls: NamedNode) -> dt.datetime | None:
+        """When the latest live experienced scene stored as ``cls`` was seen, or None."""
+        with self._lock:
+            m = self._model
+            return max((m.items[i].created for i in m.items_of.get(cls, ())), default=None)
 
     def items_of(self, cls: NamedNode) -> list[NamedNode]:
         """The live experienced scenes stored as ``cls``, sorted by IRI."""

@@ -215,6 +215,28 @@ class MemoryModel:
             self._top = (key, best)
         return self._top[1]
 
+    def top(self, count: int) -> list[tuple[NamedNode, float]]:
+        """The ``count`` classes of largest live ζ as (class, ζ), best first, ties by IRI:
+        candidates picked over all classes at once in numpy, then ranked by exact ζ."""
+        self.refresh()
+        slots = self.index.slots()
+        if not self.classes or count < 1:
+            return []
+        cd, cs, cr = self.coefficients()
+        z = self._z[:, : len(slots)]
+        values = cd * z[0] + cs * z[1] + cr * z[2]
+        live = np.array([cls is not None for cls in slots])
+        values = np.where(live, values, -np.inf)
+        # every class tied with the count-th best is a candidate, so ties resolve by IRI
+        keep = min(count, int(live.sum()))
+        cut = np.partition(values, len(values) - keep)[len(values) - keep]
+        candidates = [slots[int(i)] for i in np.flatnonzero(values >= cut - 1e-12)]
+        ranked = sorted(
+            ((cls, self.zeta(self.classes[cls])) for cls in candidates if cls is not None),
+            key=lambda kv: (-kv[1], kv[0].value),
+        )
+        return ranked[:count]
+
     def normalised(self, record: ClassRecord) -> float:
         top = self.max_score
         return self.zeta(record) / top if top > 0 else 0.0

@@ -248,8 +248,7 @@ class Asker:
 
     def _class_words(self, cls: NamedNode) -> str:
         scores = self.scenes.item_scores(cls)
-        items = self.scenes.items_of(cls)
-        last = max((self.scenes.item_scores(i).created for i in items), default=None)
+        last = self.scenes.last_seen(cls)
         seen = f"seen {_times(scores.store_count)}"
         if last is not None:
             seen += f", last {say_when(last, self.scenes.now())}"
@@ -312,7 +311,8 @@ class Asker:
         )
 
     def _scene_best(self, parsed: Parsed) -> _Reply:
-        classes, items, best = self.scenes.state(3)
+        counts = self.scenes.maxima()
+        classes, items, best = counts["classes"], counts["items"], self.scenes.best(3)
         if not best:
             return _Reply("I remember nothing yet.", {"best": []})
         top = best[0][1] or 1.0

@@ -231,3 +231,19 @@ def test_every_explanation_is_json_with_words(memory: SceneMemory, clock: FakeCl
             body = to_jsonable(explanation)
             assert body["kind"] == explanation.kind and body["words"] == explanation.words
             json.dumps(body)
+
+
+def test_best_equals_the_state_ranking(memory: SceneMemory) -> None:
+    import random
+
+    from .conftest import random_scene
+
+    rng = random.Random(3)
+    for _ in range(40):
+        memory.store_scene(random_scene(rng))
+    memory.store_scene(BIG)
+    for _ in range(5):
+        memory.retrieve(BIG)
+    for count in (1, 3, 10, 100):
+        assert memory.best(count) == memory.state(count)[2]
+    assert memory.best(0) == []
