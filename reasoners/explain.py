@@ -186,7 +186,8 @@ def _near_misses(
     memory: SceneMemory, signature: Signature, exclude: set[NamedNode], limit: int = 3
 ) -> tuple[NearMiss, ...]:
     found = []
-    for match in memory.closest(signature, limit + len(exclude) + 3):
+    # the classes the signature belongs to are skipped below: ask for a few more than needed
+    for match in memory.closest(signature, 3 * limit + 5):
         if match.cls in exclude:
             continue
         required = memory.signature(match.cls)
@@ -531,7 +532,7 @@ def scene_signature(memory: SceneMemory, item: NamedNode, graph: NamedNode = EPI
 
 def _learned_before(memory: SceneMemory, cls: NamedNode, other: NamedNode) -> bool:
     """Whether ``other`` was learned before ``cls`` (by time, then by number)."""
-    a, b = memory.item_scores(cls).created, memory.item_scores(other).created
+    a, b = memory.learned_at(cls), memory.learned_at(other)
     return (b, _number(other)) < (a, _number(cls))
 
 
@@ -543,12 +544,8 @@ def _number(cls: NamedNode) -> int:
 def _learned_from(memory: SceneMemory, cls: NamedNode, item: NamedNode) -> bool:
     """Whether ``cls`` was learned from the experienced scene ``item``: the first scene stored
     as it at the moment it was learned (scene numbers grow with each update)."""
-    created = memory.item_scores(cls).created
-    first = min(
-        (i for i in memory.items_of(cls) if memory.item_scores(i).created == created),
-        key=_number,
-        default=None,
-    )
+    created = memory.learned_at(cls)
+    first = min((i for i, t in memory.seen(cls) if t == created), key=_number, default=None)
     return first == item
 
 

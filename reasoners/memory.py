@@ -969,11 +969,23 @@ class SceneMemory:
         with self._lock:
             return self._model.top(count)
 
-    def last_seen(self, cls: NamedNode) -> dt.datetime | None:
-        """When the latest live experienced scene stored as ``cls`` was seen, or None."""
+    def learned_at(self, cls: NamedNode) -> dt.datetime:
+        """When a live class was learned (raises UnknownItemError otherwise)."""
+        with self._lock:
+            record = self._model.classes.get(cls)
+            if record is None:
+                raise self._unknown(cls)
+            return record.created
+
+    def seen(self, cls: NamedNode) -> list[tuple[NamedNode, dt.datetime]]:
+        """The live experienced scenes stored as ``cls`` and when each was seen, oldest first
+        (ties by IRI)."""
         with self._lock:
             m = self._model
-            return max((m.items[i].created for i in m.items_of.get(cls, ())), default=None)
+            return sorted(
+                ((i, m.items[i].created) for i in m.items_of.get(cls, ())),
+                key=lambda pair: (pair[1], pair[0].value),
+            )
 
     def items_of(self, cls: NamedNode) -> list[NamedNode]:
         """The live experienced scenes stored as ``cls``, sorted by IRI."""

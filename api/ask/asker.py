@@ -248,11 +248,12 @@ class Asker:
 
     def _class_words(self, cls: NamedNode) -> str:
         scores = self.scenes.item_scores(cls)
-        last = self.scenes.last_seen(cls)
-        seen = f"seen {_times(scores.store_count)}"
+        seen = self.scenes.seen(cls)
+        last = seen[-1][1] if seen else None
+        how = f"seen {_times(scores.store_count)}"
         if last is not None:
-            seen += f", last {say_when(last, self.scenes.now())}"
-        return f"{local(cls)} ({seen}; level {scores.level})"
+            how += f", last {say_when(last, self.scenes.now())}"
+        return f"{local(cls)} ({how}; level {scores.level})"
 
     def _recall(self, parsed: Parsed) -> tuple[Any, str]:
         triples = self._thing(parsed)
