@@ -185,3 +185,13 @@ def test_a_question_outside_the_grammar_gets_the_closest_forms(asker: Asker) -> 
 def test_bad_text_is_refused(asker: Asker, text: str, fragment: str) -> None:
     with pytest.raises(InvalidInputError, match=fragment):
         asker.ask(text)
+
+
+def test_a_name_added_after_the_names_were_read_is_found(asker: Asker) -> None:
+    from episodes import ArgumentSpec
+
+    assert ask(asker, "how many times did anna do motor babbling")["answer"] == {"count": 2}
+    asker.names.retry_s = 0.0  # the cache reads the names again on a miss at once
+    episode = asker.episodes.begin("juggling", arguments=[ArgumentSpec("agent", "Zoe")])
+    asker.episodes.end(episode.id)
+    assert ask(asker, "how many times did zoe do Juggling")["words"] == "Zoe did juggling once."
