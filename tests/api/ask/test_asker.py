@@ -3,6 +3,8 @@
 import json
 
 import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
 
 from api.ask import Asker
 from episodes.errors import InvalidInputError
@@ -195,3 +197,42 @@ def test_a_name_added_after_the_names_were_read_is_found(asker: Asker) -> None:
     episode = asker.episodes.begin("juggling", arguments=[ArgumentSpec("agent", "Zoe")])
     asker.episodes.end(episode.id)
     assert ask(asker, "how many times did zoe do Juggling")["words"] == "Zoe did juggling once."
+
+
+FRAGMENTS = [
+    "when did",
+    "last",
+    "first",
+    "how many times did",
+    "do",
+    "what happened",
+    "who was there when",
+    "have you seen",
+    "a ball on a table",
+    "why is",
+    "a kind of",
+    "scene 4",
+    "experience 31",
+    "scene ninety nine",
+    "why did you forget",
+    "explain",
+    "Anna",
+    "motor babbling",
+    "ünïcode ✓",
+    "?",
+    "x" * 60,
+]
+
+
+@settings(
+    max_examples=60, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture]
+)
+@given(st.lists(st.sampled_from(FRAGMENTS), min_size=1, max_size=6))
+def test_any_question_is_answered_or_refused_never_crashes(asker: Asker, words: list[str]) -> None:
+    text = " ".join(words)
+    try:
+        answer = asker.ask(text)
+    except InvalidInputError as error:
+        assert error.field in ("text", "activity", "agent")
+        return
+    assert answer.words and json.dumps(answer.to_json())
