@@ -40,6 +40,17 @@ class Settings(BaseSettings):
     sparql_max_result_bytes: int = Field(
         64 * 1024 * 1024, gt=0, description="Largest serialised SPARQL result, in bytes."
     )
+    sparql_max_query_bytes: int = Field(
+        1024 * 1024,
+        gt=0,
+        description="Longest SPARQL request body (and query text), in bytes; longer answers 413.",
+    )
+    sparql_max_nesting: int = Field(
+        128,
+        ge=1,
+        le=1000,
+        description="Deepest nesting of braces, parentheses and brackets in a SPARQL query.",
+    )
     sparql_workers: int = Field(
         2, ge=1, le=64, description="Worker processes that answer SPARQL queries in parallel."
     )

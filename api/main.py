@@ -61,13 +61,15 @@ def create_app(settings: Settings | None = None) -> FastAPI:
             workers=settings.sparql_workers,
             timeout_s=settings.sparql_timeout_s,
             max_result_bytes=settings.sparql_max_result_bytes,
+            max_query_chars=settings.sparql_max_query_bytes,
+            max_depth=settings.sparql_max_nesting,
         )
         recordings = RecordingRegistry()
         state = app.state
         state.settings, state.store, state.runner = settings, store, runner
         state.recordings = recordings
         state.scene_memory = scene_memory = SceneMemory(store)
-        state.armor = ArmorEngine(store, scene_memory=scene_memory)
+        state.armor = ArmorEngine(store, scene_memory=scene_memory, sandbox=runner)
         state.episodes = EpisodeMemory(
             store,
             data_dir=settings.data_dir,
