@@ -13,6 +13,7 @@ from api.armor import ArmorEngine
 from api.armor.memory import sleep_if_due
 from api.config import Settings, get_settings
 from api.errors import install_error_handlers
+from api.finite_json import FiniteJsonBodies
 from api.memory_state import live_memory_state
 from api.routes import admin, armor, episodes, export, health, sparql, streams
 from episodes import EpisodeMemory
@@ -97,5 +98,8 @@ def create_app(settings: Settings | None = None) -> FastAPI:
     # armor first: route matching is a sizeable share of a directive's time
     for module in (armor, health, sparql, export, admin, episodes, streams):
         app.include_router(module.router)
+    app.add_middleware(
+        FiniteJsonBodies
+    )  # NaN, Infinity, 1e999 in a JSON body: 422 (api/finite_json.py)
     fast_armor.install(app)  # well-formed ARMOR requests skip the router (api/fast_armor.py)
     return app

@@ -4,6 +4,7 @@ Results are sets in ARMOR (Java ``HashSet``); here they come sorted, which is on
 ARMOR could give. ``QUERY SPARQL`` runs over the reference's asserted and inferred graphs.
 """
 
+import re
 import time
 from collections.abc import Callable
 
@@ -281,17 +282,18 @@ def _sparql_text(ctx: Context) -> tuple[str, float | None]:
     timeout_s = None
     if len(args) in (2, 4):
         raw = args[-1]
-        try:
-            timeout_s = int(raw) / 1000
-        except ValueError:
+        if not _JAVA_INTEGER.fullmatch(raw):
             raise InvalidArgumentsError(
-                f"args[{len(args) - 1}]: got {raw!r}, expected a timeout in milliseconds"
-            ) from None
+                f"args[{len(args) - 1}]: got {raw!r}, expected a timeout in milliseconds "
+                "(an integer in ASCII digits)"
+            )
+        timeout_s = int(raw) / 1000
         if timeout_s <= 0:
             timeout_s = None  # Jena: a non-positive timeout means none
     return text, timeout_s
 
 
+_JAVA_INTEGER = re.compile(r"[+-]?[0-9]+")
 _NOT_SELECT = "args: QUERY SPARQL takes a SELECT query (ARMOR runs only SELECT)"
 _IN_PROCESS_MAX_DEPTH = 128
 """Nesting levels allowed when no sandbox runs the query (Oxigraph's parser overflows later)."""
