@@ -55,6 +55,12 @@ class Settings(BaseSettings):
         2, ge=1, le=64, description="Worker processes that answer SPARQL queries in parallel."
     )
 
+    armor_max_list_length: int = Field(
+        100_000,
+        ge=1,
+        description="Most directives one ARMOR directive list may hold; longer answers 422.",
+    )
+
     sleep_check_s: float = Field(
         30.0,
         gt=0,

@@ -70,7 +70,12 @@ def create_app(settings: Settings | None = None) -> FastAPI:
         state.settings, state.store, state.runner = settings, store, runner
         state.recordings = recordings
         state.scene_memory = scene_memory = SceneMemory(store)
-        state.armor = ArmorEngine(store, scene_memory=scene_memory, sandbox=runner)
+        state.armor = ArmorEngine(
+            store,
+            scene_memory=scene_memory,
+            sandbox=runner,
+            max_list_length=settings.armor_max_list_length,
+        )
         state.episodes = EpisodeMemory(
             store,
             data_dir=settings.data_dir,

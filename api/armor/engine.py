@@ -15,6 +15,7 @@ from api.armor.errors import (
     NO_REFERENCE,
     UNKNOWN_COMMAND,
     DirectiveError,
+    DirectiveListTooLongError,
 )
 from api.armor.memory import MEMORY_COMMANDS, SCENE_ADDS, MemoryDirectives
 from api.armor.models import ArmorDirectiveListRes, ArmorDirectiveReq, ArmorDirectiveRes
@@ -168,8 +169,11 @@ class ArmorEngine:
         *,
         scene_memory: SceneMemory | None = None,
         sandbox: QueryRunner | None = None,
+        max_list_length: int | None = None,
     ) -> None:
         self.store = store
+        self.max_list_length = max_list_length
+        """Most directives one list may hold; None for no limit."""
         self.sandbox = sandbox
         """Runs QUERY SPARQL's text in worker processes; None runs it in this process."""
         self.registry = Registry(store)
@@ -206,7 +210,12 @@ class ArmorEngine:
     def execute_list(
         self, requests: Sequence[ArmorDirectiveReq], *, style: ValueStyle = "armor"
     ) -> ArmorDirectiveListRes:
-        """Every directive in order, then one commit if none failed (otherwise nothing stays)."""
+        """Every directive in order, then one commit if none failed (otherwise nothing stays).
+
+        Raises :class:`DirectiveListTooLongError` for a list longer than ``max_list_length``.
+        """
+        if self.max_list_length is not None and len(requests) > self.max_list_length:
+            raise DirectiveListTooLongError(len(requests), self.max_list_length)
         result = self._execute_list(requests, style, wait=True)
         assert result is not None
         return result
