@@ -20,6 +20,7 @@ from episodes import EpisodeMemory
 from episodes.streams import RecordingRegistry
 from kg import Store, ensure_ontology
 from kg.sandbox import QueryRunner
+from reasoners.check import open_scene_memory
 from reasoners.memory import SceneMemory
 
 __all__ = ["create_app"]
@@ -69,7 +70,7 @@ def create_app(settings: Settings | None = None) -> FastAPI:
         state = app.state
         state.settings, state.store, state.runner = settings, store, runner
         state.recordings = recordings
-        state.scene_memory = scene_memory = SceneMemory(store)
+        state.scene_memory = scene_memory = open_scene_memory(store)  # names any damage
         state.armor = ArmorEngine(
             store,
             scene_memory=scene_memory,
