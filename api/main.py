@@ -15,6 +15,7 @@ from api.config import Settings, get_settings
 from api.errors import install_error_handlers
 from api.finite_json import FiniteJsonBodies
 from api.memory_state import live_memory_state
+from api.openapi_errors import install_error_docs
 from api.routes import admin, armor, episodes, export, health, sparql, streams
 from episodes import EpisodeMemory
 from episodes.streams import RecordingRegistry
@@ -107,5 +108,6 @@ def create_app(settings: Settings | None = None) -> FastAPI:
     app.add_middleware(
         FiniteJsonBodies
     )  # NaN, Infinity, 1e999 in a JSON body: 422 (api/finite_json.py)
+    install_error_docs(app)  # the 401/404/409/422 answers in /openapi.json (api/openapi_errors.py)
     fast_armor.install(app)  # well-formed ARMOR requests skip the router (api/fast_armor.py)
     return app

@@ -14,6 +14,7 @@ from starlette.concurrency import run_in_threadpool
 
 from api.deps import RunnerDep, SettingsDep
 from api.negotiation import NotAcceptable, choose_media_type
+from api.openapi_errors import error_responses
 from kg.sandbox import QueryForm
 
 router = APIRouter(tags=["sparql"])
@@ -87,13 +88,47 @@ def _url_params(request: Request) -> dict[str, list[str]]:
     return params
 
 
-@router.get("/sparql", summary="SPARQL query by GET")
+_QUERY_PARAMETERS = [
+    {"name": name, "in": "query", "required": required, "schema": {"type": "string"}}
+    for name, required in (
+        ("query", False),
+        ("default-graph-uri", False),
+        ("named-graph-uri", False),
+        ("format", False),
+    )
+]
+_POST_BODY = {
+    "required": True,
+    "content": {
+        "application/sparql-query": {"schema": {"type": "string"}},
+        "application/x-www-form-urlencoded": {
+            "schema": {
+                "type": "object",
+                "properties": {"query": {"type": "string"}},
+                "required": ["query"],
+            }
+        },
+    },
+}
+
+
+@router.get(
+    "/sparql",
+    summary="SPARQL query by GET",
+    responses=error_responses(400, 403, 406, 413, 503),
+    openapi_extra={"parameters": _QUERY_PARAMETERS},
+)
 async def sparql_get(request: Request, runner: RunnerDep) -> Response:
     """Answer ``?query=`` with optional ``default-graph-uri`` and ``named-graph-uri``."""
     return await _answer(request, runner, _url_params(request))
 
 
-@router.post("/sparql", summary="SPARQL query by POST")
+@router.post(
+    "/sparql",
+    summary="SPARQL query by POST",
+    responses=error_responses(400, 403, 406, 413, 415, 503),
+    openapi_extra={"parameters": _QUERY_PARAMETERS, "requestBody": _POST_BODY},
+)
 async def sparql_post(request: Request, runner: RunnerDep, settings: SettingsDep) -> Response:
     """Answer a form-encoded ``query=`` or a body of type ``application/sparql-query``."""
     content_type = request.headers.get("content-type", "").split(";")[0].strip().lower()
