@@ -204,6 +204,15 @@ class QueryRunner:
                 self._release_snapshot(snapshot)
         return _outcome(status, form, payload, media_types, self.max_result_bytes)
 
+    def snapshot_is_current(self) -> bool:
+        """True if the last snapshot holds the store's latest commit (a query needs no new one).
+
+        A caller reading a few small graphs can send them as ``graph_data`` instead when this is
+        False: a snapshot costs a store backup and a fresh open in the worker.
+        """
+        with self._lock:
+            return self._snapshot is not None and self._snapshot.generation == self.store.generation
+
     def _exchange(self, job: dict[str, Any], deadline: float, limit_s: float) -> Any:
         worker = self._take_worker(deadline, limit_s)
         try:

@@ -298,6 +298,8 @@ _NOT_SELECT = "args: QUERY SPARQL takes a SELECT query (ARMOR runs only SELECT)"
 _IN_PROCESS_MAX_DEPTH = 128
 """Nesting levels allowed when no sandbox runs the query (Oxigraph's parser overflows later)."""
 _JSON = "application/sparql-results+json"
+_SENT_BYTES = 4 * 1024 * 1024
+"""A committed reference up to this size (N-Triples) is sent to the worker rather than snapshot."""
 
 
 def _in_sandbox(ctx: Context, text: str, timeout_s: float | None) -> QuerySolutions:
@@ -306,11 +308,12 @@ def _in_sandbox(ctx: Context, text: str, timeout_s: float | None) -> QuerySoluti
     reference = ctx.reference()
     view = ctx.session.view_store(reference)
     graphs = [graph.value for graph in reference.graphs]
-    data = (
-        None
-        if view is ctx.session.store
-        else {g.value: view.graph_ntriples(g) for g in reference.graphs}
-    )
+    data = None
+    if view is not ctx.session.store or not ctx.sandbox.snapshot_is_current():
+        # the list's own view, or a reference small enough to send rather than snapshot
+        data = {g.value: view.graph_ntriples(g) for g in reference.graphs}
+        if view is ctx.session.store and sum(map(len, data.values())) > _SENT_BYTES:
+            data = None
     try:
         answer = ctx.sandbox.run(
             text,
