@@ -51,6 +51,13 @@ class Settings(BaseSettings):
         le=1000,
         description="Deepest nesting of braces, parentheses and brackets in a SPARQL query.",
     )
+    sparql_snapshot_max_age_s: float = Field(
+        0.0,
+        ge=0,
+        le=60,
+        description="A SPARQL query may read a snapshot up to this old while writers commit "
+        "(0: every query sees every commit made before it).",
+    )
     sparql_workers: int = Field(
         2, ge=1, le=64, description="Worker processes that answer SPARQL queries in parallel."
     )

@@ -66,6 +66,7 @@ def create_app(settings: Settings | None = None) -> FastAPI:
             max_result_bytes=settings.sparql_max_result_bytes,
             max_query_chars=settings.sparql_max_query_bytes,
             max_depth=settings.sparql_max_nesting,
+            snapshot_max_age_s=settings.sparql_snapshot_max_age_s,
         )
         recordings = RecordingRegistry()
         state = app.state

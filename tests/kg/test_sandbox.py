@@ -1,5 +1,6 @@
 """The query sandbox: a worker that dies is replaced, and a worker cannot reach the network."""
 
+import json
 import subprocess
 import sys
 import textwrap
@@ -7,10 +8,12 @@ from collections.abc import Iterator
 from pathlib import Path
 
 import pytest
+from pyoxigraph import Literal
 
 from kg import Store, ensure_ontology
 from kg.errors import QueryRefusedError, QueryWorkerCrashedError, UnsupportedQueryError
 from kg.sandbox import QueryForm, QueryRunner
+from ontologies.vocab import MEMORY, RDFS_LABEL, engram
 from tests.listener import listening
 
 pytestmark = pytest.mark.slow
@@ -97,3 +100,32 @@ def test_the_network_guard_stops_oxigraphs_service_call(tmp_path: Path) -> None:
     assert done.returncode == 0, done.stderr
     assert "refused:" in done.stdout
     assert not listener.contacted.is_set()
+
+
+def _count_labels(runner: QueryRunner) -> int:
+    answer = runner.run(
+        "SELECT (COUNT(*) AS ?n) WHERE { ?s <http://www.w3.org/2000/01/rdf-schema#label> 'x' }",
+        media_types=JSON,
+    )
+    return int(json.loads(answer.body)["results"]["bindings"][0]["n"]["value"])
+
+
+def _label(store: Store, name: str) -> None:
+    with store.transaction() as tx:
+        tx.insert(engram(name), RDFS_LABEL, Literal("x"), MEMORY)
+
+
+@pytest.mark.parametrize(("max_age_s", "seen_after_commit"), [(0.0, 1), (3600.0, 0)])
+def test_a_query_sees_every_earlier_commit_unless_staleness_is_allowed(
+    tmp_path: Path, max_age_s: float, seen_after_commit: int
+) -> None:
+    store = Store(tmp_path / "store")
+    running = QueryRunner(
+        store, snapshot_dir=tmp_path / "snapshots", workers=1, snapshot_max_age_s=max_age_s
+    )
+    try:
+        assert _count_labels(running) == 0
+        _label(store, "a")
+        assert _count_labels(running) == seen_after_commit
+    finally:
+        running.close()
