@@ -8,6 +8,7 @@ from typing import Annotated, Any
 import typer
 import uvicorn
 from rich.console import Console
+from rich.markup import escape
 
 from api.cli_ask import ask_command
 from api.cli_episodes import app as episodes_app
@@ -19,6 +20,7 @@ from api.summary import memory_sizes, print_summary, reset_memories
 from kg import DEFAULT_GRAPHS, EngramError, Store, ensure_ontology, export
 from kg.export import FORMATS
 from ontologies.vocab import GRAPHS
+from reasoners.check import check_memory, describe, fix_memory
 
 app = typer.Typer(
     help="Engram: a human-like memory for robots, kept as a knowledge graph.",
@@ -53,7 +55,21 @@ def _open(settings: Settings) -> Store:
         raise typer.Exit(1) from None
 
 
+def _refuse_damaged(settings: Settings) -> None:
+    """Stop before serving a store whose memory graphs are damaged, naming what and how to fix."""
+    if not settings.store_dir.exists():
+        return
+    store = _open(settings)
+    damages = check_memory(store)
+    del store
+    gc.collect()  # unlock the directory for the server
+    if damages:
+        console.print(f"[red]{escape(describe(damages))}[/red]", soft_wrap=True)
+        raise typer.Exit(1)
+
+
 def _serve(settings: Settings) -> None:
+    _refuse_damaged(settings)
     # Engram's own loggers go through uvicorn's handler, at INFO, like the server's.
     log_config = copy.deepcopy(uvicorn.config.LOGGING_CONFIG)
     log_config["root"] = {"handlers": ["default"], "level": "INFO"}
@@ -115,6 +131,26 @@ def demo(
 def serve(data: DataOption = None, host: HostOption = None, port: PortOption = None) -> None:
     """Serve the store over HTTP: SPARQL, export, the ARMOR directive API, episodes, streams."""
     _serve(_settings(data_dir=data, host=host, port=port))
+
+
+@app.command()
+def check(
+    data: DataOption = None,
+    fix: Annotated[bool, typer.Option("--fix", help="Repair what can be repaired safely.")] = False,
+) -> None:
+    """Check the memory graphs for damage that stops the memory loading; --fix repairs."""
+    store = _open(_settings(data_dir=data))
+    damages = check_memory(store)
+    if fix and damages:
+        fixed = fix_memory(store, damages)
+        console.print(f"repaired {fixed} problem(s)")
+        damages = check_memory(store)
+    del store
+    gc.collect()  # unlock the directory even when the exit below keeps this frame alive
+    if damages:
+        console.print(escape(describe(damages)), soft_wrap=True)
+        raise typer.Exit(1)
+    console.print("the memory graphs are sound")
 
 
 @app.command()

@@ -40,8 +40,32 @@ class Settings(BaseSettings):
     sparql_max_result_bytes: int = Field(
         64 * 1024 * 1024, gt=0, description="Largest serialised SPARQL result, in bytes."
     )
+    sparql_max_query_bytes: int = Field(
+        1024 * 1024,
+        gt=0,
+        description="Longest SPARQL request body (and query text), in bytes; longer answers 413.",
+    )
+    sparql_max_nesting: int = Field(
+        128,
+        ge=1,
+        le=1000,
+        description="Deepest nesting of braces, parentheses and brackets in a SPARQL query.",
+    )
+    sparql_snapshot_max_age_s: float = Field(
+        0.0,
+        ge=0,
+        le=60,
+        description="A SPARQL query may read a snapshot up to this old while writers commit "
+        "(0: every query sees every commit made before it).",
+    )
     sparql_workers: int = Field(
         2, ge=1, le=64, description="Worker processes that answer SPARQL queries in parallel."
+    )
+
+    armor_max_list_length: int = Field(
+        100_000,
+        ge=1,
+        description="Most directives one ARMOR directive list may hold; longer answers 422.",
     )
 
     sleep_check_s: float = Field(

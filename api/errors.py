@@ -13,43 +13,41 @@ from fastapi.responses import JSONResponse
 from api.ask.errors import SpeechUnavailableError
 from api.negotiation import NotAcceptable
 from episodes import to_jsonable
-from episodes.errors import EpisodeStateError, InvalidInputError, NotFoundError
-from episodes.streams.errors import (
-    CorruptRecordingError,
-    InvalidSampleError,
-    RecordingNotFoundError,
-    RecordingStateError,
-    StreamError,
-    UnknownProviderError,
-)
+from episodes.errors import EpisodeStateError
+from episodes.streams.errors import CorruptRecordingError, StreamError
 from kg.errors import (
+    ConflictError,
     EngramError,
+    InvalidInputError,
+    NotFoundError,
     QueryRefusedError,
     QuerySyntaxError,
-    QueryTimeoutError,
+    QueryTooDeepError,
+    QueryTooLongError,
     ResultTooLargeError,
-    StoreError,
+    UnavailableError,
+    UnsupportedQueryError,
 )
 from reasoners.errors import UnknownItemError
 
 __all__ = ["install_error_handlers"]
 
-# Most specific first: the first matching class decides the status.
+# Most specific first: the first matching class decides the status. The four kinds of
+# kg.errors close the list, so any error of the tree has an answer, and EngramError itself last.
 _STATUS: list[tuple[type[Exception], int]] = [
     (QuerySyntaxError, 400),
+    (QueryTooDeepError, 400),
+    (UnsupportedQueryError, 400),
     (QueryRefusedError, 403),
-    (NotAcceptable, 406),
-    (QueryTimeoutError, 503),
+    (QueryTooLongError, 413),
     (ResultTooLargeError, 400),
-    (StoreError, 503),
+    (NotAcceptable, 406),
+    (EpisodeStateError, 409),
+    (CorruptRecordingError, 409),
     (InvalidInputError, 422),
     (NotFoundError, 404),
-    (EpisodeStateError, 409),
-    (InvalidSampleError, 422),
-    (UnknownProviderError, 404),
-    (RecordingNotFoundError, 404),
-    (RecordingStateError, 409),
-    (CorruptRecordingError, 409),
+    (ConflictError, 409),
+    (UnavailableError, 503),
     (StreamError, 400),
     (UnknownItemError, 404),
     (SpeechUnavailableError, 503),

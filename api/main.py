@@ -13,12 +13,15 @@ from api.armor import ArmorEngine
 from api.armor.memory import sleep_if_due
 from api.config import Settings, get_settings
 from api.errors import install_error_handlers
+from api.finite_json import FiniteJsonBodies
 from api.memory_state import live_memory_state
+from api.openapi_errors import install_error_docs
 from api.routes import admin, armor, ask, episodes, export, health, sparql, streams
 from episodes import EpisodeMemory
 from episodes.streams import RecordingRegistry
 from kg import Store, ensure_ontology
 from kg.sandbox import QueryRunner
+from reasoners.check import open_scene_memory
 from reasoners.memory import SceneMemory
 
 __all__ = ["create_app"]
@@ -61,13 +64,21 @@ def create_app(settings: Settings | None = None) -> FastAPI:
             workers=settings.sparql_workers,
             timeout_s=settings.sparql_timeout_s,
             max_result_bytes=settings.sparql_max_result_bytes,
+            max_query_chars=settings.sparql_max_query_bytes,
+            max_depth=settings.sparql_max_nesting,
+            snapshot_max_age_s=settings.sparql_snapshot_max_age_s,
         )
         recordings = RecordingRegistry()
         state = app.state
         state.settings, state.store, state.runner = settings, store, runner
         state.recordings = recordings
-        state.scene_memory = scene_memory = SceneMemory(store)
-        state.armor = ArmorEngine(store, scene_memory=scene_memory)
+        state.scene_memory = scene_memory = open_scene_memory(store)  # names any damage
+        state.armor = ArmorEngine(
+            store,
+            scene_memory=scene_memory,
+            sandbox=runner,
+            max_list_length=settings.armor_max_list_length,
+        )
         state.episodes = EpisodeMemory(
             store,
             data_dir=settings.data_dir,
@@ -95,5 +106,9 @@ def create_app(settings: Settings | None = None) -> FastAPI:
     # armor first: route matching is a sizeable share of a directive's time
     for module in (armor, health, sparql, export, admin, episodes, streams, ask):
         app.include_router(module.router)
+    app.add_middleware(
+        FiniteJsonBodies
+    )  # NaN, Infinity, 1e999 in a JSON body: 422 (api/finite_json.py)
+    install_error_docs(app)  # the 401/404/409/422 answers in /openapi.json (api/openapi_errors.py)
     fast_armor.install(app)  # well-formed ARMOR requests skip the router (api/fast_armor.py)
     return app

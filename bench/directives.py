@@ -28,11 +28,18 @@ with the other load than the rates do.
    and the time of one list ``[5 ADDs, REASON]``, through the engine and over HTTP; then the
    inferred graph is compared with a full REASON of the same asserted graph. Target < 50 ms.
 
+**Long lists.** One directive list of N ``ADD IND CLASS`` directives (distinct individuals) to a
+fresh reference, sent as one request to the server process, for N = 1,000, 5,000 and 20,000;
+printed with the time per directive relative to the 1,000-directive list, which is 1.0 for a
+list whose cost is linear in its length (issue 12: 5,000 took 5 s and 20,000 took 105 s,
+quadratic). Target: 20,000 in under 5 s.
+
 Run from the repository root::
 
     .venv/bin/python bench/directives.py                 # everything, owlrl at 10k only
     .venv/bin/python bench/directives.py --owlrl-50k     # owlrl at 50k too (slow)
     .venv/bin/python bench/directives.py --only throughput --seconds 5
+    .venv/bin/python bench/directives.py --only lists
 """
 
 import argparse
@@ -458,9 +465,47 @@ def reason(sizes: list[int], owlrl_50k: bool, runs: int) -> None:
     print(f"  {_load_average()}")
 
 
+# Long lists -------------------------------------------------------------------------------------
+
+
+def long_lists(lengths: list[int]) -> None:
+    """Time one list of N ADD directives per length, over HTTP, against the first length."""
+    print(f"\nlong directive lists, one request each ({_load_average()})")
+    with tempfile.TemporaryDirectory() as data:
+        server = Server(data)
+        try:
+            with httpx.Client(base_url=server.url, timeout=600) as http:
+                base: float | None = None
+                for n in lengths:
+                    ref = f"list{n}"
+                    http.post("/armor_interface_srv", json={"armor_request": _load(ref)})
+                    directives = [
+                        _request("ADD", "IND", "CLASS", f"i{i}", f"C{i % 7}", ref=ref)
+                        for i in range(n)
+                    ]
+                    start = time.perf_counter()
+                    answer = http.post(
+                        "/armor_interface_serialized_srv", json={"armor_requests": directives}
+                    )
+                    seconds = time.perf_counter() - start
+                    responses = answer.json()["armor_responses"]
+                    assert all(r["success"] for r in responses), answer.text[:300]
+                    per = seconds / n
+                    base = base or per
+                    print(
+                        f"  {n:6d} ADDs: {seconds:7.2f} s, {per * 1e6:6.0f} µs a directive, "
+                        f"{per / base:4.2f} x the {lengths[0]:,}-directive list's per directive"
+                    )
+        finally:
+            server.stop()
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    parser.add_argument("--only", choices=["throughput", "reason"], help="run one half only")
+    parser.add_argument(
+        "--only", choices=["throughput", "reason", "lists"], help="run one part only"
+    )
+    parser.add_argument("--lengths", default="1000,5000,20000", help="list lengths to time")
     parser.add_argument("--seconds", type=float, default=3.0, help="measuring time per figure")
     parser.add_argument("--owlrl-50k", action="store_true", help="run owlrl at 50k too (~100 s)")
     parser.add_argument("--runs", type=int, default=20, help="incremental REASONs to time")
@@ -472,6 +517,8 @@ def main() -> None:
     if options.only in (None, "reason"):
         sizes = [int(s) for s in options.sizes.split(",")]
         reason(sizes, options.owlrl_50k, options.runs)
+    if options.only in (None, "lists"):
+        long_lists([int(n) for n in options.lengths.split(",")])
 
 
 if __name__ == "__main__":

@@ -1,6 +1,6 @@
 """The exceptions of the autobiographical memory.
 
-EngramError (kg)
+EngramError (kg), each error also of one of kg.errors' kinds
 └── EpisodeError
     ├── InvalidInputError       bad value (HTTP 422): names field, value, expected
     ├── NotFoundError           no such episode, run or cue match (HTTP 404)
@@ -10,6 +10,7 @@ EngramError (kg)
 
 from typing import Any
 
+from kg import errors as kinds
 from kg.errors import EngramError
 
 __all__ = [
@@ -25,7 +26,7 @@ class EpisodeError(EngramError):
     """Base of the errors of the autobiographical memory."""
 
 
-class InvalidInputError(EpisodeError, ValueError):
+class InvalidInputError(EpisodeError, kinds.InvalidInputError):
     """A value is malformed or out of range; nothing was written."""
 
     def __init__(self, field: str, value: Any, expected: str) -> None:
@@ -33,7 +34,7 @@ class InvalidInputError(EpisodeError, ValueError):
         super().__init__(f"{field}: got {value!r}, expected {expected}")
 
 
-class NotFoundError(EpisodeError, LookupError):
+class NotFoundError(EpisodeError, kinds.NotFoundError):
     """Nothing in the memory matches what was asked for."""
 
 
@@ -45,5 +46,5 @@ class EpisodeNotFoundError(NotFoundError):
         super().__init__(f"episode: no episode with id {episode_id!r}")
 
 
-class EpisodeStateError(EpisodeError):
+class EpisodeStateError(EpisodeError, kinds.ConflictError):
     """The operation does not fit the episode's state (e.g. it has already ended)."""

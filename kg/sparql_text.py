@@ -16,15 +16,15 @@ from collections.abc import Mapping
 
 from pyoxigraph import Literal, NamedNode
 
-__all__ = ["bind_values", "mentions_keyword"]
+__all__ = ["bind_values", "disable_keyword", "mentions_keyword", "nesting_depth"]
 
 _NOT_CODE = re.compile(
     r'"""(?:[^"\\]|\\.|"(?!""))*"""'
     r"|'''(?:[^'\\]|\\.|'(?!''))*'''"
-    r'|"(?:[^"\\\n]|\\.)*"'
-    r"|'(?:[^'\\\n]|\\.)*'"
+    r'|"(?:[^"\\\n\r]|\\.)*"'
+    r"|'(?:[^'\\\n\r]|\\.)*'"
     r"|<[^<>\"{}|^`\\\s]*>"
-    r"|#[^\n]*",
+    r"|#[^\n\r]*",  # SPARQL ends a comment at a line feed or a carriage return
 )
 _WHERE = re.compile(r"(?<![\w?$:])WHERE\s*\{", re.IGNORECASE)
 
@@ -69,6 +69,60 @@ def mentions_keyword(text: str, keyword: str) -> bool:
     if len(text) <= CACHED_TEXT_LIMIT:
         return _cached_mentions(text, keyword)
     return _mentions(text, keyword)
+
+
+def nesting_depth(text: str) -> int:
+    """The deepest nesting of ``{``, ``(`` and ``[`` outside strings, IRIs and comments.
+
+    Oxigraph's parser recurses once per level and overflows its stack past a few thousand, so
+    the sandbox refuses deep texts before parsing them.
+
+    >>> nesting_depth("SELECT * { { ?s ?p '{{{' } FILTER(1 = (2)) }")
+    3
+    """
+    deepest = depth = 0
+    for char in _code(text):
+        if char in "{([":
+            depth += 1
+            deepest = max(deepest, depth)
+        elif char in "})]" and depth:
+            depth -= 1
+    return deepest
+
+
+def _spelled(letter: str) -> str:
+    """A pattern for ``letter`` in either case, literally or as a ``\\u`` / ``\\U`` escape."""
+    forms = [re.escape(letter.lower()), re.escape(letter.upper())]
+    for code in {ord(letter.lower()), ord(letter.upper())}:
+        forms += [rf"\\u{code:04x}", rf"\\U{code:08x}"]
+    return "(?:" + "|".join(forms) + ")"
+
+
+@functools.lru_cache(maxsize=16)
+def _spelling_pattern(keyword: str) -> re.Pattern[str]:
+    head = "".join(_spelled(c) for c in keyword[:-1])
+    return re.compile(f"{head}({_spelled(keyword[-1])})", re.IGNORECASE)
+
+
+def disable_keyword(text: str, keyword: str) -> str:
+    """``text`` with every spelling of ``keyword`` (any case, escapes included) made another word.
+
+    The last letter is replaced, wherever the word appears: in strings, IRIs, names and
+    comments the text keeps its shape, while as a keyword it no longer parses. A parser that
+    accepts ``text`` but not the result has read ``keyword`` as a keyword; that decision is the
+    parser's own, not a scan's, so comments, escapes and line ends cannot hide the keyword.
+
+    >>> disable_keyword("SELECT * { SERVICE <http://x/service> {} } # Service", "service")
+    'SELECT * { SERVICQ <http://x/servicq> {} } # Servicq'
+    """
+    replacement = "q" if keyword[-1].lower() != "q" else "x"
+
+    def swap(match: re.Match[str]) -> str:
+        word, last = match.group(), match.group(1)
+        letter = replacement.upper() if last.isupper() else replacement
+        return word[: match.start(1) - match.start()] + letter
+
+    return _spelling_pattern(keyword).sub(swap, text)
 
 
 def _where_end(text: str) -> int | None:

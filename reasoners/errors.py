@@ -1,6 +1,6 @@
 """The exceptions of the scene memory.
 
-EngramError (kg)
+EngramError (kg), each error also of one of kg.errors' kinds
 └── MemoryReasonerError
     ├── InvalidPrimitiveError   a primitive's field is missing or out of range (ValueError)
     ├── InvalidSceneError       the primitives cannot form a scene, or a bad cue (ValueError)
@@ -10,7 +10,7 @@ EngramError (kg)
     └── RestoreConflictError    a live class already has the signature of the class to restore
 """
 
-from kg.errors import EngramError
+from kg.errors import ConflictError, EngramError, InvalidInputError, NotFoundError
 
 __all__ = [
     "InvalidPrimitiveError",
@@ -27,11 +27,11 @@ class MemoryReasonerError(EngramError):
     """Base of the scene memory's errors."""
 
 
-class InvalidPrimitiveError(MemoryReasonerError, ValueError):
+class InvalidPrimitiveError(MemoryReasonerError, InvalidInputError):
     """A primitive's field is missing, malformed or out of range."""
 
 
-class InvalidSceneError(MemoryReasonerError, ValueError):
+class InvalidSceneError(MemoryReasonerError, InvalidInputError):
     """The primitives cannot form a scene (duplicate ids, no relation), or a cue is malformed."""
 
 
@@ -39,7 +39,7 @@ class PolicyError(MemoryReasonerError):
     """The memory policy in the store lacks a value or holds one of the wrong kind."""
 
 
-class UnknownItemError(MemoryReasonerError, KeyError):
+class UnknownItemError(MemoryReasonerError, NotFoundError, KeyError):
     """No live learned class or experienced scene has this IRI."""
 
     def __str__(self) -> str:  # KeyError would quote the message
@@ -50,5 +50,5 @@ class NotInTrashError(UnknownItemError):
     """Restore was asked for an IRI that the trash does not hold."""
 
 
-class RestoreConflictError(MemoryReasonerError):
+class RestoreConflictError(MemoryReasonerError, ConflictError):
     """A live class already has the signature of the class to restore."""

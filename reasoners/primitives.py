@@ -66,8 +66,8 @@ class Primitive:
             if self.axis is None:
                 self._fail("axis", None, f"a non-zero 3-vector (a {self.kind} needs its axis)")
             axis = self._vector("axis", self.axis)
-            norm = math.sqrt(sum(c * c for c in axis))
-            if norm < 1e-9:
+            norm = math.hypot(*axis)  # no overflow: (1e200, 0, 0) is a fine direction
+            if not norm >= 1e-9 or not math.isfinite(norm):
                 self._fail("axis", self.axis, "a non-zero 3-vector")
             self._set("axis", (axis[0] / norm, axis[1] / norm, axis[2] / norm))
         elif self.axis is not None:

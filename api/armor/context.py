@@ -10,6 +10,7 @@ from api.armor.models import ArmorDirectiveReq, ArmorDirectiveRes, QueryItem
 from api.armor.names import ValueStyle, resolve
 from api.armor.references import Reference
 from api.armor.session import Session
+from kg.sandbox import QueryRunner
 
 __all__ = ["Context", "Outcome"]
 
@@ -39,6 +40,8 @@ class Context:
     style: ValueStyle = "armor"
     applying: bool = False
     """True while APPLY replays a buffered directive: it writes instead of queueing again."""
+    sandbox: QueryRunner | None = None
+    """Where QUERY SPARQL runs a client's text; None runs it in this process (no server)."""
 
     @property
     def client(self) -> str:

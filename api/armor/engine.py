@@ -15,6 +15,7 @@ from api.armor.errors import (
     NO_REFERENCE,
     UNKNOWN_COMMAND,
     DirectiveError,
+    DirectiveListTooLongError,
 )
 from api.armor.memory import MEMORY_COMMANDS, SCENE_ADDS, MemoryDirectives
 from api.armor.models import ArmorDirectiveListRes, ArmorDirectiveReq, ArmorDirectiveRes
@@ -22,6 +23,7 @@ from api.armor.names import ValueStyle
 from api.armor.references import Registry
 from api.armor.session import Session
 from kg import Store
+from kg.sandbox import QueryRunner
 from reasoners.memory import SceneMemory
 
 __all__ = ["COMMANDS", "ArmorEngine", "Command", "directive_key"]
@@ -47,7 +49,14 @@ def apply(ctx: Context) -> Outcome:
     ctx.session.update(reference.with_changes(buffer=()))
     for request in queued:
         key = directive_key(request)
-        replay = Context(ctx.session, request, key, COMMANDS[key].signature, applying=True)
+        replay = Context(
+            ctx.session,
+            request,
+            key,
+            COMMANDS[key].signature,
+            applying=True,
+            sandbox=ctx.sandbox,
+        )
         outcome = COMMANDS[key].handler(replay)
         if not outcome.success:
             raise DirectiveError(
@@ -154,8 +163,19 @@ def directive_key(request: ArmorDirectiveReq) -> str:
 class ArmorEngine:
     """Runs directives against the references kept in ``store``."""
 
-    def __init__(self, store: Store, *, scene_memory: SceneMemory | None = None) -> None:
+    def __init__(
+        self,
+        store: Store,
+        *,
+        scene_memory: SceneMemory | None = None,
+        sandbox: QueryRunner | None = None,
+        max_list_length: int | None = None,
+    ) -> None:
         self.store = store
+        self.max_list_length = max_list_length
+        """Most directives one list may hold; None for no limit."""
+        self.sandbox = sandbox
+        """Runs QUERY SPARQL's text in worker processes; None runs it in this process."""
         self.registry = Registry(store)
         self.commands = dict(COMMANDS)
         self.memory = MemoryDirectives(store, scene_memory)
@@ -190,7 +210,12 @@ class ArmorEngine:
     def execute_list(
         self, requests: Sequence[ArmorDirectiveReq], *, style: ValueStyle = "armor"
     ) -> ArmorDirectiveListRes:
-        """Every directive in order, then one commit if none failed (otherwise nothing stays)."""
+        """Every directive in order, then one commit if none failed (otherwise nothing stays).
+
+        Raises :class:`DirectiveListTooLongError` for a list longer than ``max_list_length``.
+        """
+        if self.max_list_length is not None and len(requests) > self.max_list_length:
+            raise DirectiveListTooLongError(len(requests), self.max_list_length)
         result = self._execute_list(requests, style, wait=True)
         assert result is not None
         return result
@@ -303,7 +328,7 @@ class ArmorEngine:
                 "Malformed command. No Command/Specs combination match found. "
                 "Please check your service requests and retry.",
             )
-        ctx = Context(session, request, key, command.signature, style=style)
+        ctx = Context(session, request, key, command.signature, style=style, sandbox=self.sandbox)
         try:
             draft = session.scene((request.client_name, request.reference_name))
             if draft is not None and key in SCENE_ADDS:

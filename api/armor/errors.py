@@ -12,6 +12,8 @@ ARMOR's codes (``armor-protocol.md`` §7) and Engram's extensions, all answered 
     └── ReasonerFailure         214  REASON cannot run: no reasoner, or a rule it cannot use
 """
 
+from kg.errors import InvalidInputError
+
 __all__ = [
     "ABORTED",
     "BUSY",
@@ -29,6 +31,7 @@ __all__ = [
     "UNKNOWN_REFERENCE",
     "UNSUPPORTED_TYPE",
     "DirectiveError",
+    "DirectiveListTooLongError",
     "InvalidArgumentsError",
     "MemoryDirectiveError",
     "ReasonerFailure",
@@ -109,3 +112,15 @@ class ReasonerFailure(DirectiveError):
     """REASON cannot run: no reasoner installed, or the ontology holds a rule it cannot use."""
 
     exit_code = REASONER_ERROR
+
+
+class DirectiveListTooLongError(InvalidInputError):
+    """A directive list holds more directives than the configured maximum (HTTP 422)."""
+
+    def __init__(self, length: int, maximum: int) -> None:
+        self.field, self.value = "armor_requests", length
+        self.expected = f"at most {maximum} directives (ENGRAM_ARMOR_MAX_LIST_LENGTH)"
+        super().__init__(
+            f"armor_requests: got a list of {length} directives, expected {self.expected}; "
+            "split it into several lists"
+        )

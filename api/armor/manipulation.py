@@ -192,8 +192,10 @@ def add_cardinality_min(ctx: Context) -> Outcome:
     cls, prop = ctx.name(0, "class"), ctx.name(1, "object property")
     count = ctx.arg(2, "cardinality")
     value_cls = ctx.name(3, "value class")
-    if not count.strip().isdigit():
-        raise InvalidArgumentsError(f"args[2]: got {count!r}, expected a non-negative integer")
+    if not count.isascii() or not count.isdigit():
+        raise InvalidArgumentsError(
+            f"args[2]: got {count!r}, expected a non-negative integer (ASCII digits)"
+        )
     if ctx.buffered():
         return _OK()
     restriction = _fresh()

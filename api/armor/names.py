@@ -31,6 +31,7 @@ __all__ = [
     "armor_string",
     "is_true",
     "is_value_type",
+    "java_number",
     "jena_string",
     "local_name",
     "plain_string",
@@ -99,12 +100,12 @@ def to_literal(type_name: str, value: str, *, field: str) -> Literal:
     """
     local = _TYPES[type_name.upper()]
     if local == "integer" or local == "long":
-        try:
-            number = int(value.strip())
-        except ValueError:
+        if not _JAVA_INTEGER.fullmatch(value):
             raise InvalidArgumentsError(
-                f"{field}: got {value!r}, expected an integer for type {type_name}"
-            ) from None
+                f"{field}: got {value!r}, expected an integer for type {type_name} "
+                "(an optional sign and ASCII digits, as Java's parseInt reads them)"
+            )
+        number = int(value)
         bits = 32 if local == "integer" else 64
         if not -(2 ** (bits - 1)) <= number < 2 ** (bits - 1):
             raise InvalidArgumentsError(
@@ -120,18 +121,52 @@ def to_literal(type_name: str, value: str, *, field: str) -> Literal:
     return Literal(value, datatype=_XSD["string"])
 
 
+_JAVA_INTEGER = re.compile(r"[+-]?[0-9]+")
+"""``Integer.parseInt`` / ``Long.parseLong`` with ASCII digits: no spaces, underscores or
+other scripts' digits (Python's ``int`` takes all three)."""
+_JAVA_DECIMAL = re.compile(r"[+-]?(?:[0-9]+\.?[0-9]*|\.[0-9]+)(?:[eE][+-]?[0-9]+)?[fFdD]?")
+_JAVA_HEX = re.compile(
+    r"([+-]?)0[xX]((?:[0-9a-fA-F]+\.?[0-9a-fA-F]*|\.[0-9a-fA-F]+)[pP][+-]?[0-9]+)[fFdD]?"
+)
+
+
+def java_number(value: str, *, field: str, type_name: str = "DOUBLE") -> float:
+    """``value`` read as Java's ``Double.parseDouble`` reads a finite numeral.
+
+    Leading and trailing control characters and spaces are ignored, as Java trims them; a
+    type suffix (``f``, ``d``) and hexadecimal numerals (``0x1.8p1``) are accepted. Python's
+    extras (``nan``, ``inf``, ``1_000``, other scripts' digits) are not, and neither are Java's
+    ``NaN`` and ``Infinity`` nor a numeral too large for a double: a measurement must be finite.
+    Raises :class:`InvalidArgumentsError` (208) naming ``field``.
+
+    >>> java_number(" 1.5e3d", field="args[3]")
+    1500.0
+    >>> java_number("1_000", field="args[3]")  # doctest: +ELLIPSIS
+    Traceback (most recent call last):
+    ...
+    api.armor.errors.InvalidArgumentsError: args[3]: got '1_000', expected a finite decimal...
+    """
+    text = value.strip("".join(chr(c) for c in range(33)))
+    number: float | None = None
+    if _JAVA_DECIMAL.fullmatch(text):
+        number = float(text.rstrip("fFdD"))
+    elif hexadecimal := _JAVA_HEX.fullmatch(text):
+        try:
+            number = float.fromhex(hexadecimal.group(1) + "0x" + hexadecimal.group(2))
+        except OverflowError:
+            number = math.inf
+    if number is None or not math.isfinite(number):
+        raise InvalidArgumentsError(
+            f"{field}: got {value!r}, expected a finite decimal number for type {type_name} "
+            "(Java's syntax: digits, '.', an exponent; no NaN, Infinity, underscores or "
+            "non-ASCII digits)"
+        )
+    return number
+
+
 def _java_float(value: str, *, field: str, type_name: str) -> str:
     """The shortest decimal that reads back as the same 32-bit float, as Java prints it."""
-    try:
-        number = float(value.strip())
-    except ValueError:
-        raise InvalidArgumentsError(
-            f"{field}: got {value!r}, expected a number for type {type_name}"
-        ) from None
-    if math.isnan(number):
-        return "NaN"
-    if math.isinf(number):
-        return "INF" if number > 0 else "-INF"
+    number = java_number(value, field=field, type_name=type_name)
     try:
         single = struct.unpack("f", struct.pack("f", number))[0]
     except OverflowError:

@@ -4,16 +4,20 @@ Results are sets in ARMOR (Java ``HashSet``); here they come sorted, which is on
 ARMOR could give. ``QUERY SPARQL`` runs over the reference's asserted and inferred graphs.
 """
 
+import re
 import time
 from collections.abc import Callable
 
-from pyoxigraph import Literal, NamedNode, QuerySolutions
+from pyoxigraph import Literal, NamedNode, QueryResultsFormat, QuerySolutions, parse_query_results
 
 from api.armor.context import Context, Outcome
 from api.armor.errors import InvalidArgumentsError, SparqlError
 from api.armor.models import QueryItem
 from api.armor.names import is_true, jena_string, local_name, styled
 from api.armor.references import Reference
+from kg.errors import QueryError, QueryTimeoutError
+from kg.sandbox import QueryForm
+from kg.sparql_text import nesting_depth
 from ontologies.vocab import (
     OWL_EQUIVALENT_CLASS,
     OWL_INTERSECTION_OF,
@@ -278,23 +282,86 @@ def _sparql_text(ctx: Context) -> tuple[str, float | None]:
     timeout_s = None
     if len(args) in (2, 4):
         raw = args[-1]
-        try:
-            timeout_s = int(raw) / 1000
-        except ValueError:
+        if not _JAVA_INTEGER.fullmatch(raw):
             raise InvalidArgumentsError(
-                f"args[{len(args) - 1}]: got {raw!r}, expected a timeout in milliseconds"
-            ) from None
+                f"args[{len(args) - 1}]: got {raw!r}, expected a timeout in milliseconds "
+                "(an integer in ASCII digits)"
+            )
+        timeout_s = int(raw) / 1000
         if timeout_s <= 0:
             timeout_s = None  # Jena: a non-positive timeout means none
     return text, timeout_s
 
 
+_JAVA_INTEGER = re.compile(r"[+-]?[0-9]+")
+_NOT_SELECT = "args: QUERY SPARQL takes a SELECT query (ARMOR runs only SELECT)"
+_IN_PROCESS_MAX_DEPTH = 128
+"""Nesting levels allowed when no sandbox runs the query (Oxigraph's parser overflows later)."""
+_JSON = "application/sparql-results+json"
+_SENT_BYTES = 4 * 1024 * 1024
+"""A committed reference up to this size (N-Triples) is sent to the worker rather than snapshot."""
+
+
+def _in_sandbox(ctx: Context, text: str, timeout_s: float | None) -> QuerySolutions:
+    """Run ``text`` in the sandbox's worker over the reference as this list sees it."""
+    assert ctx.sandbox is not None
+    reference = ctx.reference()
+    view = ctx.session.view_store(reference)
+    graphs = [graph.value for graph in reference.graphs]
+    data = None
+    if view is not ctx.session.store or not ctx.sandbox.snapshot_is_current():
+        # the list's own view, or a reference small enough to send rather than snapshot
+        data = {g.value: view.graph_ntriples(g) for g in reference.graphs}
+        if view is ctx.session.store and sum(map(len, data.values())) > _SENT_BYTES:
+            data = None
+    try:
+        answer = ctx.sandbox.run(
+            text,
+            media_types={QueryForm.SOLUTIONS: _JSON},
+            default_graphs=graphs,
+            named_graphs=graphs,
+            graph_data=data,
+            timeout_s=timeout_s,
+        )
+    except QueryTimeoutError as error:
+        raise SparqlError(f"args: {error}", timeout=True) from None
+    except QueryError as error:
+        raise SparqlError(f"args: the SPARQL query was refused: {error}") from None
+    if answer.media_type is None:
+        raise SparqlError(_NOT_SELECT)
+    solutions = parse_query_results(answer.body, format=QueryResultsFormat.JSON)
+    assert isinstance(solutions, QuerySolutions)
+    return solutions
+
+
+def _in_process(ctx: Context, text: str) -> QuerySolutions:
+    depth = nesting_depth(text)
+    if depth > _IN_PROCESS_MAX_DEPTH:
+        raise SparqlError(
+            f"args: the query nests {depth} levels of braces, parentheses or brackets; "
+            f"at most {_IN_PROCESS_MAX_DEPTH} are allowed"
+        )
+    result = ctx.session.query(ctx.reference(), text)
+    if not isinstance(result, QuerySolutions):
+        raise SparqlError(_NOT_SELECT)
+    return result
+
+
 def _solutions(ctx: Context) -> list[list[tuple[str, NamedNode | Literal]]]:
     text, timeout_s = _sparql_text(ctx)
-    reference = ctx.reference()
-    result = ctx.session.query(reference, text)
-    if not isinstance(result, QuerySolutions):
-        raise SparqlError("args: QUERY SPARQL takes a SELECT query (ARMOR runs only SELECT)")
+    try:
+        return _rows(ctx, text, timeout_s)
+    except RuntimeError as error:  # Oxigraph's word for an unknown function and the like
+        raise SparqlError(f"args: the query cannot be evaluated: {error}") from None
+
+
+def _rows(
+    ctx: Context, text: str, timeout_s: float | None
+) -> list[list[tuple[str, NamedNode | Literal]]]:
+    if ctx.sandbox is not None:
+        result = _in_sandbox(ctx, text, timeout_s)
+    else:
+        result = _in_process(ctx, text)
     names = [variable.value for variable in result.variables]
     deadline = None if timeout_s is None else time.monotonic() + timeout_s
     rows = []

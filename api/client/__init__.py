@@ -13,8 +13,9 @@ Fixed armor_py_api bugs: ``utils.set_log_to_file(False)`` works,
 ``manipulation.replace_one_dataprop_b2_ind`` sends the old value's lexical form.
 """
 
+from typing import TYPE_CHECKING, Any
+
 from api.client._client import ArmorClient
-from api.client._local import LocalTransport
 from api.client._manipulation import ArmorManipulationClient, literal_value
 from api.client._memory import ArmorMemoryClient, MemoryAnswer, ScenePrimitive
 from api.client._query import ArmorQueryClient, strip_uri
@@ -24,6 +25,9 @@ from api.client.exceptions import (
     ArmorServiceCallError,
     ArmorServiceInternalError,
 )
+
+if TYPE_CHECKING:
+    from api.client._local import LocalTransport
 
 __all__ = [
     "ArmorClient",
@@ -40,3 +44,13 @@ __all__ = [
     "literal_value",
     "strip_uri",
 ]
+
+
+def __getattr__(name: str) -> Any:
+    """``LocalTransport`` runs the engine in this process: it is imported only when asked for,
+    so that ``import api.client`` on a robot loads nothing of the server."""
+    if name == "LocalTransport":
+        from api.client._local import LocalTransport
+
+        return LocalTransport
+    raise AttributeError(f"module 'api.client' has no attribute {name!r}")

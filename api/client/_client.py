@@ -5,12 +5,12 @@ from typing import Any
 
 import httpx
 
-from api.armor.models import ArmorDirectiveListRes, ArmorDirectiveReq, ArmorDirectiveRes
 from api.client._manipulation import ArmorManipulationClient
 from api.client._memory import ArmorMemoryClient
 from api.client._query import ArmorQueryClient
 from api.client._utils import ArmorUtilsClient
 from api.client.exceptions import ArmorServiceCallError, ArmorServiceInternalError
+from api.protocol import ArmorDirectiveListRes, ArmorDirectiveReq, ArmorDirectiveRes
 
 __all__ = ["ArmorClient"]
 

@@ -4,7 +4,7 @@ from collections.abc import Iterable, Mapping
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING
 
-from api.armor.models import ArmorDirectiveRes
+from api.protocol import ArmorDirectiveRes
 
 if TYPE_CHECKING:
     from api.client._client import ArmorClient

@@ -3,6 +3,8 @@
 All three request forms are served: ``GET ?query=``, ``POST`` of a form
 (``application/x-www-form-urlencoded``) and ``POST`` of the query itself
 (``application/sparql-query``). Updates are refused with 403: the endpoint is read-only.
+A body longer than ``sparql_max_query_bytes`` is refused with 413 while it is being read; the
+query itself is parsed, checked and run only in the sandbox's worker processes.
 """
 
 from urllib.parse import parse_qs
@@ -10,8 +12,10 @@ from urllib.parse import parse_qs
 from fastapi import APIRouter, HTTPException, Request, Response, status
 from starlette.concurrency import run_in_threadpool
 
-from api.deps import RunnerDep
-from api.negotiation import choose_media_type
+from api.deps import RunnerDep, SettingsDep
+from api.negotiation import NotAcceptable, choose_media_type
+from api.openapi_errors import error_responses
+from kg.sandbox import QueryForm
 
 router = APIRouter(tags=["sparql"])
 
@@ -36,15 +40,45 @@ async def _answer(request: Request, runner: RunnerDep, params: dict[str, list[st
     text = _single(params.get("query", []), "query")
     default_graphs = params.get("default-graph-uri") or None
     named_graphs = params.get("named-graph-uri") or None
-    work = await run_in_threadpool(
-        runner.check, text, default_graphs=default_graphs, named_graphs=named_graphs
-    )
     format_param = next(
         (params[k][0] for k in ("format", "output", "results") if params.get(k)), None
     )
-    media_type = choose_media_type(work.form, request.headers.get("accept"), format_param)
-    body = await run_in_threadpool(runner.run, work, media_type)
-    return Response(body, media_type=media_type, headers={"Vary": "Accept"})
+    media_types: dict[QueryForm, str] = {}
+    refusals: dict[QueryForm, NotAcceptable] = {}
+    for form in QueryForm:
+        try:
+            media_types[form] = choose_media_type(form, request.headers.get("accept"), format_param)
+        except NotAcceptable as error:
+            refusals[form] = error
+    answer = await run_in_threadpool(
+        runner.run,
+        text,
+        media_types=media_types,
+        default_graphs=default_graphs,
+        named_graphs=named_graphs,
+    )
+    if answer.media_type is None:
+        raise refusals[answer.form]
+    return Response(answer.body, media_type=answer.media_type, headers={"Vary": "Accept"})
+
+
+async def _limited_body(request: Request, limit: int) -> bytes:
+    """The request body, refused with 413 as soon as it is known to pass ``limit`` bytes."""
+    too_large = HTTPException(
+        status.HTTP_413_CONTENT_TOO_LARGE,
+        f"request body: longer than the limit of {limit} bytes (sparql_max_query_bytes)",
+    )
+    declared = request.headers.get("content-length", "")
+    if declared.isdigit() and int(declared) > limit:
+        raise too_large
+    chunks: list[bytes] = []
+    size = 0
+    async for chunk in request.stream():
+        size += len(chunk)
+        if size > limit:
+            raise too_large
+        chunks.append(chunk)
+    return b"".join(chunks)
 
 
 def _url_params(request: Request) -> dict[str, list[str]]:
@@ -54,18 +88,52 @@ def _url_params(request: Request) -> dict[str, list[str]]:
     return params
 
 
-@router.get("/sparql", summary="SPARQL query by GET")
+_QUERY_PARAMETERS = [
+    {"name": name, "in": "query", "required": required, "schema": {"type": "string"}}
+    for name, required in (
+        ("query", False),
+        ("default-graph-uri", False),
+        ("named-graph-uri", False),
+        ("format", False),
+    )
+]
+_POST_BODY = {
+    "required": True,
+    "content": {
+        "application/sparql-query": {"schema": {"type": "string"}},
+        "application/x-www-form-urlencoded": {
+            "schema": {
+                "type": "object",
+                "properties": {"query": {"type": "string"}},
+                "required": ["query"],
+            }
+        },
+    },
+}
+
+
+@router.get(
+    "/sparql",
+    summary="SPARQL query by GET",
+    responses=error_responses(400, 403, 406, 413, 503),
+    openapi_extra={"parameters": _QUERY_PARAMETERS},
+)
 async def sparql_get(request: Request, runner: RunnerDep) -> Response:
     """Answer ``?query=`` with optional ``default-graph-uri`` and ``named-graph-uri``."""
     return await _answer(request, runner, _url_params(request))
 
 
-@router.post("/sparql", summary="SPARQL query by POST")
-async def sparql_post(request: Request, runner: RunnerDep) -> Response:
+@router.post(
+    "/sparql",
+    summary="SPARQL query by POST",
+    responses=error_responses(400, 403, 406, 413, 415, 503),
+    openapi_extra={"parameters": _QUERY_PARAMETERS, "requestBody": _POST_BODY},
+)
+async def sparql_post(request: Request, runner: RunnerDep, settings: SettingsDep) -> Response:
     """Answer a form-encoded ``query=`` or a body of type ``application/sparql-query``."""
     content_type = request.headers.get("content-type", "").split(";")[0].strip().lower()
     params = _url_params(request)
-    body = await request.body()
+    body = await _limited_body(request, settings.sparql_max_query_bytes)
     try:
         text = body.decode("utf-8")
     except UnicodeDecodeError as error:

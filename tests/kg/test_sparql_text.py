@@ -104,3 +104,22 @@ def test_the_caches_are_bounded() -> None:
             bind_values(f"SELECT * WHERE {{ ?s ?p {i} }}", BINDINGS)
         info = cache.cache_info()
         assert info.maxsize is not None and info.currsize <= info.maxsize
+
+
+@pytest.mark.parametrize("line_end", ["\r", "\n", "\r\n"])
+def test_a_comment_ends_at_a_carriage_return_too(line_end: str) -> None:
+    text = f"SELECT * WHERE {{ # x{line_end}SERVICE <http://x/> {{ ?s ?p ?o }} }}"
+    assert mentions_keyword(text, "SERVICE")
+
+
+def test_nesting_depth_ignores_brackets_in_strings_and_comments() -> None:
+    from kg.sparql_text import nesting_depth
+
+    assert nesting_depth("ASK { { ?s ?p '{{{{' } } # ((((\r FILTER((1)) ") == 2
+
+
+def test_disable_keyword_changes_every_spelling() -> None:
+    from kg.sparql_text import disable_keyword
+
+    text = "sErViCe SERVIC\\u0045 servic\\U00000065 <http://x/service> 'service' ?service"
+    assert "service" not in disable_keyword(text, "service").lower().replace("\\u0045", "e")

@@ -43,3 +43,14 @@ def test_axis_is_normalised_and_numbers_become_floats() -> None:
     assert cone.height == 1.0 and isinstance(cone.height, float)
     assert cone.orientable
     assert not Primitive("s", "Sphere", centre=(0, 0, 0)).orientable
+
+
+def test_a_huge_axis_is_normalised_not_zeroed() -> None:
+    plane = Primitive("t", "Plane", centre=(0, 0, 0), axis=(1e200, 1e200, 0))
+    assert plane.axis == pytest.approx((2**-0.5, 2**-0.5, 0.0))
+
+
+@pytest.mark.parametrize("axis", [(0.0, 0.0, 1e-12), (float("inf"), 0.0, 0.0)])
+def test_an_axis_without_a_direction_is_refused(axis: tuple[float, float, float]) -> None:
+    with pytest.raises(InvalidPrimitiveError, match="axis"):
+        Primitive("t", "Plane", centre=(0, 0, 0), axis=axis)

@@ -1,0 +1,275 @@
+"""Analysts beside writers: SPARQL readers, ARMOR writers and ``/health`` against one live server.
+
+The server runs in its own process (``uvicorn`` on loopback, on-disk store in a temporary
+directory), as in production. Clients are threads of this process, one keep-alive connection
+each (``http.client``):
+
+- ``--writers`` threads (default 8) each send single ``ADD IND CLASS`` directives, each its own
+  transaction, to their own reference, as fast as they are answered;
+- ``--readers`` threads (default 8) alternate a point query (one subject's label) and a join
+  (individuals with their classes and the classes' labels, LIMIT 20) on ``/sparql``;
+- one thread asks ``/health`` every 50 ms.
+
+Two phases of ``--seconds`` each (default 8): readers alone (the baseline, same run), then
+readers with the writers. Printed per phase: reader median and p99 per query kind, ``/health``
+median and p99, the writers' median and their directives per second, and the ratio of the
+loaded figures to the baseline. Targets (issue 15): point and join median < 50 ms, p99 <
+250 ms, ``/health`` < 20 ms with 8 writers and 8 readers.
+
+Run from the repository root::
+
+    .venv/bin/python bench/mixed_load.py
+    .venv/bin/python bench/mixed_load.py --seconds 4 --writers 4 --readers 4
+"""
+
+import argparse
+import http.client
+import json
+import os
+import socket
+import statistics
+import subprocess
+import sys
+import tempfile
+import threading
+import time
+from pathlib import Path
+from urllib.parse import urlencode
+
+ROOT = Path(__file__).resolve().parent.parent
+SERVER = """
+import sys, uvicorn
+from api.config import Settings
+from api.main import create_app
+settings = Settings(data_dir=sys.argv[1], host="127.0.0.1", port=int(sys.argv[2]))
+uvicorn.run(create_app(settings), host="127.0.0.1", port=int(sys.argv[2]), log_level="warning",
+            access_log=False)
+"""
+POINT = (
+    "SELECT ?label WHERE { <https://w3id.org/engram/ontology#Sphere> "
+    "<http://www.w3.org/2000/01/rdf-schema#label> ?label }"
+)
+JOIN = (
+    "SELECT ?i ?c ?label WHERE { ?i a ?c . ?c a <http://www.w3.org/2002/07/owl#Class> . "
+    "OPTIONAL { ?c <http://www.w3.org/2000/01/rdf-schema#label> ?label } } LIMIT 20"
+)
+
+
+def _free_port() -> int:
+    with socket.socket() as probe:
+        probe.bind(("127.0.0.1", 0))
+        port: int = probe.getsockname()[1]
+        return port
+
+
+class Server:
+    """``uvicorn`` serving the app in a child process, over a fresh data directory."""
+
+    def __init__(self, data: str, **settings: str) -> None:
+        self.port = _free_port()
+        env = os.environ | {f"ENGRAM_{name.upper()}": value for name, value in settings.items()}
+        self.process = subprocess.Popen(
+            [sys.executable, "-c", SERVER, data, str(self.port)], cwd=ROOT, env=env
+        )
+        deadline = time.monotonic() + 60
+        while True:
+            try:
+                connection = http.client.HTTPConnection("127.0.0.1", self.port, timeout=1)
+                connection.request("GET", "/health")
+                if connection.getresponse().status == 200:
+                    return
+            except OSError:
+                pass
+            if time.monotonic() > deadline or self.process.poll() is not None:
+                self.stop()
+                raise RuntimeError("the bench server did not start")
+            time.sleep(0.1)
+
+    def stop(self) -> None:
+        self.process.terminate()
+        self.process.wait(timeout=30)
+
+
+def _directive(
+    ref: str, *args: str, command: str = "ADD", first: str = "IND", second: str = "CLASS"
+) -> bytes:
+    return json.dumps(
+        {
+            "armor_request": {
+                "client_name": ref,
+                "reference_name": ref,
+                "command": command,
+                "primary_command_spec": first,
+                "secondary_command_spec": second,
+                "args": list(args),
+            }
+        }
+    ).encode()
+
+
+class Timings:
+    """Latencies per kind, collected by many threads."""
+
+    def __init__(self) -> None:
+        self.lock = threading.Lock()
+        self.seconds: dict[str, list[float]] = {}
+        self.failures: dict[str, int] = {}
+
+    def add(self, kind: str, seconds: float, ok: bool) -> None:
+        with self.lock:
+            if ok:
+                self.seconds.setdefault(kind, []).append(seconds)
+            else:
+                self.failures[kind] = self.failures.get(kind, 0) + 1
+
+
+def _timed(
+    connection: http.client.HTTPConnection,
+    method: str,
+    path: str,
+    body: bytes | None,
+    headers: dict[str, str],
+) -> tuple[float, bool]:
+    start = time.perf_counter()
+    connection.request(method, path, body=body, headers=headers)
+    response = connection.getresponse()
+    response.read()
+    return time.perf_counter() - start, response.status == 200
+
+
+def _reader(port: int, stop: threading.Event, timings: Timings) -> None:
+    connection = http.client.HTTPConnection("127.0.0.1", port, timeout=60)
+    accept = {"Accept": "application/sparql-results+json"}
+    queries = [
+        ("point", "/sparql?" + urlencode({"query": POINT})),
+        ("join", "/sparql?" + urlencode({"query": JOIN})),
+    ]
+    i = 0
+    while not stop.is_set():
+        kind, path = queries[i % 2]
+        seconds, ok = _timed(connection, "GET", path, None, accept)
+        timings.add(kind, seconds, ok)
+        i += 1
+
+
+def _writer(port: int, ref: str, stop: threading.Event, timings: Timings) -> None:
+    connection = http.client.HTTPConnection("127.0.0.1", port, timeout=60)
+    headers = {"Content-Type": "application/json"}
+    connection.request(
+        "POST",
+        "/armor_interface_srv",
+        body=_directive(
+            ref,
+            "",
+            f"http://ex.org/{ref}",
+            "false",
+            "PELLET",
+            "true",
+            command="LOAD",
+            first="FILE",
+            second="",
+        ),
+        headers=headers,
+    )
+    connection.getresponse().read()
+    i = 0
+    while not stop.is_set():
+        seconds, ok = _timed(
+            connection,
+            "POST",
+            "/armor_interface_srv",
+            _directive(ref, f"i{i}", f"C{i % 7}"),
+            headers,
+        )
+        timings.add("write", seconds, ok)
+        i += 1
+
+
+def _health(port: int, stop: threading.Event, timings: Timings) -> None:
+    connection = http.client.HTTPConnection("127.0.0.1", port, timeout=60)
+    while not stop.is_set():
+        seconds, ok = _timed(connection, "GET", "/health", None, {})
+        timings.add("health", seconds, ok)
+        time.sleep(0.05)
+
+
+def phase(port: int, *, readers: int, writers: int, seconds: float) -> Timings:
+    """Run the clients for ``seconds`` and return their latencies."""
+    timings = Timings()
+    stop = threading.Event()
+    threads = [threading.Thread(target=_reader, args=(port, stop, timings)) for _ in range(readers)]
+    threads += [
+        threading.Thread(target=_writer, args=(port, f"w{n}_{time.monotonic_ns()}", stop, timings))
+        for n in range(writers)
+    ]
+    threads.append(threading.Thread(target=_health, args=(port, stop, timings)))
+    for thread in threads:
+        thread.start()
+    time.sleep(seconds)
+    stop.set()
+    for thread in threads:
+        thread.join()
+    return timings
+
+
+def _p99(values: list[float]) -> float:
+    ordered = sorted(values)
+    return ordered[min(len(ordered) - 1, int(0.99 * len(ordered)))]
+
+
+def report(label: str, timings: Timings, seconds: float, baseline: Timings | None) -> None:
+    print(f"{label}:")
+    for kind in ("point", "join", "health", "write"):
+        values = timings.seconds.get(kind, [])
+        if not values:
+            continue
+        median, p99 = statistics.median(values), _p99(values)
+        rate = len(values) / seconds
+        line = (
+            f"  {kind:6s} median {median * 1000:7.1f} ms  p99 {p99 * 1000:7.1f} ms  ({rate:6.0f}/s)"
+        )
+        base = baseline.seconds.get(kind) if baseline else None
+        if base:
+            ratio, ratio99 = median / statistics.median(base), p99 / _p99(base)
+            line += f"  median {ratio:5.1f} x, p99 {ratio99:5.1f} x readers alone"
+        failed = timings.failures.get(kind, 0)
+        if failed:
+            line += f"  [{failed} failed]"
+        print(line)
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    parser.add_argument("--seconds", type=float, default=8.0, help="length of each phase")
+    parser.add_argument("--readers", type=int, default=8)
+    parser.add_argument("--writers", type=int, default=8)
+    parser.add_argument(
+        "--snapshot-max-age",
+        default="0",
+        help="ENGRAM_SPARQL_SNAPSHOT_MAX_AGE_S for the server (0: exact snapshots)",
+    )
+    options = parser.parse_args()
+    one, five, fifteen = os.getloadavg()
+    print(
+        f"mixed load, {options.readers} readers, {options.writers} writers, "
+        f"{options.seconds:g} s a phase, snapshot max age {options.snapshot_max_age} s "
+        f"(load average {one:.2f} {five:.2f} {fifteen:.2f} on {os.cpu_count()} CPUs)"
+    )
+    with tempfile.TemporaryDirectory() as data:
+        server = Server(data, sparql_snapshot_max_age_s=options.snapshot_max_age)
+        try:
+            alone = phase(server.port, readers=options.readers, writers=0, seconds=options.seconds)
+            report("readers alone", alone, options.seconds, None)
+            mixed = phase(
+                server.port,
+                readers=options.readers,
+                writers=options.writers,
+                seconds=options.seconds,
+            )
+            report("readers with writers", mixed, options.seconds, alone)
+        finally:
+            server.stop()
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,42 @@
+"""The robot-side client loads nothing of the server: ``import api.client`` in a fresh process
+leaves Oxigraph, numpy, open3d, the reasoners, the store and the web framework unloaded."""
+
+import json
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+SERVER_SIDE = ("pyoxigraph", "numpy", "open3d", "reasoners", "kg", "episodes", "shapes", "fastapi")
+PROBE = """
+import json, sys
+import api.client
+from api.client import ArmorClient, ScenePrimitive
+print(json.dumps(sorted(sys.modules)))
+"""
+
+
+@pytest.mark.slow
+def test_importing_the_client_loads_nothing_of_the_server() -> None:
+    done = subprocess.run(
+        [sys.executable, "-c", PROBE],
+        capture_output=True,
+        text=True,
+        timeout=120,
+        check=True,
+        cwd=Path(__file__).resolve().parents[2],
+    )
+    loaded = json.loads(done.stdout)
+    server_side = [m for m in loaded if m.split(".")[0] in SERVER_SIDE or m == "api.armor"]
+    assert server_side == []
+    assert "api.protocol" in loaded
+
+
+def test_the_local_transport_is_still_reachable_on_demand() -> None:
+    import api.client
+    from api.client._local import LocalTransport
+
+    assert api.client.LocalTransport is LocalTransport
+    with pytest.raises(AttributeError, match="no attribute 'Nope'"):
+        api.client.Nope  # noqa: B018
