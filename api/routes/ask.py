@@ -17,6 +17,7 @@ from api.ask import Asker
 from api.ask.asker import MAX_QUESTION
 from api.ask.speech import MAX_AUDIO_S, Recogniser, synthesise
 from api.deps import require_token
+from api.openapi_errors import error_responses
 from episodes.errors import InvalidInputError
 from ontologies.vocab import ENGRAM_NS
 from reasoners.explain import explain, to_jsonable
@@ -71,6 +72,7 @@ def ask(body: AskRequest, asker: AskerDep) -> dict[str, Any]:
     summary="Ask the memory a spoken question (a WAV file as the body)",
     dependencies=[Depends(require_token)],
     response_model=None,
+    responses=error_responses(422, 503),
 )
 async def ask_audio(
     request: Request,
@@ -101,7 +103,11 @@ async def ask_audio(
     }
 
 
-@router.get("/explain", summary="Why the memory decided what it did about a class or scene")
+@router.get(
+    "/explain",
+    summary="Why the memory decided what it did about a class or scene",
+    responses=error_responses(404, 422),
+)
 def explain_about(
     request: Request,
     about: Annotated[str, Query(min_length=1, max_length=2000, examples=["Scene-1"])],
