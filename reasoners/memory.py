@@ -67,6 +67,7 @@ from ontologies.vocab import (
     UPDATES_SINCE_SLEEP,
 )
 from reasoners import persist
+from reasoners.batch import PendingWrites, QuadReader
 from reasoners.encode import Encoder, Relation
 from reasoners.errors import (
     InvalidSceneError,
@@ -129,6 +130,9 @@ class SceneMemory:
         self.store = store
         self._clock = clock
         self._lock = threading.RLock()
+        self._batch: PendingWrites | None = None
+        self._reader: QuadReader = store
+        """The store as the running operation sees it (its own pending writes included)."""
         self.policy: Policy = load_policy(store, policy)
         self.encoder = Encoder.from_store(store, self.policy)
         self._model: MemoryModel = persist.load_model(store, self._weights())
@@ -148,23 +152,59 @@ class SceneMemory:
         now = self._clock()
         if not isinstance(now, dt.datetime) or now.tzinfo is None:
             raise ValueError(f"clock: got {now!r}, expected a timezone-aware datetime")
-        return now
+        # Times are kept at millisecond precision, in the model as in the store (xsd:dateTime
+        # with microseconds makes HermiT refuse an export).
+        return now.replace(microsecond=now.microsecond - now.microsecond % 1000)
 
     @contextmanager
-    def _write(self, *, refresh_alongside: bool = False) -> Iterator[Transaction]:
+    def _write(self, *, refresh_alongside: bool = False) -> Iterator[PendingWrites]:
         """One transaction; if anything fails, the model is rebuilt from the store.
 
         With ``refresh_alongside``, the model's pending re-scoring (the ancestors of what the
         transaction touched) runs while the store applies the write, instead of before it.
         """
         with self._lock:
+            if self._batch is not None:  # the batch's owner commits, or rolls back
+                yield self._batch
+                return
             alongside = self._model.refresh if refresh_alongside else None
             try:
                 with self.store.transaction(alongside=alongside) as tx:
-                    yield tx
+                    writes = PendingWrites()
+                    self._reader = writes.view(self.store)
+                    yield writes
+                    writes.copy_into(tx)
             except BaseException:
                 self._model = persist.load_model(self.store, self._weights())
                 raise
+            finally:
+                self._reader = self.store
+
+    @contextmanager
+    def batch(self) -> Iterator[PendingWrites]:
+        """Run several operations into one set of writes that the caller commits.
+
+        Inside the ``with`` block, :meth:`store_scene`, :meth:`retrieve`, :meth:`sleep`,
+        :meth:`pin`, :meth:`restore` and :meth:`learn_classes` write into the yielded
+        :class:`~reasoners.batch.PendingWrites` instead of committing, each seeing the ones
+        before it. The caller adds those writes to its own transaction and commits it inside the
+        block (a directive list does so with its other writes). The memory's lock is held for the
+        whole block, so no other thread sees the model between the operations and the commit; if
+        the block raises (an operation failed, or the commit did), the model is rebuilt from the
+        store, which the failed commit left as it was.
+        """
+        with self._lock:
+            if self._batch is not None:
+                raise RuntimeError("batch: a batch is already open on this memory")
+            writes = PendingWrites()
+            self._batch, self._reader = writes, writes.view(self.store)
+            try:
+                yield writes
+            except BaseException:
+                self._model = persist.load_model(self.store, self._weights())
+                raise
+            finally:
+                self._batch, self._reader = None, self.store
 
     def _scene(self, primitives: Sequence[Primitive], field: str = "primitives") -> list[Primitive]:
         scene = list(primitives)
@@ -648,7 +688,7 @@ class SceneMemory:
         added: set[tuple[NamedNode, NamedNode]] = set()
         for cls in classes:
             record = m.classes[cls]
-            own = persist.delete_class(tx, self.store, cls)
+            own = persist.delete_class(tx, self._reader, cls)
             for quad in own:
                 if quad.predicate not in (RDFS_SUBCLASSOF, OWL_EQUIVALENT_CLASS):
                     persist.insert_quad(tx, quad, TRASH)
@@ -668,7 +708,7 @@ class SceneMemory:
             if item not in m.items:
                 continue
             record_item = m.remove_item(item)
-            persist.move(tx, self.store, [item], EPISODIC, TRASH, follow=HAS_PRIMITIVE)
+            persist.move(tx, self._reader, [item], EPISODIC, TRASH, follow=HAS_PRIMITIVE)
             tx.insert(item, FORGOTTEN_AT, stamp, TRASH)
             m.trashed_items[item] = TrashedItem(item, record_item.cls, now)
 
@@ -744,7 +784,7 @@ class SceneMemory:
                 "nothing restored"
             )
         values = {}
-        for quad in self.store.quads(cls, None, None, TRASH):
+        for quad in list(self._reader.quads(cls, None, None, TRASH)):
             values[quad.predicate] = quad.object
             persist.delete_quad(tx, quad, TRASH)
         record = ClassRecord(
@@ -776,18 +816,13 @@ class SceneMemory:
         m = self._model
         for item in items:
             trashed = m.trashed_items.pop(item)
-            values = {q.predicate: q.object for q in self.store.quads(item, None, None, TRASH)}
-            persist.move(tx, self.store, [item], TRASH, EPISODIC, follow=HAS_PRIMITIVE)
+            own = list(self._reader.quads(item, None, None, TRASH))
+            values = {q.predicate: q.object for q in own}
+            persist.move(tx, self._reader, [item], TRASH, EPISODIC, follow=HAS_PRIMITIVE)
             # move() re-inserts every triple; the trash-only ones must not reach `episodic`.
-            for prop in (FORGOTTEN_AT, CONSECUTIVE_WEAK_COUNT, LEVEL):
-                if prop in values:
-                    tx.inserts[:] = [
-                        q
-                        for q in tx.inserts
-                        if not (
-                            q.subject == item and q.predicate == prop and q.graph_name == EPISODIC
-                        )
-                    ]
+            for quad in own:
+                if quad.predicate in (FORGOTTEN_AT, CONSECUTIVE_WEAK_COUNT, LEVEL):
+                    persist.delete_quad(tx, quad, EPISODIC)
             record = ItemRecord(
                 iri=item,
                 cls=trashed.cls,

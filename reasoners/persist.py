@@ -84,6 +84,7 @@ from ontologies.vocab import (
     XSD_DATETIME,
     engram,
 )
+from reasoners.batch import QuadReader
 from reasoners.encode import Relation
 from reasoners.model import ClassRecord, ItemRecord, MemoryModel, TrashedClass, TrashedItem
 from reasoners.primitives import Primitive
@@ -114,7 +115,13 @@ def item_iri(number: int) -> NamedNode:
 
 
 def time_literal(value: dt.datetime) -> Literal:
-    return Literal(value.isoformat(), datatype=XSD_DATETIME)
+    """An ``xsd:dateTime`` at millisecond precision (what HermiT and the OWL API accept); a time
+    with finer digits (written by an older Engram) keeps them, so that it matches its triple."""
+    fine = value.microsecond % 1000
+    return Literal(
+        value.isoformat(timespec="microseconds" if fine else "milliseconds"),
+        datatype=XSD_DATETIME,
+    )
 
 
 def parse_time(term: object) -> dt.datetime:
@@ -262,7 +269,7 @@ def write_edges(
         tx.insert(child, RDFS_SUBCLASSOF, parent, MEMORY)
 
 
-def delete_class(tx: Transaction, store: Store, cls: NamedNode) -> list[Quad]:
+def delete_class(tx: Transaction, store: QuadReader, cls: NamedNode) -> list[Quad]:
     """Delete every triple about ``cls`` in ``memory`` (its own definition nodes included, the
     shared restriction nodes not) and return its own quads (annotations, label, edges), for the
     caller to move what it keeps."""
@@ -341,7 +348,7 @@ def write_item(
 
 def move(
     tx: Transaction,
-    store: Store,
+    store: QuadReader,
     subjects: Iterable[NamedNode],
     source: NamedNode,
     target: NamedNode,

@@ -9,9 +9,11 @@ primitives as ordinary ADD directives, and closes it::
     SCENE UPDATED ""    [] or [episode IRI]    close it: encode, recognise, learn or reinforce
 
 While a scene is open, those ADDs feed the scene, not the reference (which need not be loaded).
-The memory pipeline's writes happen when the directive list commits, after the list's other
-writes, so a list that fails stores no scene. Results come as ``queried_objects`` (the main
-answer, in the request's value style) and ``sparql_queried_objects`` (every detail as key/value).
+The memory pipeline runs when the directive list commits, in order, and its writes join the
+list's one transaction: a list that fails stores no scene, and a list with two scenes stores
+both or neither (so a directive later in the same list does not see a scene's effect yet).
+Results come as ``queried_objects`` (the main answer, in the request's value style) and
+``sparql_queried_objects`` (every detail as key/value).
 """
 
 import dataclasses
@@ -86,7 +88,8 @@ def _errors(*more: type[Exception]) -> tuple[type[Exception], ...]:
 def _deferred(
     ctx: Context, work: Callable[[], Any], fill: Callable[[Any, ArmorDirectiveRes], None]
 ) -> Outcome:
-    """Run ``work`` after the list commits and write its result into the response."""
+    """Run ``work`` at the list's commit, into its transaction; write its result into the
+    response. A failure there fails the list (nothing stays)."""
     failures = _errors()
 
     def run(response: ArmorDirectiveRes) -> None:
@@ -222,17 +225,15 @@ def scene_updated(ctx: Context) -> Outcome:
 
     def store() -> Any:
         result = memory.store_scene(primitives, episode=episode)
-        sleep_if_due(memory)
+        memory.maybe_sleep()  # the periodic pass, in the list's transaction too
         return result
 
     return _deferred(ctx, store, fill)
 
 
 def sleep_if_due(memory: SceneMemory) -> None:
-    """The periodic sleep pass, when the policy says one is due; its own transaction.
-
-    The scene is already stored, so a failing pass is logged, not reported as the scene's.
-    """
+    """The periodic sleep pass, when the policy says one is due, as its own transaction (the
+    server's timer); a failing pass is logged, and the memory stays as before it."""
     try:
         report = memory.maybe_sleep()
     except Exception:
@@ -310,7 +311,7 @@ def _retrieve(ctx: Context, *, spread: bool) -> Outcome:
 
     def retrieve() -> Any:
         result = memory.retrieve(cue, spread=spread)
-        sleep_if_due(memory)
+        memory.maybe_sleep()
         return result
 
     return _deferred(ctx, retrieve, fill)

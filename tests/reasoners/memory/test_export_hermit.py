@@ -8,13 +8,17 @@ owlready2 or Protégé) refuse it; Trash is now a status, disjoint only with Geo
 and MemoryPolicy.
 """
 
+import datetime as dt
+import re
 import shutil
 from pathlib import Path
 
 import pytest
+from pyoxigraph import Literal
 
-from kg import export
-from ontologies.vocab import GRAPHS
+from kg import Store, export
+from kg.export import export_triples
+from ontologies.vocab import GRAPHS, XSD_DATETIME
 from reasoners.memory import SceneMemory
 
 from .conftest import FakeClock
@@ -61,3 +65,24 @@ def test_the_export_without_the_trash_is_consistent(slept: SceneMemory, tmp_path
 
 def test_the_export_with_the_trash_is_consistent(slept: SceneMemory, tmp_path: Path) -> None:
     assert consistent(slept, list(GRAPHS), tmp_path / "all.owl")
+
+
+def test_an_export_after_sleep_passes_with_a_real_clock_is_accepted(tmp_path: Path) -> None:
+    """A real clock has microseconds; HermiT refuses an xsd:dateTime with more than three
+    fractional digits, so the memory keeps its times at milliseconds."""
+    pytest.importorskip("owlready2")
+    clock = FakeClock(dt.datetime(2026, 11, 23, 22, 6, 3, 8925, tzinfo=dt.UTC))
+    memory = SceneMemory(Store(), clock=clock)
+    memory.store_scene(BIG)
+    clock.advance(microseconds=1234)
+    memory.store_scene(SMALL)
+    for _ in range(2):
+        clock.advance(seconds=1.000321)
+        memory.sleep()
+    times = [
+        t.object.value
+        for t in export_triples(memory.store, list(GRAPHS))
+        if isinstance(t.object, Literal) and t.object.datatype == XSD_DATETIME
+    ]
+    assert len(times) > 3 and not [t for t in times if re.search(r"\.\d{4}", t)], times
+    assert consistent(memory, list(GRAPHS), tmp_path / "slept.owl")
