@@ -561,8 +561,9 @@ class SceneMemory:
 
         A class or experienced scene that is WEAK for ``weakPassesToForget`` consecutive passes,
         older than ``forgetGracePeriodSeconds`` and not pinned is moved to the ``trash`` graph;
-        a forgotten class takes its experienced scenes with it, and a class with a pinned
-        experienced scene is kept. One transaction.
+        a forgotten class takes its experienced scenes with it. A class with a pinned experienced
+        scene is kept, and a pinned class keeps its experienced scenes. The report names each
+        forgotten scene once. One transaction.
         """
         started = time.perf_counter()
         with self._write() as tx:
@@ -614,8 +615,9 @@ class SceneMemory:
                 and item_weak[iri] >= k
                 and now - record.created >= grace
                 and not record.pinned
+                and not m.classes[record.cls].pinned  # a pinned class keeps its scenes
             ]
-            self._forget(tx, doomed_classes, doomed_items, now)
+            forgotten_items = self._forget(tx, doomed_classes, doomed_items, now)
             if doomed_classes:  # the graph changed: ζ of the forgotten classes' neighbours too
                 zetas = m.zetas()
             # systems consolidation: every class's stored ζ brought up to date
@@ -628,16 +630,13 @@ class SceneMemory:
             m.updates_since_sleep = 0
             m.sleep_passes += 1
             persist.write_state(tx, m)
-            forgotten_items = tuple(doomed_items) + tuple(
-                i for c in doomed_classes for i in sorted(self._trashed_with(c), key=str)
-            )
         report = SleepReport(
             at=now,
             rescored=rescored,
             levels={c: class_levels[c] for c in m.classes},
             item_levels={i: item_levels[i] for i in m.items},
             forgotten_classes=tuple(doomed_classes),
-            forgotten_items=forgotten_items,
+            forgotten_items=tuple(forgotten_items),
             duration_s=time.perf_counter() - started,
         )
         log.info(
@@ -682,8 +681,11 @@ class SceneMemory:
         classes: Sequence[NamedNode],
         items: Sequence[NamedNode],
         now: dt.datetime,
-    ) -> None:
+    ) -> list[NamedNode]:
+        """Move ``classes`` (with their experienced scenes) and ``items`` to the trash; return
+        the experienced scenes moved now, each once."""
         m = self._model
+        moved: list[NamedNode] = []
         stamp = persist.time_literal(now)
         added: set[tuple[NamedNode, NamedNode]] = set()
         for cls in classes:
@@ -711,6 +713,8 @@ class SceneMemory:
             persist.move(tx, self._reader, [item], EPISODIC, TRASH, follow=HAS_PRIMITIVE)
             tx.insert(item, FORGOTTEN_AT, stamp, TRASH)
             m.trashed_items[item] = TrashedItem(item, record_item.cls, now)
+            moved.append(item)
+        return moved
 
     def _items_of(self, cls: NamedNode) -> list[NamedNode]:
         return [i for i, r in self._model.items.items() if r.cls == cls]
@@ -748,8 +752,9 @@ class SceneMemory:
                 record.pinned = pinned
 
     def restore(self, iri: NamedNode) -> tuple[NamedNode, ...]:
-        """Bring a forgotten class (with the experienced scenes forgotten with it) or a forgotten
-        experienced scene back from the trash, exactly as it was (its WEAK count reset).
+        """Bring a forgotten class (with every experienced scene of it in the trash: those
+        forgotten with it and those forgotten alone before) or a forgotten experienced scene back
+        from the trash, exactly as it was (its WEAK count reset).
 
         Returns the restored IRIs. Raises :class:`~reasoners.errors.NotInTrashError` if the trash
         does not hold ``iri``, :class:`~reasoners.errors.RestoreConflictError` if a live class has
@@ -802,11 +807,9 @@ class SceneMemory:
         parents, children, removed = m.add_class(record)
         added = {(cls, p) for p in parents} | {(c, cls) for c in children}
         persist.write_edges(tx, added, removed)
-        items = [
-            i
-            for i, t in m.trashed_items.items()
-            if t.cls == cls and t.forgotten_at == trashed.forgotten_at
-        ]
+        # every experienced scene of the class in the trash: those forgotten with it, and those
+        # forgotten alone before (the class's memory comes back whole)
+        items = sorted(self._trashed_with(cls), key=str)
         self._restore_items(tx, items)
         self._rescore(tx, set(), {cls})
         persist.write_class(tx, record, stored=m.stored_restrictions)

@@ -2,7 +2,9 @@
 
 All three request forms are served: ``GET ?query=``, ``POST`` of a form
 (``application/x-www-form-urlencoded``) and ``POST`` of the query itself
-(``application/sparql-query``). Updates are refused with 403: the endpoint is read-only.
+(``application/sparql-query``). Updates are refused with 403: the endpoint is read-only. Without
+``default-graph-uri``, the default graph is the live memory, every graph but the trash
+(:mod:`kg.datasets`).
 """
 
 from urllib.parse import parse_qs
@@ -10,8 +12,9 @@ from urllib.parse import parse_qs
 from fastapi import APIRouter, HTTPException, Request, Response, status
 from starlette.concurrency import run_in_threadpool
 
-from api.deps import RunnerDep
+from api.deps import RunnerDep, StoreDep
 from api.negotiation import choose_media_type
+from kg.datasets import analyst_default_graphs
 
 router = APIRouter(tags=["sparql"])
 
@@ -30,12 +33,17 @@ def _single(values: list[str], name: str) -> str:
     return values[0]
 
 
-async def _answer(request: Request, runner: RunnerDep, params: dict[str, list[str]]) -> Response:
+async def _answer(
+    request: Request, runner: RunnerDep, store: StoreDep, params: dict[str, list[str]]
+) -> Response:
     if "update" in params:
         raise HTTPException(status.HTTP_403_FORBIDDEN, _READ_ONLY)
     text = _single(params.get("query", []), "query")
-    default_graphs = params.get("default-graph-uri") or None
     named_graphs = params.get("named-graph-uri") or None
+    # The live memory by default; the trash by name (kg.datasets).
+    default_graphs = params.get("default-graph-uri") or (
+        None if named_graphs else analyst_default_graphs(store)
+    )
     work = await run_in_threadpool(
         runner.check, text, default_graphs=default_graphs, named_graphs=named_graphs
     )
@@ -55,13 +63,13 @@ def _url_params(request: Request) -> dict[str, list[str]]:
 
 
 @router.get("/sparql", summary="SPARQL query by GET")
-async def sparql_get(request: Request, runner: RunnerDep) -> Response:
+async def sparql_get(request: Request, runner: RunnerDep, store: StoreDep) -> Response:
     """Answer ``?query=`` with optional ``default-graph-uri`` and ``named-graph-uri``."""
-    return await _answer(request, runner, _url_params(request))
+    return await _answer(request, runner, store, _url_params(request))
 
 
 @router.post("/sparql", summary="SPARQL query by POST")
-async def sparql_post(request: Request, runner: RunnerDep) -> Response:
+async def sparql_post(request: Request, runner: RunnerDep, store: StoreDep) -> Response:
     """Answer a form-encoded ``query=`` or a body of type ``application/sparql-query``."""
     content_type = request.headers.get("content-type", "").split(";")[0].strip().lower()
     params = _url_params(request)
@@ -90,4 +98,4 @@ async def sparql_post(request: Request, runner: RunnerDep) -> Response:
             f"Content-Type: got {content_type or 'none'!r}, expected "
             "application/x-www-form-urlencoded or application/sparql-query",
         )
-    return await _answer(request, runner, params)
+    return await _answer(request, runner, store, params)
