@@ -1,6 +1,7 @@
 """The FastAPI application over one on-disk store."""
 
 import asyncio
+import datetime as dt
 import logging
 from collections.abc import AsyncIterator
 from contextlib import asynccontextmanager
@@ -19,6 +20,7 @@ from episodes import EpisodeMemory
 from episodes.streams import RecordingRegistry
 from kg import Store, ensure_ontology
 from kg.sandbox import QueryRunner
+from reasoners.clock import SettableClock
 from reasoners.memory import SceneMemory
 
 __all__ = ["create_app"]
@@ -44,6 +46,10 @@ async def _sleep_when_due(memory: SceneMemory, period_s: float) -> None:
             await run_in_threadpool(store.flush)
 
 
+def _utc_now() -> dt.datetime:
+    return dt.datetime.now(dt.UTC)
+
+
 def create_app(settings: Settings | None = None) -> FastAPI:
     """Build the app; the store opens when it starts and closes when it stops."""
     settings = settings or get_settings()
@@ -66,7 +72,8 @@ def create_app(settings: Settings | None = None) -> FastAPI:
         state = app.state
         state.settings, state.store, state.runner = settings, store, runner
         state.recordings = recordings
-        state.scene_memory = scene_memory = SceneMemory(store)
+        clock = SettableClock() if settings.clock_settable else _utc_now
+        state.scene_memory = scene_memory = SceneMemory(store, clock=clock)
         state.armor = ArmorEngine(store, scene_memory=scene_memory)
         state.episodes = EpisodeMemory(
             store,

@@ -53,6 +53,8 @@ from ontologies.vocab import (
     FORGOTTEN_SIGNATURE,
     HAS_PRIMITIVE,
     LAST_ACCESSED,
+    LEGACY_LEVEL,
+    LEGACY_SCORE,
     LEVEL,
     MEMORY,
     MEMORY_STATE_INDIVIDUAL,
@@ -68,6 +70,7 @@ from ontologies.vocab import (
 )
 from reasoners import persist
 from reasoners.batch import PendingWrites, QuadReader
+from reasoners.clock import SettableClock
 from reasoners.encode import Encoder, Relation
 from reasoners.errors import (
     InvalidSceneError,
@@ -135,18 +138,51 @@ class SceneMemory:
         """The store as the running operation sees it (its own pending writes included)."""
         self.policy: Policy = load_policy(store, policy)
         self.encoder = Encoder.from_store(store, self.policy)
+        self._policy_iri = policy
         self._model: MemoryModel = persist.load_model(store, self._weights())
+        self._repair_view()
         log.info(
             "scene memory opened: %d classes, %d experienced scenes",
             len(self._model.classes),
             len(self._model.items),
         )
 
+    @property
+    def clock(self) -> Clock:
+        """The clock the memory reads (a :class:`~reasoners.clock.SettableClock` can be set)."""
+        return self._clock
+
     # Helpers -----------------------------------------------------------------------------------
 
     def _weights(self) -> tuple[float, float, float, float]:
         p = self.policy
         return (p.complexityWeight, p.childrenWeight, p.storeWeight, p.retrieveWeight)
+
+    def _repair_view(self) -> None:
+        """Write the score view where the store lacks it or it is stale (a store written by an
+        older Engram, or by hand), and drop the annotations the view replaced; one transaction,
+        only when needed."""
+        m = self._model
+        legacy = any(
+            True
+            for prop, graph in (
+                (LEGACY_SCORE, MEMORY),
+                (LEGACY_LEVEL, MEMORY),
+                (LEGACY_LEVEL, EPISODIC),
+            )
+            for _ in self.store.quads(None, prop, None, graph)
+        )
+        factors_stale = bool(m.classes) and m.written_factors != (*m.coefficients(), m.max_score)
+        if not (legacy or m.unwritten or factors_stale):
+            return
+        with self._write() as tx:
+            if legacy:
+                tx.delete_matching(None, LEGACY_SCORE, None, graph=MEMORY)
+                tx.delete_matching(None, LEGACY_LEVEL, None, graph=MEMORY)
+                tx.delete_matching(None, LEGACY_LEVEL, None, graph=EPISODIC)
+            if factors_stale:
+                m.written_factors = None  # rewritten whole
+        log.info("scene memory: score view written for %d classes", len(m.classes))
 
     def _now(self) -> dt.datetime:
         now = self._clock()
@@ -166,6 +202,7 @@ class SceneMemory:
         with self._lock:
             if self._batch is not None:  # the batch's owner commits, or rolls back
                 yield self._batch
+                persist.write_view(self._batch, self._model, self._policy_iri)
                 return
             alongside = self._model.refresh if refresh_alongside else None
             try:
@@ -173,6 +210,7 @@ class SceneMemory:
                     writes = PendingWrites()
                     self._reader = writes.view(self.store)
                     yield writes
+                    persist.write_view(writes, self._model, self._policy_iri)
                     writes.copy_into(tx)
             except BaseException:
                 self._model = persist.load_model(self.store, self._weights())
@@ -198,10 +236,14 @@ class SceneMemory:
                 raise RuntimeError("batch: a batch is already open on this memory")
             writes = PendingWrites()
             self._batch, self._reader = writes, writes.view(self.store)
+            clock = self._clock
+            saved = clock.snapshot() if isinstance(clock, SettableClock) else None
             try:
                 yield writes
             except BaseException:
                 self._model = persist.load_model(self.store, self._weights())
+                if isinstance(clock, SettableClock):
+                    clock.restore(saved)
                 raise
             finally:
                 self._batch, self._reader = None, self.store
@@ -692,7 +734,9 @@ class SceneMemory:
             record = m.classes[cls]
             own = persist.delete_class(tx, self._reader, cls)
             for quad in own:
-                if quad.predicate not in (RDFS_SUBCLASSOF, OWL_EQUIVALENT_CLASS):
+                if quad.predicate not in (RDFS_SUBCLASSOF, OWL_EQUIVALENT_CLASS) and (
+                    quad.predicate not in persist.VIEW_PREDICATES
+                ):
                     persist.insert_quad(tx, quad, TRASH)
             tx.insert(cls, RDFS_SUBCLASSOF, TRASH_CLASS, TRASH)
             tx.insert(cls, FORGOTTEN_AT, stamp, TRASH)

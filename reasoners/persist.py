@@ -51,6 +51,7 @@ from ontologies.vocab import (
     LAST_ACCESSED,
     LAST_SLEEP_AT,
     LEVEL,
+    MAX_RAW_SCORE,
     MEMORY,
     MEMORY_STATE,
     MEMORY_STATE_INDIVIDUAL,
@@ -74,19 +75,31 @@ from ontologies.vocab import (
     RETRIEVE_COUNT,
     SCENE,
     SCORE,
+    SCORE_FACTORS,
+    SCORE_TERMS,
     SKOLEM_PREFIX,
+    SKOS_NOTATION,
     SLEEP_PASS_COUNT,
     STORE_COUNT,
     TRACKING_ID,
     TRASH,
     TRASH_CLASS,
     UPDATES_SINCE_SLEEP,
+    USES_POLICY,
     XSD_DATETIME,
     engram,
 )
 from reasoners.batch import QuadReader
 from reasoners.encode import Relation
-from reasoners.model import ClassRecord, ItemRecord, MemoryModel, TrashedClass, TrashedItem
+from reasoners.labels import label
+from reasoners.model import (
+    SCALE,
+    ClassRecord,
+    ItemRecord,
+    MemoryModel,
+    TrashedClass,
+    TrashedItem,
+)
 from reasoners.primitives import Primitive
 from reasoners.signature import Key, Signature
 
@@ -211,7 +224,8 @@ def write_class(
     cls = record.iri
     tx.insert(cls, RDF_TYPE, OWL_CLASS, graph)
     tx.insert(cls, RDFS_SUBCLASSOF, SCENE, graph)
-    tx.insert(cls, RDFS_LABEL, Literal(cls.value.rsplit("#", 1)[-1]), graph)
+    tx.insert(cls, RDFS_LABEL, Literal(label(record.signature), language="en"), graph)
+    tx.insert(cls, SKOS_NOTATION, Literal(cls.value.rsplit("#", 1)[-1]), graph)
     restrictions: list[NamedNode] = []
     for key, n in record.signature.items():
         if stored is None or (key, n) not in stored:
@@ -407,12 +421,13 @@ def load_model(
                 signature=signature,
                 store_count=_int(values, STORE_COUNT),
                 retrieve_count=_int(values, RETRIEVE_COUNT),
-                score=float(_one(values, SCORE).value),
+                score=float(values[SCORE][0].value) if SCORE in values else 0.0,
                 created=parse_time(_one(values, CREATED)),
                 last_accessed=parse_time(_one(values, LAST_ACCESSED)),
                 weak_count=_int(values, CONSECUTIVE_WEAK_COUNT),
                 pinned=_bool(values, PINNED),
                 level=values[LEVEL][0].value if LEVEL in values else None,
+                written_z=_fixed(values),
             )
         )
     edges = [
@@ -429,6 +444,9 @@ def load_model(
         model.last_sleep_at = parse_time(state[LAST_SLEEP_AT][0])
     model.updates_since_sleep = _int(state, UPDATES_SINCE_SLEEP)
     model.sleep_passes = _int(state, SLEEP_PASS_COUNT)
+    view = (*SCORE_FACTORS, MAX_RAW_SCORE)
+    if all(len(state.get(prop, ())) == 1 for prop in view):
+        model.written_factors = tuple(float(state[prop][0].value) for prop in view)  # type: ignore[assignment]
 
     items = store.select("memory_load_items", g=EPISODIC)
     for subject, values in _rows_by_subject(items, "item").items():
@@ -470,16 +488,69 @@ def load_model(
 
 
 def write_state(tx: Transaction, model: MemoryModel, previous: MemoryModel | None = None) -> None:
-    """Replace the memory-state individual (three values)."""
+    """Replace the memory-state individual's three counters (the score view's values on it
+    are :func:`write_view`'s)."""
     node = MEMORY_STATE_INDIVIDUAL
     model.has_state = True
-    tx.delete_matching(node, None, None, graph=MEMORY)
+    for prop in (UPDATES_SINCE_SLEEP, SLEEP_PASS_COUNT, LAST_SLEEP_AT):
+        tx.delete_matching(node, prop, None, graph=MEMORY)
     tx.insert(node, RDF_TYPE, OWL_NAMED_INDIVIDUAL, MEMORY)
     tx.insert(node, RDF_TYPE, MEMORY_STATE, MEMORY)
     tx.insert(node, UPDATES_SINCE_SLEEP, Literal(model.updates_since_sleep), MEMORY)
     tx.insert(node, SLEEP_PASS_COUNT, Literal(model.sleep_passes), MEMORY)
     if model.last_sleep_at is not None:
         tx.insert(node, LAST_SLEEP_AT, time_literal(model.last_sleep_at), MEMORY)
+
+
+def fixed_term(value: int) -> Literal:
+    """A Z term in fixed point as the xsd:double the view stores (exact: SCALE is 2**40)."""
+    return Literal(value / SCALE)
+
+
+def write_view(tx: Transaction, model: MemoryModel, policy: NamedNode) -> int:
+    """Bring the score view up to date: the Z terms of every class whose Z changed since they
+    were written, and the factors and largest raw ζ on the memory state. Returns the number of
+    classes rewritten.
+
+    The view is what analysts read (``sparql/memory_class_scores.rq``): raw ζ = f_d·Z_d +
+    f_s·Z_s + f_r·Z_r, normalised = ζ / max ζ, the level from the policy's thresholds. A change of
+    maximum rewrites the four values on the memory state, not the classes.
+    """
+    model.refresh()
+    rewritten = 0
+    for iri in sorted(model.unwritten, key=str):
+        record = model.classes.get(iri)
+        if record is None or record.written_z == record.z:
+            continue
+        old = record.written_z
+        for x, prop in enumerate(SCORE_TERMS):
+            if old is None or old[x] != record.z[x]:
+                previous = None if old is None else fixed_term(old[x])
+                set_value(tx, iri, prop, previous, fixed_term(record.z[x]), MEMORY)
+        record.written_z = record.z
+        rewritten += 1
+    model.unwritten.clear()
+    node = MEMORY_STATE_INDIVIDUAL
+    factors = (*model.coefficients(), model.max_score)
+    if factors != model.written_factors:
+        old_factors = model.written_factors
+        if old_factors is None:
+            tx.insert(node, RDF_TYPE, OWL_NAMED_INDIVIDUAL, MEMORY)
+            tx.insert(node, RDF_TYPE, MEMORY_STATE, MEMORY)
+            tx.delete_matching(node, USES_POLICY, None, graph=MEMORY)
+            tx.insert(node, USES_POLICY, policy, MEMORY)
+        for x, prop in enumerate((*SCORE_FACTORS, MAX_RAW_SCORE)):
+            if old_factors is None:
+                tx.delete_matching(node, prop, None, graph=MEMORY)
+                tx.insert(node, prop, Literal(factors[x]), MEMORY)
+            elif old_factors[x] != factors[x]:
+                set_value(tx, node, prop, Literal(old_factors[x]), Literal(factors[x]), MEMORY)
+        model.written_factors = factors
+    return rewritten
+
+
+VIEW_PREDICATES = frozenset(SCORE_TERMS)
+"""The score view's triples on a class (not moved to the trash with it)."""
 
 
 _KIND = engram("_kind")
@@ -503,6 +574,9 @@ _COLUMNS: dict[str, NamedNode] = {
     "forgottenSignature": FORGOTTEN_SIGNATURE,
     "forgottenAt": FORGOTTEN_AT,
     "kind": _KIND,
+    "zd": SCORE_TERMS[0],
+    "zs": SCORE_TERMS[1],
+    "zr": SCORE_TERMS[2],
 }
 """The ``memory_load_*`` query columns, as the properties whose values they hold."""
 
@@ -525,6 +599,14 @@ def _one(values: dict[NamedNode, list[Term]], prop: NamedNode) -> Literal:
     term = values[prop][0]
     assert isinstance(term, Literal)
     return term
+
+
+def _fixed(values: dict[NamedNode, list[Term]]) -> tuple[int, int, int] | None:
+    """The Z terms a class's view holds, in fixed point; None unless it holds exactly one each."""
+    if not all(len(values.get(prop, ())) == 1 for prop in SCORE_TERMS):
+        return None
+    z = [round(float(values[prop][0].value) * SCALE) for prop in SCORE_TERMS]
+    return (z[0], z[1], z[2])
 
 
 def _int(values: dict[NamedNode, list[Term]], prop: NamedNode) -> int:

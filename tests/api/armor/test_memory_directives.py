@@ -1,5 +1,6 @@
 """A scripted perception client sends ten scenes through LOAD INIT … SCENE UPDATED."""
 
+import datetime as dt
 import os
 import signal
 import subprocess
@@ -8,6 +9,7 @@ import textwrap
 import time
 from pathlib import Path
 
+import httpx
 import pytest
 from pyoxigraph import NamedNode
 
@@ -16,7 +18,9 @@ from api.armor.models import ArmorDirectiveReq
 from api.client import ArmorClient, ArmorServiceInternalError, ScenePrimitive
 from kg import Store
 from ontologies.vocab import ENGRAM_NS, EPISODIC, MEMORY, TRASH
-from tests.api.armor.conftest import Armor
+from reasoners.clock import SettableClock
+from reasoners.memory import SceneMemory
+from tests.api.armor.conftest import Armor, start_live_server
 
 TABLE = ScenePrimitive("table", "Plane", centre=(0.3, 0.1, 0.1), axis=(0, 0, 1), hessian=-0.1)
 
@@ -253,3 +257,83 @@ def test_sigkill_while_lists_of_two_scenes_commit_leaves_whole_lists(tmp_path: P
     items = engine.memory.memory.items()
     assert len(items) == 2 * lists, "every committed list's two scenes, no half list"
     assert sum(c.scores.store_count for c in engine.memory.memory.classes()) == len(items)
+
+
+# A settable clock ------------------------------------------------------------------------------
+
+
+def test_the_clock_directives_are_refused_unless_the_clock_is_settable(
+    armor: Armor, ref: str
+) -> None:
+    for command in (["SET", ["2030-01-01T00:00:00+00:00"]], ["ADVANCE", ["60"]]):
+        answer = armor.call("MEMORY", "CLOCK", command[0], command[1], ref=ref)  # type: ignore[arg-type]
+        assert answer["exit_code"] == 212 and "ENGRAM_CLOCK_SETTABLE" in answer["error_description"]
+
+
+@pytest.fixture
+def settable(tmp_path: Path) -> ArmorEngine:
+    store = Store(tmp_path / "store")
+    clock = SettableClock(lambda: dt.datetime(2026, 1, 1, 9, tzinfo=dt.UTC))
+    return ArmorEngine(store, scene_memory=SceneMemory(store, clock=clock))
+
+
+@pytest.mark.parametrize(
+    ("args", "message"),
+    [
+        (["MEMORY", "CLOCK", "SET", ["tomorrow"]], "expected an ISO 8601 time with its offset"),
+        (["MEMORY", "CLOCK", "SET", ["2026-01-02T09:00:00"]], "with its offset"),
+        (["MEMORY", "CLOCK", "SET", ["2025-01-01T09:00:00+00:00"]], "never goes back"),
+        (["MEMORY", "CLOCK", "ADVANCE", ["-5"]], "from 0 to 1e11"),
+        (["MEMORY", "CLOCK", "ADVANCE", ["nan"]], "from 0 to 1e11"),
+        (["MEMORY", "CLOCK", "ADVANCE", ["١٢"]], "from 0 to 1e11"),
+    ],
+)
+def test_bad_clock_values_are_refused(settable: ArmorEngine, args: list, message: str) -> None:
+    result = settable.execute_list(_requests([tuple(args)]))  # type: ignore[list-item]
+    answer = result.armor_responses[0]
+    assert answer.exit_code == 212 and message in answer.error_description
+    assert settable.memory.memory.clock().isoformat() == "2026-01-01T09:00:00+00:00"
+
+
+def test_a_simulated_life_forgets_a_scene_seen_once(settable: ArmorEngine) -> None:
+    """Days pass by directive: a class seen once goes WEAK and is forgotten after k passes."""
+    memory = settable.memory.memory
+    directives = []
+    for _ in range(30):
+        directives += _scene(_cup("c", 0.3), _ball("b", 0.6), TABLE)
+    directives += [("RETRIEVE", "SCENE", "", ["Cylinder isAboveOf Plane"])] * 5
+    directives += _scene(_ball("b", 0.3), _ball("b2", 0.5))
+    assert settable.execute_list(_requests(directives)).success
+    forgotten: list[str] = []
+    for _ in range(memory.policy.weakPassesToForget):
+        result = settable.execute_list(
+            _requests([("MEMORY", "CLOCK", "ADVANCE", ["86400"]), ("MEMORY", "SLEEP", "", [])])
+        )
+        assert result.success, result
+        forgotten += result.armor_responses[1].queried_objects
+    assert len(forgotten) == 1 and len(memory.trash()) == 2  # the class and its one scene
+    now = settable.execute_list(_requests([("QUERY", "MEMORY", "CLOCK", [])]))
+    days = memory.policy.weakPassesToForget
+    assert now.armor_responses[0].queried_objects == [f"2026-01-0{1 + days}T09:00:00+00:00"]
+
+
+def test_a_failing_list_leaves_the_clock_as_it_was(settable: ArmorEngine) -> None:
+    result = settable.execute_list(
+        _requests([("MEMORY", "CLOCK", "ADVANCE", ["3600"]), ("ADD", "IND", "CLASS", ["x"])])
+    )
+    assert not result.success
+    assert settable.memory.memory.clock().isoformat() == "2026-01-01T09:00:00+00:00"
+
+
+def test_a_settable_server_drives_the_clock_over_http(tmp_path: Path) -> None:
+    server, thread, url = start_live_server(tmp_path, clock_settable=True)
+    try:
+        with httpx.Client(base_url=url, timeout=30) as http:
+            armor = Armor(http, url)
+            answer = armor.call("MEMORY", "CLOCK", "SET", ["2040-05-01T12:00:00+00:00"], ref="r")
+            assert answer["success"] and answer["queried_objects"] == ["2040-05-01T12:00:00+00:00"]
+            answer = armor.call("MEMORY", "CLOCK", "ADVANCE", ["90"], ref="r")
+            assert answer["queried_objects"] == ["2040-05-01T12:01:30+00:00"]
+    finally:
+        server.should_exit = True
+        thread.join(timeout=30)
