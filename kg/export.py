@@ -21,6 +21,7 @@ from typing import Literal as Lit
 
 from pyoxigraph import BlankNode, Literal, NamedNode, RdfFormat, Triple, serialize
 
+from kg.export_scenes import SCENE_GRAPHS, scene_axioms
 from kg.skolem import Deskolemiser
 from kg.store import Store
 from ontologies.vocab import (
@@ -122,6 +123,9 @@ def export_triples(store: Store, graphs: Sequence[str] = DEFAULT_GRAPHS) -> list
     for name in graphs:
         for quad in store.quads(graph=GRAPHS[name]):
             content[deskolemise.triple(millisecond_time(typed_cardinality(quad.triple)))] = None
+    for name in graphs:
+        if name in SCENE_GRAPHS:  # so that a DL reasoner can classify the scenes
+            content.update(dict.fromkeys(scene_axioms(store, name)))
     headers = {t.subject for t in content if t.predicate == RDF_TYPE and t.object == OWL_ONTOLOGY}
     sources = [t.object for t in content if t.subject in headers and t.predicate == OWL_VERSION_IRI]
     # Sorted so that two exports of the same memory differ only in blank node labels.

@@ -86,3 +86,30 @@ def test_an_export_after_sleep_passes_with_a_real_clock_is_accepted(tmp_path: Pa
     ]
     assert len(times) > 3 and not [t for t in times if re.search(r"\.\d{4}", t)], times
     assert consistent(memory, list(GRAPHS), tmp_path / "slept.owl")
+
+
+def test_hermit_realises_each_exported_scene_into_its_stored_class(tmp_path: Path) -> None:
+    """The oracle: the export's experienced scenes, their stored class types removed, are
+    classified by HermiT from their links and AllDifferent alone."""
+    pytest.importorskip("owlready2")
+    from pyoxigraph import RdfFormat, serialize
+
+    from ontologies.vocab import PREFIXES, RDF_TYPE
+
+    from .conftest import worked_example
+    from .hermit_cli import types
+
+    memory = SceneMemory(Store(), clock=FakeClock())
+    results = [memory.store_scene(scene) for scene in (worked_example(), BIG, SMALL, BIG)]
+    stored = {r.scene_item: r.stored_as for r in results}
+    classes = {c.iri for c in memory.classes()}
+    triples = [
+        t
+        for t in export_triples(memory.store, ["tbox", "memory", "episodic"])
+        if not (t.predicate == RDF_TYPE and t.object in classes)
+    ]
+    path = tmp_path / "scenes.owl"
+    path.write_bytes(serialize(triples, format=RdfFormat.RDF_XML, prefixes=PREFIXES))
+    realised = types(path, timeout=300)
+    for scene, cls in stored.items():
+        assert cls.value in realised.get(scene.value, set()), (scene, realised.get(scene.value))
