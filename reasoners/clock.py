@@ -7,10 +7,10 @@ accessed, forgotten) must stay in order.
 
 >>> import datetime as dt
 >>> clock = SettableClock()
->>> clock.set(dt.datetime(2026, 1, 1, 9, tzinfo=dt.UTC))
+>>> clock.set(dt.datetime(2100, 1, 1, 9, tzinfo=dt.UTC))
 >>> clock.advance(3600 * 24)
 >>> clock().isoformat()
-'2026-01-02T09:00:00+00:00'
+'2100-01-02T09:00:00+00:00'
 """
 
 import datetime as dt

@@ -10,9 +10,11 @@ several threads; they are serialised.
 Semantic scores are derived from each class's raw terms (complexity, store and retrieve
 counts), its children and the global maxima (:mod:`reasoners.model`): an update re-derives the
 touched class and its ancestors in memory and writes only what it changed in the store (the
-touched class's counters, time and ``engram:score``, the new class and its edges, the new
-experienced scene). The sleep pass brings every class's stored ``engram:score`` and level up to
-date, so SPARQL readers see consolidated scores after each pass.
+touched class's counters, time and ``engram:rawScore``, the new class and its edges, the new
+experienced scene, and the score view of the branch: the Z terms of the classes whose Z changed
+and the four values on the memory state, :func:`reasoners.persist.write_view`), so that a SPARQL
+reader derives every class's live normalised score and level after every committed change. The
+sleep pass also records each item's level (``engram:sleepLevel``), which forgetting counts.
 
 >>> import datetime as dt
 >>> from kg import Store

@@ -5,10 +5,15 @@ Layout (DESIGN.md, "Store layout"):
 - ``memory``: each learned class ``C a owl:Class; rdfs:subClassOf engram:Scene;
   owl:equivalentClass ⊓(≥n p.T)`` (an ``owl:intersectionOf`` list of ``owl:Restriction`` with
   ``owl:minQualifiedCardinality`` and ``owl:onClass``, or the single restriction itself), its
-  direct ``rdfs:subClassOf`` edges to other learned classes, and its annotations (complexity,
-  storeCount, retrieveCount, score = raw ζ as of the class's last update or sleep pass,
-  created, lastAccessed, consecutiveWeakCount and pinned when not 0 / false, level); and
-  ``engram:memoryState`` (last sleep, updates since). A restriction ``≥n p.T`` is one node
+  direct ``rdfs:subClassOf`` edges to other learned classes, a label spelling out the
+  definition and the short name as ``skos:notation``, and its annotations (complexity,
+  storeCount, retrieveCount, rawScore = raw ζ as of the class's last update or sleep pass,
+  created, lastAccessed, consecutiveWeakCount and pinned when not 0 / false, sleepLevel = the
+  level of the last sleep pass); the *score view*: ``scoreTermComplexity``, ``scoreTermStore``,
+  ``scoreTermRetrieve`` (Z_d, Z_s, Z_r, exact after every committed change) on each class, and
+  ``scoreFactor*``, ``maxRawScore`` and ``usesPolicy`` on ``engram:memoryState`` (with the last
+  sleep and the updates since), from which ``sparql/memory_class_scores.rq`` derives every
+  class's live normalised score and level (:func:`write_view`). A restriction ``≥n p.T`` is one node
   (:func:`restriction_iri`) shared by every class that uses it, written with the first such
   class and deleted with the last; the export gives each use its own blank node.
 - ``episodic``: each experienced scene ``e a engram:ExperiencedScene, C`` with created,
