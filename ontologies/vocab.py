@@ -144,12 +144,10 @@ LEVEL = engram("sleepLevel")
 """The level the last sleep pass gave (what forgetting counts); the live level: the view."""
 LEGACY_SCORE, LEGACY_LEVEL = engram("score"), engram("level")
 """Their names before the view: a store written then loses them when the memory opens."""
-SCORE_TERMS = (
-    engram("scoreTermComplexity"),
-    engram("scoreTermStore"),
-    engram("scoreTermRetrieve"),
-)
-"""Z_d, Z_s, Z_r of a class (reasoners.model): its raw terms, kept exact by every update."""
+SCORE_TERMS = engram("scoreTerms")
+"""Z_d, Z_s, Z_r of a class (reasoners.model), its raw terms kept exact by every update, as
+one string of three xsd:double lexical forms ("Z_d Z_s Z_r": one triple to rewrite per class of
+a branch, not three)."""
 SCORE_FACTORS = (
     engram("scoreFactorComplexity"),
     engram("scoreFactorStore"),

@@ -9,8 +9,8 @@ Layout (DESIGN.md, "Store layout"):
   definition and the short name as ``skos:notation``, and its annotations (complexity,
   storeCount, retrieveCount, rawScore = raw ζ as of the class's last update or sleep pass,
   created, lastAccessed, consecutiveWeakCount and pinned when not 0 / false, sleepLevel = the
-  level of the last sleep pass); the *score view*: ``scoreTermComplexity``, ``scoreTermStore``,
-  ``scoreTermRetrieve`` (Z_d, Z_s, Z_r, exact after every committed change) on each class, and
+  level of the last sleep pass); the *score view*: ``scoreTerms`` ("Z_d Z_s Z_r", exact after
+  every committed change) on each class, and
   ``scoreFactor*``, ``maxRawScore`` and ``usesPolicy`` on ``engram:memoryState`` (with the last
   sleep and the updates since), from which ``sparql/memory_class_scores.rq`` derives every
   class's live normalised score and level (:func:`write_view`). A restriction ``≥n p.T`` is one node
@@ -507,9 +507,10 @@ def write_state(tx: Transaction, model: MemoryModel, previous: MemoryModel | Non
         tx.insert(node, LAST_SLEEP_AT, time_literal(model.last_sleep_at), MEMORY)
 
 
-def fixed_term(value: int) -> Literal:
-    """A Z term in fixed point as the xsd:double the view stores (exact: SCALE is 2**40)."""
-    return Literal(value / SCALE)
+def terms_literal(z: tuple[int, int, int]) -> Literal:
+    """Z_d, Z_s, Z_r in fixed point as the view stores them: "Z_d Z_s Z_r", each the shortest
+    lexical form of its double (exact: SCALE is 2**40; SPARQL's xsd:double() reads it back)."""
+    return Literal(" ".join(repr(x / SCALE) for x in z))
 
 
 def write_view(tx: Transaction, model: MemoryModel, policy: NamedNode) -> int:
@@ -528,10 +529,8 @@ def write_view(tx: Transaction, model: MemoryModel, policy: NamedNode) -> int:
         if record is None or record.written_z == record.z:
             continue
         old = record.written_z
-        for x, prop in enumerate(SCORE_TERMS):
-            if old is None or old[x] != record.z[x]:
-                previous = None if old is None else fixed_term(old[x])
-                set_value(tx, iri, prop, previous, fixed_term(record.z[x]), MEMORY)
+        previous = None if old is None else terms_literal(old)
+        set_value(tx, iri, SCORE_TERMS, previous, terms_literal(record.z), MEMORY)
         record.written_z = record.z
         rewritten += 1
     model.unwritten.clear()
@@ -554,7 +553,7 @@ def write_view(tx: Transaction, model: MemoryModel, policy: NamedNode) -> int:
     return rewritten
 
 
-VIEW_PREDICATES = frozenset(SCORE_TERMS)
+VIEW_PREDICATES = frozenset({SCORE_TERMS})
 """The score view's triples on a class (not moved to the trash with it)."""
 
 
@@ -579,9 +578,7 @@ _COLUMNS: dict[str, NamedNode] = {
     "forgottenSignature": FORGOTTEN_SIGNATURE,
     "forgottenAt": FORGOTTEN_AT,
     "kind": _KIND,
-    "zd": SCORE_TERMS[0],
-    "zs": SCORE_TERMS[1],
-    "zr": SCORE_TERMS[2],
+    "terms": SCORE_TERMS,
 }
 """The ``memory_load_*`` query columns, as the properties whose values they hold."""
 
@@ -608,10 +605,13 @@ def _one(values: dict[NamedNode, list[Term]], prop: NamedNode) -> Literal:
 
 def _fixed(values: dict[NamedNode, list[Term]]) -> tuple[int, int, int] | None:
     """The Z terms a class's view holds, in fixed point; None unless it holds exactly one each."""
-    if not all(len(values.get(prop, ())) == 1 for prop in SCORE_TERMS):
+    found = values.get(SCORE_TERMS, ())
+    parts = found[0].value.split() if len(found) == 1 else []
+    try:
+        z = [round(float(part) * SCALE) for part in parts]
+    except ValueError:  # damaged by hand: the view is rewritten
         return None
-    z = [round(float(values[prop][0].value) * SCALE) for prop in SCORE_TERMS]
-    return (z[0], z[1], z[2])
+    return (z[0], z[1], z[2]) if len(z) == 3 else None
 
 
 def _int(values: dict[NamedNode, list[Term]], prop: NamedNode) -> int:
