@@ -62,9 +62,11 @@ from ontologies.vocab import (
     MEMORY_STATE_INDIVIDUAL,
     OWL_EQUIVALENT_CLASS,
     PINNED,
+    RDFS_LABEL,
     RDFS_SUBCLASSOF,
     RETRIEVE_COUNT,
     SCORE,
+    SKOS_NOTATION,
     STORE_COUNT,
     TRASH,
     TRASH_CLASS,
@@ -175,9 +177,14 @@ class SceneMemory:
             for _ in self.store.quads(None, prop, None, graph)
         )
         factors_stale = bool(m.classes) and m.written_factors != (*m.coefficients(), m.max_score)
-        if not (legacy or m.unwritten or factors_stale):
+        named = {q.subject for q in self.store.quads(None, SKOS_NOTATION, None, MEMORY)}
+        unlabelled = [record for cls, record in m.classes.items() if cls not in named]
+        if not (legacy or m.unwritten or factors_stale or unlabelled):
             return
         with self._write() as tx:
+            for record in unlabelled:  # learned before labels spelt out the definition
+                tx.delete_matching(record.iri, RDFS_LABEL, None, graph=MEMORY)
+                persist.write_label(tx, record)
             if legacy:
                 tx.delete_matching(None, LEGACY_SCORE, None, graph=MEMORY)
                 tx.delete_matching(None, LEGACY_LEVEL, None, graph=MEMORY)

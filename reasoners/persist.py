@@ -229,8 +229,7 @@ def write_class(
     cls = record.iri
     tx.insert(cls, RDF_TYPE, OWL_CLASS, graph)
     tx.insert(cls, RDFS_SUBCLASSOF, SCENE, graph)
-    tx.insert(cls, RDFS_LABEL, Literal(label(record.signature), language="en"), graph)
-    tx.insert(cls, SKOS_NOTATION, Literal(cls.value.rsplit("#", 1)[-1]), graph)
+    write_label(tx, record, graph)
     restrictions: list[NamedNode] = []
     for key, n in record.signature.items():
         if stored is None or (key, n) not in stored:
@@ -253,6 +252,13 @@ def write_class(
         tx.insert(cls, OWL_EQUIVALENT_CLASS, definition, graph)
     for prop, value in class_annotations(record).items():
         tx.insert(cls, prop, value, graph)
+
+
+def write_label(tx: Transaction, record: ClassRecord, graph: NamedNode = MEMORY) -> None:
+    """The label spelling out the definition, and the short name as ``skos:notation``."""
+    cls = record.iri
+    tx.insert(cls, RDFS_LABEL, Literal(label(record.signature), language="en"), graph)
+    tx.insert(cls, SKOS_NOTATION, Literal(cls.value.rsplit("#", 1)[-1]), graph)
 
 
 def class_annotations(record: ClassRecord) -> dict[NamedNode, Term]:

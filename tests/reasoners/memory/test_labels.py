@@ -25,3 +25,18 @@ def test_the_export_declares_the_notation_an_annotation_property(memory: SceneMe
     triples = export_triples(memory.store, ["tbox", "memory"])
     kinds = {t.object for t in triples if t.subject == SKOS_NOTATION and t.predicate == RDF_TYPE}
     assert kinds == {OWL_ANNOTATION_PROPERTY}
+
+
+def test_a_class_labelled_by_an_older_engram_is_relabelled_when_the_memory_opens(
+    memory: SceneMemory,
+) -> None:
+    cls = memory.store_scene(worked_example()).stored_as
+    store = memory.store
+    with store.transaction() as tx:
+        tx.delete_matching(cls, RDFS_LABEL, None, graph=MEMORY)
+        tx.delete_matching(cls, SKOS_NOTATION, None, graph=MEMORY)
+        tx.insert(cls, RDFS_LABEL, Literal("Scene-1"), MEMORY)
+    SceneMemory(store)
+    labels = [q.object.value for q in store.quads(cls, RDFS_LABEL, None, MEMORY)]
+    assert len(labels) == 1 and "sphere above a plane" in labels[0]
+    assert [q.object.value for q in store.quads(cls, SKOS_NOTATION, None, MEMORY)] == ["Scene-1"]
