@@ -75,6 +75,12 @@ class Settings(BaseSettings):
         description="How often the server checks whether the memory's sleep pass is due, in s.",
     )
 
+    clock_settable: bool = Field(
+        False,
+        description="Let the MEMORY CLOCK SET / ADVANCE directives set the scene memory's clock "
+        "(simulated days for tests and demos); never on a robot's real memory.",
+    )
+
     @property
     def store_dir(self) -> Path:
         return self.data_dir / "store"

@@ -1,6 +1,7 @@
 """The FastAPI application over one on-disk store."""
 
 import asyncio
+import datetime as dt
 import logging
 from collections.abc import AsyncIterator
 from contextlib import asynccontextmanager
@@ -22,6 +23,7 @@ from episodes.streams import RecordingRegistry
 from kg import Store, ensure_ontology
 from kg.sandbox import QueryRunner
 from reasoners.check import open_scene_memory
+from reasoners.clock import SettableClock
 from reasoners.memory import SceneMemory
 
 __all__ = ["create_app"]
@@ -45,6 +47,10 @@ async def _sleep_when_due(memory: SceneMemory, period_s: float) -> None:
         if store.generation != flushed:
             flushed = store.generation
             await run_in_threadpool(store.flush)
+
+
+def _utc_now() -> dt.datetime:
+    return dt.datetime.now(dt.UTC)
 
 
 def create_app(settings: Settings | None = None) -> FastAPI:
@@ -72,7 +78,9 @@ def create_app(settings: Settings | None = None) -> FastAPI:
         state = app.state
         state.settings, state.store, state.runner = settings, store, runner
         state.recordings = recordings
-        state.scene_memory = scene_memory = open_scene_memory(store)  # names any damage
+        clock = SettableClock() if settings.clock_settable else _utc_now
+        # names any damage instead of the loader's traceback
+        state.scene_memory = scene_memory = open_scene_memory(store, clock=clock)
         state.armor = ArmorEngine(
             store,
             scene_memory=scene_memory,

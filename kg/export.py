@@ -21,6 +21,7 @@ from typing import Literal as Lit
 
 from pyoxigraph import BlankNode, Literal, NamedNode, RdfFormat, Triple, serialize
 
+from kg.export_scenes import SCENE_GRAPHS, scene_axioms
 from kg.skolem import Deskolemiser
 from kg.store import Store
 from ontologies.vocab import (
@@ -57,6 +58,7 @@ __all__ = [
     "ExportFormat",
     "export",
     "export_triples",
+    "millisecond_time",
     "typed_cardinality",
 ]
 
@@ -120,7 +122,10 @@ def export_triples(store: Store, graphs: Sequence[str] = DEFAULT_GRAPHS) -> list
     content: dict[Triple, None] = {}  # ordered and without duplicates
     for name in graphs:
         for quad in store.quads(graph=GRAPHS[name]):
-            content[deskolemise.triple(typed_cardinality(quad.triple))] = None
+            content[deskolemise.triple(millisecond_time(typed_cardinality(quad.triple)))] = None
+    for name in graphs:
+        if name in SCENE_GRAPHS:  # so that a DL reasoner can classify the scenes
+            content.update(dict.fromkeys(scene_axioms(store, name)))
     headers = {t.subject for t in content if t.predicate == RDF_TYPE and t.object == OWL_ONTOLOGY}
     sources = [t.object for t in content if t.subject in headers and t.predicate == OWL_VERSION_IRI]
     # Sorted so that two exports of the same memory differ only in blank node labels.
@@ -209,6 +214,25 @@ def typed_cardinality(triple: Triple) -> Triple:
             triple.predicate,
             Literal(triple.object.value, datatype=XSD_NON_NEGATIVE_INTEGER),
         )
+    return triple
+
+
+_SUBSECOND = re.compile(r"(T\d\d:\d\d:\d\d\.\d{3})\d+")
+
+
+def millisecond_time(triple: Triple) -> Triple:
+    """An ``xsd:dateTime`` cut to milliseconds: HermiT (Protégé's reasoner) refuses more digits.
+
+    >>> from pyoxigraph import NamedNode
+    >>> t = Literal("2026-01-02T22:06:03.008925+00:00", datatype=XSD_DATETIME)
+    >>> millisecond_time(Triple(NamedNode("http://x/a"), NamedNode("http://x/p"), t)).object.value
+    '2026-01-02T22:06:03.008+00:00'
+    """
+    value = triple.object
+    if isinstance(value, Literal) and value.datatype == XSD_DATETIME:
+        cut = _SUBSECOND.sub(r"\1", value.value, count=1)
+        if cut != value.value:
+            return Triple(triple.subject, triple.predicate, Literal(cut, datatype=XSD_DATETIME))
     return triple
 
 

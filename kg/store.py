@@ -179,6 +179,10 @@ class Store:
         """The stored quads matching a pattern (``None`` matches anything)."""
         return self._store.quads_for_pattern(subject, predicate, obj, graph)
 
+    def named_graphs(self) -> list[NamedNode]:
+        """The named graphs that hold at least one triple."""
+        return [g for g in self._store.named_graphs() if isinstance(g, NamedNode)]
+
     def graph_sizes(self) -> dict[str, int]:
         """Triples per named graph, by graph IRI."""
         return {row["graph"].value: int(row["triples"].value) for row in self.select("graph_sizes")}

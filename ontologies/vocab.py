@@ -19,6 +19,7 @@ OWL_NS = "http://www.w3.org/2002/07/owl#"
 XSD_NS = "http://www.w3.org/2001/XMLSchema#"
 PROV_NS = "http://www.w3.org/ns/prov#"
 DCTERMS_NS = "http://purl.org/dc/terms/"
+SKOS_NS = "http://www.w3.org/2004/02/skos/core#"
 
 PREFIXES = {
     "engram": ENGRAM_NS,
@@ -28,7 +29,10 @@ PREFIXES = {
     "xsd": XSD_NS,
     "prov": PROV_NS,
     "dcterms": DCTERMS_NS,
+    "skos": SKOS_NS,
 }
+SKOS_NOTATION = NamedNode(SKOS_NS + "notation")
+"""A learned class's short name (``Scene-7``); its rdfs:label says what it holds."""
 
 
 def engram(name: str) -> NamedNode:
@@ -133,9 +137,27 @@ SPATIAL_INVERSES = {
 COMPLEXITY = engram("complexity")
 STORE_COUNT = engram("storeCount")
 RETRIEVE_COUNT = engram("retrieveCount")
-SCORE = engram("score")
+SCORE = engram("rawScore")
+"""Raw ζ as of the class's last update or sleep pass (bookkeeping; the live values: the view)."""
 CLASS_SIGNATURE = engram("signature")
-LEVEL = engram("level")
+LEVEL = engram("sleepLevel")
+"""The level the last sleep pass gave (what forgetting counts); the live level: the view."""
+LEGACY_SCORE, LEGACY_LEVEL = engram("score"), engram("level")
+"""Their names before the view: a store written then loses them when the memory opens."""
+SCORE_TERMS = engram("scoreTerms")
+"""Z_d, Z_s, Z_r of a class (reasoners.model), its raw terms kept exact by every update, as
+one string of three xsd:double lexical forms ("Z_d Z_s Z_r": one triple to rewrite per class of
+a branch, not three)."""
+SCORE_FACTORS = (
+    engram("scoreFactorComplexity"),
+    engram("scoreFactorStore"),
+    engram("scoreFactorRetrieve"),
+)
+"""On the memory state: the factors that turn Z_d, Z_s, Z_r into raw ζ with today's maxima."""
+MAX_RAW_SCORE = engram("maxRawScore")
+"""On the memory state: the largest raw ζ, which normalises scores."""
+USES_POLICY = engram("usesPolicy")
+"""On the memory state: the policy individual whose level thresholds apply."""
 CREATED = engram("created")
 LAST_ACCESSED = engram("lastAccessed")
 CONSECUTIVE_WEAK_COUNT = engram("consecutiveWeakCount")

@@ -10,9 +10,11 @@ several threads; they are serialised.
 Semantic scores are derived from each class's raw terms (complexity, store and retrieve
 counts), its children and the global maxima (:mod:`reasoners.model`): an update re-derives the
 touched class and its ancestors in memory and writes only what it changed in the store (the
-touched class's counters, time and ``engram:score``, the new class and its edges, the new
-experienced scene). The sleep pass brings every class's stored ``engram:score`` and level up to
-date, so SPARQL readers see consolidated scores after each pass.
+touched class's counters, time and ``engram:rawScore``, the new class and its edges, the new
+experienced scene, and the score view of the branch: the Z terms of the classes whose Z changed
+and the four values on the memory state, :func:`reasoners.persist.write_view`), so that a SPARQL
+reader derives every class's live normalised score and level after every committed change. The
+sleep pass also records each item's level (``engram:sleepLevel``), which forgetting counts.
 
 >>> import datetime as dt
 >>> from kg import Store
@@ -53,20 +55,26 @@ from ontologies.vocab import (
     FORGOTTEN_SIGNATURE,
     HAS_PRIMITIVE,
     LAST_ACCESSED,
+    LEGACY_LEVEL,
+    LEGACY_SCORE,
     LEVEL,
     MEMORY,
     MEMORY_STATE_INDIVIDUAL,
     OWL_EQUIVALENT_CLASS,
     PINNED,
+    RDFS_LABEL,
     RDFS_SUBCLASSOF,
     RETRIEVE_COUNT,
     SCORE,
+    SKOS_NOTATION,
     STORE_COUNT,
     TRASH,
     TRASH_CLASS,
     UPDATES_SINCE_SLEEP,
 )
 from reasoners import persist
+from reasoners.batch import PendingWrites, QuadReader
+from reasoners.clock import SettableClock
 from reasoners.encode import Encoder, Relation
 from reasoners.errors import (
     InvalidSceneError,
@@ -131,14 +139,24 @@ class SceneMemory:
         self.store = store
         self._clock = clock
         self._lock = threading.RLock()
+        self._batch: PendingWrites | None = None
+        self._reader: QuadReader = store
+        """The store as the running operation sees it (its own pending writes included)."""
         self.policy: Policy = load_policy(store, policy)
         self.encoder = Encoder.from_store(store, self.policy)
+        self._policy_iri = policy
         self._model: MemoryModel = persist.load_model(store, self._weights())
+        self._repair_view()
         log.info(
             "scene memory opened: %d classes, %d experienced scenes",
             len(self._model.classes),
             len(self._model.items),
         )
+
+    @property
+    def clock(self) -> Clock:
+        """The clock the memory reads (a :class:`~reasoners.clock.SettableClock` can be set)."""
+        return self._clock
 
     # Helpers -----------------------------------------------------------------------------------
 
@@ -146,27 +164,100 @@ class SceneMemory:
         p = self.policy
         return (p.complexityWeight, p.childrenWeight, p.storeWeight, p.retrieveWeight)
 
+    def _repair_view(self) -> None:
+        """Write the score view where the store lacks it or it is stale (a store written by an
+        older Engram, or by hand), and drop the annotations the view replaced; one transaction,
+        only when needed."""
+        m = self._model
+        legacy = any(
+            True
+            for prop, graph in (
+                (LEGACY_SCORE, MEMORY),
+                (LEGACY_LEVEL, MEMORY),
+                (LEGACY_LEVEL, EPISODIC),
+            )
+            for _ in self.store.quads(None, prop, None, graph)
+        )
+        factors_stale = bool(m.classes) and m.written_factors != (*m.coefficients(), m.max_score)
+        named = {q.subject for q in self.store.quads(None, SKOS_NOTATION, None, MEMORY)}
+        unlabelled = [record for cls, record in m.classes.items() if cls not in named]
+        if not (legacy or m.unwritten or factors_stale or unlabelled):
+            return
+        with self._write() as tx:
+            for record in unlabelled:  # learned before labels spelt out the definition
+                tx.delete_matching(record.iri, RDFS_LABEL, None, graph=MEMORY)
+                persist.write_label(tx, record)
+            if legacy:
+                tx.delete_matching(None, LEGACY_SCORE, None, graph=MEMORY)
+                tx.delete_matching(None, LEGACY_LEVEL, None, graph=MEMORY)
+                tx.delete_matching(None, LEGACY_LEVEL, None, graph=EPISODIC)
+            if factors_stale:
+                m.written_factors = None  # rewritten whole
+        log.info("scene memory: score view written for %d classes", len(m.classes))
+
     def _now(self) -> dt.datetime:
         now = self._clock()
         if not isinstance(now, dt.datetime) or now.tzinfo is None:
             raise ValueError(f"clock: got {now!r}, expected a timezone-aware datetime")
-        return now
+        # Times are kept at millisecond precision, in the model as in the store (xsd:dateTime
+        # with microseconds makes HermiT refuse an export).
+        return now.replace(microsecond=now.microsecond - now.microsecond % 1000)
 
     @contextmanager
-    def _write(self, *, refresh_alongside: bool = False) -> Iterator[Transaction]:
+    def _write(self, *, refresh_alongside: bool = False) -> Iterator[PendingWrites]:
         """One transaction; if anything fails, the model is rebuilt from the store.
 
         With ``refresh_alongside``, the model's pending re-scoring (the ancestors of what the
         transaction touched) runs while the store applies the write, instead of before it.
         """
         with self._lock:
+            if self._batch is not None:  # the batch's owner commits, or rolls back
+                yield self._batch
+                persist.write_view(self._batch, self._model, self._policy_iri)
+                return
             alongside = self._model.refresh if refresh_alongside else None
             try:
                 with self.store.transaction(alongside=alongside) as tx:
-                    yield tx
+                    writes = PendingWrites()
+                    self._reader = writes.view(self.store)
+                    yield writes
+                    persist.write_view(writes, self._model, self._policy_iri)
+                    writes.copy_into(tx)
             except BaseException:
                 self._model = persist.load_model(self.store, self._weights())
                 raise
+            finally:
+                self._reader = self.store
+
+    @contextmanager
+    def batch(self) -> Iterator[PendingWrites]:
+        """Run several operations into one set of writes that the caller commits.
+
+        Inside the ``with`` block, :meth:`store_scene`, :meth:`retrieve`, :meth:`sleep`,
+        :meth:`pin`, :meth:`restore` and :meth:`learn_classes` write into the yielded
+        :class:`~reasoners.batch.PendingWrites` instead of committing, each seeing the ones
+        before it. The caller adds those writes to its own transaction and commits it inside the
+        block (a directive list does so with its other writes). The memory's lock is held for the
+        whole block, so no other thread sees the model between the operations and the commit; if
+        the block raises (an operation failed, or the commit did), the model is rebuilt from the
+        store, which the failed commit left as it was.
+        """
+        with self._lock:
+            if self._batch is not None:
+                raise RuntimeError("batch: a batch is already open on this memory")
+            writes = PendingWrites()
+            self._batch, self._reader = writes, writes.view(self.store)
+            clock = self._clock
+            saved = clock.snapshot() if isinstance(clock, SettableClock) else None
+            try:
+                yield writes
+            except BaseException:
+                self._model = persist.load_model(self.store, self._weights())
+                if isinstance(clock, SettableClock):
+                    clock.restore(saved)
+                raise
+            finally:
+                self._batch, self._reader = None, self.store
 
     def _scene(self, primitives: Sequence[Primitive], field: str = "primitives") -> list[Primitive]:
         scene = list(primitives)
@@ -523,8 +614,9 @@ class SceneMemory:
 
         A class or experienced scene that is WEAK for ``weakPassesToForget`` consecutive passes,
         older than ``forgetGracePeriodSeconds`` and not pinned is moved to the ``trash`` graph;
-        a forgotten class takes its experienced scenes with it, and a class with a pinned
-        experienced scene is kept. One transaction.
+        a forgotten class takes its experienced scenes with it. A class with a pinned experienced
+        scene is kept, and a pinned class keeps its experienced scenes. The report names each
+        forgotten scene once. One transaction.
         """
         started = time.perf_counter()
         with self._write() as tx:
@@ -576,8 +668,9 @@ class SceneMemory:
                 and item_weak[iri] >= k
                 and now - record.created >= grace
                 and not record.pinned
+                and not m.classes[record.cls].pinned  # a pinned class keeps its scenes
             ]
-            self._forget(tx, doomed_classes, doomed_items, now)
+            forgotten_items = self._forget(tx, doomed_classes, doomed_items, now)
             if doomed_classes:  # the graph changed: ζ of the forgotten classes' neighbours too
                 zetas = m.zetas()
             # systems consolidation: every class's stored ζ brought up to date
@@ -590,16 +683,13 @@ class SceneMemory:
             m.updates_since_sleep = 0
             m.sleep_passes += 1
             persist.write_state(tx, m)
-            forgotten_items = tuple(doomed_items) + tuple(
-                i for c in doomed_classes for i in sorted(self._trashed_with(c), key=str)
-            )
         report = SleepReport(
             at=now,
             rescored=rescored,
             levels={c: class_levels[c] for c in m.classes},
             item_levels={i: item_levels[i] for i in m.items},
             forgotten_classes=tuple(doomed_classes),
-            forgotten_items=forgotten_items,
+            forgotten_items=tuple(forgotten_items),
             duration_s=time.perf_counter() - started,
         )
         log.info(
@@ -644,15 +734,20 @@ class SceneMemory:
         classes: Sequence[NamedNode],
         items: Sequence[NamedNode],
         now: dt.datetime,
-    ) -> None:
+    ) -> list[NamedNode]:
+        """Move ``classes`` (with their experienced scenes) and ``items`` to the trash; return
+        the experienced scenes moved now, each once."""
         m = self._model
+        moved: list[NamedNode] = []
         stamp = persist.time_literal(now)
         added: set[tuple[NamedNode, NamedNode]] = set()
         for cls in classes:
             record = m.classes[cls]
-            own = persist.delete_class(tx, self.store, cls)
+            own = persist.delete_class(tx, self._reader, cls)
             for quad in own:
-                if quad.predicate not in (RDFS_SUBCLASSOF, OWL_EQUIVALENT_CLASS):
+                if quad.predicate not in (RDFS_SUBCLASSOF, OWL_EQUIVALENT_CLASS) and (
+                    quad.predicate not in persist.VIEW_PREDICATES
+                ):
                     persist.insert_quad(tx, quad, TRASH)
             tx.insert(cls, RDFS_SUBCLASSOF, TRASH_CLASS, TRASH)
             tx.insert(cls, FORGOTTEN_AT, stamp, TRASH)
@@ -670,9 +765,11 @@ class SceneMemory:
             if item not in m.items:
                 continue
             record_item = m.remove_item(item)
-            persist.move(tx, self.store, [item], EPISODIC, TRASH, follow=HAS_PRIMITIVE)
+            persist.move(tx, self._reader, [item], EPISODIC, TRASH, follow=HAS_PRIMITIVE)
             tx.insert(item, FORGOTTEN_AT, stamp, TRASH)
             m.trashed_items[item] = TrashedItem(item, record_item.cls, now)
+            moved.append(item)
+        return moved
 
     def _items_of(self, cls: NamedNode) -> list[NamedNode]:
         return [i for i, r in self._model.items.items() if r.cls == cls]
@@ -710,8 +807,9 @@ class SceneMemory:
                 record.pinned = pinned
 
     def restore(self, iri: NamedNode) -> tuple[NamedNode, ...]:
-        """Bring a forgotten class (with the experienced scenes forgotten with it) or a forgotten
-        experienced scene back from the trash, exactly as it was (its WEAK count reset).
+        """Bring a forgotten class (with every experienced scene of it in the trash: those
+        forgotten with it and those forgotten alone before) or a forgotten experienced scene back
+        from the trash, exactly as it was (its WEAK count reset).
 
         Returns the restored IRIs. Raises :class:`~reasoners.errors.NotInTrashError` if the trash
         does not hold ``iri``, :class:`~reasoners.errors.RestoreConflictError` if a live class has
@@ -746,7 +844,7 @@ class SceneMemory:
                 "nothing restored"
             )
         values = {}
-        for quad in self.store.quads(cls, None, None, TRASH):
+        for quad in list(self._reader.quads(cls, None, None, TRASH)):
             values[quad.predicate] = quad.object
             persist.delete_quad(tx, quad, TRASH)
         record = ClassRecord(
@@ -764,11 +862,9 @@ class SceneMemory:
         parents, children, removed = m.add_class(record)
         added = {(cls, p) for p in parents} | {(c, cls) for c in children}
         persist.write_edges(tx, added, removed)
-        items = [
-            i
-            for i, t in m.trashed_items.items()
-            if t.cls == cls and t.forgotten_at == trashed.forgotten_at
-        ]
+        # every experienced scene of the class in the trash: those forgotten with it, and those
+        # forgotten alone before (the class's memory comes back whole)
+        items = sorted(self._trashed_with(cls), key=str)
         self._restore_items(tx, items)
         self._rescore(tx, set(), {cls})
         persist.write_class(tx, record, stored=m.stored_restrictions)
@@ -778,18 +874,13 @@ class SceneMemory:
         m = self._model
         for item in items:
             trashed = m.trashed_items.pop(item)
-            values = {q.predicate: q.object for q in self.store.quads(item, None, None, TRASH)}
-            persist.move(tx, self.store, [item], TRASH, EPISODIC, follow=HAS_PRIMITIVE)
+            own = list(self._reader.quads(item, None, None, TRASH))
+            values = {q.predicate: q.object for q in own}
+            persist.move(tx, self._reader, [item], TRASH, EPISODIC, follow=HAS_PRIMITIVE)
             # move() re-inserts every triple; the trash-only ones must not reach `episodic`.
-            for prop in (FORGOTTEN_AT, CONSECUTIVE_WEAK_COUNT, LEVEL):
-                if prop in values:
-                    tx.inserts[:] = [
-                        q
-                        for q in tx.inserts
-                        if not (
-                            q.subject == item and q.predicate == prop and q.graph_name == EPISODIC
-                        )
-                    ]
+            for quad in own:
+                if quad.predicate in (FORGOTTEN_AT, CONSECUTIVE_WEAK_COUNT, LEVEL):
+                    persist.delete_quad(tx, quad, EPISODIC)
             record = ItemRecord(
                 iri=item,
                 cls=trashed.cls,

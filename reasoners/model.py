@@ -75,6 +75,8 @@ class ClassRecord:
     """The number of direct children."""
     mark: int = field(default=0, repr=False, compare=False)
     """The last refresh that queued this record."""
+    written_z: tuple[int, int, int] | None = field(default=None, repr=False, compare=False)
+    """The Z terms the store holds for this class (the score view), None if none."""
 
 
 @dataclass
@@ -142,6 +144,10 @@ class MemoryModel:
     sleep_passes: int = 0
     has_state: bool = False
     """Whether the ``memory`` graph holds the memory-state individual."""
+    unwritten: set[NamedNode] = field(default_factory=set)
+    """Classes whose Z changed since the score view was last written."""
+    written_factors: tuple[float, float, float, float] | None = None
+    """The score factors and largest raw ζ the memory state holds (the score view)."""
     _dirty: set[NamedNode] = field(default_factory=set)
     _dirty_top: int = 0
     """At least the largest complexity in ``_dirty`` (0 when nothing is pending)."""
@@ -299,6 +305,7 @@ class MemoryModel:
         self._dirty.update(record.iri for level in waiting.values() for record in level)
         self._dirty_top = max(waiting, default=0)
         self._set_rows(changed)
+        self.unwritten.update(record.iri for record in changed)
 
     def _touch(self, record: ClassRecord) -> None:
         """Queue a class whose own terms or children changed for the next refresh."""
@@ -386,6 +393,7 @@ class MemoryModel:
             self._set_row(record.iri, record.z)
         self._dirty.clear()
         self._dirty_top = 0
+        self.unwritten = {r.iri for r in self.classes.values() if r.written_z != r.z}
 
     def add_class(
         self, record: ClassRecord, ancestors: Iterable[NamedNode] | None = None

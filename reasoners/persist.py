@@ -5,10 +5,15 @@ Layout (DESIGN.md, "Store layout"):
 - ``memory``: each learned class ``C a owl:Class; rdfs:subClassOf engram:Scene;
   owl:equivalentClass ⊓(≥n p.T)`` (an ``owl:intersectionOf`` list of ``owl:Restriction`` with
   ``owl:minQualifiedCardinality`` and ``owl:onClass``, or the single restriction itself), its
-  direct ``rdfs:subClassOf`` edges to other learned classes, and its annotations (complexity,
-  storeCount, retrieveCount, score = raw ζ as of the class's last update or sleep pass,
-  created, lastAccessed, consecutiveWeakCount and pinned when not 0 / false, level); and
-  ``engram:memoryState`` (last sleep, updates since). A restriction ``≥n p.T`` is one node
+  direct ``rdfs:subClassOf`` edges to other learned classes, a label spelling out the
+  definition and the short name as ``skos:notation``, and its annotations (complexity,
+  storeCount, retrieveCount, rawScore = raw ζ as of the class's last update or sleep pass,
+  created, lastAccessed, consecutiveWeakCount and pinned when not 0 / false, sleepLevel = the
+  level of the last sleep pass); the *score view*: ``scoreTerms`` ("Z_d Z_s Z_r", exact after
+  every committed change) on each class, and
+  ``scoreFactor*``, ``maxRawScore`` and ``usesPolicy`` on ``engram:memoryState`` (with the last
+  sleep and the updates since), from which ``sparql/memory_class_scores.rq`` derives every
+  class's live normalised score and level (:func:`write_view`). A restriction ``≥n p.T`` is one node
   (:func:`restriction_iri`) shared by every class that uses it, written with the first such
   class and deleted with the last; the export gives each use its own blank node.
 - ``episodic``: each experienced scene ``e a engram:ExperiencedScene, C`` with created,
@@ -51,6 +56,7 @@ from ontologies.vocab import (
     LAST_ACCESSED,
     LAST_SLEEP_AT,
     LEVEL,
+    MAX_RAW_SCORE,
     MEMORY,
     MEMORY_STATE,
     MEMORY_STATE_INDIVIDUAL,
@@ -74,18 +80,31 @@ from ontologies.vocab import (
     RETRIEVE_COUNT,
     SCENE,
     SCORE,
+    SCORE_FACTORS,
+    SCORE_TERMS,
     SKOLEM_PREFIX,
+    SKOS_NOTATION,
     SLEEP_PASS_COUNT,
     STORE_COUNT,
     TRACKING_ID,
     TRASH,
     TRASH_CLASS,
     UPDATES_SINCE_SLEEP,
+    USES_POLICY,
     XSD_DATETIME,
     engram,
 )
+from reasoners.batch import QuadReader
 from reasoners.encode import Relation
-from reasoners.model import ClassRecord, ItemRecord, MemoryModel, TrashedClass, TrashedItem
+from reasoners.labels import label
+from reasoners.model import (
+    SCALE,
+    ClassRecord,
+    ItemRecord,
+    MemoryModel,
+    TrashedClass,
+    TrashedItem,
+)
 from reasoners.primitives import Primitive
 from reasoners.signature import Key, Signature
 
@@ -114,7 +133,13 @@ def item_iri(number: int) -> NamedNode:
 
 
 def time_literal(value: dt.datetime) -> Literal:
-    return Literal(value.isoformat(), datatype=XSD_DATETIME)
+    """An ``xsd:dateTime`` at millisecond precision (what HermiT and the OWL API accept); a time
+    with finer digits (written by an older Engram) keeps them, so that it matches its triple."""
+    fine = value.microsecond % 1000
+    return Literal(
+        value.isoformat(timespec="microseconds" if fine else "milliseconds"),
+        datatype=XSD_DATETIME,
+    )
 
 
 def parse_time(term: object) -> dt.datetime:
@@ -204,7 +229,7 @@ def write_class(
     cls = record.iri
     tx.insert(cls, RDF_TYPE, OWL_CLASS, graph)
     tx.insert(cls, RDFS_SUBCLASSOF, SCENE, graph)
-    tx.insert(cls, RDFS_LABEL, Literal(cls.value.rsplit("#", 1)[-1]), graph)
+    write_label(tx, record, graph)
     restrictions: list[NamedNode] = []
     for key, n in record.signature.items():
         if stored is None or (key, n) not in stored:
@@ -227,6 +252,13 @@ def write_class(
         tx.insert(cls, OWL_EQUIVALENT_CLASS, definition, graph)
     for prop, value in class_annotations(record).items():
         tx.insert(cls, prop, value, graph)
+
+
+def write_label(tx: Transaction, record: ClassRecord, graph: NamedNode = MEMORY) -> None:
+    """The label spelling out the definition, and the short name as ``skos:notation``."""
+    cls = record.iri
+    tx.insert(cls, RDFS_LABEL, Literal(label(record.signature), language="en"), graph)
+    tx.insert(cls, SKOS_NOTATION, Literal(cls.value.rsplit("#", 1)[-1]), graph)
 
 
 def class_annotations(record: ClassRecord) -> dict[NamedNode, Term]:
@@ -262,7 +294,7 @@ def write_edges(
         tx.insert(child, RDFS_SUBCLASSOF, parent, MEMORY)
 
 
-def delete_class(tx: Transaction, store: Store, cls: NamedNode) -> list[Quad]:
+def delete_class(tx: Transaction, store: QuadReader, cls: NamedNode) -> list[Quad]:
     """Delete every triple about ``cls`` in ``memory`` (its own definition nodes included, the
     shared restriction nodes not) and return its own quads (annotations, label, edges), for the
     caller to move what it keeps."""
@@ -341,7 +373,7 @@ def write_item(
 
 def move(
     tx: Transaction,
-    store: Store,
+    store: QuadReader,
     subjects: Iterable[NamedNode],
     source: NamedNode,
     target: NamedNode,
@@ -400,12 +432,13 @@ def load_model(
                 signature=signature,
                 store_count=_int(values, STORE_COUNT),
                 retrieve_count=_int(values, RETRIEVE_COUNT),
-                score=float(_one(values, SCORE).value),
+                score=float(values[SCORE][0].value) if SCORE in values else 0.0,
                 created=parse_time(_one(values, CREATED)),
                 last_accessed=parse_time(_one(values, LAST_ACCESSED)),
                 weak_count=_int(values, CONSECUTIVE_WEAK_COUNT),
                 pinned=_bool(values, PINNED),
                 level=values[LEVEL][0].value if LEVEL in values else None,
+                written_z=_fixed(values),
             )
         )
     edges = [
@@ -422,6 +455,9 @@ def load_model(
         model.last_sleep_at = parse_time(state[LAST_SLEEP_AT][0])
     model.updates_since_sleep = _int(state, UPDATES_SINCE_SLEEP)
     model.sleep_passes = _int(state, SLEEP_PASS_COUNT)
+    view = (*SCORE_FACTORS, MAX_RAW_SCORE)
+    if all(len(state.get(prop, ())) == 1 for prop in view):
+        model.written_factors = tuple(float(state[prop][0].value) for prop in view)  # type: ignore[assignment]
 
     items = store.select("memory_load_items", g=EPISODIC)
     for subject, values in _rows_by_subject(items, "item").items():
@@ -463,16 +499,68 @@ def load_model(
 
 
 def write_state(tx: Transaction, model: MemoryModel, previous: MemoryModel | None = None) -> None:
-    """Replace the memory-state individual (three values)."""
+    """Replace the memory-state individual's three counters (the score view's values on it
+    are :func:`write_view`'s)."""
     node = MEMORY_STATE_INDIVIDUAL
     model.has_state = True
-    tx.delete_matching(node, None, None, graph=MEMORY)
+    for prop in (UPDATES_SINCE_SLEEP, SLEEP_PASS_COUNT, LAST_SLEEP_AT):
+        tx.delete_matching(node, prop, None, graph=MEMORY)
     tx.insert(node, RDF_TYPE, OWL_NAMED_INDIVIDUAL, MEMORY)
     tx.insert(node, RDF_TYPE, MEMORY_STATE, MEMORY)
     tx.insert(node, UPDATES_SINCE_SLEEP, Literal(model.updates_since_sleep), MEMORY)
     tx.insert(node, SLEEP_PASS_COUNT, Literal(model.sleep_passes), MEMORY)
     if model.last_sleep_at is not None:
         tx.insert(node, LAST_SLEEP_AT, time_literal(model.last_sleep_at), MEMORY)
+
+
+def terms_literal(z: tuple[int, int, int]) -> Literal:
+    """Z_d, Z_s, Z_r in fixed point as the view stores them: "Z_d Z_s Z_r", each the shortest
+    lexical form of its double (exact: SCALE is 2**40; SPARQL's xsd:double() reads it back)."""
+    return Literal(" ".join(repr(x / SCALE) for x in z))
+
+
+def write_view(tx: Transaction, model: MemoryModel, policy: NamedNode) -> int:
+    """Bring the score view up to date: the Z terms of every class whose Z changed since they
+    were written, and the factors and largest raw ζ on the memory state. Returns the number of
+    classes rewritten.
+
+    The view is what analysts read (``sparql/memory_class_scores.rq``): raw ζ = f_d·Z_d +
+    f_s·Z_s + f_r·Z_r, normalised = ζ / max ζ, the level from the policy's thresholds. A change of
+    maximum rewrites the four values on the memory state, not the classes.
+    """
+    model.refresh()
+    rewritten = 0
+    for iri in sorted(model.unwritten, key=str):
+        record = model.classes.get(iri)
+        if record is None or record.written_z == record.z:
+            continue
+        old = record.written_z
+        previous = None if old is None else terms_literal(old)
+        set_value(tx, iri, SCORE_TERMS, previous, terms_literal(record.z), MEMORY)
+        record.written_z = record.z
+        rewritten += 1
+    model.unwritten.clear()
+    node = MEMORY_STATE_INDIVIDUAL
+    factors = (*model.coefficients(), model.max_score)
+    if factors != model.written_factors:
+        old_factors = model.written_factors
+        if old_factors is None:
+            tx.insert(node, RDF_TYPE, OWL_NAMED_INDIVIDUAL, MEMORY)
+            tx.insert(node, RDF_TYPE, MEMORY_STATE, MEMORY)
+            tx.delete_matching(node, USES_POLICY, None, graph=MEMORY)
+            tx.insert(node, USES_POLICY, policy, MEMORY)
+        for x, prop in enumerate((*SCORE_FACTORS, MAX_RAW_SCORE)):
+            if old_factors is None:
+                tx.delete_matching(node, prop, None, graph=MEMORY)
+                tx.insert(node, prop, Literal(factors[x]), MEMORY)
+            elif old_factors[x] != factors[x]:
+                set_value(tx, node, prop, Literal(old_factors[x]), Literal(factors[x]), MEMORY)
+        model.written_factors = factors
+    return rewritten
+
+
+VIEW_PREDICATES = frozenset({SCORE_TERMS})
+"""The score view's triples on a class (not moved to the trash with it)."""
 
 
 _KIND = engram("_kind")
@@ -496,6 +584,7 @@ _COLUMNS: dict[str, NamedNode] = {
     "forgottenSignature": FORGOTTEN_SIGNATURE,
     "forgottenAt": FORGOTTEN_AT,
     "kind": _KIND,
+    "terms": SCORE_TERMS,
 }
 """The ``memory_load_*`` query columns, as the properties whose values they hold."""
 
@@ -518,6 +607,17 @@ def _one(values: dict[NamedNode, list[Term]], prop: NamedNode) -> Literal:
     term = values[prop][0]
     assert isinstance(term, Literal)
     return term
+
+
+def _fixed(values: dict[NamedNode, list[Term]]) -> tuple[int, int, int] | None:
+    """The Z terms a class's view holds, in fixed point; None unless it holds exactly one each."""
+    found = values.get(SCORE_TERMS, ())
+    parts = found[0].value.split() if len(found) == 1 else []
+    try:
+        z = [round(float(part) * SCALE) for part in parts]
+    except ValueError:  # damaged by hand: the view is rewritten
+        return None
+    return (z[0], z[1], z[2]) if len(z) == 3 else None
 
 
 def _int(values: dict[NamedNode, list[Term]], prop: NamedNode) -> int:

@@ -23,9 +23,35 @@ from collections.abc import Iterable
 
 from reasoners.policy import Policy
 
-__all__ = ["HIGH", "LOW", "WEAK", "episodic_score", "level_of", "log_ratio", "semantic_score"]
+__all__ = [
+    "HIGH",
+    "LOW",
+    "SCORE_DECIMALS",
+    "WEAK",
+    "episodic_score",
+    "level_of",
+    "log_ratio",
+    "rounded",
+    "semantic_score",
+]
 
 HIGH, LOW, WEAK = "HIGH", "LOW", "WEAK"
+SCORE_DECIMALS = 6
+"""Normalised scores are reported to this many decimals (the level uses the exact value)."""
+
+
+def rounded(value: float) -> float:
+    """``value`` to :data:`SCORE_DECIMALS` decimals as SPARQL's ``ROUND(x * 1e6) / 1e6`` gives
+    it (halves away from zero), so the API and the analysts' query print the same number.
+
+    >>> rounded(0.4472135955), rounded(0.0000005)
+    (0.447214, 1e-06)
+    """
+    scaled = value * 10**SCORE_DECIMALS
+    whole = math.floor(abs(scaled))
+    if abs(scaled) - whole >= 0.5:
+        whole += 1
+    return float(math.copysign(whole, scaled) / 10**SCORE_DECIMALS)
 
 
 def log_ratio(value: int, maximum: int) -> float:

@@ -10,7 +10,6 @@ from api.armor.context import Context, Outcome
 from api.armor.errors import (
     BUSY,
     INTERNAL_ERROR,
-    MEMORY_ERROR,
     NO_COMMAND,
     NO_REFERENCE,
     UNKNOWN_COMMAND,
@@ -21,7 +20,7 @@ from api.armor.memory import MEMORY_COMMANDS, SCENE_ADDS, MemoryDirectives
 from api.armor.models import ArmorDirectiveListRes, ArmorDirectiveReq, ArmorDirectiveRes
 from api.armor.names import ValueStyle
 from api.armor.references import Registry
-from api.armor.session import Session
+from api.armor.session import MemoryWorkFailed, Session
 from kg import Store
 from kg.sandbox import QueryRunner
 from reasoners.memory import SceneMemory
@@ -286,7 +285,8 @@ class ArmorEngine:
                     try:
                         session.commit()
                         committed = True
-                        failed = _run_deferred(session)
+                    except MemoryWorkFailed:  # its directive's response says why
+                        failed = True
                     except Exception as error:
                         log.exception("a directive list could not be committed")
                         failed = True
@@ -366,30 +366,6 @@ def _response(outcome: Outcome, session: Session) -> ArmorDirectiveRes:
     if outcome.deferred is not None:
         session.after_commit.append((outcome.deferred, response))
     return response
-
-
-def _run_deferred(session: Session) -> bool:
-    """Run the memory pipeline's work queued by the list, in order; True if some failed.
-
-    It runs after the list's own writes committed (each piece is one transaction of the scene
-    memory). A failure here, after the checks done while the list ran, is reported on its
-    directive; what committed before it stays.
-    """
-    failed = False
-    for work, response in session.after_commit:
-        try:
-            work(response)
-        except DirectiveError as error:
-            failed = True
-            response.success, response.exit_code = False, error.exit_code
-            response.error_description = f"{error.description} (the list's other writes stayed)"
-        except Exception as error:
-            log.exception("deferred memory work failed")
-            failed = True
-            response.success, response.exit_code = False, MEMORY_ERROR
-            response.error_description = f"memory pipeline failed: {error!r}"
-    session.after_commit = []
-    return failed
 
 
 def _error(code: int, description: str) -> ArmorDirectiveRes:

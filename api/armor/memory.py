@@ -9,13 +9,17 @@ primitives as ordinary ADD directives, and closes it::
     SCENE UPDATED ""    [] or [episode IRI]    close it: encode, recognise, learn or reinforce
 
 While a scene is open, those ADDs feed the scene, not the reference (which need not be loaded).
-The memory pipeline's writes happen when the directive list commits, after the list's other
-writes, so a list that fails stores no scene. Results come as ``queried_objects`` (the main
-answer, in the request's value style) and ``sparql_queried_objects`` (every detail as key/value).
+The memory pipeline runs when the directive list commits, in order, and its writes join the
+list's one transaction: a list that fails stores no scene, and a list with two scenes stores
+both or neither (so a directive later in the same list does not see a scene's effect yet).
+Results come as ``queried_objects`` (the main answer, in the request's value style) and
+``sparql_queried_objects`` (every detail as key/value).
 """
 
 import dataclasses
+import datetime as dt
 import logging
+import math
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import Any
@@ -29,8 +33,10 @@ from api.armor.models import ArmorDirectiveRes, QueryItem
 from api.armor.names import is_value_type, resolve, styled, to_literal
 from kg import Store
 from ontologies.vocab import ENGRAM_NS
+from reasoners.clock import SettableClock
 from reasoners.errors import MemoryReasonerError
 from reasoners.memory import SceneMemory
+from reasoners.scoring import SCORE_DECIMALS, rounded
 
 __all__ = ["MEMORY_COMMANDS", "MemoryDirectives", "SceneDraft", "sleep_if_due"]
 
@@ -87,7 +93,8 @@ def _errors(*more: type[Exception]) -> tuple[type[Exception], ...]:
 def _deferred(
     ctx: Context, work: Callable[[], Any], fill: Callable[[Any, ArmorDirectiveRes], None]
 ) -> Outcome:
-    """Run ``work`` after the list commits and write its result into the response."""
+    """Run ``work`` at the list's commit, into its transaction; write its result into the
+    response. A failure there fails the list (nothing stays)."""
     failures = _errors()
 
     def run(response: ArmorDirectiveRes) -> None:
@@ -223,17 +230,15 @@ def scene_updated(ctx: Context) -> Outcome:
 
     def store() -> Any:
         result = memory.store_scene(primitives, episode=episode)
-        sleep_if_due(memory)
+        memory.maybe_sleep()  # the periodic pass, in the list's transaction too
         return result
 
     return _deferred(ctx, store, fill)
 
 
 def sleep_if_due(memory: SceneMemory) -> None:
-    """The periodic sleep pass, when the policy says one is due; its own transaction.
-
-    The scene is already stored, so a failing pass is logged, not reported as the scene's.
-    """
+    """The periodic sleep pass, when the policy says one is due, as its own transaction (the
+    server's timer); a failing pass is logged, and the memory stays as before it."""
     try:
         report = memory.maybe_sleep()
     except Exception:
@@ -311,7 +316,7 @@ def _retrieve(ctx: Context, *, spread: bool) -> Outcome:
 
     def retrieve() -> Any:
         result = memory.retrieve(cue, spread=spread)
-        sleep_if_due(memory)
+        memory.maybe_sleep()
         return result
 
     return _deferred(ctx, retrieve, fill)
@@ -387,8 +392,9 @@ def query_memory_scores(ctx: Context) -> Outcome:
     pairs = [
         ("kind", scores.kind),
         ("level", scores.level),
-        ("normalised_score", f"{scores.normalised:.6g}"),
+        ("normalised_score", _score(scores.normalised)),
         ("raw_score", f"{scores.raw_score:.6g}"),
+        ("sleep_level", scores.stored_level or ""),
         ("complexity", str(scores.complexity)),
         ("store_count", str(scores.store_count)),
         ("retrieve_count", str(scores.retrieve_count)),
@@ -400,12 +406,82 @@ def query_memory_scores(ctx: Context) -> Outcome:
     if scores.cls is not None:
         pairs.append(("class", styled(scores.cls, ctx.style)))
     return Outcome(
-        queried_objects=[f"{scores.normalised:.6g}"], sparql_queried_objects=_items(pairs)
+        queried_objects=[_score(scores.normalised)], sparql_queried_objects=_items(pairs)
     )
+
+
+def _score(normalised: float) -> str:
+    """A normalised score as reported: six decimals, as the analysts' query rounds it."""
+    return f"{rounded(normalised):.{SCORE_DECIMALS}f}"
 
 
 def query_memory_level(ctx: Context) -> Outcome:
     return Outcome(queried_objects=[_scores(ctx).level])
+
+
+# Clock ------------------------------------------------------------------------------------------
+
+
+def _settable_clock(ctx: Context) -> SettableClock:
+    clock = ctx.session.memory.memory.clock
+    if not isinstance(clock, SettableClock):
+        raise MemoryDirectiveError(
+            f"{ctx.key}: the memory's clock is the real one; start the server with "
+            "ENGRAM_CLOCK_SETTABLE=true to set it (tests, demos, simulated days)"
+        )
+    return clock
+
+
+def _clock_answer(clock: SettableClock, response: ArmorDirectiveRes) -> None:
+    response.queried_objects = [clock().isoformat()]
+
+
+def memory_clock_set(ctx: Context) -> Outcome:
+    clock = _settable_clock(ctx)
+    text = ctx.arg(0, "time")
+    try:
+        when = dt.datetime.fromisoformat(text)
+    except ValueError:
+        when = None
+    if when is None or when.tzinfo is None:
+        raise MemoryDirectiveError(
+            f"args[0]: got {text!r}, expected an ISO 8601 time with its offset, "
+            "e.g. 2026-01-02T09:00:00+00:00"
+        )
+    if when < clock():
+        raise MemoryDirectiveError(
+            f"args[0]: got {text!r}, expected {clock().isoformat()} or later "
+            "(the memory's clock never goes back)"
+        )
+
+    def set_clock() -> SettableClock:
+        clock.set(when)
+        return clock
+
+    return _deferred(ctx, set_clock, _clock_answer)
+
+
+def memory_clock_advance(ctx: Context) -> Outcome:
+    clock = _settable_clock(ctx)
+    text = ctx.arg(0, "seconds")
+    try:
+        seconds = float(text) if text.strip().isascii() else math.nan
+    except ValueError:
+        seconds = math.nan
+    if not 0 <= seconds < 1e11:  # nan and inf fail too
+        raise MemoryDirectiveError(
+            f"args[0]: got {text!r}, expected a number of seconds from 0 to 1e11"
+        )
+
+    def advance_clock() -> SettableClock:
+        clock.advance(seconds)
+        return clock
+
+    return _deferred(ctx, advance_clock, _clock_answer)
+
+
+def query_memory_clock(ctx: Context) -> Outcome:
+    return Outcome(queried_objects=[ctx.session.memory.memory.clock().isoformat()])
 
 
 MEMORY_COMMANDS: dict[str, tuple[Callable[[Context], Outcome], str]] = {
@@ -420,6 +496,9 @@ MEMORY_COMMANDS: dict[str, tuple[Callable[[Context], Outcome], str]] = {
     "QUERY_MEMORY_SCORES": (query_memory_scores, "[class or item]"),
     "QUERY_MEMORY_LEVEL": (query_memory_level, "[class or item]"),
     "QUERY_MEMORY_EXPLAIN": (query_memory_explain, "[class, item or forgotten IRI]"),
+    "MEMORY_CLOCK_SET": (memory_clock_set, "[ISO 8601 time with offset]"),
+    "MEMORY_CLOCK_ADVANCE": (memory_clock_advance, "[seconds]"),
+    "QUERY_MEMORY_CLOCK": (query_memory_clock, "[]"),
 }
 SCENE_ADDS: dict[str, Callable[[Context, SceneDraft], Outcome]] = {
     "ADD_IND_CLASS": scene_add_ind_class,

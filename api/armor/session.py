@@ -10,8 +10,10 @@ change). Other clients never see a list's changes before its commit.
 
 Reasoning never copies a reference: the list tells the reasoner what it wrote since it last
 reasoned (:mod:`api.armor.reasoning`), gets the inferred graph's delta back, and commits that
-delta with its own changes. After the commit the reasoner's kept state is confirmed, or, if the
-list failed, dropped (the next REASON recomputes), so that the state always matches the store.
+delta with its own changes. Memory directives (:mod:`api.armor.memory`) queue their work; at
+the commit the scene memory runs it, in order, into pending writes that join the same
+transaction (:meth:`reasoners.memory.SceneMemory.batch`), so a list with two scenes, or a
+reference write and a scene, commits all of it or none.
 """
 
 import logging
@@ -23,15 +25,20 @@ from pyoxigraph import BlankNode, Literal, NamedNode, Quad, QuerySolutions
 
 import sparql
 from api.armor import reasoning
-from api.armor.errors import SparqlError
+from api.armor.errors import MEMORY_ERROR, DirectiveError, SparqlError
 from api.armor.references import Reference, Registry
 from kg import QueryError, Store
+from kg.transaction import Transaction
 
-__all__ = ["ChangeSet", "Row", "Session"]
+__all__ = ["ChangeSet", "MemoryWorkFailed", "Row", "Session"]
 
 log = logging.getLogger(__name__)
 
 Row = dict[str, NamedNode | Literal]
+
+
+class MemoryWorkFailed(Exception):
+    """A memory directive's work failed at the commit; its response says why, nothing stayed."""
 
 
 @dataclass
@@ -428,7 +435,9 @@ class Session:
                 self.reason_now(reference)
             except Exception:  # the assertions still commit; the next REASON recomputes
                 log.exception("reasoning over the list's writes failed for reference %s", name)
-        if self.changes or self.references:  # a list that only read takes no store lock
+        if self.after_commit:
+            self._commit_with_memory()
+        elif self.changes or self.references:  # a list that only read takes no store lock
             self._write()
         self._settle_reasoner()
         self.registry.publish(self.references)
@@ -439,8 +448,41 @@ class Session:
                 self._scenes_base[key] = draft
         self.changes, self.workspaces = {}, {}
 
-    def _write(self) -> None:
+    def _commit_with_memory(self) -> None:
+        """Run the list's memory work into the scene memory's pending writes, then commit them
+        with the list's other writes, as one transaction.
+
+        The memory's lock is held from the first piece of work to the commit, so no other
+        thread sees its model in between; if a piece of work or the commit fails, the memory
+        rebuilds its model from the store and nothing of the list stays. Raises
+        :class:`MemoryWorkFailed` (after writing the error into the directive's response) when
+        a piece of work fails.
+        """
+        memory = self.memory.memory
+        work, self.after_commit = self.after_commit, []
+        with memory.batch() as writes:
+            for run, response in work:
+                try:
+                    run(response)
+                except DirectiveError as error:
+                    response.success, response.exit_code = False, error.exit_code
+                    response.error_description = f"{error.description} (nothing of the list stayed)"
+                    raise MemoryWorkFailed(error.description) from None
+                except Exception as error:
+                    log.exception("memory work failed")
+                    response.success, response.exit_code = False, MEMORY_ERROR
+                    response.error_description = (
+                        f"memory pipeline failed, nothing of the list stayed: {error!r}"
+                    )
+                    raise MemoryWorkFailed(repr(error)) from None
+            self._write(writes)
+
+    def _write(self, memory_writes: Transaction | None = None) -> None:
         with self.store.transaction() as tx:
+            if memory_writes is not None:  # graphs of the scene memory, none of a reference
+                tx.deletes.extend(memory_writes.deletes)
+                tx.patterns.extend(memory_writes.patterns)
+                tx.inserts.extend(memory_writes.inserts)
             for graph, changes in self.changes.items():
                 if changes.cleared:
                     tx.clear_graph(graph)

@@ -4,7 +4,9 @@ All three request forms are served: ``GET ?query=``, ``POST`` of a form
 (``application/x-www-form-urlencoded``) and ``POST`` of the query itself
 (``application/sparql-query``). Updates are refused with 403: the endpoint is read-only.
 A body longer than ``sparql_max_query_bytes`` is refused with 413 while it is being read; the
-query itself is parsed, checked and run only in the sandbox's worker processes.
+query itself is parsed, checked and run only in the sandbox's worker processes. Without
+``default-graph-uri``, the default graph is the live memory, every graph but the trash
+(:mod:`kg.datasets`).
 """
 
 from urllib.parse import parse_qs
@@ -12,9 +14,10 @@ from urllib.parse import parse_qs
 from fastapi import APIRouter, HTTPException, Request, Response, status
 from starlette.concurrency import run_in_threadpool
 
-from api.deps import RunnerDep, SettingsDep
+from api.deps import RunnerDep, SettingsDep, StoreDep
 from api.negotiation import NotAcceptable, choose_media_type
 from api.openapi_errors import error_responses
+from kg.datasets import analyst_default_graphs
 from kg.sandbox import QueryForm
 
 router = APIRouter(tags=["sparql"])
@@ -34,12 +37,17 @@ def _single(values: list[str], name: str) -> str:
     return values[0]
 
 
-async def _answer(request: Request, runner: RunnerDep, params: dict[str, list[str]]) -> Response:
+async def _answer(
+    request: Request, runner: RunnerDep, store: StoreDep, params: dict[str, list[str]]
+) -> Response:
     if "update" in params:
         raise HTTPException(status.HTTP_403_FORBIDDEN, _READ_ONLY)
     text = _single(params.get("query", []), "query")
-    default_graphs = params.get("default-graph-uri") or None
     named_graphs = params.get("named-graph-uri") or None
+    # The live memory by default; the trash by name (kg.datasets).
+    default_graphs = params.get("default-graph-uri") or (
+        None if named_graphs else analyst_default_graphs(store)
+    )
     format_param = next(
         (params[k][0] for k in ("format", "output", "results") if params.get(k)), None
     )
@@ -118,9 +126,9 @@ _POST_BODY = {
     responses=error_responses(400, 403, 406, 413, 503),
     openapi_extra={"parameters": _QUERY_PARAMETERS},
 )
-async def sparql_get(request: Request, runner: RunnerDep) -> Response:
+async def sparql_get(request: Request, runner: RunnerDep, store: StoreDep) -> Response:
     """Answer ``?query=`` with optional ``default-graph-uri`` and ``named-graph-uri``."""
-    return await _answer(request, runner, _url_params(request))
+    return await _answer(request, runner, store, _url_params(request))
 
 
 @router.post(
@@ -129,7 +137,9 @@ async def sparql_get(request: Request, runner: RunnerDep) -> Response:
     responses=error_responses(400, 403, 406, 413, 415, 503),
     openapi_extra={"parameters": _QUERY_PARAMETERS, "requestBody": _POST_BODY},
 )
-async def sparql_post(request: Request, runner: RunnerDep, settings: SettingsDep) -> Response:
+async def sparql_post(
+    request: Request, runner: RunnerDep, store: StoreDep, settings: SettingsDep
+) -> Response:
     """Answer a form-encoded ``query=`` or a body of type ``application/sparql-query``."""
     content_type = request.headers.get("content-type", "").split(";")[0].strip().lower()
     params = _url_params(request)
@@ -158,4 +168,4 @@ async def sparql_post(request: Request, runner: RunnerDep, settings: SettingsDep
             f"Content-Type: got {content_type or 'none'!r}, expected "
             "application/x-www-form-urlencoded or application/sparql-query",
         )
-    return await _answer(request, runner, params)
+    return await _answer(request, runner, store, params)

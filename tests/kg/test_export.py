@@ -207,7 +207,7 @@ def test_export_loads_in_owlready2(memory_with_two_classes: Store, tmp_path: Pat
     scene_2 = onto.search_one(iri="*Scene-2")
     assert len(scene_2.equivalent_to) == 1
     assert {p.name for p in onto.data_properties()} >= {"centreX", "learnThreshold"}
-    assert {p.name for p in onto.annotation_properties()} >= {"score", "pinned"}
+    assert {p.name for p in onto.annotation_properties()} >= {"rawScore", "pinned"}
 
 
 @pytest.mark.skipif(

@@ -6,6 +6,7 @@ import pytest
 from pyoxigraph import NamedNode
 
 from kg import Store, ensure_ontology, stored_version
+from kg.ontology import file_version
 from ontologies import ENGRAM_TTL
 from ontologies.vocab import CONE, OWL_CLASS, RDF_TYPE, TBOX
 
@@ -20,13 +21,16 @@ def test_first_load_then_unchanged(empty_store: Store) -> None:
 
 
 def test_new_version_replaces_the_old_one(store_with_ontology: Store, tmp_path: Path) -> None:
-    edited = ENGRAM_TTL.read_text().replace("ontology/0.2.2>", "ontology/9.9.9>")
+    current = file_version(ENGRAM_TTL)
+    edited = ENGRAM_TTL.read_text().replace(
+        f"<{current.value}>", "<https://w3id.org/engram/ontology/9.9.9>"
+    )
     edited = edited.replace("engram:Cone a owl:Class ;", "engram:Cone a owl:Thing ;")
     path = tmp_path / "engram.ttl"
     path.write_text(edited)
     status = ensure_ontology(store_with_ontology, path)
     assert status.action == "replaced"
-    assert status.previous == NamedNode("https://w3id.org/engram/ontology/0.2.2")
+    assert status.previous == current
     assert stored_version(store_with_ontology) == NamedNode(
         "https://w3id.org/engram/ontology/9.9.9"
     )

@@ -8,13 +8,17 @@ owlready2 or Protégé) refuse it; Trash is now a status, disjoint only with Geo
 and MemoryPolicy.
 """
 
+import datetime as dt
+import re
 import shutil
 from pathlib import Path
 
 import pytest
+from pyoxigraph import Literal
 
-from kg import export
-from ontologies.vocab import GRAPHS
+from kg import Store, export
+from kg.export import export_triples
+from ontologies.vocab import GRAPHS, XSD_DATETIME
 from reasoners.memory import SceneMemory
 
 from .conftest import FakeClock
@@ -61,3 +65,51 @@ def test_the_export_without_the_trash_is_consistent(slept: SceneMemory, tmp_path
 
 def test_the_export_with_the_trash_is_consistent(slept: SceneMemory, tmp_path: Path) -> None:
     assert consistent(slept, list(GRAPHS), tmp_path / "all.owl")
+
+
+def test_an_export_after_sleep_passes_with_a_real_clock_is_accepted(tmp_path: Path) -> None:
+    """A real clock has microseconds; HermiT refuses an xsd:dateTime with more than three
+    fractional digits, so the memory keeps its times at milliseconds."""
+    pytest.importorskip("owlready2")
+    clock = FakeClock(dt.datetime(2026, 11, 23, 22, 6, 3, 8925, tzinfo=dt.UTC))
+    memory = SceneMemory(Store(), clock=clock)
+    memory.store_scene(BIG)
+    clock.advance(microseconds=1234)
+    memory.store_scene(SMALL)
+    for _ in range(2):
+        clock.advance(seconds=1.000321)
+        memory.sleep()
+    times = [
+        t.object.value
+        for t in export_triples(memory.store, list(GRAPHS))
+        if isinstance(t.object, Literal) and t.object.datatype == XSD_DATETIME
+    ]
+    assert len(times) > 3 and not [t for t in times if re.search(r"\.\d{4}", t)], times
+    assert consistent(memory, list(GRAPHS), tmp_path / "slept.owl")
+
+
+def test_hermit_realises_each_exported_scene_into_its_stored_class(tmp_path: Path) -> None:
+    """The oracle: the export's experienced scenes, their stored class types removed, are
+    classified by HermiT from their links and AllDifferent alone."""
+    pytest.importorskip("owlready2")
+    from pyoxigraph import RdfFormat, serialize
+
+    from ontologies.vocab import PREFIXES, RDF_TYPE
+
+    from .conftest import worked_example
+    from .hermit_cli import types
+
+    memory = SceneMemory(Store(), clock=FakeClock())
+    results = [memory.store_scene(scene) for scene in (worked_example(), BIG, SMALL, BIG)]
+    stored = {r.scene_item: r.stored_as for r in results}
+    classes = {c.iri for c in memory.classes()}
+    triples = [
+        t
+        for t in export_triples(memory.store, ["tbox", "memory", "episodic"])
+        if not (t.predicate == RDF_TYPE and t.object in classes)
+    ]
+    path = tmp_path / "scenes.owl"
+    path.write_bytes(serialize(triples, format=RdfFormat.RDF_XML, prefixes=PREFIXES))
+    realised = types(path, timeout=300)
+    for scene, cls in stored.items():
+        assert cls.value in realised.get(scene.value, set()), (scene, realised.get(scene.value))

@@ -175,3 +175,45 @@ def test_policy_values_are_read_from_the_store(clock: FakeClock) -> None:
         r.relation.value.rsplit("#")[-1] for r in memory.store_scene(worked_example()).relations
     }
     assert "isAboveOf" not in relations
+
+
+def test_a_pinned_class_keeps_its_scenes(lived: SceneMemory, clock: FakeClock) -> None:
+    small = lived.recognise(SMALL)[0].cls
+    [item] = [i for i in lived.items() if lived.item_scores(i).cls == small]
+    lived.pin(small)
+    clock.advance(days=2)
+    for _ in range(lived.policy.weakPassesToForget + 1):
+        report = lived.sleep()
+        assert item not in report.forgotten_items
+    assert item in lived.items()
+
+
+def test_a_scene_forgotten_alone_is_reported_once_and_comes_back_with_its_class(
+    clock: FakeClock,
+) -> None:
+    store = Store()
+    memory = SceneMemory(store, clock=clock)
+    old = memory.store_scene(worked_example()).scene_item
+    clock.advance(days=30)
+    for _ in range(5):
+        memory.store_scene(worked_example())
+    cls = memory.classes()[0].iri
+    k = memory.policy.weakPassesToForget
+    reports = [memory.sleep() for _ in range(k)]
+    assert old in reports[-1].forgotten_items and reports[-1].forgotten_classes == ()
+    # a stronger class, and a policy under which the first class is WEAK: it goes later
+    for _ in range(30):
+        memory.store_scene(SMALL)
+    for _ in range(5):
+        memory.retrieve(SMALL)
+    set_policy(store, weakLevelThreshold=0.5)
+    memory = SceneMemory(store, clock=clock)
+    clock.advance(days=2)
+    later = [memory.sleep() for _ in range(k)]
+    forgotten = [i for report in later for i in report.forgotten_items]
+    assert cls in later[-1].forgotten_classes
+    assert old not in forgotten, "reported when it was forgotten, not again with its class"
+    assert len(forgotten) == len(set(forgotten)) == 5
+    restored = memory.restore(cls)
+    assert set(restored) == {cls, old, *forgotten}
+    assert old in memory.items() and memory.trash() == []

@@ -1,0 +1,131 @@
+"""The score view: after any sequence of updates, retrievals and sleep passes, the analysts'
+query returns each class's normalised score and level exactly as QUERY MEMORY SCORES does."""
+
+import contextlib
+import random
+
+import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+from pyoxigraph import Literal, NamedNode
+
+from kg import Store
+from ontologies.vocab import LEGACY_LEVEL, LEGACY_SCORE, MEMORY, SCORE_TERMS
+from reasoners.errors import InvalidSceneError
+from reasoners.memory import SceneMemory
+from reasoners.scoring import rounded
+
+from .conftest import FakeClock, random_scene
+from .test_forgetting import BIG, SMALL, set_policy
+
+Op = tuple[str, int]
+OPS = st.lists(
+    st.tuples(
+        st.sampled_from(["store", "store", "store", "retrieve", "sleep", "wait", "pin"]),
+        st.integers(0, 10_000),
+    ),
+    min_size=1,
+    max_size=25,
+)
+
+
+def analyst_scores(store: Store) -> dict[NamedNode, tuple[float, str]]:
+    rows = store.select("memory_class_scores")
+    return {row["class"]: (float(row["score"].value), row["level"].value) for row in rows}  # type: ignore[misc]
+
+
+def api_scores(memory: SceneMemory) -> dict[NamedNode, tuple[float, str]]:
+    return {c.iri: (rounded(c.scores.normalised), c.scores.level) for c in memory.classes()}
+
+
+def run(memory: SceneMemory, clock: FakeClock, op: Op) -> None:
+    kind, seed = op
+    rng = random.Random(seed)
+    try:
+        if kind == "store":
+            memory.store_scene(random_scene(rng))
+        elif kind == "retrieve":
+            memory.retrieve(random_scene(rng, 2, 3))
+        elif kind == "sleep":
+            memory.sleep()
+        elif kind == "pin" and memory.classes():
+            memory.pin(rng.choice(memory.classes()).iri)
+        else:
+            clock.advance(hours=seed % 48)
+    except InvalidSceneError:  # a random scene without relations: nothing happens
+        pass
+
+
+@settings(max_examples=25, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(ops=OPS)
+def test_the_analysts_query_agrees_with_the_api_after_every_change(ops: list[Op]) -> None:
+    clock = FakeClock()
+    store = Store()
+    set_policy(store, forgetGracePeriodSeconds=3600.0)  # loads the T-Box first
+    memory = SceneMemory(store, clock=clock)
+    for op in ops:
+        run(memory, clock, op)
+        assert analyst_scores(store) == api_scores(memory), op
+    # and a memory reopened from the store reads the same view, writing nothing
+    before = len(store)
+    reopened = SceneMemory(store, clock=clock)
+    assert len(store) == before and api_scores(reopened) == api_scores(memory)
+
+
+def test_untouched_classes_read_their_live_scores_between_sleep_passes() -> None:
+    """The issue's repro: a ball on a table, then two cylinders; no sleep pass ran."""
+    clock = FakeClock()
+    memory = SceneMemory(Store(), clock=clock)
+    memory.store_scene(BIG)
+    for _ in range(3):
+        memory.store_scene(SMALL)
+    view = analyst_scores(memory.store)
+    assert set(view) == {c.iri for c in memory.classes()} and len(view) == 2
+    assert view == api_scores(memory)
+    assert {level for _, level in view.values()} <= {"HIGH", "LOW", "WEAK"}
+
+
+def test_an_update_rewrites_the_view_of_its_branch_only() -> None:
+    """The Z terms written by one update are those of the stored class and its ancestors; a
+    new maximum changes the four values on the memory state, not every class."""
+    memory = SceneMemory(Store(), clock=FakeClock())
+    for seed in range(60):
+        with contextlib.suppress(InvalidSceneError):  # a scene without relations
+            memory.store_scene(random_scene(random.Random(seed)))
+    written: list[str] = []
+    with memory.store.tracing(lambda kind, text, bindings: written.append(text)):
+        result = memory.store_scene(random_scene(random.Random(3)))
+    branch = {result.stored_as} | memory._model.ancestors(result.stored_as)
+    rewritten = {
+        NamedNode(line.split()[0].strip("<>"))
+        for line in "\n".join(written).splitlines()
+        if SCORE_TERMS.value in line
+    }
+    assert len(memory.classes()) > len(branch) + 5
+    assert rewritten and rewritten <= branch, "only the branch's terms are rewritten"
+    assert analyst_scores(memory.store) == api_scores(memory)
+
+
+def test_a_store_written_before_the_view_gets_it_when_the_memory_opens() -> None:
+    clock = FakeClock()
+    store = Store()
+    memory = SceneMemory(store, clock=clock)
+    memory.store_scene(BIG)
+    memory.store_scene(SMALL)
+    expected = api_scores(memory)
+    with store.transaction() as tx:  # as an older Engram left it
+        tx.delete_matching(None, SCORE_TERMS, None, graph=MEMORY)
+        tx.insert(memory.classes()[0].iri, LEGACY_SCORE, Literal(0.5), MEMORY)
+        tx.insert(memory.classes()[0].iri, LEGACY_LEVEL, Literal("HIGH"), MEMORY)
+    assert analyst_scores(store) == {}
+    reopened = SceneMemory(store, clock=clock)
+    assert analyst_scores(store) == expected == api_scores(reopened)
+    assert not list(store.quads(None, LEGACY_SCORE, None, None))
+
+
+@pytest.mark.parametrize("value", [0.0, 0.2, 0.6, 1.0, 0.4472135955, 1 / 3, 0.0000005])
+def test_rounding_matches_sparql_round(value: float) -> None:
+    text = "SELECT (ROUND(?x * 1000000) / 1000000 AS ?r) WHERE {}"
+    rows = Store().query_graphs(text, graphs=[MEMORY], bindings={"x": Literal(value)})
+    [row] = list(rows)  # type: ignore[call-overload]
+    assert float(row["r"].value) == rounded(value)
