@@ -6,13 +6,14 @@
 
 import datetime as dt
 from typing import Literal as Which
+from urllib.parse import unquote
 
 from pyoxigraph import Literal, NamedNode
 
 from episodes import _rdf
 from episodes.errors import InvalidInputError, NotFoundError
 from episodes.model import EpisodeSummary, Recollection
-from episodes.terms import check_name, episode_id_of, participant_iri
+from episodes.terms import check_name, episode_id_of, participant_iri, role_iri
 from episodes.times import parse_time, say_when, to_literal
 from kg import Store
 
@@ -22,32 +23,96 @@ MAX_N = 1_000_000
 
 
 class Cue:
-    """What a question names: an activity, and optionally an agent and an object.
+    """What a question names: an activity, and who or what took part in which role.
+
+    ``agent`` is the participant in the role ``agent`` (the paper's ``role='agent'``: in
+    "Maxime pointed to HyungJin", HyungJin is the ``recipient``, not the agent); ``obj`` the
+    one in the role ``object``; ``participant`` one in ``role``, or in any role when ``role``
+    is not given; ``role`` alone asks for episodes with someone in that role. Arguments added
+    after the fact count; removed or replaced ones do not.
 
     >>> sorted(Cue("babbling", agent="HyungJin").bindings())
     ['activity', 'agent']
+    >>> str(Cue("pointing", role="recipient", participant="HyungJin"))
+    "activity 'pointing', recipient 'HyungJin'"
     """
 
-    def __init__(self, activity: str, *, agent: str | None = None, obj: str | None = None):
+    def __init__(
+        self,
+        activity: str,
+        *,
+        agent: str | None = None,
+        obj: str | None = None,
+        role: str | None = None,
+        participant: str | None = None,
+    ):
         self.activity = check_name(activity, "activity")
         self.agent = participant_iri(agent, "agent") if agent is not None else None
         self.obj = participant_iri(obj, "object") if obj is not None else None
+        self.role = role_iri(role, "role") if role is not None else None
+        self.participant = (
+            participant_iri(participant, "participant") if participant is not None else None
+        )
 
     def bindings(self) -> dict[str, NamedNode | Literal]:
         bound: dict[str, NamedNode | Literal] = {"activity": Literal(self.activity)}
-        if self.agent is not None:
-            bound["agent"] = self.agent
-        if self.obj is not None:
-            bound["object"] = self.obj
+        for name, term in (
+            ("agent", self.agent),
+            ("object", self.obj),
+            ("role", self.role),
+            ("participant", self.participant),
+        ):
+            if term is not None:
+                bound[name] = term
         return bound
 
     def __str__(self) -> str:
         words = [f"activity {self.activity!r}"]
         if self.agent is not None:
-            words.append(f"agent {self.agent.value.rsplit('/', 1)[-1]!r}")
+            words.append(f"agent {_name(self.agent)!r}")
         if self.obj is not None:
-            words.append(f"object {self.obj.value.rsplit('/', 1)[-1]!r}")
+            words.append(f"object {_name(self.obj)!r}")
+        if self.participant is not None:
+            role = _name(self.role) if self.role is not None else "participant"
+            words.append(f"{role} {_name(self.participant)!r}")
+        elif self.role is not None:
+            words.append(f"someone as {_name(self.role)!r}")
         return ", ".join(words)
+
+    def phrase(self) -> str:
+        """What the cue says happened, in words: "HyungJin did pointing with the ball"."""
+        words: list[str] = []
+        if self.agent is not None:
+            words.append(f"{_name(self.agent)} did {self.activity}")
+        elif self.participant is not None and self.role is not None:
+            words.append(f"{_name(self.participant)} was the {_name(self.role)} of {self.activity}")
+        elif self.participant is not None:
+            words.append(f"{_name(self.participant)} took part in {self.activity}")
+        else:
+            words.append(f"{self.activity} happened")
+        if self.obj is not None:
+            words.append(f"with {_name(self.obj)}")
+        if self.agent is not None and self.participant is not None:
+            role = f"as {_name(self.role)}" if self.role is not None else "taking part"
+            words.append(f"({_name(self.participant)} {role})")
+        elif self.role is not None and self.participant is None:
+            words.append(f"(with someone as {_name(self.role)})")
+        return " ".join(words)
+
+
+def said(cue: Cue, which: str, n: int, when: str) -> str:
+    """The answer to a recall in words."""
+    ordinal = {"first": "first", "last": "last"}.get(which, _ordinal(n))
+    return f"The {ordinal} time {cue.phrase()} was {when}."
+
+
+def _ordinal(n: int) -> str:
+    suffix = "th" if 10 <= n % 100 <= 20 else {1: "st", 2: "nd", 3: "rd"}.get(n % 10, "th")
+    return f"{n}{suffix}"
+
+
+def _name(term: NamedNode) -> str:
+    return unquote(term.value.rsplit("/", 1)[-1])
 
 
 def _summary(row: _rdf.Row) -> EpisodeSummary:
@@ -83,8 +148,12 @@ def recall(
         ordinal = {"first": "a first", "last": "a last"}.get(which, f"a time number {n}")
         raise NotFoundError(f"cue: no episode matches {cue} ({ordinal} was asked for)")
     summary = _summary(rows[0])
+    when = say_when(summary.begin, now)
     return Recollection(
-        episode=summary, when=say_when(summary.begin, now), rank=n if which == "nth" else None
+        episode=summary,
+        when=when,
+        rank=n if which == "nth" else None,
+        said=said(cue, which, n, when),
     )
 
 

@@ -323,13 +323,23 @@ def add_annotation(
 
 def link_scene(store: Store, episode_id: str, scene: str) -> None:
     """Record in the ``episodic`` graph that the experienced scene ``scene`` happened during
-    the episode (what the scene memory does itself with ``engram:happenedDuring``)."""
+    the episode (what the scene memory does itself with ``engram:happenedDuring``).
+
+    Raises :class:`EpisodeNotFoundError`, and :class:`InvalidInputError` when ``scene`` is not
+    an experienced scene already stored (``engram:ExperiencedScene``).
+    """
     try:
         scene_node = NamedNode(check_name(scene, "scene"))
     except ValueError:
         raise InvalidInputError("scene", scene, "the IRI of an experienced scene") from None
     with store.transaction() as tx:
         episode, _, _ = require_episode(store, episode_id)
+        # a link to a scene not stored yet would be taken over by the next scene minted with
+        # that IRI, so only scenes the scene memory already holds can be linked
+        if not store.ask("episodes_scene_exists", scene=scene_node):
+            raise InvalidInputError(
+                "scene", scene, "the IRI of an experienced scene the scene memory has stored"
+            )
         tx.insert(scene_node, HAPPENED_DURING, episode, EPISODIC)
 
 
@@ -347,6 +357,10 @@ def get_episode(store: Store, episode_id: str) -> Episode:
             value=_rdf.opt_text(r, "label") or _rdf.text(r, "participant"),
             kind="agent" if _rdf.text(r, "kind") == "agent" else "entity",
             iri=_rdf.text(r, "participant"),
+            id=_rdf.text(r, "link").rsplit("/", 1)[-1],
+            author=_rdf.opt_text(r, "author"),
+            asserted=_rdf.opt_time(r, "asserted"),
+            confidence=_rdf.opt_number(r, "confidence"),
         )
         for r in store.select("episodes_arguments", episode=episode)
     )

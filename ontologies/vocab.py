@@ -223,6 +223,15 @@ SOURCE_CHANNEL = engram("sourceChannel")
 DERIVED_CHANNEL = engram("derivedChannel")
 RATES = engram("rates")
 RATING_VALUE = engram("ratingValue")
+RATING_QUESTION = engram("ratingQuestion")
+"""On a rating: the question it answers (several questions per rated item; issue 16)."""
+QUESTION_NS = BASE + "question/"
+ARGUMENT_CONFIDENCE = engram("argumentConfidence")
+"""On an argument (association or usage) asserted after the fact: how sure its author is."""
+RETRACTED_BY = engram("retractedBy")
+"""On an argument no longer held: the agent that removed or replaced it."""
+PROV_WAS_REVISION_OF = prov("wasRevisionOf")
+PROV_INVALIDATED_AT_TIME = prov("invalidatedAtTime")
 EPISODE_NS = BASE + "episode/"
 """Episode IRIs are ``<EPISODE_NS><id>``; their parts (snapshots, frames, runs) extend them."""
 PARTICIPANT_NS = BASE + "participant/"

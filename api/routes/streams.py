@@ -24,7 +24,7 @@ from pydantic import BaseModel, ConfigDict, Field
 from starlette.background import BackgroundTask
 from starlette.concurrency import run_in_threadpool
 
-from api.deps import RecordingsDep, SettingsDep, require_token
+from api.deps import EpisodesDep, RecordingsDep, SettingsDep, require_token
 from episodes.streams import (
     InvalidSampleError,
     Kind,
@@ -106,9 +106,14 @@ class ProviderRequest(BaseModel):
     summary="Start recording an episode's streams",
 )
 def open_recording(
-    episode_id: str, registry: RecordingsDep, settings: SettingsDep, body: OpenRequest | None = None
+    episode_id: str,
+    registry: RecordingsDep,
+    settings: SettingsDep,
+    memory: EpisodesDep,
+    body: OpenRequest | None = None,
 ) -> dict[str, Any]:
     path = bag_path(streams_root(settings.data_dir), _episode(episode_id))
+    memory.check_recordable(episode_id)  # 404 for no such episode, 409 when it has ended
     options = (body or OpenRequest()).model_dump()
     recorder = registry.open(episode_id, path, **options)
     return {"episode": episode_id, "path": str(recorder.path), "recording": True}
