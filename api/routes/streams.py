@@ -97,6 +97,11 @@ class ProviderRequest(BaseModel):
     channels: int | None = None
     rate_limit_hz: float | None = None
     baseline: float | list[Any] | None = None
+    threshold: float | None = Field(
+        None,
+        description="Skin filter bound θ: an element within θ of its baseline is stored as the "
+        "baseline (recorded with the stream); 0 or none is lossless.",
+    )
 
 
 @router.post(

@@ -42,10 +42,12 @@ _BACKLOG_BYTES = 64 * 1024 * 1024
 
 def _settings(spec: ProviderSpec, *, keep_baseline: bool) -> dict[str, Any]:
     config = spec.config()
-    for key in ("name", "kind", "baseline"):
+    for key in ("name", "kind", "baseline", "threshold"):
         config.pop(key, None)
     if keep_baseline and spec.baseline is not None:
         config["baseline"] = spec.baseline
+        if spec.threshold:
+            config["threshold"] = spec.threshold
     return config
 
 
