@@ -27,6 +27,7 @@ from episodes.terms import (
     role_iri,
 )
 from episodes.times import parse_time, to_literal
+from episodes.world import current_scene, write_world
 from kg import Store, Transaction
 from ontologies.vocab import (
     ACTIVITY_NAME,
@@ -156,6 +157,7 @@ def begin_episode(
     episode = episode_iri(episode_id, "id")
     # read before the write lock is taken: the scene memory takes its own lock, then the store's
     snapshot = memory_state(store) if snapshots else None
+    scene = current_scene(store) if snapshots else None
     with store.transaction() as tx:
         if episode_times(store, episode) is not None:
             raise EpisodeStateError(f"id: an episode {episode_id!r} already exists")
@@ -186,6 +188,7 @@ def begin_episode(
             state = part_iri(episode, "state", "begin")
             tx.insert(episode, STATE_AT_BEGIN, state, EPISODES)
             write_snapshot(tx, state, snapshot)
+            write_world(tx, state, scene, (participant_iri(v) for _, v, _ in checked))
         if ended is not None:
             tx.insert(episode, PROV_ENDED_AT_TIME, to_literal(ended), EPISODES)
             write_descriptors(tx, episode, streams)
@@ -231,6 +234,7 @@ def end_episode(
 
     ended = parse_time(end, "end")
     snapshot = memory_state(store)  # before the write lock, as in begin_episode
+    scene = current_scene(store)
     with store.transaction() as tx:
         episode, began, already = require_episode(store, episode_id)
         if already is not None:
@@ -245,6 +249,10 @@ def end_episode(
         state = part_iri(episode, "state", "end")
         tx.insert(episode, STATE_AT_END, state, EPISODES)
         write_snapshot(tx, state, snapshot)
+        present = {
+            _rdf.iri(r, "participant") for r in store.select("episodes_arguments", episode=episode)
+        }
+        write_world(tx, state, scene, sorted(present, key=lambda n: n.value))
         write_descriptors(tx, episode, streams)
     log.info("episode %s ended", episode_id)
 

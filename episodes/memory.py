@@ -22,7 +22,7 @@ import shutil
 import tarfile
 import tempfile
 import threading
-from collections.abc import Mapping, Sequence
+from collections.abc import Iterator, Mapping, Sequence
 from pathlib import Path
 from typing import Any
 from typing import Literal as Which
@@ -56,9 +56,12 @@ from episodes.model import (
 )
 from episodes.snapshot import MemoryState, read_memory_state
 from episodes.streamlink import descriptors_from_recording, descriptors_from_stats
-from episodes.streams import Recorder, RecordingRegistry, Replayer, import_bag
+from episodes.streams import Recorder, RecordingRegistry, Replayer, export_bag, import_bag
+from episodes.streams.merge import derived_frames, export_merged, merged_frames, run_prefix
+from episodes.streams.replay import Frame
 from episodes.terms import ArgumentKind, check_id, episode_iri, new_id
 from episodes.times import Clock, parse_time, system_clock
+from episodes.world import WorldChange, world_change
 from kg import Store
 from ontologies.vocab import EPISODES, STREAM_FILE
 
@@ -417,6 +420,12 @@ class EpisodeMemory:
             assertion=arguments.Assertion(self._time(time, "time"), author),
         )
 
+    def world(self, episode_id: str) -> WorldChange:
+        """What was on the table and who was there at the episode's begin and end, and what
+        changed (see :mod:`episodes.world`); raises :class:`EpisodeNotFoundError`."""
+        lifecycle.require_episode(self.store, episode_id)
+        return world_change(self.store, episode_id)
+
     def link_scene(self, episode_id: str, scene: str) -> None:
         """Say that the experienced scene ``scene`` (an IRI) happened during the episode."""
         lifecycle.link_scene(self.store, episode_id, scene)
@@ -595,6 +604,80 @@ class EpisodeMemory:
                     )
         writer.write(samples, values, channels)
 
+    def _run_replayer(self, episode_id: str, run_id: str) -> tuple[str, Replayer]:
+        """The run's name prefix and a replayer of its stream file (flushed if still open)."""
+        run = augmentation.get_run(self.store, episode_id, run_id)
+        writer = self._run_writers.get((episode_id, run_id))
+        if writer is not None:
+            writer.recorder.flush()
+        path = self.run_path(episode_id, run_id)
+        if not path.exists():
+            raise NotFoundError(
+                f"run: run {run_id!r} of episode {episode_id!r} has no derived data stored "
+                "(post samples with values)"
+            )
+        return run_prefix(run.name, run.version), Replayer(path)
+
+    def replay_run(
+        self,
+        episode_id: str,
+        run_id: str,
+        *,
+        merge: bool = False,
+        channels: Sequence[str] | None = None,
+    ) -> Iterator[Frame]:
+        """Replay a run's derived samples, frame by frame, numbered by their source frames;
+        with ``merge``, the source frames (``channels`` of them) with the derived samples
+        beside the originals, named ``augmentations/<name>/v<version>/<channel>``."""
+        prefix, run = self._run_replayer(episode_id, run_id)
+        source = Replayer(self.streams_path(episode_id))
+        if merge:
+            return merged_frames(source, [(prefix, run)], channels)
+        return derived_frames(source, run, channels)
+
+    def export_streams(self, episode_id: str, dest: Path, *, with_runs: bool = False) -> None:
+        """Write the episode's streams as a standalone rosbag2 directory ``dest``; with
+        ``with_runs``, every run's derived channels too, each its own topic per version."""
+        source = self.streams_path(episode_id)
+        runs = []
+        if with_runs:
+            for run in augmentation.list_runs(self.store, episode_id):
+                if self.run_path(episode_id, run.id).exists():
+                    self._run_replayer(episode_id, run.id)  # flushes a run still open
+                    runs.append(
+                        (run_prefix(run.name, run.version), self.run_path(episode_id, run.id))
+                    )
+        if runs:
+            export_merged(source, runs, dest)
+        else:
+            export_bag(source, dest)
+
+    def versions(self, augmentation_name: str, episode_id: str) -> list[dict[str, Any]]:
+        """The runs of one augmentation on one episode side by side, for a rating view: each
+        version with its parameters, derived samples and channels, rating summary, and
+        whether it is among the best (quartile rule, Wilcoxon)."""
+        ranking = self.rank(augmentation_name, episode_id=episode_id)
+        stats = {c.item: c for c in ranking.candidates}
+        out = []
+        for run in augmentation.list_runs(self.store, episode_id):
+            if run.name != augmentation_name:
+                continue
+            item = f"{episode_id}/{run.id}"
+            stored = self.data_dir is not None and self.run_path(episode_id, run.id).exists()
+            channels = sorted(self._run_replayer(episode_id, run.id)[1].providers) if stored else []
+            rated = stats.get(item)
+            out.append(
+                {
+                    "run": run,
+                    "item": item,
+                    "channels": channels,
+                    "ratings": rated,
+                    "best": item in ranking.best,
+                    "leader": item == ranking.leader,
+                }
+            )
+        return out
+
     def end_run(self, episode_id: str, run_id: str) -> AugmentationRun:
         """Close a run (and its stream file)."""
         writer = self._run_writers.pop((episode_id, run_id), None)
@@ -707,10 +790,15 @@ class _RunWriter:
                     spec.derived_channel,
                     "a derived channel declared in 'channels' (kind and settings)",
                 )
-            time_ns = self.frame_times.get(spec.frame)
+            source_ns = time_ns = self.frame_times.get(spec.frame)
             if time_ns is None or time_ns <= self.last_ns:
                 time_ns = None  # no recorded source time, or out of order: the writer's own clock
-            result = self.recorder.tick({spec.derived_channel: value}, time_ns=time_ns)
+            # the stamp is the source frame's tick time, whatever the tick time: replay and
+            # export match derived samples to their source frames by it
+            stamps = {spec.derived_channel: source_ns} if source_ns is not None else None
+            result = self.recorder.tick(
+                {spec.derived_channel: value}, time_ns=time_ns, stamps_ns=stamps
+            )
             self.last_ns = max(self.last_ns, int(getattr(result, "time_ns", 0) or 0))
 
     def close(self) -> None:

@@ -230,6 +230,10 @@ ARGUMENT_CONFIDENCE = engram("argumentConfidence")
 """On an argument (association or usage) asserted after the fact: how sure its author is."""
 RETRACTED_BY = engram("retractedBy")
 """On an argument no longer held: the agent that removed or replaced it."""
+SCENE_AT_TIME = engram("sceneAtTime")
+"""On a memory snapshot of an episode: the scene memory's current scene (last stored) then."""
+PARTICIPANT_AT_TIME = engram("participantAtTime")
+"""On a memory snapshot of an episode: a participant in one of its arguments then."""
 PROV_WAS_REVISION_OF = prov("wasRevisionOf")
 PROV_INVALIDATED_AT_TIME = prov("invalidatedAtTime")
 EPISODE_NS = BASE + "episode/"

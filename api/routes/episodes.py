@@ -9,9 +9,12 @@ recording and describes its channels in the graph.
 """
 
 import datetime as dt
+from collections.abc import Iterator
+from itertools import chain
 from typing import Annotated, Any, Literal
 
 from fastapi import APIRouter, Body, Depends, Query, Request, Response, status
+from fastapi.responses import StreamingResponse
 from pydantic import BaseModel, ConfigDict, Field
 from starlette.concurrency import run_in_threadpool
 
@@ -24,7 +27,7 @@ from episodes import (
     InvalidInputError,
     to_jsonable,
 )
-from episodes.streams.wire import decode_value
+from episodes.streams.wire import decode_value, encode_frame
 from episodes.times import parse_time
 
 __all__ = ["router"]
@@ -318,6 +321,13 @@ async def get(memory: EpisodesDep, episode_id: str) -> Any:
     return _answer(await run_in_threadpool(memory.get, episode_id))
 
 
+@router.get("/episodes/{episode_id}/world")
+async def world(memory: EpisodesDep, episode_id: str) -> Any:
+    """What was on the table (the scene memory's current scene: primitives, the class it was
+    stored as) and who was there at begin and end, and what changed."""
+    return _answer(await run_in_threadpool(memory.world, episode_id))
+
+
 @router.get("/episodes/{episode_id}/rdf")
 async def export_rdf(memory: EpisodesDep, episode_id: str) -> Response:
     """The episode's triples as TriG: its graph nodes, participants, roles and scene links."""
@@ -445,6 +455,28 @@ async def add_samples(memory: EpisodesDep, episode_id: str, run_id: str, body: S
     return _answer(added)
 
 
+@router.get("/episodes/{episode_id}/runs/{run_id}/replay")
+def replay_run(
+    memory: EpisodesDep,
+    episode_id: str,
+    run_id: str,
+    merge: Annotated[
+        bool, Query(description="Beside the source frames (merged by frame), or alone.")
+    ] = False,
+    channels: Annotated[
+        list[str] | None, Query(description="With merge: the source channels to include.")
+    ] = None,
+) -> StreamingResponse:
+    """Replay a run's derived samples as NDJSON, one frame per line, numbered by the source
+    frames; merged, the derived channels are named ``augmentations/<name>/v<version>/...``."""
+    frames = memory.replay_run(episode_id, run_id, merge=merge, channels=channels)
+    first = next(frames, None)  # errors (unknown channel) surface before streaming
+    lines: Iterator[bytes] = (
+        encode_frame(f) for f in (chain([first], frames) if first is not None else ())
+    )
+    return StreamingResponse(lines, media_type="application/x-ndjson")
+
+
 @router.post("/episodes/{episode_id}/runs/{run_id}/end", dependencies=WRITE)
 async def end_run(memory: EpisodesDep, episode_id: str, run_id: str) -> Any:
     """Close an augmentation run."""
@@ -472,6 +504,17 @@ async def rate(
         replace=body.replace,
     )
     return _answer(rating)
+
+
+@router.get("/augmentations/{name}/versions")
+async def versions(
+    memory: EpisodesDep,
+    name: str,
+    episode: Annotated[str, Query(description="The episode whose runs to compare.")],
+) -> Any:
+    """The versions of one augmentation on one episode side by side (for a rating view):
+    parameters, derived channels, rating summary, which are best."""
+    return _answer(await run_in_threadpool(memory.versions, name, episode))
 
 
 @router.get("/augmentations/{name}/ranking")

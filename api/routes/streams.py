@@ -329,13 +329,28 @@ def replay(
 
 
 @router.get("/export", summary="The episode as a standalone rosbag2 directory (tar)")
-def export(episode_id: str, registry: RecordingsDep, settings: SettingsDep) -> Response:
+def export(
+    episode_id: str,
+    registry: RecordingsDep,
+    settings: SettingsDep,
+    memory: EpisodesDep,
+    with_runs: Annotated[
+        bool,
+        Query(
+            description="Add every augmentation run's derived channels, each as its own "
+            "topic /augmentations/<name>/v<version>/<channel>."
+        ),
+    ] = False,
+) -> Response:
     if episode_id in registry:
         raise RecordingStateError(f"episode_id: {episode_id!r} is still recording")
     source = bag_path(streams_root(settings.data_dir), _episode(episode_id))
     work = Path(tempfile.mkdtemp(prefix="engram-export-"))
     try:
-        export_bag(source, work / episode_id)
+        if with_runs:
+            memory.export_streams(episode_id, work / episode_id, with_runs=True)
+        else:
+            export_bag(source, work / episode_id)
         archive = work / f"{episode_id}.tar"
         with tarfile.open(archive, "w") as tar:
             tar.add(work / episode_id, arcname=episode_id)
