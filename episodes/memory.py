@@ -54,6 +54,7 @@ from episodes.model import (
     SkippedTopic,
     StreamDescriptor,
 )
+from episodes.queue import AugmentationQueue
 from episodes.snapshot import MemoryState, read_memory_state
 from episodes.streamlink import descriptors_from_recording, descriptors_from_stats
 from episodes.streams import Recorder, RecordingRegistry, Replayer, export_bag, import_bag
@@ -95,6 +96,7 @@ class EpisodeMemory:
         self.clock = clock
         self._recordings = recordings
         self._run_writers: dict[tuple[str, str], Any] = {}
+        self._queue: AugmentationQueue | None = None
         self._frame_cache: dict[str, tuple[tuple[object, ...], dict[int, frozenset[str]]]] = {}
         self._lock = threading.Lock()
 
@@ -677,6 +679,31 @@ class EpisodeMemory:
                 }
             )
         return out
+
+    @property
+    def queue(self) -> AugmentationQueue:
+        """The pending augmentation work served to augmenter processes (claims and leases)."""
+        if self._queue is None:
+            self._queue = AugmentationQueue(self)
+        return self._queue
+
+    def discard_run(self, episode_id: str, run_id: str) -> None:
+        """Delete an unfinished run everywhere (its triples and derived file), e.g. when the
+        lease of the worker that claimed it runs out. Raises :class:`NotFoundError`."""
+        run = augmentation.get_run(self.store, episode_id, run_id)
+        if run.ended is not None:
+            raise EpisodeStateError(f"run: run {run_id!r} has ended; it is kept")
+        writer = self._run_writers.pop((episode_id, run_id), None)
+        if writer is not None:
+            writer.close()
+        with self.store.transaction() as tx:
+            for row in self.store.select(
+                "episodes_owned_nodes", episode=augmentation.run_iri(episode_id, run_id)
+            ):
+                tx.delete_matching(row["node"], graph=EPISODES)  # type: ignore[arg-type]
+        if self.data_dir is not None:
+            shutil.rmtree(self.run_path(episode_id, run_id), ignore_errors=True)
+        log.info("run %s of episode %s discarded", run_id, episode_id)
 
     def end_run(self, episode_id: str, run_id: str) -> AugmentationRun:
         """Close a run (and its stream file)."""

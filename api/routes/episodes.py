@@ -517,6 +517,49 @@ async def versions(
     return _answer(await run_in_threadpool(memory.versions, name, episode))
 
 
+class ClaimIn(_Strict):
+    worker: str = Field(description="Who works on it (becomes the run's producer).")
+    activity: str = Field(description="Episodes of this activity.")
+    versions: int = Field(1, description="Episodes with fewer runs than this lack it.")
+    lease_s: float = Field(60.0, description="Seconds the claim holds without a heartbeat.")
+    wait_s: float = Field(0.0, description="Long-poll: wait up to this long for work (max 60).")
+
+
+class LeaseIn(_Strict):
+    lease_s: float = Field(60.0, description="Seconds the claim holds from now.")
+
+
+@router.post("/augmentations/{name}/claims", dependencies=WRITE)
+async def claim(memory: EpisodesDep, name: str, body: ClaimIn) -> Any:
+    """Claim an ended episode of the activity that lacks this augmentation: a run is started
+    for the worker and the episode leased to it. 204 when there is no work (after waiting)."""
+    found = await run_in_threadpool(
+        memory.queue.claim,
+        name,
+        worker=body.worker,
+        activity=body.activity,
+        versions=body.versions,
+        lease_s=body.lease_s,
+        wait_s=body.wait_s,
+    )
+    if found is None:
+        return Response(status_code=status.HTTP_204_NO_CONTENT)
+    return _answer(found)
+
+
+@router.post("/augmentations/claims/{token}/heartbeat", dependencies=WRITE)
+async def heartbeat(memory: EpisodesDep, token: str, body: LeaseIn | None = None) -> Any:
+    """Keep a claim's lease; 404 when it expired (its unfinished run was discarded)."""
+    lease = body.lease_s if body is not None else 60.0
+    return _answer(await run_in_threadpool(memory.queue.heartbeat, token, lease_s=lease))
+
+
+@router.post("/augmentations/claims/{token}/complete", dependencies=WRITE)
+async def complete(memory: EpisodesDep, token: str) -> Any:
+    """End the claimed run and release the lease."""
+    return _answer(await run_in_threadpool(memory.queue.complete, token))
+
+
 @router.get("/augmentations/{name}/ranking")
 async def ranking(
     memory: EpisodesDep,
