@@ -17,7 +17,7 @@ from episodes.terms import check_name, episode_id_of, participant_iri, role_iri
 from episodes.times import parse_time, say_when, to_literal
 from kg import Store
 
-__all__ = ["Cue", "all_episodes", "count_episodes", "happened_between", "recall"]
+__all__ = ["Cue", "all_episodes", "count_episodes", "happened_between", "matching", "recall"]
 
 MAX_N = 1_000_000
 
@@ -65,6 +65,31 @@ class Cue:
             if term is not None:
                 bound[name] = term
         return bound
+
+    def constraints(self) -> list[tuple[NamedNode | None, NamedNode | None]]:
+        """The cue's role constraints: (role, participant) pairs, either may be ``None``."""
+        pairs: list[tuple[NamedNode | None, NamedNode | None]] = []
+        if self.agent is not None:
+            pairs.append((AGENT_ROLE, self.agent))
+        if self.obj is not None:
+            pairs.append((OBJECT_ROLE, self.obj))
+        if self.role is not None or self.participant is not None:
+            pairs.append((self.role, self.participant))
+        return pairs
+
+    def query(self, kind: str = "list") -> tuple[str, dict[str, NamedNode | Literal]]:
+        """The name of the ``sparql/`` query of ``kind`` (``list``, ``first``, ``last`` or
+        ``count``) for this cue, and its bindings."""
+        bound: dict[str, NamedNode | Literal] = {"activity": Literal(self.activity)}
+        pairs = self.constraints()
+        for i, (role, who) in enumerate(pairs, start=1):
+            if role is not None:
+                bound[f"role{i}"] = role
+            if who is not None:
+                bound[f"who{i}"] = who
+        if kind not in ("list", "first", "last", "count"):
+            raise InvalidInputError("kind", kind, "'list', 'first', 'last' or 'count'")
+        return f"episodes_cue_{kind}_{len(pairs)}", bound
 
     def __str__(self) -> str:
         words = [f"activity {self.activity!r}"]
@@ -115,6 +140,17 @@ def _name(term: NamedNode) -> str:
     return unquote(term.value.rsplit("/", 1)[-1])
 
 
+AGENT_ROLE = role_iri("agent")
+OBJECT_ROLE = role_iri("object")
+
+
+def matching(store: Store, cue: Cue, kind: str = "list") -> list[NamedNode]:
+    """The episodes matching ``cue``, oldest first (one query); ``kind`` ``first`` or ``last``
+    for only that one."""
+    name, bound = cue.query(kind)
+    return [_rdf.iri(row, "episode") for row in store.select(name, **bound)]
+
+
 def _summary(row: _rdf.Row) -> EpisodeSummary:
     return EpisodeSummary(
         id=episode_id_of(_rdf.iri(row, "episode")),
@@ -138,12 +174,10 @@ def recall(
         raise InvalidInputError("which", which, "'first', 'last' or 'nth'")
     if isinstance(n, bool) or not isinstance(n, int) or not 1 <= n <= MAX_N:
         raise InvalidInputError("n", n, f"an integer from 1 to {MAX_N}")
-    if which == "nth":
-        # "all episodes" ordered by begin, row n: one query, linear in the matching episodes
-        # (SPARQL cannot take OFFSET as a bound value, and counting predecessors is quadratic).
-        rows = store.select("episodes_of_activity", **cue.bindings())[n - 1 : n]
-    else:
-        rows = store.select(f"episodes_{which}_time", **cue.bindings())
+    found = matching(store, cue, "list" if which == "nth" else which)
+    picked = found[n - 1 : n] if which == "nth" else found
+    # then one point query for the answer's summary
+    rows = [row for e in picked for row in store.select("episodes_summary", episode=e)]
     if not rows:
         ordinal = {"first": "a first", "last": "a last"}.get(which, f"a time number {n}")
         raise NotFoundError(f"cue: no episode matches {cue} ({ordinal} was asked for)")
@@ -159,15 +193,20 @@ def recall(
 
 def all_episodes(store: Store, cue: Cue, *, now: dt.datetime) -> list[Recollection]:
     """Every episode matching ``cue``, oldest first, each with when it was."""
+    rows = store.select("episodes_of_activity", activity=Literal(cue.activity))
+    if cue.constraints():
+        kept = set(matching(store, cue))
+        rows = [r for r in rows if _rdf.iri(r, "episode") in kept]
     return [
         Recollection(episode=(s := _summary(r)), when=say_when(s.begin, now), rank=i)
-        for i, r in enumerate(store.select("episodes_of_activity", **cue.bindings()), start=1)
+        for i, r in enumerate(rows, start=1)
     ]
 
 
 def count_episodes(store: Store, cue: Cue) -> int:
     """How many episodes match ``cue``."""
-    return _rdf.integer(store.select("episodes_count", **cue.bindings())[0], "count")
+    name, bound = cue.query("count")
+    return _rdf.integer(store.select(name, **bound)[0], "count")
 
 
 def happened_between(
