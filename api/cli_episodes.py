@@ -37,9 +37,15 @@ app = typer.Typer(
 DataOption = Annotated[
     Path | None, typer.Option("--data", help="Data directory (default: $ENGRAM_DATA_DIR).")
 ]
-AgentOption = Annotated[str | None, typer.Option(help="An agent taking part (name or IRI).")]
+AgentOption = Annotated[str | None, typer.Option(help="Who is in the role 'agent' (name or IRI).")]
 ObjectOption = Annotated[
-    str | None, typer.Option("--object", help="Any participant (name or IRI).")
+    str | None, typer.Option("--object", help="What is in the role 'object' (name or IRI).")
+]
+RoleOption = Annotated[
+    str | None, typer.Option(help="A role (recipient, partner, ...); with --participant, who.")
+]
+ParticipantOption = Annotated[
+    str | None, typer.Option(help="Someone in --role, or in any role without --role.")
 ]
 NowOption = Annotated[
     str | None, typer.Option(help="Reference time for 'one month ago' (ISO 8601, with zone).")
@@ -123,18 +129,25 @@ def import_command(
     id: Annotated[str | None, typer.Option(help="Episode id; default a new one.")] = None,
     data: DataOption = None,
 ) -> None:
-    """Import a ROS bag as a finished episode (channels mapped, times kept)."""
+    """Import a ROS bag as a finished episode (channels mapped, times kept); prints the
+    episode and the topics skipped (type and count), and warns about them on stderr."""
     from episodes.streams import StreamError
 
     specs = _arguments(argument)
     with _memory(data) as memory:
         try:
-            episode = memory.import_bag(
+            report = memory.import_bag_report(
                 bag, activity, activity_type=type, arguments=specs, episode_id=id
             )
         except StreamError as error:
             raise _fail(str(error), 1) from None
-        _print(episode)
+        for topic in report.skipped:
+            typer.echo(
+                f"skipped {topic.topic}: {topic.count} messages of {topic.message_type}"
+                " (no channel kind for this type)",
+                err=True,
+            )
+        _print({**to_jsonable(report.episode), "skipped": report.skipped})
 
 
 @app.command()
@@ -225,13 +238,15 @@ def recall(
     n: Annotated[int, typer.Option(help="With --which nth: 1 is the first time.")] = 1,
     agent: AgentOption = None,
     obj: ObjectOption = None,
+    role: RoleOption = None,
+    participant: ParticipantOption = None,
     now: NowOption = None,
     data: DataOption = None,
 ) -> None:
     """The first / last / n-th time <agent> did <activity> (with <object>), and when."""
     with _memory(data) as memory:
         found = memory.recall(
-            Cue(activity, agent=agent, obj=obj),
+            Cue(activity, agent=agent, obj=obj, role=role, participant=participant),
             which=which,  # type: ignore[arg-type]
             n=n,
             now=_now(now),
@@ -244,21 +259,62 @@ def list_command(
     activity: str,
     agent: AgentOption = None,
     obj: ObjectOption = None,
+    role: RoleOption = None,
+    participant: ParticipantOption = None,
     now: NowOption = None,
     data: DataOption = None,
 ) -> None:
     """All episodes of an activity, oldest first."""
+    cue = Cue(activity, agent=agent, obj=obj, role=role, participant=participant)
     with _memory(data) as memory:
-        _print(memory.all(Cue(activity, agent=agent, obj=obj), now=_now(now)))
+        _print(memory.all(cue, now=_now(now)))
 
 
 @app.command()
 def count(
-    activity: str, agent: AgentOption = None, obj: ObjectOption = None, data: DataOption = None
+    activity: str,
+    agent: AgentOption = None,
+    obj: ObjectOption = None,
+    role: RoleOption = None,
+    participant: ParticipantOption = None,
+    data: DataOption = None,
 ) -> None:
-    """How many times <agent> did <activity> (with <object>)."""
+    """How many times <agent> did <activity> (with <object>, <participant> as <role>)."""
+    cue = Cue(activity, agent=agent, obj=obj, role=role, participant=participant)
     with _memory(data) as memory:
-        _print({"count": memory.count(Cue(activity, agent=agent, obj=obj))})
+        _print({"count": memory.count(cue)})
+
+
+@app.command("argument")
+def argument_command(
+    episode: str,
+    role: str,
+    value: Annotated[
+        str | None, typer.Argument(help="Who or what; omit with --remove for the whole role.")
+    ] = None,
+    author: Annotated[str | None, typer.Option(help="Who asserts (or retracts) it.")] = None,
+    confidence: Annotated[float | None, typer.Option(help="0 to 1.")] = None,
+    replace: Annotated[bool, typer.Option(help="Replace the arguments in this role.")] = False,
+    remove: Annotated[bool, typer.Option(help="Retract instead of adding.")] = False,
+    data: DataOption = None,
+) -> None:
+    """Add, replace (--replace) or remove (--remove) an argument after the fact."""
+    with _memory(data) as memory:
+        if remove:
+            _print(memory.remove_argument(episode, role=role, value=value, author=author))
+            return
+        if value is None:
+            raise _fail("value: got nothing, expected who or what takes the role", 2)
+        _print(
+            memory.add_argument(
+                episode,
+                role=role,
+                value=value,
+                author=author,
+                confidence=confidence,
+                replace=replace,
+            )
+        )
 
 
 @app.command()
@@ -304,11 +360,17 @@ def rate(
     run: str,
     person: str,
     value: int,
+    question: Annotated[str | None, typer.Option(help="The question answered.")] = None,
+    replace: Annotated[bool, typer.Option(help="Revise this person's earlier answer.")] = False,
     data: DataOption = None,
 ) -> None:
-    """Store a person's 1-10 rating of an augmentation run."""
+    """Store a person's 1-10 rating of an augmentation run (one answer per question)."""
     with _memory(data) as memory:
-        _print(memory.rate(episode, run, person=person, value=value))
+        _print(
+            memory.rate(
+                episode, run, person=person, value=value, question=question, replace=replace
+            )
+        )
 
 
 @app.command()
@@ -316,8 +378,9 @@ def rank(
     augmentation: str,
     episode: Annotated[str | None, typer.Option(help="Only this episode's runs.")] = None,
     alpha: Annotated[float, typer.Option(help="Significance level (Wilcoxon).")] = 0.05,
+    question: Annotated[str | None, typer.Option(help="Rank by this question.")] = None,
     data: DataOption = None,
 ) -> None:
     """Rank the rated runs of an augmentation (quartile heuristic, Wilcoxon signed-rank)."""
     with _memory(data) as memory:
-        _print(memory.rank(augmentation, episode_id=episode, alpha=alpha))
+        _print(memory.rank(augmentation, episode_id=episode, alpha=alpha, question=question))

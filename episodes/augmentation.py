@@ -4,7 +4,7 @@ linked to the recorded frames they come from, and "which episodes lack an augmen
 
 import datetime as dt
 import json
-from collections.abc import Mapping, Sequence
+from collections.abc import Collection, Mapping, Sequence
 from dataclasses import dataclass
 from typing import Any
 
@@ -171,7 +171,13 @@ def _recorded_channels(store: Store, episode: NamedNode) -> set[str]:
     return {name for d in read_descriptors(store, episode) for name in (d.channel, d.provider)}
 
 
-def _check_specs(specs: Sequence[DerivedSpec], channels: set[str]) -> None:
+RecordedFrames = Mapping[int, Collection[str]]
+"""Frame number -> the providers and channels (topics) that have a sample at that frame."""
+
+
+def _check_specs(
+    specs: Sequence[DerivedSpec], channels: set[str], recorded: RecordedFrames | None = None
+) -> None:
     for i, spec in enumerate(specs):
         if (
             isinstance(spec.frame, bool)
@@ -187,23 +193,58 @@ def _check_specs(specs: Sequence[DerivedSpec], channels: set[str]) -> None:
                 spec.source_channel,
                 f"a recorded channel of the episode: {', '.join(sorted(channels))}",
             )
+        if recorded is not None:
+            _check_frame(i, spec, recorded)
 
 
-def check_derived(store: Store, episode_id: str, run_id: str, specs: Sequence[DerivedSpec]) -> None:
+def _check_frame(i: int, spec: DerivedSpec, recorded: RecordedFrames) -> None:
+    """A derived sample must come from a recorded frame holding its source channel."""
+    if not recorded:
+        raise InvalidInputError(
+            f"samples[{i}].frame", spec.frame, "a recorded frame; the episode has no recording"
+        )
+    held = recorded.get(spec.frame)
+    if held is None:
+        raise InvalidInputError(
+            f"samples[{i}].frame",
+            spec.frame,
+            f"a recorded frame of the episode, {min(recorded)} to {max(recorded)}",
+        )
+    if spec.source_channel not in held:
+        raise InvalidInputError(
+            f"samples[{i}].source_channel",
+            spec.source_channel,
+            f"a channel with data at frame {spec.frame}: {', '.join(sorted(held))}",
+        )
+
+
+def check_derived(
+    store: Store,
+    episode_id: str,
+    run_id: str,
+    specs: Sequence[DerivedSpec],
+    recorded: RecordedFrames | None = None,
+) -> None:
     """Raise what :func:`add_derived` would raise for these samples, writing nothing."""
     current = get_run(store, episode_id, run_id)
     if current.ended is not None:
         raise EpisodeStateError(f"run: run {run_id!r} has ended; start a new run")
-    _check_specs(specs, _recorded_channels(store, episode_iri(episode_id)))
+    _check_specs(specs, _recorded_channels(store, episode_iri(episode_id)), recorded)
 
 
 def add_derived(
-    store: Store, episode_id: str, run_id: str, specs: Sequence[DerivedSpec]
+    store: Store,
+    episode_id: str,
+    run_id: str,
+    specs: Sequence[DerivedSpec],
+    recorded: RecordedFrames | None = None,
 ) -> list[DerivedSample]:
     """Record derived samples of an open run, each ``prov:wasDerivedFrom`` its source frame.
 
-    Raises :class:`NotFoundError` for an unknown run, :class:`EpisodeStateError` for a run
-    that has ended, and :class:`InvalidInputError` (nothing written) for a bad sample.
+    With ``recorded`` (what the episode's stream file holds, frame by frame) each sample must
+    name a recorded frame holding its source channel. Raises :class:`NotFoundError` for an
+    unknown run, :class:`EpisodeStateError` for a run that has ended, and
+    :class:`InvalidInputError` (nothing written) for a bad sample, naming frame and channel.
     """
     episode = episode_iri(episode_id)
     run = run_iri(episode_id, run_id)
@@ -212,7 +253,7 @@ def add_derived(
         if current.ended is not None:
             raise EpisodeStateError(f"run: run {run_id!r} has ended; start a new run")
         channels = _recorded_channels(store, episode)
-        _check_specs(specs, channels)
+        _check_specs(specs, channels, recorded)
         samples = []
         for i, spec in enumerate(specs, start=current.samples):
             frame = part_iri(episode, "frame", str(spec.frame))

@@ -6,48 +6,149 @@
 
 import datetime as dt
 from typing import Literal as Which
+from urllib.parse import unquote
 
 from pyoxigraph import Literal, NamedNode
 
 from episodes import _rdf
 from episodes.errors import InvalidInputError, NotFoundError
 from episodes.model import EpisodeSummary, Recollection
-from episodes.terms import check_name, episode_id_of, participant_iri
+from episodes.terms import check_name, episode_id_of, participant_iri, role_iri
 from episodes.times import parse_time, say_when, to_literal
 from kg import Store
 
-__all__ = ["Cue", "all_episodes", "count_episodes", "happened_between", "recall"]
+__all__ = ["Cue", "all_episodes", "count_episodes", "happened_between", "matching", "recall"]
 
 MAX_N = 1_000_000
 
 
 class Cue:
-    """What a question names: an activity, and optionally an agent and an object.
+    """What a question names: an activity, and who or what took part in which role.
+
+    ``agent`` is the participant in the role ``agent`` (the paper's ``role='agent'``: in
+    "Maxime pointed to HyungJin", HyungJin is the ``recipient``, not the agent); ``obj`` the
+    one in the role ``object``; ``participant`` one in ``role``, or in any role when ``role``
+    is not given; ``role`` alone asks for episodes with someone in that role. Arguments added
+    after the fact count; removed or replaced ones do not.
 
     >>> sorted(Cue("babbling", agent="HyungJin").bindings())
     ['activity', 'agent']
+    >>> str(Cue("pointing", role="recipient", participant="HyungJin"))
+    "activity 'pointing', recipient 'HyungJin'"
     """
 
-    def __init__(self, activity: str, *, agent: str | None = None, obj: str | None = None):
+    def __init__(
+        self,
+        activity: str,
+        *,
+        agent: str | None = None,
+        obj: str | None = None,
+        role: str | None = None,
+        participant: str | None = None,
+    ):
         self.activity = check_name(activity, "activity")
         self.agent = participant_iri(agent, "agent") if agent is not None else None
         self.obj = participant_iri(obj, "object") if obj is not None else None
+        self.role = role_iri(role, "role") if role is not None else None
+        self.participant = (
+            participant_iri(participant, "participant") if participant is not None else None
+        )
 
     def bindings(self) -> dict[str, NamedNode | Literal]:
         bound: dict[str, NamedNode | Literal] = {"activity": Literal(self.activity)}
-        if self.agent is not None:
-            bound["agent"] = self.agent
-        if self.obj is not None:
-            bound["object"] = self.obj
+        for name, term in (
+            ("agent", self.agent),
+            ("object", self.obj),
+            ("role", self.role),
+            ("participant", self.participant),
+        ):
+            if term is not None:
+                bound[name] = term
         return bound
+
+    def constraints(self) -> list[tuple[NamedNode | None, NamedNode | None]]:
+        """The cue's role constraints: (role, participant) pairs, either may be ``None``."""
+        pairs: list[tuple[NamedNode | None, NamedNode | None]] = []
+        if self.agent is not None:
+            pairs.append((AGENT_ROLE, self.agent))
+        if self.obj is not None:
+            pairs.append((OBJECT_ROLE, self.obj))
+        if self.role is not None or self.participant is not None:
+            pairs.append((self.role, self.participant))
+        return pairs
+
+    def query(self, kind: str = "list") -> tuple[str, dict[str, NamedNode | Literal]]:
+        """The name of the ``sparql/`` query of ``kind`` (``list``, ``first``, ``last`` or
+        ``count``) for this cue, and its bindings."""
+        bound: dict[str, NamedNode | Literal] = {"activity": Literal(self.activity)}
+        pairs = self.constraints()
+        for i, (role, who) in enumerate(pairs, start=1):
+            if role is not None:
+                bound[f"role{i}"] = role
+            if who is not None:
+                bound[f"who{i}"] = who
+        if kind not in ("list", "first", "last", "count"):
+            raise InvalidInputError("kind", kind, "'list', 'first', 'last' or 'count'")
+        return f"episodes_cue_{kind}_{len(pairs)}", bound
 
     def __str__(self) -> str:
         words = [f"activity {self.activity!r}"]
         if self.agent is not None:
-            words.append(f"agent {self.agent.value.rsplit('/', 1)[-1]!r}")
+            words.append(f"agent {_name(self.agent)!r}")
         if self.obj is not None:
-            words.append(f"object {self.obj.value.rsplit('/', 1)[-1]!r}")
+            words.append(f"object {_name(self.obj)!r}")
+        if self.participant is not None:
+            role = _name(self.role) if self.role is not None else "participant"
+            words.append(f"{role} {_name(self.participant)!r}")
+        elif self.role is not None:
+            words.append(f"someone as {_name(self.role)!r}")
         return ", ".join(words)
+
+    def phrase(self) -> str:
+        """What the cue says happened, in words: "HyungJin did pointing with the ball"."""
+        words: list[str] = []
+        if self.agent is not None:
+            words.append(f"{_name(self.agent)} did {self.activity}")
+        elif self.participant is not None and self.role is not None:
+            words.append(f"{_name(self.participant)} was the {_name(self.role)} of {self.activity}")
+        elif self.participant is not None:
+            words.append(f"{_name(self.participant)} took part in {self.activity}")
+        else:
+            words.append(f"{self.activity} happened")
+        if self.obj is not None:
+            words.append(f"with {_name(self.obj)}")
+        if self.agent is not None and self.participant is not None:
+            role = f"as {_name(self.role)}" if self.role is not None else "taking part"
+            words.append(f"({_name(self.participant)} {role})")
+        elif self.role is not None and self.participant is None:
+            words.append(f"(with someone as {_name(self.role)})")
+        return " ".join(words)
+
+
+def said(cue: Cue, which: str, n: int, when: str) -> str:
+    """The answer to a recall in words."""
+    ordinal = {"first": "first", "last": "last"}.get(which, _ordinal(n))
+    return f"The {ordinal} time {cue.phrase()} was {when}."
+
+
+def _ordinal(n: int) -> str:
+    suffix = "th" if 10 <= n % 100 <= 20 else {1: "st", 2: "nd", 3: "rd"}.get(n % 10, "th")
+    return f"{n}{suffix}"
+
+
+def _name(term: NamedNode) -> str:
+    return unquote(term.value.rsplit("/", 1)[-1])
+
+
+AGENT_ROLE = role_iri("agent")
+OBJECT_ROLE = role_iri("object")
+
+
+def matching(store: Store, cue: Cue, kind: str = "list") -> list[NamedNode]:
+    """The episodes matching ``cue``, oldest first (one query); ``kind`` ``first`` or ``last``
+    for only that one."""
+    name, bound = cue.query(kind)
+    return [_rdf.iri(row, "episode") for row in store.select(name, **bound)]
 
 
 def _summary(row: _rdf.Row) -> EpisodeSummary:
@@ -73,32 +174,39 @@ def recall(
         raise InvalidInputError("which", which, "'first', 'last' or 'nth'")
     if isinstance(n, bool) or not isinstance(n, int) or not 1 <= n <= MAX_N:
         raise InvalidInputError("n", n, f"an integer from 1 to {MAX_N}")
-    if which == "nth":
-        # "all episodes" ordered by begin, row n: one query, linear in the matching episodes
-        # (SPARQL cannot take OFFSET as a bound value, and counting predecessors is quadratic).
-        rows = store.select("episodes_of_activity", **cue.bindings())[n - 1 : n]
-    else:
-        rows = store.select(f"episodes_{which}_time", **cue.bindings())
+    found = matching(store, cue, "list" if which == "nth" else which)
+    picked = found[n - 1 : n] if which == "nth" else found
+    # then one point query for the answer's summary
+    rows = [row for e in picked for row in store.select("episodes_summary", episode=e)]
     if not rows:
         ordinal = {"first": "a first", "last": "a last"}.get(which, f"a time number {n}")
         raise NotFoundError(f"cue: no episode matches {cue} ({ordinal} was asked for)")
     summary = _summary(rows[0])
+    when = say_when(summary.begin, now)
     return Recollection(
-        episode=summary, when=say_when(summary.begin, now), rank=n if which == "nth" else None
+        episode=summary,
+        when=when,
+        rank=n if which == "nth" else None,
+        said=said(cue, which, n, when),
     )
 
 
 def all_episodes(store: Store, cue: Cue, *, now: dt.datetime) -> list[Recollection]:
     """Every episode matching ``cue``, oldest first, each with when it was."""
+    rows = store.select("episodes_of_activity", activity=Literal(cue.activity))
+    if cue.constraints():
+        kept = set(matching(store, cue))
+        rows = [r for r in rows if _rdf.iri(r, "episode") in kept]
     return [
         Recollection(episode=(s := _summary(r)), when=say_when(s.begin, now), rank=i)
-        for i, r in enumerate(store.select("episodes_of_activity", **cue.bindings()), start=1)
+        for i, r in enumerate(rows, start=1)
     ]
 
 
 def count_episodes(store: Store, cue: Cue) -> int:
     """How many episodes match ``cue``."""
-    return _rdf.integer(store.select("episodes_count", **cue.bindings())[0], "count")
+    name, bound = cue.query("count")
+    return _rdf.integer(store.select(name, **bound)[0], "count")
 
 
 def happened_between(

@@ -15,6 +15,7 @@ import datetime as dt
 from collections import defaultdict
 from collections.abc import Sequence
 from dataclasses import dataclass
+from urllib.parse import quote, unquote
 
 import numpy as np
 from pyoxigraph import Literal, NamedNode
@@ -22,10 +23,17 @@ from scipy.stats import wilcoxon
 
 from episodes import _rdf
 from episodes.augmentation import get_run, run_iri
-from episodes.errors import InvalidInputError, NotFoundError
+from episodes.errors import EpisodeStateError, InvalidInputError, NotFoundError
 from episodes.lifecycle import participant
 from episodes.model import Rating
-from episodes.terms import check_id, check_name, episode_iri, new_id, part_iri
+from episodes.terms import (
+    check_id,
+    check_name,
+    episode_iri,
+    new_id,
+    part_iri,
+    participant_iri,
+)
 from episodes.times import to_literal
 from kg import Store
 from ontologies.vocab import (
@@ -34,13 +42,25 @@ from ontologies.vocab import (
     PROV_GENERATED_AT_TIME,
     PROV_PERSON,
     PROV_WAS_ATTRIBUTED_TO,
+    PROV_WAS_REVISION_OF,
+    QUESTION_NS,
     RATES,
     RATING,
+    RATING_QUESTION,
     RATING_VALUE,
     RDF_TYPE,
 )
 
-__all__ = ["CandidateStats", "Comparison", "Ranking", "candidate_stats", "rank", "rate"]
+__all__ = [
+    "CandidateStats",
+    "Comparison",
+    "Ranking",
+    "candidate_stats",
+    "question_iri",
+    "question_name",
+    "rank",
+    "rate",
+]
 
 Q1_THRESHOLD = 6.0
 MEDIAN_THRESHOLD = 7.0
@@ -55,15 +75,22 @@ def rate(
     value: int,
     time: dt.datetime,
     sample: int | None = None,
+    question: str | None = None,
+    replace: bool = False,
 ) -> Rating:
-    """Store ``person``'s rating (1-10) of a run, or of one of its derived samples.
+    """Store ``person``'s rating (1-10) of a run, or of one of its derived samples, as the
+    answer to ``question`` (a name or IRI; none by default).
 
-    Raises :class:`InvalidInputError` for a value outside 1..10 and :class:`NotFoundError`
-    for an unknown episode, run or sample.
+    One person answers one question about one item once: a second answer raises
+    :class:`EpisodeStateError` naming the first, unless ``replace`` is set, when it is stored
+    as a revision of the first (``prov:wasRevisionOf``; the first is kept). Raises
+    :class:`InvalidInputError` for a value outside 1..10 and :class:`NotFoundError` for an
+    unknown episode, run or sample.
     """
     person = check_name(person, "person")
     if isinstance(value, bool) or not isinstance(value, int) or not 1 <= value <= 10:
         raise InvalidInputError("value", value, "an integer from 1 to 10")
+    asked = question_iri(question) if question is not None else None
     rating_id = new_id()
     with store.transaction() as tx:
         run = get_run(store, episode_id, run_id)
@@ -76,7 +103,24 @@ def rate(
             ):
                 raise NotFoundError(f"sample: run {run_id!r} has no derived sample {sample!r}")
             item = part_iri(item, "sample", str(sample))
+        bindings: dict[str, NamedNode | Literal] = {
+            "item": item,
+            "person": participant_iri(person, "person"),
+        }
+        if asked is not None:
+            bindings["question"] = asked
+        earlier = store.select("episodes_rating_current", **bindings)
+        if earlier and not replace:
+            raise EpisodeStateError(
+                f"rating: {person!r} already rated {_item_id(item)!r}"
+                + (f" for question {question!r}" if question is not None else "")
+                + f" {_rdf.text(earlier[0], 'value')}; send replace=true to revise that answer"
+            )
         node = part_iri(episode_iri(episode_id), "rating", rating_id)
+        for row in earlier:
+            tx.insert(node, PROV_WAS_REVISION_OF, _rdf.iri(row, "rating"), EPISODES)
+        if asked is not None:
+            tx.insert(node, RATING_QUESTION, asked, EPISODES)
         tx.insert(node, RDF_TYPE, RATING, EPISODES)
         tx.insert(node, RATES, item, EPISODES)
         tx.insert(node, RATING_VALUE, Literal(value), EPISODES)
@@ -84,7 +128,27 @@ def rate(
         tx.insert(
             node, PROV_WAS_ATTRIBUTED_TO, participant(tx, person, PROV_PERSON, "person"), EPISODES
         )
-    return Rating(id=rating_id, item=_item_id(item), person=person, value=value, time=time)
+    return Rating(
+        id=rating_id,
+        item=_item_id(item),
+        person=person,
+        value=value,
+        time=time,
+        question=None if asked is None else question_name(asked),
+    )
+
+
+def question_iri(question: str) -> NamedNode:
+    """The IRI of a rating question: an IRI given as such, or one minted from its text."""
+    text = check_name(question, "question")
+    if text.startswith(("http://", "https://", "urn:")):
+        return participant_iri(text, "question")
+    return NamedNode(QUESTION_NS + quote(text, safe=""))
+
+
+def question_name(iri: NamedNode) -> str:
+    """The text a question IRI was minted from (or the IRI itself)."""
+    return unquote(iri.value.removeprefix(QUESTION_NS))
 
 
 def _item_id(item: NamedNode) -> str:
@@ -167,12 +231,18 @@ def compare(leader: CandidateStats, other: CandidateStats, alpha: float) -> Comp
 
 
 def rank(
-    store: Store, augmentation: str, *, episode_id: str | None = None, alpha: float = 0.05
+    store: Store,
+    augmentation: str,
+    *,
+    episode_id: str | None = None,
+    alpha: float = 0.05,
+    question: str | None = None,
 ) -> Ranking:
-    """Rank the rated runs (and samples) of ``augmentation``, of one episode or of all.
+    """Rank the rated runs (and samples) of ``augmentation``, of one episode or of all, by the
+    answers to ``question`` (the ratings given without a question when ``None``).
 
-    Each person's latest rating of a candidate counts. Raises :class:`InvalidInputError` for a
-    bad ``alpha``.
+    Each person's current answer (the last revision) counts. Raises :class:`InvalidInputError`
+    for a bad ``alpha``.
     """
     augmentation = check_name(augmentation, "augmentation")
     if isinstance(alpha, bool) or not isinstance(alpha, float | int) or not 0 < alpha < 1:
@@ -180,6 +250,8 @@ def rank(
     bindings: dict[str, NamedNode | Literal] = {"augmentation": Literal(augmentation)}
     if episode_id is not None:
         bindings["episode"] = episode_iri(check_id(episode_id, "episode"))
+    if question is not None:
+        bindings["question"] = question_iri(question)
     latest: dict[str, dict[str, tuple[dt.datetime, int]]] = defaultdict(dict)
     for row in store.select("episodes_ratings", **bindings):
         item = _item_id(_rdf.iri(row, "item"))

@@ -27,6 +27,7 @@ from episodes.terms import (
     role_iri,
 )
 from episodes.times import parse_time, to_literal
+from episodes.world import current_scene, write_world
 from kg import Store, Transaction
 from ontologies.vocab import (
     ACTIVITY_NAME,
@@ -156,6 +157,7 @@ def begin_episode(
     episode = episode_iri(episode_id, "id")
     # read before the write lock is taken: the scene memory takes its own lock, then the store's
     snapshot = memory_state(store) if snapshots else None
+    scene = current_scene(store) if snapshots else None
     with store.transaction() as tx:
         if episode_times(store, episode) is not None:
             raise EpisodeStateError(f"id: an episode {episode_id!r} already exists")
@@ -186,6 +188,7 @@ def begin_episode(
             state = part_iri(episode, "state", "begin")
             tx.insert(episode, STATE_AT_BEGIN, state, EPISODES)
             write_snapshot(tx, state, snapshot)
+            write_world(tx, state, scene, (participant_iri(v) for _, v, _ in checked))
         if ended is not None:
             tx.insert(episode, PROV_ENDED_AT_TIME, to_literal(ended), EPISODES)
             write_descriptors(tx, episode, streams)
@@ -231,6 +234,7 @@ def end_episode(
 
     ended = parse_time(end, "end")
     snapshot = memory_state(store)  # before the write lock, as in begin_episode
+    scene = current_scene(store)
     with store.transaction() as tx:
         episode, began, already = require_episode(store, episode_id)
         if already is not None:
@@ -245,6 +249,10 @@ def end_episode(
         state = part_iri(episode, "state", "end")
         tx.insert(episode, STATE_AT_END, state, EPISODES)
         write_snapshot(tx, state, snapshot)
+        present = {
+            _rdf.iri(r, "participant") for r in store.select("episodes_arguments", episode=episode)
+        }
+        write_world(tx, state, scene, sorted(present, key=lambda n: n.value))
         write_descriptors(tx, episode, streams)
     log.info("episode %s ended", episode_id)
 
@@ -323,13 +331,23 @@ def add_annotation(
 
 def link_scene(store: Store, episode_id: str, scene: str) -> None:
     """Record in the ``episodic`` graph that the experienced scene ``scene`` happened during
-    the episode (what the scene memory does itself with ``engram:happenedDuring``)."""
+    the episode (what the scene memory does itself with ``engram:happenedDuring``).
+
+    Raises :class:`EpisodeNotFoundError`, and :class:`InvalidInputError` when ``scene`` is not
+    an experienced scene already stored (``engram:ExperiencedScene``).
+    """
     try:
         scene_node = NamedNode(check_name(scene, "scene"))
     except ValueError:
         raise InvalidInputError("scene", scene, "the IRI of an experienced scene") from None
     with store.transaction() as tx:
         episode, _, _ = require_episode(store, episode_id)
+        # a link to a scene not stored yet would be taken over by the next scene minted with
+        # that IRI, so only scenes the scene memory already holds can be linked
+        if not store.ask("episodes_scene_exists", scene=scene_node):
+            raise InvalidInputError(
+                "scene", scene, "the IRI of an experienced scene the scene memory has stored"
+            )
         tx.insert(scene_node, HAPPENED_DURING, episode, EPISODIC)
 
 
@@ -347,6 +365,10 @@ def get_episode(store: Store, episode_id: str) -> Episode:
             value=_rdf.opt_text(r, "label") or _rdf.text(r, "participant"),
             kind="agent" if _rdf.text(r, "kind") == "agent" else "entity",
             iri=_rdf.text(r, "participant"),
+            id=_rdf.text(r, "link").rsplit("/", 1)[-1],
+            author=_rdf.opt_text(r, "author"),
+            asserted=_rdf.opt_time(r, "asserted"),
+            confidence=_rdf.opt_number(r, "confidence"),
         )
         for r in store.select("episodes_arguments", episode=episode)
     )

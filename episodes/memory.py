@@ -16,38 +16,53 @@ one per augmentation run under ``<data_dir>/augmentations/<episode>``).
 """
 
 import datetime as dt
+import io
 import logging
 import shutil
+import tarfile
+import tempfile
 import threading
-from collections.abc import Mapping, Sequence
+from collections.abc import Iterator, Mapping, Sequence
 from pathlib import Path
 from typing import Any
 from typing import Literal as Which
 
 from pyoxigraph import Literal
 
-from episodes import augmentation, cues, feedback, lifecycle, transfer
+from episodes import arguments, augmentation, cues, feedback, lifecycle, transfer
 from episodes.augmentation import DerivedSpec
 from episodes.cues import Cue
-from episodes.errors import EpisodeNotFoundError, EpisodeStateError, InvalidInputError
+from episodes.errors import (
+    EpisodeNotFoundError,
+    EpisodeStateError,
+    InvalidInputError,
+    NotFoundError,
+)
 from episodes.feedback import Ranking
 from episodes.knowledge import ActivityKnowledge, activity_knowledge
 from episodes.lifecycle import ArgumentSpec
 from episodes.model import (
     Annotation,
+    Argument,
     AugmentationRun,
     DerivedSample,
     Episode,
     EpisodeSummary,
+    ImportReport,
     Rating,
     Recollection,
+    SkippedTopic,
     StreamDescriptor,
 )
+from episodes.queue import AugmentationQueue
 from episodes.snapshot import MemoryState, read_memory_state
 from episodes.streamlink import descriptors_from_recording, descriptors_from_stats
-from episodes.streams import Recorder, RecordingRegistry, Replayer, import_bag
-from episodes.terms import check_id, episode_iri, new_id
+from episodes.streams import Recorder, RecordingRegistry, Replayer, export_bag, import_bag
+from episodes.streams.merge import derived_frames, export_merged, merged_frames, run_prefix
+from episodes.streams.replay import Frame
+from episodes.terms import ArgumentKind, check_id, episode_iri, new_id
 from episodes.times import Clock, parse_time, system_clock
+from episodes.world import WorldChange, world_change
 from kg import Store
 from ontologies.vocab import EPISODES, STREAM_FILE
 
@@ -81,6 +96,8 @@ class EpisodeMemory:
         self.clock = clock
         self._recordings = recordings
         self._run_writers: dict[tuple[str, str], Any] = {}
+        self._queue: AugmentationQueue | None = None
+        self._frame_cache: dict[str, tuple[tuple[object, ...], dict[int, frozenset[str]]]] = {}
         self._lock = threading.Lock()
 
     # Paths and the stream side ---------------------------------------------------------------
@@ -154,6 +171,19 @@ class EpisodeMemory:
             raise
         return self.get(episode_id)
 
+    def check_recordable(self, episode_id: str) -> None:
+        """Raise unless ``episode_id`` is a running episode whose streams may be recorded.
+
+        Raises :class:`EpisodeNotFoundError` (a recording needs its episode) and
+        :class:`EpisodeStateError` when the episode has ended.
+        """
+        _, _, ended = lifecycle.require_episode(self.store, check_id(episode_id, "episode_id"))
+        if ended is not None:
+            raise EpisodeStateError(
+                f"episode_id: episode {episode_id!r} ended at {ended.isoformat()}; "
+                "streams are recorded while an episode runs"
+            )
+
     def end(self, episode_id: str, *, end: dt.datetime | str | None = None) -> Episode:
         """End a running episode (now by default); close its recording and describe its streams."""
         ended = self._time(end, "end")
@@ -196,15 +226,35 @@ class EpisodeMemory:
 
         The samples become the episode's recording (channels mapped, times kept, see
         ``episodes.streams.import_bag``); the episode begins and ends with the bag's first and
-        last message and carries an ``imported_from`` annotation. The scene memory's state at
+        last message and carries an ``imported_from`` annotation (and one ``skipped_topic``
+        annotation per topic of a type that cannot be imported). The scene memory's state at
         the time is unknown, so no snapshots are recorded. Nothing stays behind on failure.
+        :meth:`import_bag_report` also returns what was skipped.
         """
+        return self.import_bag_report(
+            path, activity, activity_type=activity_type, arguments=arguments, episode_id=episode_id
+        ).episode
+
+    def import_bag_report(
+        self,
+        path: Path | str,
+        activity: str,
+        *,
+        activity_type: str | None = None,
+        arguments: Sequence[ArgumentSpec] = (),
+        episode_id: str | None = None,
+    ) -> ImportReport:
+        """:meth:`import_bag`, answering the episode and the topics skipped (type and count)."""
 
         episode_id = check_id(episode_id, "id") if episode_id is not None else new_id()
         if lifecycle.episode_times(self.store, episode_iri(episode_id)) is not None:
             raise EpisodeStateError(f"id: an episode {episode_id!r} already exists")
         dest = self.streams_path(episode_id)
         result = import_bag(path, dest=dest, episode_id=episode_id)
+        skipped = tuple(
+            SkippedTopic(topic, str(info["message_type"]), int(info["count"]))
+            for topic, info in sorted(result.skipped.items())
+        )
         try:
             start = _from_ns(result.start_ns) or self._now()
             lifecycle.begin_episode(
@@ -222,7 +272,78 @@ class EpisodeMemory:
             shutil.rmtree(dest, ignore_errors=True)
             raise
         self.annotate(episode_id, key="imported_from", value=str(path), author="engram import")
-        return self.get(episode_id)
+        for topic in skipped:
+            self.annotate(
+                episode_id,
+                key="skipped_topic",
+                value=f"{topic.topic} {topic.message_type} x{topic.count}",
+                author="engram import",
+            )
+        if skipped:
+            log.warning("import %s: skipped %s", episode_id, [t.topic for t in skipped])
+        return ImportReport(self.get(episode_id), skipped)
+
+    def import_source(self, path: str) -> Path:
+        """The bag at ``path`` inside the data directory (relative to it, or absolute inside it).
+
+        What an HTTP client may import: nothing outside the data directory. Raises
+        :class:`InvalidInputError` naming the path when it is empty, outside, missing, or
+        neither a ``.bag`` file nor a ROS 2 bag directory (one with ``metadata.yaml``).
+        """
+        root = self._dir(".").resolve()
+        expected = (
+            f"a ROS 1 .bag file or a ROS 2 bag directory (with metadata.yaml) inside the "
+            f"data directory {str(root)!r}, absolute or relative to it"
+        )
+        if not isinstance(path, str) or not path.strip() or "\x00" in path:
+            raise InvalidInputError("path", path, expected)
+        candidate = (root / path).resolve()
+        if not candidate.is_relative_to(root) or candidate == root:
+            raise InvalidInputError("path", path, expected)
+        if candidate.is_file() and candidate.suffix == ".bag":
+            return candidate
+        if candidate.is_dir() and (candidate / "metadata.yaml").is_file():
+            return candidate
+        if not candidate.exists():
+            raise NotFoundError(f"path: nothing at {path!r} in the data directory")
+        raise InvalidInputError("path", path, expected)
+
+    def import_upload(
+        self,
+        data: bytes,
+        activity: str,
+        *,
+        activity_type: str | None = None,
+        arguments: Sequence[ArgumentSpec] = (),
+        episode_id: str | None = None,
+    ) -> ImportReport:
+        """Import a bag sent as bytes: a ROS 1 ``.bag`` file, or a tar of a ROS 2 bag directory.
+
+        The upload is unpacked in a scratch directory under the data directory and removed
+        afterwards. Raises :class:`InvalidInputError` (field ``body``) for anything else.
+        """
+        expected = "a ROS 1 .bag file, or a tar archive of one ROS 2 bag directory"
+        if not data:
+            raise InvalidInputError("body", "0 bytes", expected)
+        scratch_root = self._dir("uploads")
+        scratch_root.mkdir(parents=True, exist_ok=True)
+        scratch = Path(tempfile.mkdtemp(prefix="upload-", dir=scratch_root))
+        try:
+            if data.startswith(b"#ROSBAG V2.0"):
+                source = scratch / "upload.bag"
+                source.write_bytes(data)
+            else:
+                source = _untar_bag(data, scratch, expected)
+            report = self.import_bag_report(
+                source,
+                activity,
+                activity_type=activity_type,
+                arguments=arguments,
+                episode_id=episode_id,
+            )
+        finally:
+            shutil.rmtree(scratch, ignore_errors=True)
+        return report
 
     def get(self, episode_id: str) -> Episode:
         """Everything about one episode; raises :class:`EpisodeNotFoundError`."""
@@ -251,6 +372,61 @@ class EpisodeMemory:
             start=start,
             end=end,
         )
+
+    def add_argument(
+        self,
+        episode_id: str,
+        *,
+        role: str,
+        value: str,
+        kind: ArgumentKind | None = None,
+        author: str | None = None,
+        confidence: float | None = None,
+        time: dt.datetime | str | None = None,
+        replace: bool = False,
+        replaces: str | None = None,
+    ) -> Argument:
+        """Add an argument after the fact (``agent = Martina`` by face recognition, 0.92);
+        with ``replace``, it replaces the arguments in that role (or only ``replaces``).
+
+        The assertion keeps its author, time (now by default) and confidence as PROV; cues
+        see it at once. See :mod:`episodes.arguments`.
+        """
+        return arguments.add_argument(
+            self.store,
+            episode_id,
+            role=role,
+            value=value,
+            kind=kind,
+            assertion=arguments.Assertion(self._time(time, "time"), author, confidence),
+            replace=replace,
+            replaces=replaces,
+        )
+
+    def remove_argument(
+        self,
+        episode_id: str,
+        *,
+        role: str,
+        value: str | None = None,
+        author: str | None = None,
+        time: dt.datetime | str | None = None,
+    ) -> list[Argument]:
+        """Retract the arguments in ``role`` (only ``value``'s when given); they stay in the
+        graph, marked invalidated by ``author`` at ``time``, and cues no longer see them."""
+        return arguments.remove_argument(
+            self.store,
+            episode_id,
+            role=role,
+            value=value,
+            assertion=arguments.Assertion(self._time(time, "time"), author),
+        )
+
+    def world(self, episode_id: str) -> WorldChange:
+        """What was on the table and who was there at the episode's begin and end, and what
+        changed (see :mod:`episodes.world`); raises :class:`EpisodeNotFoundError`."""
+        lifecycle.require_episode(self.store, episode_id)
+        return world_change(self.store, episode_id)
 
     def link_scene(self, episode_id: str, scene: str) -> None:
         """Say that the experienced scene ``scene`` (an IRI) happened during the episode."""
@@ -367,10 +543,33 @@ class EpisodeMemory:
         """
         if values is not None and len(values) != len(samples):
             raise InvalidInputError("values", len(values), f"one value per sample ({len(samples)})")
+        recorded = self.recorded_frames(episode_id)
         if values is not None:
-            augmentation.check_derived(self.store, episode_id, run_id, samples)
+            augmentation.check_derived(self.store, episode_id, run_id, samples, recorded)
             self._write_derived(episode_id, run_id, samples, values, channels or {})
-        return augmentation.add_derived(self.store, episode_id, run_id, samples)
+        return augmentation.add_derived(self.store, episode_id, run_id, samples, recorded)
+
+    def recorded_frames(self, episode_id: str) -> dict[int, frozenset[str]]:
+        """Frame number -> the providers and channels with a sample at that frame, as the
+        episode's stream file holds them (empty without a recording). Cached per file state."""
+        if self.data_dir is None:
+            return {}
+        path = self.streams_path(episode_id)
+        if not path.exists():
+            return {}
+        key = tuple(_file_state(f) for f in sorted(path.glob("*.mcap")))
+        cached = self._frame_cache.get(episode_id)
+        if cached is not None and cached[0] == key:
+            return cached[1]
+        replayer = Replayer(path)
+        frames = {
+            tick.frame: frozenset(
+                name for provider in tick.providers for name in (provider, "/" + provider)
+            )
+            for tick in replayer.ticks
+        }
+        self._frame_cache[episode_id] = (key, frames)
+        return frames
 
     def _write_derived(
         self,
@@ -407,6 +606,105 @@ class EpisodeMemory:
                     )
         writer.write(samples, values, channels)
 
+    def _run_replayer(self, episode_id: str, run_id: str) -> tuple[str, Replayer]:
+        """The run's name prefix and a replayer of its stream file (flushed if still open)."""
+        run = augmentation.get_run(self.store, episode_id, run_id)
+        writer = self._run_writers.get((episode_id, run_id))
+        if writer is not None:
+            writer.recorder.flush()
+        path = self.run_path(episode_id, run_id)
+        if not path.exists():
+            raise NotFoundError(
+                f"run: run {run_id!r} of episode {episode_id!r} has no derived data stored "
+                "(post samples with values)"
+            )
+        return run_prefix(run.name, run.version), Replayer(path)
+
+    def replay_run(
+        self,
+        episode_id: str,
+        run_id: str,
+        *,
+        merge: bool = False,
+        channels: Sequence[str] | None = None,
+    ) -> Iterator[Frame]:
+        """Replay a run's derived samples, frame by frame, numbered by their source frames;
+        with ``merge``, the source frames (``channels`` of them) with the derived samples
+        beside the originals, named ``augmentations/<name>/v<version>/<channel>``."""
+        prefix, run = self._run_replayer(episode_id, run_id)
+        source = Replayer(self.streams_path(episode_id))
+        if merge:
+            return merged_frames(source, [(prefix, run)], channels)
+        return derived_frames(source, run, channels)
+
+    def export_streams(self, episode_id: str, dest: Path, *, with_runs: bool = False) -> None:
+        """Write the episode's streams as a standalone rosbag2 directory ``dest``; with
+        ``with_runs``, every run's derived channels too, each its own topic per version."""
+        source = self.streams_path(episode_id)
+        runs = []
+        if with_runs:
+            for run in augmentation.list_runs(self.store, episode_id):
+                if self.run_path(episode_id, run.id).exists():
+                    self._run_replayer(episode_id, run.id)  # flushes a run still open
+                    runs.append(
+                        (run_prefix(run.name, run.version), self.run_path(episode_id, run.id))
+                    )
+        if runs:
+            export_merged(source, runs, dest)
+        else:
+            export_bag(source, dest)
+
+    def versions(self, augmentation_name: str, episode_id: str) -> list[dict[str, Any]]:
+        """The runs of one augmentation on one episode side by side, for a rating view: each
+        version with its parameters, derived samples and channels, rating summary, and
+        whether it is among the best (quartile rule, Wilcoxon)."""
+        ranking = self.rank(augmentation_name, episode_id=episode_id)
+        stats = {c.item: c for c in ranking.candidates}
+        out = []
+        for run in augmentation.list_runs(self.store, episode_id):
+            if run.name != augmentation_name:
+                continue
+            item = f"{episode_id}/{run.id}"
+            stored = self.data_dir is not None and self.run_path(episode_id, run.id).exists()
+            channels = sorted(self._run_replayer(episode_id, run.id)[1].providers) if stored else []
+            rated = stats.get(item)
+            out.append(
+                {
+                    "run": run,
+                    "item": item,
+                    "channels": channels,
+                    "ratings": rated,
+                    "best": item in ranking.best,
+                    "leader": item == ranking.leader,
+                }
+            )
+        return out
+
+    @property
+    def queue(self) -> AugmentationQueue:
+        """The pending augmentation work served to augmenter processes (claims and leases)."""
+        if self._queue is None:
+            self._queue = AugmentationQueue(self)
+        return self._queue
+
+    def discard_run(self, episode_id: str, run_id: str) -> None:
+        """Delete an unfinished run everywhere (its triples and derived file), e.g. when the
+        lease of the worker that claimed it runs out. Raises :class:`NotFoundError`."""
+        run = augmentation.get_run(self.store, episode_id, run_id)
+        if run.ended is not None:
+            raise EpisodeStateError(f"run: run {run_id!r} has ended; it is kept")
+        writer = self._run_writers.pop((episode_id, run_id), None)
+        if writer is not None:
+            writer.close()
+        with self.store.transaction() as tx:
+            for row in self.store.select(
+                "episodes_owned_nodes", episode=augmentation.run_iri(episode_id, run_id)
+            ):
+                tx.delete_matching(row["node"], graph=EPISODES)  # type: ignore[arg-type]
+        if self.data_dir is not None:
+            shutil.rmtree(self.run_path(episode_id, run_id), ignore_errors=True)
+        log.info("run %s of episode %s discarded", run_id, episode_id)
+
     def end_run(self, episode_id: str, run_id: str) -> AugmentationRun:
         """Close a run (and its stream file)."""
         writer = self._run_writers.pop((episode_id, run_id), None)
@@ -433,8 +731,11 @@ class EpisodeMemory:
         value: int,
         time: dt.datetime | str | None = None,
         sample: int | None = None,
+        question: str | None = None,
+        replace: bool = False,
     ) -> Rating:
-        """Store a person's 1-10 rating of a run (or of one of its derived samples)."""
+        """Store a person's 1-10 rating of a run (or of one of its derived samples), as the
+        answer to ``question``; a second answer needs ``replace`` (see ``feedback.rate``)."""
         return feedback.rate(
             self.store,
             episode_id,
@@ -443,18 +744,48 @@ class EpisodeMemory:
             value=value,
             time=self._time(time, "time"),
             sample=sample,
+            question=question,
+            replace=replace,
         )
 
     def rank(
-        self, augmentation_name: str, *, episode_id: str | None = None, alpha: float = 0.05
+        self,
+        augmentation_name: str,
+        *,
+        episode_id: str | None = None,
+        alpha: float = 0.05,
+        question: str | None = None,
     ) -> Ranking:
-        """Rank the rated candidates of an augmentation (quartile heuristic, Wilcoxon)."""
-        return feedback.rank(self.store, augmentation_name, episode_id=episode_id, alpha=alpha)
+        """Rank the rated candidates of an augmentation by the answers to ``question``
+        (quartile heuristic, Wilcoxon)."""
+        return feedback.rank(
+            self.store, augmentation_name, episode_id=episode_id, alpha=alpha, question=question
+        )
 
     def close(self) -> None:
         """Close open run files (the recordings belong to whoever owns the registry)."""
         for key in list(self._run_writers):
             self._run_writers.pop(key).close()
+
+
+def _untar_bag(data: bytes, scratch: Path, expected: str) -> Path:
+    """Unpack a tar of one ROS 2 bag directory into ``scratch``; the bag directory."""
+    try:
+        with tarfile.open(fileobj=io.BytesIO(data)) as archive:
+            archive.extractall(scratch / "bag", filter="data")
+    except (tarfile.TarError, OSError, ValueError) as error:
+        raise InvalidInputError("body", f"{len(data)} bytes", f"{expected} ({error})") from None
+    found = sorted(p.parent for p in (scratch / "bag").rglob("metadata.yaml"))
+    if len(found) != 1:
+        raise InvalidInputError(
+            "body", f"a tar with {len(found)} metadata.yaml files", f"{expected} (exactly one)"
+        )
+    return found[0]
+
+
+def _file_state(path: Path) -> tuple[str, int, int]:
+    state = path.stat()
+    return path.name, state.st_mtime_ns, state.st_size
 
 
 def _from_ns(ns: int | None) -> dt.datetime | None:
@@ -486,10 +817,15 @@ class _RunWriter:
                     spec.derived_channel,
                     "a derived channel declared in 'channels' (kind and settings)",
                 )
-            time_ns = self.frame_times.get(spec.frame)
+            source_ns = time_ns = self.frame_times.get(spec.frame)
             if time_ns is None or time_ns <= self.last_ns:
                 time_ns = None  # no recorded source time, or out of order: the writer's own clock
-            result = self.recorder.tick({spec.derived_channel: value}, time_ns=time_ns)
+            # the stamp is the source frame's tick time, whatever the tick time: replay and
+            # export match derived samples to their source frames by it
+            stamps = {spec.derived_channel: source_ns} if source_ns is not None else None
+            result = self.recorder.tick(
+                {spec.derived_channel: value}, time_ns=time_ns, stamps_ns=stamps
+            )
             self.last_ns = max(self.last_ns, int(getattr(result, "time_ns", 0) or 0))
 
     def close(self) -> None:

@@ -20,9 +20,11 @@ __all__ = [
     "DerivedSample",
     "Episode",
     "EpisodeSummary",
+    "ImportReport",
     "MemorySnapshot",
     "Rating",
     "Recollection",
+    "SkippedTopic",
     "StreamDescriptor",
     "to_jsonable",
 ]
@@ -30,12 +32,17 @@ __all__ = [
 
 @dataclass(frozen=True)
 class Argument:
-    """A role-labelled argument: who or what took part in the episode, and how."""
+    """A role-labelled argument: who or what took part in the episode, and how; for one
+    given after the fact, who said so (``author``), when (``asserted``) and how sure."""
 
     role: str
     value: str
     kind: ArgumentKind = "entity"
     iri: str = ""
+    id: str = ""
+    author: str | None = None
+    asserted: dt.datetime | None = None
+    confidence: float | None = None
 
 
 @dataclass(frozen=True)
@@ -104,6 +111,9 @@ class Recollection:
     episode: EpisodeSummary
     when: str
     rank: int | None = None
+    said: str = ""
+    """The answer in words, roles included: "The last time HyungJin was the recipient of
+    pointing was one month ago, on January 26th." """
 
 
 @dataclass(frozen=True)
@@ -122,6 +132,23 @@ class Episode:
     annotations: tuple[Annotation, ...] = ()
     streams: tuple[StreamDescriptor, ...] = ()
     scenes: tuple[str, ...] = ()
+
+
+@dataclass(frozen=True)
+class SkippedTopic:
+    """A topic of an imported bag that was not imported: its message type has no channel kind."""
+
+    topic: str
+    message_type: str
+    count: int
+
+
+@dataclass(frozen=True)
+class ImportReport:
+    """What a bag import made: the episode, and the topics it skipped (with type and count)."""
+
+    episode: Episode
+    skipped: tuple[SkippedTopic, ...] = ()
 
 
 @dataclass(frozen=True)
@@ -159,6 +186,7 @@ class Rating:
     person: str
     value: int
     time: dt.datetime
+    question: str | None = None
 
 
 def to_jsonable(value: Any) -> Any:

@@ -245,6 +245,19 @@ SOURCE_CHANNEL = engram("sourceChannel")
 DERIVED_CHANNEL = engram("derivedChannel")
 RATES = engram("rates")
 RATING_VALUE = engram("ratingValue")
+RATING_QUESTION = engram("ratingQuestion")
+"""On a rating: the question it answers (several questions per rated item; issue 16)."""
+QUESTION_NS = BASE + "question/"
+ARGUMENT_CONFIDENCE = engram("argumentConfidence")
+"""On an argument (association or usage) asserted after the fact: how sure its author is."""
+RETRACTED_BY = engram("retractedBy")
+"""On an argument no longer held: the agent that removed or replaced it."""
+SCENE_AT_TIME = engram("sceneAtTime")
+"""On a memory snapshot of an episode: the scene memory's current scene (last stored) then."""
+PARTICIPANT_AT_TIME = engram("participantAtTime")
+"""On a memory snapshot of an episode: a participant in one of its arguments then."""
+PROV_WAS_REVISION_OF = prov("wasRevisionOf")
+PROV_INVALIDATED_AT_TIME = prov("invalidatedAtTime")
 EPISODE_NS = BASE + "episode/"
 """Episode IRIs are ``<EPISODE_NS><id>``; their parts (snapshots, frames, runs) extend them."""
 PARTICIPANT_NS = BASE + "participant/"

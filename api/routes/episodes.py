@@ -9,10 +9,13 @@ recording and describes its channels in the graph.
 """
 
 import datetime as dt
+from collections.abc import Iterator
+from itertools import chain
 from typing import Annotated, Any, Literal
 
 from fastapi import APIRouter, Body, Depends, Query, Request, Response, status
-from pydantic import BaseModel, Field
+from fastapi.responses import StreamingResponse
+from pydantic import BaseModel, ConfigDict, Field
 from starlette.concurrency import run_in_threadpool
 
 from api.deps import EpisodesDep, require_token
@@ -20,10 +23,11 @@ from episodes import (
     ArgumentSpec,
     Cue,
     DerivedSpec,
+    ImportReport,
     InvalidInputError,
     to_jsonable,
 )
-from episodes.streams.wire import decode_value
+from episodes.streams.wire import decode_value, encode_frame
 from episodes.times import parse_time
 
 __all__ = ["router"]
@@ -40,17 +44,40 @@ NowQuery = Annotated[
     str | None, Query(description="Reference time for phrases like 'one month ago' (ISO 8601).")
 ]
 ActivityQuery = Annotated[str, Query(description="Activity name, e.g. babbling.")]
-AgentQuery = Annotated[str | None, Query(description="An agent taking part (name or IRI).")]
-ObjectQuery = Annotated[str | None, Query(description="Any participant (name or IRI).")]
+AgentQuery = Annotated[str | None, Query(description="Who is in the role 'agent' (name or IRI).")]
+ObjectQuery = Annotated[str | None, Query(description="What is in the role 'object'.")]
+RoleQuery = Annotated[
+    str | None,
+    Query(description="A role (recipient, partner, ...): with participant, who is in it."),
+]
+ParticipantQuery = Annotated[
+    str | None, Query(description="Someone in `role`, or in any role when `role` is not given.")
+]
 
 
-class ArgumentIn(BaseModel):
+def _cue(
+    activity: str,
+    agent: str | None,
+    object: str | None,
+    role: str | None,
+    participant: str | None,
+) -> Cue:
+    return Cue(activity, agent=agent, obj=object, role=role, participant=participant)
+
+
+class _Strict(BaseModel):
+    """A request body: an unknown field is refused (422 naming it), never silently dropped."""
+
+    model_config = ConfigDict(extra="forbid")
+
+
+class ArgumentIn(_Strict):
     role: str = Field(description="agent, object, recipient, ...")
     value: str = Field(description="A name or an IRI.")
     kind: Literal["agent", "entity"] | None = None
 
 
-class BeginIn(BaseModel):
+class BeginIn(_Strict):
     activity: str
     type: str | None = None
     arguments: list[ArgumentIn] = []
@@ -59,19 +86,22 @@ class BeginIn(BaseModel):
     record: bool = Field(False, description="Open a stream recording for the episode.")
 
 
-class ImportIn(BaseModel):
-    path: str = Field(description="A ROS 1 .bag file or ROS 2 bag directory on the server.")
+class ImportIn(_Strict):
+    path: str = Field(
+        description="A ROS 1 .bag file or ROS 2 bag directory inside the server's data "
+        "directory (absolute, or relative to it)."
+    )
     activity: str
     type: str | None = None
     arguments: list[ArgumentIn] = []
     id: str | None = None
 
 
-class EndIn(BaseModel):
+class EndIn(_Strict):
     end: str | None = None
 
 
-class AnnotationIn(BaseModel):
+class AnnotationIn(_Strict):
     key: str
     value: str
     author: str | None = None
@@ -80,33 +110,50 @@ class AnnotationIn(BaseModel):
     end: str | None = None
 
 
-class SceneIn(BaseModel):
+class ArgumentAddIn(_Strict):
+    role: str = Field(description="agent, object, recipient, ...")
+    value: str = Field(description="A name or an IRI.")
+    kind: Literal["agent", "entity"] | None = None
+    author: str | None = Field(None, description="Who asserts it (a person or a module).")
+    confidence: float | None = Field(None, description="How sure the author is, 0 to 1.")
+    time: str | None = Field(None, description="When it was asserted (ISO 8601); default now.")
+    replace: bool = Field(False, description="Replace the arguments now in this role.")
+    replaces: str | None = Field(
+        None, description="With replace: only the argument with this value."
+    )
+
+
+class SceneIn(_Strict):
     scene: str = Field(description="IRI of an experienced scene of the scene memory.")
 
 
-class RunIn(BaseModel):
+class RunIn(_Strict):
     name: str
     producer: str
     parameters: dict[str, Any] = {}
 
 
-class SampleIn(BaseModel):
+class SampleIn(_Strict):
     frame: int
     source_channel: str
     derived_channel: str
     value: Any = None
 
 
-class SamplesIn(BaseModel):
+class SamplesIn(_Strict):
     samples: list[SampleIn]
     channels: dict[str, dict[str, Any]] = {}
 
 
-class RatingIn(BaseModel):
+class RatingIn(_Strict):
     person: str
     value: int
     time: str | None = None
     sample: int | None = None
+    question: str | None = Field(
+        None, description="The question answered (a name or IRI); one answer per person."
+    )
+    replace: bool = Field(False, description="Revise this person's earlier answer.")
 
 
 def _answer(value: Any) -> Any:
@@ -129,19 +176,56 @@ async def begin(memory: EpisodesDep, body: BeginIn) -> Any:
     return _answer(episode)
 
 
+def _report(report: ImportReport) -> Any:
+    """The imported episode, and the topics skipped with their type and count."""
+    return {**_answer(report.episode), "skipped": _answer(report.skipped)}
+
+
 @router.post("/episodes/import", status_code=status.HTTP_201_CREATED, dependencies=WRITE)
 async def import_bag(memory: EpisodesDep, body: ImportIn) -> Any:
-    """Import a ROS 1 or ROS 2 bag (on the server's disk) as a finished episode."""
+    """Import a ROS 1 or ROS 2 bag inside the server's data directory as a finished episode;
+    the answer lists the topics skipped (no channel kind for their type)."""
     arguments = [ArgumentSpec(a.role, a.value, a.kind) for a in body.arguments]
-    episode = await run_in_threadpool(
-        memory.import_bag,
-        body.path,
+    source = await run_in_threadpool(memory.import_source, body.path)
+    report = await run_in_threadpool(
+        memory.import_bag_report,
+        source,
         body.activity,
         activity_type=body.type,
         arguments=arguments,
         episode_id=body.id,
     )
-    return _answer(episode)
+    return _report(report)
+
+
+@router.post("/episodes/import/upload", status_code=status.HTTP_201_CREATED, dependencies=WRITE)
+async def import_upload(
+    memory: EpisodesDep,
+    request: Request,
+    activity: ActivityQuery,
+    type: Annotated[str | None, Query(description="Activity type.")] = None,
+    argument: Annotated[
+        list[str] | None, Query(description="ROLE=VALUE, repeatable (kind from the role).")
+    ] = None,
+    id: Annotated[str | None, Query(description="Episode id; default a new one.")] = None,
+) -> Any:
+    """Import a bag sent as the body: a ROS 1 ``.bag`` file, or a tar of a ROS 2 bag
+    directory; the answer lists the topics skipped."""
+    arguments = []
+    for i, text in enumerate(argument or []):
+        role, sep, value = text.partition("=")
+        if not sep:
+            raise InvalidInputError(f"argument[{i}]", text, "ROLE=VALUE")
+        arguments.append(ArgumentSpec(role, value))
+    report = await run_in_threadpool(
+        memory.import_upload,
+        await request.body(),
+        activity,
+        activity_type=type,
+        arguments=arguments,
+        episode_id=id,
+    )
+    return _report(report)
 
 
 @router.get("/episodes")
@@ -150,10 +234,13 @@ async def all_of_activity(
     activity: ActivityQuery,
     agent: AgentQuery = None,
     object: ObjectQuery = None,
+    role: RoleQuery = None,
+    participant: ParticipantQuery = None,
     now: NowQuery = None,
 ) -> Any:
-    """All episodes of an activity (by an agent, with an object), oldest first."""
-    cue = Cue(activity, agent=agent, obj=object)
+    """All episodes of an activity (by an agent, with an object, with someone in a role),
+    oldest first."""
+    cue = _cue(activity, agent, object, role, participant)
     return _answer(await run_in_threadpool(memory.all, cue, now=_now(now)))
 
 
@@ -163,12 +250,15 @@ async def recall(
     activity: ActivityQuery,
     agent: AgentQuery = None,
     object: ObjectQuery = None,
+    role: RoleQuery = None,
+    participant: ParticipantQuery = None,
     which: Annotated[str, Query(description="first, last or nth")] = "last",
     n: Annotated[int, Query(description="With which=nth: 1 is the first time.")] = 1,
     now: NowQuery = None,
 ) -> Any:
-    """The first / last / n-th time <agent> did <activity> (with <object>), and when."""
-    cue = Cue(activity, agent=agent, obj=object)
+    """The first / last / n-th time <agent> did <activity> (with <object>, with
+    <participant> as <role>), and when, in words."""
+    cue = _cue(activity, agent, object, role, participant)
     found = await run_in_threadpool(memory.recall, cue, which=which, n=n, now=_now(now))  # type: ignore[arg-type]
     return _answer(found)
 
@@ -179,9 +269,11 @@ async def count(
     activity: ActivityQuery,
     agent: AgentQuery = None,
     object: ObjectQuery = None,
+    role: RoleQuery = None,
+    participant: ParticipantQuery = None,
 ) -> dict[str, int]:
-    """How many times <agent> did <activity> (with <object>)."""
-    cue = Cue(activity, agent=agent, obj=object)
+    """How many times <agent> did <activity> (with <object>, with <participant> as <role>)."""
+    cue = _cue(activity, agent, object, role, participant)
     return {"count": await run_in_threadpool(memory.count, cue)}
 
 
@@ -229,6 +321,13 @@ async def get(memory: EpisodesDep, episode_id: str) -> Any:
     return _answer(await run_in_threadpool(memory.get, episode_id))
 
 
+@router.get("/episodes/{episode_id}/world")
+async def world(memory: EpisodesDep, episode_id: str) -> Any:
+    """What was on the table (the scene memory's current scene: primitives, the class it was
+    stored as) and who was there at begin and end, and what changed."""
+    return _answer(await run_in_threadpool(memory.world, episode_id))
+
+
 @router.get("/episodes/{episode_id}/rdf")
 async def export_rdf(memory: EpisodesDep, episode_id: str) -> Response:
     """The episode's triples as TriG: its graph nodes, participants, roles and scene links."""
@@ -266,6 +365,43 @@ async def annotate(memory: EpisodesDep, episode_id: str, body: AnnotationIn) -> 
         end=body.end,
     )
     return _answer(annotation)
+
+
+@router.post(
+    "/episodes/{episode_id}/arguments", status_code=status.HTTP_201_CREATED, dependencies=WRITE
+)
+async def add_argument(memory: EpisodesDep, episode_id: str, body: ArgumentAddIn) -> Any:
+    """Add an argument after the fact (or replace the ones in its role), with its author,
+    time and confidence kept as PROV; cues see it at once."""
+    argument = await run_in_threadpool(
+        memory.add_argument,
+        episode_id,
+        role=body.role,
+        value=body.value,
+        kind=body.kind,
+        author=body.author,
+        confidence=body.confidence,
+        time=body.time,
+        replace=body.replace,
+        replaces=body.replaces,
+    )
+    return _answer(argument)
+
+
+@router.delete("/episodes/{episode_id}/arguments/{role}", dependencies=WRITE)
+async def remove_argument(
+    memory: EpisodesDep,
+    episode_id: str,
+    role: str,
+    value: Annotated[str | None, Query(description="Only the argument with this value.")] = None,
+    author: Annotated[str | None, Query(description="Who retracts it.")] = None,
+) -> Any:
+    """Retract the arguments in a role (kept in the graph as invalidated); the answer lists
+    them."""
+    gone = await run_in_threadpool(
+        memory.remove_argument, episode_id, role=role, value=value, author=author
+    )
+    return _answer(gone)
 
 
 @router.post(
@@ -319,6 +455,28 @@ async def add_samples(memory: EpisodesDep, episode_id: str, run_id: str, body: S
     return _answer(added)
 
 
+@router.get("/episodes/{episode_id}/runs/{run_id}/replay")
+def replay_run(
+    memory: EpisodesDep,
+    episode_id: str,
+    run_id: str,
+    merge: Annotated[
+        bool, Query(description="Beside the source frames (merged by frame), or alone.")
+    ] = False,
+    channels: Annotated[
+        list[str] | None, Query(description="With merge: the source channels to include.")
+    ] = None,
+) -> StreamingResponse:
+    """Replay a run's derived samples as NDJSON, one frame per line, numbered by the source
+    frames; merged, the derived channels are named ``augmentations/<name>/v<version>/...``."""
+    frames = memory.replay_run(episode_id, run_id, merge=merge, channels=channels)
+    first = next(frames, None)  # errors (unknown channel) surface before streaming
+    lines: Iterator[bytes] = (
+        encode_frame(f) for f in (chain([first], frames) if first is not None else ())
+    )
+    return StreamingResponse(lines, media_type="application/x-ndjson")
+
+
 @router.post("/episodes/{episode_id}/runs/{run_id}/end", dependencies=WRITE)
 async def end_run(memory: EpisodesDep, episode_id: str, run_id: str) -> Any:
     """Close an augmentation run."""
@@ -342,8 +500,64 @@ async def rate(
         value=body.value,
         time=body.time,
         sample=body.sample,
+        question=body.question,
+        replace=body.replace,
     )
     return _answer(rating)
+
+
+@router.get("/augmentations/{name}/versions")
+async def versions(
+    memory: EpisodesDep,
+    name: str,
+    episode: Annotated[str, Query(description="The episode whose runs to compare.")],
+) -> Any:
+    """The versions of one augmentation on one episode side by side (for a rating view):
+    parameters, derived channels, rating summary, which are best."""
+    return _answer(await run_in_threadpool(memory.versions, name, episode))
+
+
+class ClaimIn(_Strict):
+    worker: str = Field(description="Who works on it (becomes the run's producer).")
+    activity: str = Field(description="Episodes of this activity.")
+    versions: int = Field(1, description="Episodes with fewer runs than this lack it.")
+    lease_s: float = Field(60.0, description="Seconds the claim holds without a heartbeat.")
+    wait_s: float = Field(0.0, description="Long-poll: wait up to this long for work (max 60).")
+
+
+class LeaseIn(_Strict):
+    lease_s: float = Field(60.0, description="Seconds the claim holds from now.")
+
+
+@router.post("/augmentations/{name}/claims", dependencies=WRITE)
+async def claim(memory: EpisodesDep, name: str, body: ClaimIn) -> Any:
+    """Claim an ended episode of the activity that lacks this augmentation: a run is started
+    for the worker and the episode leased to it. 204 when there is no work (after waiting)."""
+    found = await run_in_threadpool(
+        memory.queue.claim,
+        name,
+        worker=body.worker,
+        activity=body.activity,
+        versions=body.versions,
+        lease_s=body.lease_s,
+        wait_s=body.wait_s,
+    )
+    if found is None:
+        return Response(status_code=status.HTTP_204_NO_CONTENT)
+    return _answer(found)
+
+
+@router.post("/augmentations/claims/{token}/heartbeat", dependencies=WRITE)
+async def heartbeat(memory: EpisodesDep, token: str, body: LeaseIn | None = None) -> Any:
+    """Keep a claim's lease; 404 when it expired (its unfinished run was discarded)."""
+    lease = body.lease_s if body is not None else 60.0
+    return _answer(await run_in_threadpool(memory.queue.heartbeat, token, lease_s=lease))
+
+
+@router.post("/augmentations/claims/{token}/complete", dependencies=WRITE)
+async def complete(memory: EpisodesDep, token: str) -> Any:
+    """End the claimed run and release the lease."""
+    return _answer(await run_in_threadpool(memory.queue.complete, token))
 
 
 @router.get("/augmentations/{name}/ranking")
@@ -352,6 +566,12 @@ async def ranking(
     name: str,
     episode: Annotated[str | None, Query(description="Only the runs of this episode.")] = None,
     alpha: Annotated[float, Query(description="Significance level of the Wilcoxon test.")] = 0.05,
+    question: Annotated[
+        str | None, Query(description="Rank by the answers to this question.")
+    ] = None,
 ) -> Any:
     """Rank the rated candidates of an augmentation: quartile heuristic, then Wilcoxon."""
-    return _answer(await run_in_threadpool(memory.rank, name, episode_id=episode, alpha=alpha))
+    found = await run_in_threadpool(
+        memory.rank, name, episode_id=episode, alpha=alpha, question=question
+    )
+    return _answer(found)

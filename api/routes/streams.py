@@ -24,7 +24,7 @@ from pydantic import BaseModel, ConfigDict, Field
 from starlette.background import BackgroundTask
 from starlette.concurrency import run_in_threadpool
 
-from api.deps import RecordingsDep, SettingsDep, require_token
+from api.deps import EpisodesDep, RecordingsDep, SettingsDep, require_token
 from episodes.streams import (
     InvalidSampleError,
     Kind,
@@ -97,6 +97,11 @@ class ProviderRequest(BaseModel):
     channels: int | None = None
     rate_limit_hz: float | None = None
     baseline: float | list[Any] | None = None
+    threshold: float | None = Field(
+        None,
+        description="Skin filter bound θ: an element within θ of its baseline is stored as the "
+        "baseline (recorded with the stream); 0 or none is lossless.",
+    )
 
 
 @router.post(
@@ -106,9 +111,14 @@ class ProviderRequest(BaseModel):
     summary="Start recording an episode's streams",
 )
 def open_recording(
-    episode_id: str, registry: RecordingsDep, settings: SettingsDep, body: OpenRequest | None = None
+    episode_id: str,
+    registry: RecordingsDep,
+    settings: SettingsDep,
+    memory: EpisodesDep,
+    body: OpenRequest | None = None,
 ) -> dict[str, Any]:
     path = bag_path(streams_root(settings.data_dir), _episode(episode_id))
+    memory.check_recordable(episode_id)  # 404 for no such episode, 409 when it has ended
     options = (body or OpenRequest()).model_dump()
     recorder = registry.open(episode_id, path, **options)
     return {"episode": episode_id, "path": str(recorder.path), "recording": True}
@@ -319,13 +329,28 @@ def replay(
 
 
 @router.get("/export", summary="The episode as a standalone rosbag2 directory (tar)")
-def export(episode_id: str, registry: RecordingsDep, settings: SettingsDep) -> Response:
+def export(
+    episode_id: str,
+    registry: RecordingsDep,
+    settings: SettingsDep,
+    memory: EpisodesDep,
+    with_runs: Annotated[
+        bool,
+        Query(
+            description="Add every augmentation run's derived channels, each as its own "
+            "topic /augmentations/<name>/v<version>/<channel>."
+        ),
+    ] = False,
+) -> Response:
     if episode_id in registry:
         raise RecordingStateError(f"episode_id: {episode_id!r} is still recording")
     source = bag_path(streams_root(settings.data_dir), _episode(episode_id))
     work = Path(tempfile.mkdtemp(prefix="engram-export-"))
     try:
-        export_bag(source, work / episode_id)
+        if with_runs:
+            memory.export_streams(episode_id, work / episode_id, with_runs=True)
+        else:
+            export_bag(source, work / episode_id)
         archive = work / f"{episode_id}.tar"
         with tarfile.open(archive, "w") as tar:
             tar.add(work / episode_id, arcname=episode_id)

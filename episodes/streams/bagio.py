@@ -42,10 +42,12 @@ _BACKLOG_BYTES = 64 * 1024 * 1024
 
 def _settings(spec: ProviderSpec, *, keep_baseline: bool) -> dict[str, Any]:
     config = spec.config()
-    for key in ("name", "kind", "baseline"):
+    for key in ("name", "kind", "baseline", "threshold"):
         config.pop(key, None)
     if keep_baseline and spec.baseline is not None:
         config["baseline"] = spec.baseline
+        if spec.threshold:
+            config["threshold"] = spec.threshold
     return config
 
 
@@ -207,7 +209,8 @@ def import_bag(path: Path | str, *, dest: Path | str, episode_id: str) -> Import
     try:
         reader = AnyReader([path])
         reader.open()
-    except (AnyReaderError, Ros1ReaderError, Ros2ReaderError) as exc:
+    except (AnyReaderError, Ros1ReaderError, Ros2ReaderError, OSError, ValueError) as exc:
+        # rosbags answers a directory without metadata.yaml with FileNotFoundError
         raise CorruptRecordingError(f"path: {str(path)!r} is not a readable bag: {exc}") from exc
     recorder = Recorder(dest, episode_id=episode_id, max_queue_bytes=4 * _BACKLOG_BYTES)
     skipped: dict[str, dict[str, Any]] = {}

@@ -32,6 +32,7 @@ from __future__ import annotations
 
 import enum
 import json
+import math
 import re
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
@@ -135,6 +136,9 @@ class ProviderSpec:
     channels: int = 0
     rate_limit_hz: float | None = None
     baseline: NDArray[Any] | None = field(default=None, compare=False)
+    threshold: float = 0.0
+    """The skin filter's bound θ (Petit et al. 2016): an element within θ of its baseline is
+    stored as the baseline. 0 is the lossless mode (only bit-equal elements are left out)."""
 
     @property
     def topic(self) -> str:
@@ -192,6 +196,8 @@ class ProviderSpec:
                 "dtype": str(self.baseline.dtype),
                 "shape": list(self.baseline.shape),
             }
+        if self.threshold:
+            out["threshold"] = self.threshold
         return out
 
     @classmethod
@@ -208,6 +214,7 @@ class ProviderSpec:
         channels: int | None = None,
         rate_limit_hz: float | None = None,
         baseline: Any = None,
+        threshold: float | None = None,
     ) -> ProviderSpec:
         """Check and build a provider's settings.
 
@@ -234,6 +241,20 @@ class ProviderSpec:
         rate = float(rate_limit_hz) if rate_limit_hz is not None else None
         if baseline is not None and kind is not Kind.FLOAT_ARRAY:
             raise InvalidSampleError("baseline", "<given>", "no baseline except for float_array")
+        bound = 0.0
+        if threshold is not None:
+            if (
+                isinstance(threshold, bool)
+                or not isinstance(threshold, int | float)
+                or not math.isfinite(threshold)
+                or threshold < 0
+            ):
+                raise InvalidSampleError("threshold", threshold, "a finite number >= 0")
+            if threshold and baseline is None:
+                raise InvalidSampleError(
+                    "threshold", threshold, "a baseline to compare with (float_array only)"
+                )
+            bound = float(threshold)
         shape_t = _check_shape(shape) if shape is not None else None
         if kind is Kind.FLOAT_ARRAY:
             dtype = dtype or "float64"
@@ -252,7 +273,15 @@ class ProviderSpec:
                     base = np.full(shape_t, base, dtype=dtype)
                 base = np.ascontiguousarray(base)
                 base.setflags(write=False)
-            return cls(name, kind, dtype=dtype, shape=shape_t, rate_limit_hz=rate, baseline=base)
+            return cls(
+                name,
+                kind,
+                dtype=dtype,
+                shape=shape_t,
+                rate_limit_hz=rate,
+                baseline=base,
+                threshold=bound,
+            )
         if kind is Kind.JOINT_STATE:
             if names is None or isinstance(names, str):
                 raise InvalidSampleError("names", names, "the list of joint names")
@@ -406,11 +435,20 @@ def _layout(shape: Sequence[int]) -> Any:
 
 
 def sparse_of(spec: ProviderSpec, value: NDArray[Any]) -> tuple[NDArray[np.uint32], bytes] | None:
-    """Indices and raw bytes of the elements whose bits differ from the baseline; None if none."""
+    """Indices and raw bytes of the elements the filter keeps; None if none.
+
+    Lossless (threshold 0): the elements whose bits differ from the baseline. With a
+    threshold θ: the elements farther than θ from the baseline (and NaNs), so an element within
+    θ is stored as the baseline; the others are stored exactly.
+    """
     assert spec.baseline is not None
-    width = np.dtype(f"u{value.dtype.itemsize}")
-    flat = value.reshape(-1).view(width)
-    differ = np.flatnonzero(flat != spec.baseline.reshape(-1).view(width))
+    if spec.threshold:
+        gap = np.abs(value.reshape(-1).astype(np.float64) - spec.baseline.reshape(-1))
+        differ = np.flatnonzero(~(gap <= spec.threshold))
+    else:
+        width = np.dtype(f"u{value.dtype.itemsize}")
+        flat = value.reshape(-1).view(width)
+        differ = np.flatnonzero(flat != spec.baseline.reshape(-1).view(width))
     if differ.size == 0:
         return None
     return differ.astype(np.uint32), value.reshape(-1)[differ].tobytes()

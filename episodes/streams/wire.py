@@ -106,6 +106,8 @@ def decode_value(where: str, value: Any, payload: bytes | None = None) -> Any:
 def _ticks(manifest: Any, payload: bytes | None) -> list[TickRequest]:
     if not isinstance(manifest, Mapping) or not isinstance(manifest.get("ticks"), list):
         raise InvalidSampleError("ticks", type(manifest).__name__, '{"ticks": [...]}')
+    if set(manifest) - {"ticks"}:
+        raise InvalidSampleError("body", sorted(set(manifest) - {"ticks"}), 'only "ticks"')
     ticks = manifest["ticks"]
     if not 0 < len(ticks) <= MAX_TICKS:
         raise InvalidSampleError("ticks", f"{len(ticks)} ticks", f"1 to {MAX_TICKS} ticks")

@@ -5,6 +5,7 @@ import datetime as dt
 from collections.abc import Iterator
 from pathlib import Path
 
+import numpy as np
 import pytest
 from pyoxigraph import Literal
 
@@ -12,6 +13,7 @@ from episodes import EpisodeMemory
 from kg import Store, ensure_ontology
 from ontologies.vocab import (
     EPISODIC,
+    EXPERIENCED_SCENE,
     MEMORY,
     OWL_CLASS,
     RDF_TYPE,
@@ -46,6 +48,31 @@ def disk_memory(tmp_path: Path) -> Iterator[EpisodeMemory]:
     memory.close()
     if memory._recordings is not None:
         memory._recordings.close_all()
+
+
+def record_frames(memory: EpisodeMemory, episode_id: str, frames: dict[str, range]) -> None:
+    """Record ticks 1..max into the open recording of ``episode_id``: provider ``clock`` (a
+    string) at every frame, and each provider ``name`` of ``frames`` (a two-value float array)
+    at the frames listed for it, and only there."""
+    recorder = memory.recordings.get(episode_id)
+    recorder.add_provider("clock", "string")
+    for name in frames:
+        recorder.add_provider(name, "float_array", shape=[2])
+    last = max(max(numbers) for numbers in frames.values())
+    for frame in range(1, last + 1):
+        samples: dict[str, object] = {"clock": f"tick {frame}"}
+        for name, numbers in frames.items():
+            if frame in numbers:
+                samples[name] = np.array([frame, 0.5])
+        assert recorder.tick(samples).frame == frame
+
+
+def store_experienced_scene(store: Store, name: str) -> str:
+    """Write the experienced scene ``engram:<name>`` as the scene memory does; its IRI."""
+    scene = engram(name)
+    with store.transaction() as tx:
+        tx.insert(scene, RDF_TYPE, EXPERIENCED_SCENE, EPISODIC)
+    return scene.value
 
 
 def learn_scene_classes(store: Store, scores: dict[str, float], items: int) -> None:

@@ -15,17 +15,23 @@ from episodes import (
 )
 from episodes.feedback import candidate_stats
 from ontologies.vocab import EPISODES, FRAME_NUMBER, PROV_WAS_DERIVED_FROM
+from tests.episodes.conftest import record_frames
 
 
 @pytest.fixture
-def three_babblings(memory: EpisodeMemory) -> EpisodeMemory:
+def three_babblings(disk_memory: EpisodeMemory) -> EpisodeMemory:
+    """Three babbling episodes; b1 recorded 20 frames (1-20) of the camera "left"."""
+    memory = disk_memory
     for i, day in enumerate(("01", "02", "03")):
         memory.begin(
             "babbling",
             arguments=[ArgumentSpec("agent", "iCub")],
             begin=f"2026-01-{day}T10:00:00+00:00",
             episode_id=f"b{i + 1}",
+            record=i == 0,
         )
+        if i == 0:
+            record_frames(memory, "b1", {"left": range(1, 21)})
         memory.end(f"b{i + 1}", end=f"2026-01-{day}T10:10:00+00:00")
     memory.begin("point", begin="2026-01-04T10:00:00+00:00", episode_id="p1")
     return memory
@@ -103,7 +109,7 @@ def test_bad_derived_sample_names_field_and_writes_nothing(
     run = three_babblings.start_run("b1", name="edges", producer="canny")
     before = len(three_babblings.store)
     with pytest.raises(InvalidInputError) as caught:
-        three_babblings.add_derived("b1", run.id, [DerivedSpec(0, "/left", "/x"), spec])
+        three_babblings.add_derived("b1", run.id, [DerivedSpec(1, "/left", "/x"), spec])
     assert caught.value.field == field.replace("[0]", "[1]")
     assert len(three_babblings.store) == before
 
@@ -113,7 +119,7 @@ def test_an_ended_run_takes_no_more_samples(three_babblings: EpisodeMemory) -> N
     ended = three_babblings.end_run("b1", run.id)
     assert ended.ended is not None
     with pytest.raises(EpisodeStateError):
-        three_babblings.add_derived("b1", run.id, [DerivedSpec(0, "/left", "/left/edges")])
+        three_babblings.add_derived("b1", run.id, [DerivedSpec(1, "/left", "/left/edges")])
     with pytest.raises(NotFoundError):
         three_babblings.end_run("b1", "0123abcd")
 
@@ -172,11 +178,13 @@ def test_ranking_applies_the_quartile_heuristic_and_wilcoxon(
     assert comparison.equivalent and ranking.best == (ids["n"], ids["p"])
 
 
-def test_latest_rating_of_a_person_counts(rated: tuple[EpisodeMemory, dict[str, str]]) -> None:
+def test_a_revised_rating_of_a_person_counts(rated: tuple[EpisodeMemory, dict[str, str]]) -> None:
     memory, ids = rated
     run_id = ids["p"].split("/")[1]
     for person in RATERS:
-        memory.rate("b1", run_id, person=person, value=2, time="2026-02-27T00:00:00+00:00")
+        memory.rate(
+            "b1", run_id, person=person, value=2, time="2026-02-27T00:00:00+00:00", replace=True
+        )
     ranking = memory.rank("kinematic_structure")
     assert ranking.best == (ids["n"],)
     assert ranking.comparisons == ()

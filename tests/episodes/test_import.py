@@ -93,13 +93,13 @@ def test_a_file_that_is_not_a_bag_leaves_nothing_behind(
 
 
 def test_import_over_http(live_server: LiveServer, tmp_path: Path) -> None:
-    bag = write_ros2_bag(tmp_path / "nao")
+    bag = write_ros2_bag(live_server.settings.data_dir / "bags" / "nao")
     answer = live_server.client.post(
         "/episodes/import", json={"path": str(bag), "activity": "wave", "id": "nao1"}
     )
     assert answer.status_code == 201, answer.text
     assert answer.json()["streams"][0]["count"] == 4
     missing = live_server.client.post(
-        "/episodes/import", json={"path": str(tmp_path / "none"), "activity": "wave"}
+        "/episodes/import", json={"path": "bags/none", "activity": "wave"}
     )
     assert missing.status_code == 404

@@ -22,7 +22,7 @@ from ontologies.vocab import (
     XSD_DATETIME,
     engram,
 )
-from tests.episodes.conftest import NOW, learn_scene_classes
+from tests.episodes.conftest import NOW, learn_scene_classes, store_experienced_scene
 
 BEGIN = "2026-01-26T15:30:00+01:00"
 
@@ -183,6 +183,7 @@ def test_bad_annotation_names_field_and_writes_nothing(
 
 def test_scene_items_link_to_their_episode(memory: EpisodeMemory) -> None:
     episode_id = babbling(memory)
+    store_experienced_scene(memory.store, "scene-7")
     memory.link_scene(episode_id, engram("scene-7").value)
     assert memory.get(episode_id).scenes == (engram("scene-7").value,)
     assert len(list(memory.store.quads(engram("scene-7"), HAPPENED_DURING, None, EPISODIC))) == 1
@@ -192,6 +193,7 @@ def test_delete_removes_every_triple_of_the_episode_but_shared_participants_stay
     memory: EpisodeMemory,
 ) -> None:
     keep = babbling(memory)
+    store_experienced_scene(memory.store, "scene-1")
     before = memory.store.graph_sizes()
     gone = babbling(memory, arguments=[ArgumentSpec("agent", "HyungJin"), ArgumentSpec("x", "y")])
     memory.end(gone, end="2026-01-26T15:40:00+01:00")

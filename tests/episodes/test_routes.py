@@ -5,9 +5,29 @@ from typing import Any
 
 import pytest
 
+from api.client import ArmorClient, ScenePrimitive
 from tests.conftest import LiveServer
 
 NOW = "2026-02-26T10:00:00+00:00"
+EXPERIENCED_SCENES = (
+    "SELECT ?scene WHERE { ?scene a <https://w3id.org/engram/ontology#ExperiencedScene> }"
+)
+
+
+def store_scene_over_http(client: Any) -> str:
+    """Store a ball on a table through the directive API; the experienced scene's IRI."""
+    armor = ArmorClient("camera", "scenes", base_url=str(client.base_url))
+    armor.memory.store_scene(
+        [
+            ScenePrimitive("ball", "Sphere", centre=(0.3, 0.3, 0.3), radius=0.05),
+            ScenePrimitive("table", "Plane", centre=(0.3, 0.1, 0.1), axis=(0, 0, 1), hessian=-0.1),
+        ]
+    )
+    armor.close()
+    rows = client.get(
+        "/sparql", params={"query": EXPERIENCED_SCENES}, headers={"Accept": "application/json"}
+    ).json()["results"]["bindings"]
+    return str(rows[-1]["scene"]["value"])
 
 
 @pytest.fixture
@@ -67,7 +87,7 @@ def test_annotation_and_scene_link(server_with_episode: LiveServer) -> None:
         },
     )
     assert made.status_code == 201 and made.json()["confidence"] == 0.7
-    scene = "https://w3id.org/engram/ontology#scene-3"
+    scene = store_scene_over_http(client)
     assert client.post("/episodes/ep1/scenes", json={"scene": scene}).status_code == 204
     got = client.get("/episodes/ep1").json()
     assert got["scenes"] == [scene] and got["annotations"][0]["value"] == "wave"

@@ -6,7 +6,7 @@ from episodes import ArgumentSpec, EpisodeMemory, EpisodeStateError, InvalidInpu
 from kg import Store, ensure_ontology
 from ontologies.vocab import EPISODES
 from tests.conftest import LiveServer
-from tests.episodes.conftest import fixed_clock
+from tests.episodes.conftest import fixed_clock, store_experienced_scene
 
 
 def test_an_exported_episode_loads_into_another_memory_unchanged(memory: EpisodeMemory) -> None:
@@ -21,7 +21,7 @@ def test_an_exported_episode_loads_into_another_memory_unchanged(memory: Episode
     memory.annotate("ep1", key="comment", value="good", author="Alice")
     run = memory.start_run("ep1", name="edges", producer="canny", parameters={"t": 1})
     memory.rate("ep1", run.id, person="Bob", value=8)
-    memory.link_scene("ep1", "https://w3id.org/engram/ontology#scene-1")
+    memory.link_scene("ep1", store_experienced_scene(memory.store, "scene-1"))
     data = memory.export_rdf("ep1")
     assert b"ep2" not in data
 

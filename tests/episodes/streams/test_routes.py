@@ -32,6 +32,9 @@ def _lines(text: str) -> list[dict[str, Any]]:
 def recorded_over_http(live_server: Any) -> tuple[Any, list[dict[str, Any]]]:
     """An episode with joints, skin and two cameras recorded over HTTP, and what was sent."""
     client = live_server.client
+    assert (
+        client.post("/episodes", json={"activity": "babbling", "id": "ep-http"}).status_code == 201
+    )
     assert client.post(BASE).status_code == 201
     providers = [
         {"name": "icub/head", "kind": "joint_state", "names": ["a", "b", "c"]},
@@ -228,6 +231,7 @@ def test_bad_input_gets_4xx_naming_the_field(
     live_server: Any, method: str, path: str, options: dict[str, Any], code: int, fragment: str
 ) -> None:
     client = live_server.client
+    client.post("/episodes", json={"activity": "babbling", "id": "ep-http"})
     client.post(BASE)
     client.post(
         f"{BASE}/providers", json={"name": "j", "kind": "joint_state", "names": ["a", "b", "c"]}
@@ -248,6 +252,7 @@ def test_unknown_episodes_and_channels_are_404(live_server: Any) -> None:
     assert client.post("/episodes/nothing/streams/close").status_code == 404
     answer = client.post("/episodes/bad%20id/streams")
     assert answer.status_code == 422 and answer.json()["field"] == "episode_id"
+    client.post("/episodes", json={"activity": "say", "id": "e1"})
     client.post("/episodes/e1/streams")
     client.post("/episodes/e1/streams/providers", json={"name": "s", "kind": "string"})
     client.post("/episodes/e1/streams/samples", json={"ticks": [{"samples": {"s": "hi"}}]})
@@ -262,6 +267,7 @@ def test_writes_need_the_token_when_one_is_set(start_server: Callable[..., Any])
     client = server.client
     assert client.post("/episodes/e2/streams").status_code == 401
     auth = {"authorization": "Bearer s3cret"}
+    client.post("/episodes", json={"activity": "say", "id": "e2"}, headers=auth)
     assert client.post("/episodes/e2/streams", headers=auth).status_code == 201
     answer = client.post("/episodes/e2/streams/providers", json={"name": "s", "kind": "string"})
     assert answer.status_code == 401
