@@ -25,7 +25,7 @@ from shapes.fit import FitParams, fit_cluster
 from shapes.frame import Frame
 from shapes.segment import SegmentationParams, segment
 from shapes.track import Tracker
-from shapes.types import Primitive, SupportPlane
+from shapes.types import FloatArray, Primitive, SupportPlane
 
 __all__ = ["FrameResult", "Perception", "PerceptionParams"]
 
@@ -57,6 +57,7 @@ class FrameResult:
     support: SupportPlane | None
     primitives: tuple[Primitive, ...]
     events: tuple[SceneEvent, ...]
+    centroids: tuple[FloatArray, ...] = ()
 
 
 class Perception:
@@ -95,7 +96,14 @@ class Perception:
             observations.append(Observation(prim, cluster.centroid))
         events = self.averager.update(observations, self.tracker.deleted, frame.stamp)
         log.debug("frame %d: %d primitives, %d events", index, len(primitives), len(events))
-        return FrameResult(index, frame.stamp, seg.support, tuple(primitives), tuple(events))
+        return FrameResult(
+            index,
+            frame.stamp,
+            seg.support,
+            tuple(primitives),
+            tuple(events),
+            tuple(o.cluster_centroid for o in observations),
+        )
 
     def run(self, frames: Iterable[Frame]) -> Iterator[FrameResult]:
         """Process frames lazily, one result per frame."""
