@@ -65,13 +65,16 @@ class SceneChange:
 
 @dataclass(frozen=True)
 class StableScene:
-    """A scene that held still for ``frames`` frames: its averaged primitives, by id."""
+    """A scene's averaged primitives, by id; ``frames`` is how many frames the averages hold
+    (the most any object was seen). ``partial`` marks a scene emitted at the end of a finite
+    source (a file, the end of a bag) before it had held still long enough."""
 
     scene_index: int
     stamp: float | None
     primitives: tuple[Primitive, ...]
     votes: dict[int, dict[ShapeKind, int]]
     frames: int
+    partial: bool = False
 
 
 SceneEvent = SceneChange | StableScene
@@ -210,11 +213,30 @@ class SceneAverager:
 
     def stable_scene(self, stamp: float | None = None) -> StableScene:
         """The current averaged scene (what :meth:`update` emits once it holds still)."""
-        ids = sorted(self.members)
+        return self._scene(sorted(self.members), stamp, partial=False)
+
+    def _scene(self, ids: list[int], stamp: float | None, *, partial: bool) -> StableScene:
         return StableScene(
-            self.scene_index,
+            max(self.scene_index, 0),
             stamp,
             tuple(self.objects[i].primitive(i) for i in ids),
             {i: {k: m.count for k, m in self.objects[i].kinds.items()} for i in ids},
-            self.quiet_frames,
+            max((self.objects[i].hits for i in ids), default=0),
+            partial,
         )
+
+    def flush(self, stamp: float | None = None) -> StableScene | None:
+        """At the end of a finite source: the scene it has, if none was emitted for it yet.
+
+        Every confirmed object counts, and every object seen in at least
+        ``min(min_hits, frames seen)`` frames, so one scan gives the scene of that scan.
+        Returns None when there is no such object or the scene was already emitted.
+        """
+        if self.stable_sent:
+            return None
+        need = min(self.min_hits, max(self.frame, 1))
+        ids = sorted(i for i, o in self.objects.items() if i in self.members or o.hits >= need)
+        if not ids:
+            return None
+        self.stable_sent = True
+        return self._scene(ids, stamp, partial=True)

@@ -41,7 +41,7 @@ to drop the bottom centimetre of each object with the table; this gives it back.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 import open3d as o3d
@@ -83,6 +83,26 @@ class FitParams:
     refine_margin: float = 0.15
     upright_tolerance_deg: float = 20.0
     snap_distance_m: float = 0.03
+    noise_factor: float = 3.0
+
+    def for_noise(self, sigma_m: float) -> FitParams:
+        """These parameters with every distance threshold raised to at least
+        ``noise_factor * sigma_m`` (the depth noise at the cluster's range); unchanged when the
+        noise is low enough for the defaults.
+
+        >>> FitParams().for_noise(0.005).selection_threshold_m
+        0.015
+        """
+        floor = self.noise_factor * sigma_m
+        names = (
+            "sphere_threshold_m",
+            "cylinder_threshold_m",
+            "cone_threshold_m",
+            "plane_threshold_m",
+            "selection_threshold_m",
+        )
+        changes = {n: round(max(getattr(self, n), floor), 6) for n in names}
+        return replace(self, **changes)
 
 
 @dataclass(frozen=True, eq=False)
