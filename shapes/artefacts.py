@@ -20,7 +20,8 @@ image:
 
 On an unorganised cloud, the same artefacts are sparse: :func:`sparse_voxels` drops voxels with
 fewer than ``min_neighbours`` occupied voxels in their 3 x 3 x 3 block (a real surface seen by
-the camera fills at least a line of them).
+the camera fills at least a line of them), and :func:`sparse_points` drops the points of an
+object far sparser than its surface (the k-th neighbour distance against the median).
 
 >>> depth = np.full((5, 5), 1.0)
 >>> depth[2, 2] = 0.8  # one flying pixel in front of a flat wall
@@ -34,10 +35,11 @@ import math
 
 import numpy as np
 import numpy.typing as npt
+from scipy.spatial import cKDTree
 
 from shapes.types import FloatArray
 
-__all__ = ["depth_noise_1m", "flying_pixels", "sparse_voxels"]
+__all__ = ["depth_noise_1m", "flying_pixels", "sparse_points", "sparse_voxels"]
 
 BoolArray = npt.NDArray[np.bool_]
 
@@ -142,3 +144,21 @@ def sparse_voxels(voxels: FloatArray, voxel_m: float, min_neighbours: int = 2) -
                 at = np.minimum(at, len(occupied) - 1)
                 count += occupied[at] == probe
     return np.asarray(count < min_neighbours, dtype=np.bool_)
+
+
+def sparse_points(points: FloatArray, neighbours: int = 8, ratio: float = 2.5) -> BoolArray:
+    """Mask of the points of one object whose ``neighbours``-th nearest neighbour is more than
+    ``ratio`` times farther than the median point's: flying pixels and veils in an unorganised
+    cloud, which thin out along the rays while the surface keeps the sensor's pixel density.
+
+    >>> rng = np.random.default_rng(0)
+    >>> surface = np.column_stack((rng.random((400, 2)) * 0.05, np.zeros(400)))
+    >>> veil = np.array([[0.02, 0.02, 0.03], [0.02, 0.02, 0.06]])
+    >>> sparse_points(np.vstack((surface, veil)))[-2:].tolist(), int(sparse_points(surface).sum())
+    ([True, True], 0)
+    """
+    if len(points) <= neighbours + 1:
+        return np.zeros(len(points), dtype=np.bool_)
+    dist, _ = cKDTree(points).query(points, k=neighbours + 1)
+    far = dist[:, -1]
+    return np.asarray(far > ratio * np.median(far), dtype=np.bool_)

@@ -23,7 +23,8 @@ Steps (PITT's, with its quirks fixed; see ``shared/reference/pitt-perception.md`
 5. the above-table margin adapts to the noise: ``above_margin = max(above_margin_m, 3 sigma)``
    with sigma the robust spread of the support's voxels about the plane; full-resolution points
    are cut at ``max(above_margin_m, 2 sigma(z))`` with ``sigma(z) = sigma_1m z²`` (measured on
-   the image, or from the support's residuals on an unorganised cloud);
+   the image, or from the support's residuals on an unorganised cloud; a cloud that is not in
+   a camera frame, with points at z <= 0.1 m, gets one sigma for every range);
 6. statistical outlier removal and DBSCAN (open3d) on those voxels; clusters with fewer than
    ``min_cluster_voxels`` voxels are dropped;
 7. each cluster gets its full-resolution points (and colours) back through the voxel index.
@@ -42,7 +43,7 @@ import numpy as np
 import numpy.typing as npt
 import open3d as o3d
 
-from shapes.artefacts import depth_noise_1m, flying_pixels, sparse_voxels
+from shapes.artefacts import depth_noise_1m, flying_pixels, sparse_points, sparse_voxels
 from shapes.frame import Frame
 from shapes.types import FloatArray, SupportPlane, vec3
 
@@ -264,6 +265,10 @@ def segment(frame: Frame, params: SegmentationParams | None = None, seed: int = 
         keep, sigma_1m = _artefact_mask(frame, keep)
     points = frame.world_points(keep)
     depth = frame.points[keep, 2]
+    if frame.pixels is None and not (depth > 0.1).all():
+        # Not in a camera's frame (e.g. a cloud already in the world frame): the range of each
+        # point is unknown, so the noise is taken as the same everywhere.
+        depth = np.ones(len(depth))
     colours = None if frame.colours is None else frame.colours[keep]
     voxels, voxel_of = voxel_grid(points, params.voxel_m)
     alive = ~sparse_voxels(voxels, params.voxel_m)
@@ -395,6 +400,7 @@ def _clusters(
         if n_vox < params.min_cluster_voxels or len(idx) < params.min_cluster_voxels:
             small += 1
             continue
+        idx = idx[~sparse_points(points[idx])]
         clusters.append(
             Cluster(
                 points[idx],
