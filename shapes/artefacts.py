@@ -64,16 +64,6 @@ def depth_noise_1m(depth: FloatArray) -> float:
     return float(1.4826 * np.median(e))
 
 
-def _shifted(d: FloatArray, dy: int, dx: int) -> FloatArray:
-    """The image moved by (dy, dx): out[i, j] = d[i + dy, j + dx], NaN outside."""
-    h, w = d.shape
-    out = np.full_like(d, np.nan)
-    ys, yd = slice(max(dy, 0), h + min(dy, 0)), slice(max(-dy, 0), h + min(-dy, 0))
-    xs, xd = slice(max(dx, 0), w + min(dx, 0)), slice(max(-dx, 0), w + min(-dx, 0))
-    out[yd, xd] = d[ys, xs]
-    return out
-
-
 _NEIGHBOURS = [(dy, dx) for dy in (-1, 0, 1) for dx in (-1, 0, 1) if (dy, dx) != (0, 0)]
 
 
@@ -92,47 +82,59 @@ def flying_pixels(
     ``depth`` is ``(H, W)`` in metres with NaN for no return; ``sigma_1m`` the noise at 1 m
     (:func:`depth_noise_1m`); ``focal_px`` the focal length, which sets the pixel's footprint.
     """
-    d = np.asarray(depth, dtype=np.float64)
+    d = np.asarray(depth, dtype=np.float32)
+    h, w = d.shape
     valid = np.isfinite(d)
-    z = np.where(valid, d, 1.0)
-    jump = np.maximum(min_jump_m, jump_sigmas * sigma_1m * z * z)
+    z = np.where(valid, d, np.float32(1.0))
+    jump = np.maximum(np.float32(min_jump_m), np.float32(jump_sigmas * sigma_1m) * z * z)
+    padded = np.pad(d, 1, constant_values=np.nan)
     support = np.zeros(d.shape, dtype=np.int8)
-    lo = np.where(valid, d, np.inf)
-    hi = np.where(valid, d, -np.inf)
+    lo, hi = d.copy(), d.copy()
     for dy, dx in _NEIGHBOURS:
-        n = _shifted(d, dy, dx)
-        support += (np.abs(n - d) <= jump).astype(np.int8)
-        finite = np.isfinite(n)
-        lo = np.where(finite, np.minimum(lo, n), lo)
-        hi = np.where(finite, np.maximum(hi, n), hi)
+        n = padded[1 + dy : 1 + dy + h, 1 + dx : 1 + dx + w]
+        support += np.abs(n - d) <= jump
+        np.fmin(lo, n, out=lo)
+        np.fmax(hi, n, out=hi)
     drop = valid & (support < min_support)
-    edge = valid & (hi - lo > jump)
-    if edge.any():
-        # Slope of the surface along the ray from the neighbours on either side: the depth
-        # change over the pixel's footprint z / f. A veil runs nearly along the ray.
-        footprint = z / focal_px
-        slope = np.zeros_like(z)
+    ys, xs = np.nonzero(valid & ~drop & (hi - lo > jump))
+    if len(ys):
+        # At a depth edge, the slope of the surface along the ray from the neighbours on
+        # either side (both on the pixel's own surface): the depth change over the pixel's
+        # footprint z / f. A veil runs nearly along the ray.
+        here, tol = d[ys, xs], jump[ys, xs]
+        footprint = here / focal_px
+        slope = np.zeros(len(ys), dtype=np.float32)
         for dy, dx in ((0, 1), (1, 0), (1, 1), (1, -1)):
-            a, b = _shifted(d, dy, dx), _shifted(d, -dy, -dx)
+            a = padded[1 + ys + dy, 1 + xs + dx]
+            b = padded[1 + ys - dy, 1 + xs - dx]
             step = np.abs(a - b) / (2 * footprint * math.hypot(dy, dx))
-            both = np.isfinite(step) & (np.abs(a - d) <= jump) & (np.abs(b - d) <= jump)
+            both = (np.abs(a - here) <= tol) & (np.abs(b - here) <= tol)
             slope = np.where(both, np.maximum(slope, step), slope)
-        drop |= edge & (slope > math.tan(math.radians(max_ray_angle_deg)))
+        veil = slope > math.tan(math.radians(max_ray_angle_deg))
+        drop[ys[veil], xs[veil]] = True
     return np.asarray(drop, dtype=np.bool_)
 
 
-def sparse_voxels(voxels: FloatArray, voxel_m: float, min_neighbours: int = 2) -> BoolArray:
-    """Mask of voxel centres with fewer than ``min_neighbours`` occupied voxels around them.
+def sparse_voxels(
+    voxels: FloatArray, voxel_m: float, min_neighbours: int = 2, among: FloatArray | None = None
+) -> BoolArray:
+    """Mask of voxel centres with fewer than ``min_neighbours`` occupied voxels around them
+    (in their 3 x 3 x 3 block of the grid), counted among ``among`` (default: ``voxels``).
 
     >>> line = np.array([[0.0, 0, 0], [0.01, 0, 0], [0.02, 0, 0], [0.5, 0.5, 0.5]])
     >>> sparse_voxels(line, 0.01).tolist()
     [True, False, True, True]
     """
-    keys = np.floor(voxels / voxel_m + 0.5).astype(np.int64)
-    keys -= keys.min(axis=0) - 1
-    span = keys.max(axis=0) + 2
-    flat = (keys[:, 0] * span[1] + keys[:, 1]) * span[2] + keys[:, 2]
-    occupied = np.sort(flat)
+    every = voxels if among is None else among
+    origin = np.floor(every / voxel_m + 0.5).astype(np.int64).min(axis=0) - 1
+    span = np.floor(every / voxel_m + 0.5).astype(np.int64).max(axis=0) - origin + 2
+
+    def flat_keys(v: FloatArray) -> npt.NDArray[np.int64]:
+        k = np.floor(v / voxel_m + 0.5).astype(np.int64) - origin
+        return np.asarray((k[:, 0] * span[1] + k[:, 1]) * span[2] + k[:, 2], dtype=np.int64)
+
+    occupied = np.sort(flat_keys(every))
+    flat = flat_keys(voxels)
     count = np.zeros(len(voxels), dtype=np.int64)
     for dx in (-1, 0, 1):
         for dy in (-1, 0, 1):

@@ -185,9 +185,17 @@ class _Plane:
         return f"{kind} ({int(self.inliers.sum())} voxels)"
 
 
-def find_planes(voxels: FloatArray, params: SegmentationParams, seed: int) -> list[_Plane]:
+def find_planes(
+    voxels: FloatArray, params: SegmentationParams, seed: int, tolerance: FloatArray | None = None
+) -> list[_Plane]:
     """Up to ``max_planes`` planes, one after another on what the previous ones left; the
-    horizontal ones have their normal turned up and refitted by least squares."""
+    horizontal ones have their normal turned up and refitted by least squares.
+
+    ``tolerance``: per voxel, how far from a plane it may lie and still belong to it (the
+    depth noise grows with the range); by default ``support_threshold_m``.
+    """
+    if tolerance is None:
+        tolerance = np.full(len(voxels), params.support_threshold_m)
     cos_tilt = math.cos(math.radians(params.max_support_tilt_deg))
     remaining = np.arange(len(voxels))
     min_inliers = max(3, int(params.min_support_fraction * len(voxels)))
@@ -205,21 +213,18 @@ def find_planes(voxels: FloatArray, params: SegmentationParams, seed: int) -> li
         mask = np.zeros(len(voxels), dtype=bool)
         mask[remaining[inl]] = True
         horizontal = abs(n[2]) >= cos_tilt
-        if horizontal:
-            pts = voxels[mask]
-            centre = pts.mean(axis=0)
-            normal = np.linalg.svd(pts - centre, full_matrices=False)[2][2]
-            normal = normal if normal[2] > 0 else -normal
-            offset = float(-normal @ centre)
-            # The refit plane takes the voxels within the threshold of it.
-            near = np.abs(voxels[remaining] @ normal + offset) <= params.support_threshold_m
-            mask[:] = False
-            mask[remaining[near]] = True
-            planes.append(_Plane(normal, offset, mask, True))
-        else:
-            planes.append(
-                _Plane(np.asarray(n), float(-n @ voxels[remaining[inl]].mean(0)), mask, False)
-            )
+        # Refit by least squares on the inliers; the refit plane takes the voxels within
+        # their tolerance of it.
+        pts = voxels[mask]
+        centre = pts.mean(axis=0)
+        n = np.linalg.svd(pts - centre, full_matrices=False)[2][2]
+        if horizontal and n[2] < 0:
+            n = -n
+        offset = float(-n @ centre)
+        near = np.abs(voxels[remaining] @ n + offset) <= tolerance[remaining]
+        mask[:] = False
+        mask[remaining[near]] = True
+        planes.append(_Plane(np.asarray(n), offset, mask, horizontal))
         remaining = remaining[~mask[remaining]]
     return planes
 
@@ -271,9 +276,12 @@ def segment(frame: Frame, params: SegmentationParams | None = None, seed: int = 
         depth = np.ones(len(depth))
     colours = None if frame.colours is None else frame.colours[keep]
     voxels, voxel_of = voxel_grid(points, params.voxel_m)
-    alive = ~sparse_voxels(voxels, params.voxel_m)
-    alive_idx = np.flatnonzero(alive)
-    planes = find_planes(voxels[alive], params, seed)
+    alive = np.ones(len(voxels), dtype=bool)
+    alive_idx = np.arange(len(voxels))
+    counts = np.bincount(voxel_of, minlength=len(voxels))
+    voxel_depth = np.bincount(voxel_of, weights=depth, minlength=len(voxels)) / counts
+    tolerance = np.maximum(params.support_threshold_m, 3 * sigma_1m * voxel_depth**2)
+    planes = find_planes(voxels[alive], params, seed, tolerance[alive])
     horizontal = [p for p in planes if p.horizontal]
     if not horizontal:
         seen = "; ".join(p.describe() for p in planes) or "none"
@@ -288,6 +296,9 @@ def segment(frame: Frame, params: SegmentationParams | None = None, seed: int = 
     for p in planes:
         in_plane[alive_idx[p.inliers]] = True
     free = alive & ~in_plane
+    # Stray returns and outliers: free voxels with fewer than two occupied neighbours.
+    free_idx = np.flatnonzero(free)
+    free[free_idx[sparse_voxels(voxels[free_idx], params.voxel_m, among=voxels)]] = False
     # Each free voxel goes to the nearest horizontal plane below it that covers it.
     best_height = np.full(len(voxels), np.inf)
     owner = np.full(len(voxels), -1)
@@ -339,6 +350,7 @@ def segment(frame: Frame, params: SegmentationParams | None = None, seed: int = 
             margins[k],
             sigma_1m,
             params,
+            frame.pixels is not None and params.filter_artefacts,
         )
         too_small += small
         votes[k] = sum(len(c.voxels) for c in found)
@@ -376,6 +388,7 @@ def _clusters(
     margin: float,
     sigma_1m: float,
     params: SegmentationParams,
+    organised: bool,
 ) -> tuple[list[Cluster], int]:
     """DBSCAN clusters of the candidate voxels above one support, and how many were too small."""
     cloud = _cloud(voxels[candidates])
@@ -400,7 +413,8 @@ def _clusters(
         if n_vox < params.min_cluster_voxels or len(idx) < params.min_cluster_voxels:
             small += 1
             continue
-        idx = idx[~sparse_points(points[idx])]
+        if not organised:
+            idx = idx[~sparse_points(points[idx])]
         clusters.append(
             Cluster(
                 points[idx],

@@ -45,12 +45,20 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 import open3d as o3d
+from scipy.spatial import cKDTree
 
 from shapes.fit._ransac import Model, ransac, refine_if_better
 from shapes.fit.models import ConeModel, CylinderModel, PlaneModel, SphereModel
 from shapes.types import FloatArray, Primitive, ShapeKind, SupportPlane, vec3
 
-__all__ = ["ClusterFit", "FitParams", "estimate_normals", "fit_cluster", "pitt_choice"]
+__all__ = [
+    "ClusterFit",
+    "FitParams",
+    "estimate_normals",
+    "fit_cluster",
+    "normals_at",
+    "pitt_choice",
+]
 
 ORDER = (ShapeKind.SPHERE, ShapeKind.CYLINDER, ShapeKind.CONE, ShapeKind.PLANE)
 
@@ -134,6 +142,21 @@ def pitt_choice(counts: dict[ShapeKind, int]) -> ShapeKind | None:
     if s >= p and s >= co and s >= cy:
         return ShapeKind.SPHERE
     return None
+
+
+def normals_at(points: FloatArray, at: FloatArray, neighbours: int) -> FloatArray:
+    """Unoriented unit normals at the points ``at``, each from its ``neighbours`` nearest
+    points of ``points`` (the smallest principal axis of their covariance).
+
+    >>> flat = np.column_stack((np.random.default_rng(0).random((50, 2)), np.zeros(50)))
+    >>> np.abs(normals_at(flat, flat[:2], 10)).round(6).tolist()
+    [[0.0, 0.0, 1.0], [0.0, 0.0, 1.0]]
+    """
+    _, idx = cKDTree(points).query(at, k=neighbours)
+    patches = points[idx]
+    centred = patches - patches.mean(axis=1, keepdims=True)
+    cov = np.einsum("nki,nkj->nij", centred, centred)
+    return np.asarray(np.linalg.eigh(cov)[1][:, :, 0], dtype=np.float64)
 
 
 def estimate_normals(points: FloatArray, neighbours: int) -> FloatArray:
@@ -247,15 +270,15 @@ def fit_cluster(
     fp = params or FitParams()
     if len(points) < 10:
         return None
-    # Normals come from the full-resolution points: with the same number of neighbours their
-    # patches are smaller than on the sample, so a short band of a cylinder's side below its
-    # top keeps normals square to the axis.
-    all_normals = estimate_normals(points, min(fp.normal_neighbours, len(points) - 1))
+    # Normals from the full-resolution neighbours of each sampled point: with the same number
+    # of neighbours their patches are smaller than on the sample, so a short band of a
+    # cylinder's side below its top keeps normals square to the axis.
     if len(points) > fp.max_fit_points:
         chosen = np.sort(rng.choice(len(points), fp.max_fit_points, replace=False))
-        sample, normals = points[chosen], all_normals[chosen]
+        sample = points[chosen]
     else:
-        sample, normals = points, all_normals
+        sample = points
+    normals = normals_at(points, sample, min(fp.normal_neighbours, len(points) - 1))
     t_sel = fp.selection_threshold_m
     # A sphere or cylinder is seen over a good part of its circumference (a third of it already
     # spans 1.7 radii), so its radius is bounded by the cluster's size: wider ones only imitate
