@@ -25,8 +25,9 @@ Steps (PITT's, with its quirks fixed; see ``shared/reference/pitt-perception.md`
    are cut at ``max(above_margin_m, 2 sigma(z))`` with ``sigma(z) = sigma_1m z²`` (measured on
    the image, or from the support's residuals on an unorganised cloud; a cloud that is not in
    a camera frame, with points at z <= 0.1 m, gets one sigma for every range);
-6. statistical outlier removal and DBSCAN (open3d) on those voxels; clusters with fewer than
-   ``min_cluster_voxels`` voxels are dropped;
+6. statistical outlier removal and DBSCAN (open3d) on those voxels; each cluster is cut along
+   its concave seams, which separates objects that touch (:mod:`shapes.split`); clusters with
+   fewer than ``min_cluster_voxels`` voxels are dropped;
 7. each cluster gets its full-resolution points (and colours) back through the voxel index.
 
 When there is no cluster, :attr:`Segmentation.reason` says why in one line: no support found
@@ -45,6 +46,7 @@ import open3d as o3d
 
 from shapes.artefacts import depth_noise_1m, flying_pixels, sparse_points, sparse_voxels
 from shapes.frame import Frame
+from shapes.split import split_touching
 from shapes.types import FloatArray, SupportPlane, vec3
 
 __all__ = ["Cluster", "Segmentation", "SegmentationParams", "segment"]
@@ -72,6 +74,7 @@ class SegmentationParams:
     cluster_eps_m: float = 0.03
     cluster_min_points: int = 3
     min_cluster_voxels: int = 12
+    split_touching: bool = True
 
 
 @dataclass(frozen=True, eq=False)
@@ -270,7 +273,9 @@ def segment(frame: Frame, params: SegmentationParams | None = None, seed: int = 
         keep, sigma_1m = _artefact_mask(frame, keep)
     points = frame.world_points(keep)
     depth = frame.points[keep, 2]
+    viewpoint: FloatArray | None = frame.world_from_sensor[:3, 3]
     if frame.pixels is None and not (depth > 0.1).all():
+        viewpoint = None
         # Not in a camera's frame (e.g. a cloud already in the world frame): the range of each
         # point is unknown, so the noise is taken as the same everywhere.
         depth = np.ones(len(depth))
@@ -351,6 +356,7 @@ def segment(frame: Frame, params: SegmentationParams | None = None, seed: int = 
             sigma_1m,
             params,
             frame.pixels is not None and params.filter_artefacts,
+            viewpoint,
         )
         too_small += small
         votes[k] = sum(len(c.voxels) for c in found)
@@ -377,6 +383,31 @@ def segment(frame: Frame, params: SegmentationParams | None = None, seed: int = 
     return Segmentation(primary, tuple(clusters), tuple(with_objects), sigma_1m, reason)
 
 
+def _split(
+    labels: npt.NDArray[np.int64],
+    voxels: FloatArray,
+    viewpoint: FloatArray | None,
+    params: SegmentationParams,
+    sigma_1m: float,
+) -> npt.NDArray[np.int64]:
+    """Labels with every cluster cut along its concave seams (:mod:`shapes.split`)."""
+    out = labels.copy()
+    next_label = int(labels.max(initial=-1)) + 1
+    for label in range(next_label):
+        members = np.flatnonzero(labels == label)
+        if len(members) < 2 * params.min_cluster_voxels:
+            continue
+        ranges = 1.0 if viewpoint is None else np.linalg.norm(voxels[members] - viewpoint, axis=1)
+        noise = sigma_1m * float(np.median(ranges)) ** 2
+        parts = split_touching(
+            voxels[members], viewpoint, min_voxels=params.min_cluster_voxels, noise_m=noise
+        )
+        for part in range(1, int(parts.max()) + 1):
+            out[members[parts == part]] = next_label
+            next_label += 1
+    return out
+
+
 def _clusters(
     candidates: npt.NDArray[np.intp],
     voxels: FloatArray,
@@ -389,6 +420,7 @@ def _clusters(
     sigma_1m: float,
     params: SegmentationParams,
     organised: bool,
+    viewpoint: FloatArray | None,
 ) -> tuple[list[Cluster], int]:
     """DBSCAN clusters of the candidate voxels above one support, and how many were too small."""
     cloud = _cloud(voxels[candidates])
@@ -398,6 +430,8 @@ def _clusters(
         _cloud(voxels[candidates]).cluster_dbscan(params.cluster_eps_m, params.cluster_min_points),
         dtype=np.int64,
     )
+    if params.split_touching:
+        labels = _split(labels, voxels[candidates], viewpoint, params, sigma_1m)
     voxel_label = np.full(len(voxels), -1, dtype=np.int64)
     voxel_label[candidates] = labels
     point_label = voxel_label[voxel_of]
