@@ -20,17 +20,19 @@ other. The rule (after the local convexity criterion of LCCP, Stein et al. 2014)
   whole.
 
 >>> rng = np.random.default_rng(0)
->>> def ball(cx):
+>>> def dome(cx):  # the upper half of a ball of radius 4 cm, seen from above
 ...     d = rng.normal(size=(3000, 3)); d /= np.linalg.norm(d, axis=1)[:, None]
-...     return d * 0.04 + (cx, 0.0, 0.04)
->>> both = np.vstack((ball(-0.041), ball(0.041)))
+...     d[:, 2] = np.abs(d[:, 2])
+...     return d * 0.04 + (cx, 0.0, 0.0)
 >>> from shapes.segment import voxel_grid
->>> voxels, _ = voxel_grid(both, 0.01)
->>> labels = split_touching(voxels, viewpoint=None)
->>> sorted(np.bincount(labels).tolist()) > [100, 100]
+>>> voxels, _ = voxel_grid(np.vstack((dome(-0.041), dome(0.041))), 0.01)
+>>> labels = split_touching(voxels, viewpoint=np.array([0.0, 0.0, 1.0]))
+>>> sorted(np.bincount(labels).tolist()) > [50, 50]
 True
 >>> len(set(labels.tolist()))
 2
+>>> len(set(split_touching(voxel_grid(dome(0.0), 0.01)[0], np.array([0, 0, 1.0])).tolist()))
+1
 """
 
 from __future__ import annotations
