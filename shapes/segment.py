@@ -374,10 +374,15 @@ def segment(frame: Frame, params: SegmentationParams | None = None, seed: int = 
                 f"no clusters above the support: {above} voxels above "
                 f"{len(horizontal)} horizontal plane(s)"
             )
-        else:
+        elif too_small:
             reason = (
                 f"clusters rejected: {too_small} cluster(s) smaller than "
                 f"{params.min_cluster_voxels} voxels"
+            )
+        else:
+            reason = (
+                f"no clusters above the support: {above} voxels above it, all stray points "
+                "or outliers"
             )
     log.debug("segmented %d points into %d clusters", len(points), len(clusters))
     return Segmentation(primary, tuple(clusters), tuple(with_objects), sigma_1m, reason)
