@@ -2,8 +2,10 @@
 
 For each tracking id the averager keeps, **separately for each shape kind**, the running mean of
 that kind's attributes (centre, axis, radius, height, apex, point on axis, Hessian offset) and
-how often the object was seen as that kind. The object's current primitive is its majority kind
-with that kind's averages, so a frame that calls a cylinder a cone does not drag the cylinder's
+how often the object was seen as that kind, each frame weighted by its fit quality (the share of
+the cluster within the selection threshold of the model, ``inlier_ratio``): a frame whose
+flying pixels or noise spoil the fit weighs less. The object's current primitive is its majority
+kind with that kind's averages, so a frame that calls a cylinder a cone does not drag the cylinder's
 height or centre. Colour is averaged over every observation.
 
 Scene changes (which the seed could only handle by a manual restart): the current scene is the
@@ -83,6 +85,7 @@ SceneEvent = SceneChange | StableScene
 @dataclass
 class _KindMean:
     count: int = 0
+    weight: float = 0.0
     sums: dict[str, FloatArray] = field(default_factory=dict)
 
     def add(self, p: Primitive) -> None:
@@ -98,6 +101,7 @@ class _KindMean:
                 v = v * flip
             self.sums[name] = self.sums.get(name, np.zeros_like(v)) + v
         self.count += 1
+        self.weight += max(p.inlier_ratio, 1e-3)
 
     def mean(self, kind: ShapeKind) -> dict[str, object]:
         out: dict[str, object] = {}
@@ -136,7 +140,7 @@ class _Object:
         self.hits += 1
 
     def majority(self) -> ShapeKind:
-        return max(self.kinds, key=lambda k: (self.kinds[k].count, self.last_seen[k]))
+        return max(self.kinds, key=lambda k: (self.kinds[k].weight, self.last_seen[k]))
 
     def primitive(self, tracking_id: int) -> Primitive:
         kind = self.majority()

@@ -62,6 +62,11 @@ class FrameResult:
     """Why this frame gave no primitive (one line), None when it gave some."""
 
 
+def _signature(primitive: Primitive) -> tuple[str, float]:
+    """Shape kind and size (radius, or 0 for a plane) by which a moved object is known again."""
+    return primitive.kind.value, primitive.radius or 0.0
+
+
 class Perception:
     """Stateful chain: call :meth:`process` once per frame, in order.
 
@@ -102,7 +107,9 @@ class Perception:
         if reason is not None:
             self.reasons[reason.split(":")[0]] = reason
         self.last_stamp = frame.stamp
-        ids = self.tracker.update([c.centroid for c, _ in fitted])
+        ids = self.tracker.update(
+            [c.centroid for c, _ in fitted], [_signature(p) for _, p in fitted]
+        )
         primitives, observations = [], []
         for (cluster, prim), tid in zip(fitted, ids, strict=True):
             colour = None if cluster.colours is None else mean_colour(cluster.colours)
