@@ -388,6 +388,15 @@ def segment(frame: Frame, params: SegmentationParams | None = None, seed: int = 
     return Segmentation(primary, tuple(clusters), tuple(with_objects), sigma_1m, reason)
 
 
+def _stacked(voxels: FloatArray, parts: npt.NDArray[np.int64], min_apart_m: float) -> bool:
+    """Whether two parts stand on top of each other (their centres closer than ``min_apart_m``
+    across the table): objects on a table touch side by side, so such a cut runs through one
+    object (an occlusion line, say) and is not taken."""
+    centres = np.array([voxels[parts == k, :2].mean(axis=0) for k in range(int(parts.max()) + 1)])
+    gaps = np.linalg.norm(centres[:, None, :] - centres[None, :, :], axis=2)
+    return bool((gaps[np.triu_indices(len(centres), 1)] < min_apart_m).any())
+
+
 def _split(
     labels: npt.NDArray[np.int64],
     voxels: FloatArray,
@@ -407,6 +416,8 @@ def _split(
         parts = split_touching(
             voxels[members], viewpoint, min_voxels=params.min_cluster_voxels, noise_m=noise
         )
+        if parts.max() == 0 or _stacked(voxels[members], parts, params.cluster_eps_m):
+            continue
         for part in range(1, int(parts.max()) + 1):
             out[members[parts == part]] = next_label
             next_label += 1
