@@ -10,8 +10,9 @@ Steps (PITT's, with its quirks fixed; see ``shared/reference/pitt-perception.md`
    numpy so that every full-resolution point keeps the index of its voxel. Voxels with fewer
    than two occupied neighbours (stray returns, outliers) are set aside;
 3. planes: RANSAC (numpy, seeded) finds up to ``max_planes`` planes one after another, each
-   holding at least ``min_support_fraction`` of the voxels. Threshold 1 cm, not PITT's 2 cm,
-   which ate the bottom of every object;
+   holding at least ``min_support_fraction`` of the voxels and spanning at least
+   ``min_plane_extent_m`` (a smaller one is the face of an object, and the search stops).
+   Threshold 1 cm, not PITT's 2 cm, which ate the bottom of every object;
 4. **the support rule**: a support is a *horizontal* plane (normal within
    ``max_support_tilt_deg`` of world z, i.e. of gravity) *with objects on it*. Every voxel that
    belongs to no plane and lies between ``above_margin`` and ``max_height_m`` above a horizontal
@@ -66,6 +67,7 @@ class SegmentationParams:
     max_support_tilt_deg: float = 10.0
     min_support_fraction: float = 0.03
     max_planes: int = 5
+    min_plane_extent_m: float = 0.25
     above_margin_m: float = 0.008
     max_height_m: float = 0.6
     edge_margin_m: float = 0.02
@@ -75,6 +77,7 @@ class SegmentationParams:
     cluster_min_points: int = 3
     min_cluster_voxels: int = 12
     split_touching: bool = True
+    min_split_extent_m: float = 0.07
 
 
 @dataclass(frozen=True, eq=False)
@@ -213,6 +216,8 @@ def find_planes(
         if found is None or len(found[1]) < min_inliers:
             break
         n, inl = found
+        if np.ptp(voxels[remaining[inl]], axis=0).max() < params.min_plane_extent_m:
+            break  # a face of an object (a box side, a can's top), not a table, floor or wall
         mask = np.zeros(len(voxels), dtype=bool)
         mask[remaining[inl]] = True
         horizontal = abs(n[2]) >= cos_tilt
@@ -411,6 +416,8 @@ def _split(
         members = np.flatnonzero(labels == label)
         if len(members) < 2 * params.min_cluster_voxels:
             continue
+        if np.ptp(voxels[members, :2], axis=0).max() < params.min_split_extent_m:
+            continue  # narrower than two of the smallest objects side by side
         ranges = 1.0 if viewpoint is None else np.linalg.norm(voxels[members] - viewpoint, axis=1)
         noise = sigma_1m * float(np.median(ranges)) ** 2
         parts = split_touching(

@@ -352,28 +352,6 @@ def fit_cluster(
         plane_d = np.minimum(plane_d, d)
         planes.append((res.params, sample[remaining][res.inliers]))
         remaining &= d >= fp.plane_threshold_m
-    if planes and ShapeKind.CONE in models:
-        # A cone on its side shows its flat base: hypotheses drawn from the whole cluster then
-        # mostly hold a base point and miss the cone. Draw more from what the first plane
-        # leaves (the lateral surface) and keep the cone if it explains the whole cluster better.
-        off = plane_model.distances(planes[0][0][None, :], sample)[0] >= fp.plane_threshold_m
-        if off.sum() >= max(20, fp.min_plane_share * len(sample)):
-            model, thr = models[ShapeKind.CONE]
-            res = ransac(
-                model,
-                sample[off],
-                normals[off],
-                threshold=thr,
-                rng=rng,
-                max_iterations=fp.max_iterations,
-                refine=False,
-                min_iterations=fp.min_iterations,
-                preview_points=fp.preview_points,
-            )
-            if res is not None:
-                d = model.distances(res.params[None, :], sample)[0]
-                if _cost(d, t_sel) < costs.get(ShapeKind.CONE, np.inf):
-                    score(ShapeKind.CONE, res.params)
     if len(planes) > 1:
         # Points along a box edge lie within the threshold of both faces: give each point to
         # its nearest face and refit every face on its own points, so edges do not tilt them.
@@ -393,6 +371,30 @@ def fit_cluster(
         plane_d = plane_model.distances(np.array([p for p, _ in planes]), sample).min(axis=0)
     if planes:
         surface[ShapeKind.PLANE], costs[ShapeKind.PLANE] = plane_d, _cost(plane_d, t_sel)
+    plane_cost = costs.get(ShapeKind.PLANE, np.inf)
+    if planes and costs.get(ShapeKind.CONE, np.inf) > plane_cost - fp.tie_margin:
+        # A cone on its side shows its flat base: hypotheses drawn from the whole cluster then
+        # mostly hold a base point and miss the cone. When the planes beat the cone, draw more
+        # from what the first plane leaves (the lateral surface) and keep the cone if it
+        # explains the whole cluster better.
+        off = plane_model.distances(planes[0][0][None, :], sample)[0] >= fp.plane_threshold_m
+        if off.sum() >= max(20, fp.min_plane_share * len(sample)):
+            model, thr = models[ShapeKind.CONE]
+            res = ransac(
+                model,
+                sample[off],
+                normals[off],
+                threshold=thr,
+                rng=rng,
+                max_iterations=fp.max_iterations,
+                refine=False,
+                min_iterations=fp.min_iterations,
+                preview_points=fp.preview_points,
+            )
+            if res is not None:
+                d = model.distances(res.params[None, :], sample)[0]
+                if _cost(d, t_sel) < costs.get(ShapeKind.CONE, np.inf):
+                    score(ShapeKind.CONE, res.params)
     if not costs:
         return None
     # Least-squares refinement only for the curved candidates still in the running.
