@@ -8,6 +8,7 @@ import httpx
 import numpy as np
 import typer
 from rich.console import Console
+from rich.markup import escape
 from rich.progress import Progress
 
 from api.armor import ArmorEngine
@@ -15,7 +16,7 @@ from api.client import ArmorClient, ArmorPyException, LocalTransport
 from api.config import Settings
 from api.perceive import PerceivedScene, perceive
 from kg import EngramError, Store, ensure_ontology
-from shapes import Frame, Perception, ShapesError, open_source, source_length
+from shapes import Frame, Perception, PerceptionParams, ShapesError, open_source, source_length
 
 __all__ = ["perceive_command"]
 
@@ -26,10 +27,12 @@ def _describe(result: PerceivedScene) -> str:
     kinds = ", ".join(sorted(p.kind.value for p in result.scene.primitives))
     how = "learned" if result.learned else "recognised as"
     confidence = result.answer.details.get("confidence", ["?"])[0]
+    frames = result.scene.frames
+    held = ", end of the source" if result.scene.partial else ""
     return (
-        f"scene {result.scene.scene_index} ({kinds}): {how} "
-        f"[bold]{result.stored_as.rsplit('#', 1)[-1].rstrip('>')}[/bold] "
-        f"(confidence {confidence})"
+        f"scene {result.scene.scene_index} ({escape(kinds)}; {frames} frame(s) averaged{held}): "
+        f"{how} [bold]{escape(result.stored_as.rsplit('#', 1)[-1].rstrip('>'))}[/bold] "
+        f"(confidence {escape(confidence)})"
     )
 
 
@@ -53,6 +56,22 @@ def perceive_command(
     episode: Annotated[str | None, typer.Option(help="Episode IRI the scenes belong to.")] = None,
     client_id: Annotated[str, typer.Option(help="ARMOR client name.")] = "perception",
     seed: Annotated[int, typer.Option(help="Seed of the RANSAC fits.")] = 0,
+    scene_frames: Annotated[
+        int,
+        typer.Option(
+            min=1, help="Frames a scene must hold still (no object appearing, moving, vanishing)."
+        ),
+    ] = 5,
+    min_hits: Annotated[
+        int, typer.Option(min=1, help="Frames an object must be seen in to join a scene.")
+    ] = 3,
+    wait_stable: Annotated[
+        bool,
+        typer.Option(
+            help="Store only scenes that held still; by default the end of the source also "
+            "stores the scene it has (one scan stores one scene)."
+        ),
+    ] = False,
 ) -> None:
     """Perceive SOURCE and store every stable scene; print what the memory recognised or learned."""
     try:
@@ -60,14 +79,14 @@ def perceive_command(
         total = source_length(source, topic=topic)
         frames = open_source(source, topic=topic, world_from_sensor=world_from_sensor)
     except (ShapesError, OSError, ValueError) as error:
-        console.print(f"[red]{error}[/red]")
+        console.print(f"[red]{escape(str(error))}[/red]")
         raise typer.Exit(2) from None
     if local:
         settings = Settings(data_dir=data) if data else Settings()
         try:
             store = Store(settings.store_dir)
         except EngramError as error:
-            console.print(f"[red]{error}[/red]")
+            console.print(f"[red]{escape(str(error))}[/red]")
             raise typer.Exit(1) from None
         ensure_ontology(store)
         http = httpx.Client(base_url="http://local", transport=LocalTransport(ArmorEngine(store)))
@@ -84,15 +103,20 @@ def perceive_command(
                     yield frame
                     progress.advance(task)
 
+            params = PerceptionParams(stable_frames=scene_frames, min_hits=min_hits)
+            perception = Perception(params, seed=seed)
             for result in perceive(
-                counted(), client, perception=Perception(seed=seed), episode=episode
+                counted(), client, perception=perception, episode=episode, finish=not wait_stable
             ):
                 stored += 1
                 progress.console.print(_describe(result))
     except ShapesError as error:  # the source is bad: an input error
-        console.print(f"[red]{error}[/red]")
+        console.print(f"[red]{escape(str(error))}[/red]")
         raise typer.Exit(2) from None
     except ArmorPyException as error:  # the memory refused or could not be reached
-        console.print(f"[red]{error}[/red]")
+        console.print(f"[red]{escape(str(error))}[/red]")
         raise typer.Exit(1) from None
-    console.print(f"{stored} scene(s) stored from {source}")
+    console.print(f"{stored} scene(s) stored from {escape(str(source))}")
+    if not stored:
+        for line in perception.why_no_scene() or ["no frame in the source"]:
+            console.print(f"no scene: {escape(line)}")

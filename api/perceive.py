@@ -70,14 +70,20 @@ def perceive(
     *,
     perception: Perception | None = None,
     episode: str | None = None,
+    finish: bool = True,
 ) -> Iterator[PerceivedScene]:
     """Run perception over ``frames`` and store every stable scene; yield what was stored.
+
+    ``finish``: ``frames`` is a finite source (a file, a bag); at its end the scene it has is
+    stored too, marked with the frames it averages, even if it never held still long enough
+    (so one scan stores one scene). When nothing is stored, ``perception.why_no_scene()`` says
+    why.
 
     Raises :class:`~api.client.ArmorServiceInternalError` when the memory refuses a scene (the
     scene's list then changed nothing) and the errors of ``shapes`` for bad frames.
     """
     perception = perception or Perception()
-    for scene in perception.stable_scenes(frames):
+    for scene in perception.stable_scenes(frames, finish=finish):
         if not scene.primitives:
             continue
         answer = client.memory.store_scene(scene_primitives(scene), episode=episode)

@@ -6,14 +6,19 @@ Engram's and no RDF code, so the memory client (``api``) depends on it, never th
 
 Stages, each usable on its own:
 
-- inputs: :class:`Frame` (validated arrays), :func:`frame_from_depth_image`,
-  :func:`open_source` (PLY/PCD, NumPy files, ROS 1 / ROS 2 bags), and the synthetic tabletop
-  generator :mod:`shapes.synthetic` with ground truth;
-- :func:`segment`: voxel grid, depth cut, support plane, points above it, clusters;
+- inputs: :class:`Frame` (validated arrays, organised or not), :func:`frame_from_depth_image`,
+  :func:`open_source` (PLY/PCD checked against their headers by :mod:`shapes.cloudfile`,
+  NumPy files, ROS 1 / ROS 2 bags), the synthetic tabletop generator :mod:`shapes.synthetic`
+  with ground truth, and :mod:`shapes.sensor`, a simulated 640 x 480 depth camera with the
+  artefacts of real sensors;
+- :mod:`shapes.artefacts`: depth noise measured per frame, flying pixels, veils, sparse points;
+- :func:`segment`: depth cut, voxel grid, planes, the support rule (the horizontal plane with
+  objects on it), points above it, clusters, touching objects split (:mod:`shapes.split`);
 - :func:`fit_cluster`: sphere / cylinder / cone / plane RANSAC and the shape choice;
 - :class:`Tracker`: stable ids; :mod:`shapes.colour`: colour per object;
 - :class:`SceneAverager`: per-id averages per shape, majority shape, scene changes;
-- :class:`Perception`: all of it for a stream of frames, yielding :class:`StableScene` events.
+- :class:`Perception`: all of it for a stream of frames, yielding :class:`StableScene` events
+  (and, at the end of a finite source, the scene it has; :meth:`Perception.why_no_scene`).
 
 >>> import numpy as np
 >>> from shapes.synthetic import random_scene

@@ -2,8 +2,10 @@
 
 For each tracking id the averager keeps, **separately for each shape kind**, the running mean of
 that kind's attributes (centre, axis, radius, height, apex, point on axis, Hessian offset) and
-how often the object was seen as that kind. The object's current primitive is its majority kind
-with that kind's averages, so a frame that calls a cylinder a cone does not drag the cylinder's
+how often the object was seen as that kind, each frame weighted by its fit quality (the share of
+the cluster within the selection threshold of the model, ``inlier_ratio``): a frame whose
+flying pixels or noise spoil the fit weighs less. The object's current primitive is its majority
+kind with that kind's averages, so a frame that calls a cylinder a cone does not drag the cylinder's
 height or centre. Colour is averaged over every observation.
 
 Scene changes (which the seed could only handle by a manual restart): the current scene is the
@@ -65,13 +67,16 @@ class SceneChange:
 
 @dataclass(frozen=True)
 class StableScene:
-    """A scene that held still for ``frames`` frames: its averaged primitives, by id."""
+    """A scene's averaged primitives, by id; ``frames`` is how many frames the averages hold
+    (the most any object was seen). ``partial`` marks a scene emitted at the end of a finite
+    source (a file, the end of a bag) before it had held still long enough."""
 
     scene_index: int
     stamp: float | None
     primitives: tuple[Primitive, ...]
     votes: dict[int, dict[ShapeKind, int]]
     frames: int
+    partial: bool = False
 
 
 SceneEvent = SceneChange | StableScene
@@ -80,6 +85,7 @@ SceneEvent = SceneChange | StableScene
 @dataclass
 class _KindMean:
     count: int = 0
+    weight: float = 0.0
     sums: dict[str, FloatArray] = field(default_factory=dict)
 
     def add(self, p: Primitive) -> None:
@@ -95,6 +101,7 @@ class _KindMean:
                 v = v * flip
             self.sums[name] = self.sums.get(name, np.zeros_like(v)) + v
         self.count += 1
+        self.weight += max(p.inlier_ratio, 1e-3)
 
     def mean(self, kind: ShapeKind) -> dict[str, object]:
         out: dict[str, object] = {}
@@ -133,7 +140,7 @@ class _Object:
         self.hits += 1
 
     def majority(self) -> ShapeKind:
-        return max(self.kinds, key=lambda k: (self.kinds[k].count, self.last_seen[k]))
+        return max(self.kinds, key=lambda k: (self.kinds[k].weight, self.last_seen[k]))
 
     def primitive(self, tracking_id: int) -> Primitive:
         kind = self.majority()
@@ -210,11 +217,30 @@ class SceneAverager:
 
     def stable_scene(self, stamp: float | None = None) -> StableScene:
         """The current averaged scene (what :meth:`update` emits once it holds still)."""
-        ids = sorted(self.members)
+        return self._scene(sorted(self.members), stamp, partial=False)
+
+    def _scene(self, ids: list[int], stamp: float | None, *, partial: bool) -> StableScene:
         return StableScene(
-            self.scene_index,
+            max(self.scene_index, 0),
             stamp,
             tuple(self.objects[i].primitive(i) for i in ids),
             {i: {k: m.count for k, m in self.objects[i].kinds.items()} for i in ids},
-            self.quiet_frames,
+            max((self.objects[i].hits for i in ids), default=0),
+            partial,
         )
+
+    def flush(self, stamp: float | None = None) -> StableScene | None:
+        """At the end of a finite source: the scene it has, if none was emitted for it yet.
+
+        Every confirmed object counts, and every object seen in at least
+        ``min(min_hits, frames seen)`` frames, so one scan gives the scene of that scan.
+        Returns None when there is no such object or the scene was already emitted.
+        """
+        if self.stable_sent:
+            return None
+        need = min(self.min_hits, max(self.frame, 1))
+        ids = sorted(i for i, o in self.objects.items() if i in self.members or o.hits >= need)
+        if not ids:
+            return None
+        self.stable_sent = True
+        return self._scene(ids, stamp, partial=True)

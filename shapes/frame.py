@@ -96,6 +96,10 @@ def as_transform(matrix: npt.ArrayLike, *, name: str = "world_from_sensor") -> F
 class Frame:
     """A validated point cloud in the sensor frame, with optional colours and a pose.
 
+    An *organised* cloud (from a depth image or a bag with width x height) also carries
+    ``image_shape`` (rows, columns) and ``pixels``, the flat row-major pixel of each point; the
+    artefact filters then work on the image neighbourhoods.
+
     Raises InvalidCloudError if ``points`` is not a finite ``(N, 3)`` array, if ``colours``
     does not have one RGB row per point, or if ``world_from_sensor`` is not rigid.
 
@@ -109,10 +113,27 @@ class Frame:
     stamp: float | None = None
     frame_id: str = ""
     world_from_sensor: FloatArray = field(default_factory=lambda: np.eye(4))
+    image_shape: tuple[int, int] | None = None
+    pixels: npt.NDArray[np.intp] | None = None
 
     def __post_init__(self) -> None:
         pts = as_points(self.points)
         object.__setattr__(self, "points", pts)
+        if (self.image_shape is None) != (self.pixels is None):
+            raise InvalidCloudError(
+                "pixels: expected both image_shape and pixels for an organised cloud, or "
+                f"neither, got image_shape={self.image_shape!r} and "
+                f"pixels {'None' if self.pixels is None else 'set'}"
+            )
+        if self.image_shape is not None and self.pixels is not None:
+            pix = np.asarray(self.pixels, dtype=np.intp)
+            size = int(self.image_shape[0]) * int(self.image_shape[1])
+            if pix.shape != (len(pts),) or (len(pix) and (pix.min() < 0 or pix.max() >= size)):
+                raise InvalidCloudError(
+                    f"pixels: expected {len(pts)} flat indices in 0..{size - 1} of an image of "
+                    f"shape {self.image_shape}, got shape {pix.shape}"
+                )
+            object.__setattr__(self, "pixels", pix)
         if self.colours is not None:
             object.__setattr__(self, "colours", as_colours(self.colours, len(pts)))
         object.__setattr__(self, "world_from_sensor", as_transform(self.world_from_sensor))
@@ -180,4 +201,6 @@ def frame_from_depth_image(
         stamp,
         frame_id,
         np.asarray(pose, dtype=np.float64),
+        (int(d.shape[0]), int(d.shape[1])),
+        (v * d.shape[1] + u).astype(np.intp),
     )

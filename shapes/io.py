@@ -16,6 +16,7 @@ import numpy as np
 import open3d as o3d
 
 from shapes.bags import bag_message_count, read_bag
+from shapes.cloudfile import check_cloud_file
 from shapes.errors import InvalidCloudError, SourceError
 from shapes.frame import Frame
 from shapes.types import FloatArray
@@ -30,21 +31,42 @@ BAG_SUFFIXES = (".bag", ".mcap", ".db3")
 def read_cloud_file(path: str | Path, *, world_from_sensor: FloatArray | None = None) -> Frame:
     """One frame from a PLY/PCD/XYZ file (open3d), with its colours if the file has them.
 
-    Raises SourceError if the file is missing or holds no point, InvalidCloudError if the
-    points are not finite.
+    Raises SourceError if the file is missing, malformed or truncated (see
+    :func:`~shapes.cloudfile.check_cloud_file`) or holds no finite point. Points that are NaN or
+    infinite (an organised cloud's empty pixels) are dropped; an organised PCD (HEIGHT > 1)
+    keeps the pixel of each point.
     """
     p = Path(path)
     if not p.is_file():
         raise SourceError(f"cloud file: {str(p)!r} does not exist or is not a file")
     if p.suffix.lower() not in CLOUD_SUFFIXES:
         raise SourceError(f"cloud file: expected a suffix in {CLOUD_SUFFIXES}, got {str(p)!r}")
-    cloud = o3d.io.read_point_cloud(p, remove_nan_points=True, remove_infinite_points=True)
+    layout = check_cloud_file(p)
+    cloud = o3d.io.read_point_cloud(p, remove_nan_points=False, remove_infinite_points=False)
     points = np.asarray(cloud.points, dtype=np.float64)
+    if layout is not None and len(points) != layout.points:
+        raise SourceError(
+            f"cloud file {str(p)!r}: the header declares {layout.points} points, "
+            f"{len(points)} could be read"
+        )
     if len(points) == 0:
         raise SourceError(f"cloud file {str(p)!r}: no point could be read (empty or not a cloud)")
     colours = np.asarray(cloud.colors, dtype=np.float64) if cloud.has_colors() else None
+    finite = np.isfinite(points).all(axis=1)
+    if not finite.any():
+        raise SourceError(f"cloud file {str(p)!r}: every point is NaN or infinite")
     pose = np.eye(4) if world_from_sensor is None else world_from_sensor
-    return Frame(points, colours, None, p.stem, pose)
+    shape = layout.image_shape if layout is not None else None
+    pixels = np.flatnonzero(finite) if shape is not None else None
+    return Frame(
+        points[finite],
+        None if colours is None else colours[finite],
+        None,
+        p.stem,
+        pose,
+        shape,
+        pixels,
+    )
 
 
 def _read_array(path: Path, pose: FloatArray) -> Frame:

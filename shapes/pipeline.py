@@ -25,7 +25,7 @@ from shapes.fit import FitParams, fit_cluster
 from shapes.frame import Frame
 from shapes.segment import SegmentationParams, segment
 from shapes.track import Tracker
-from shapes.types import Primitive, SupportPlane
+from shapes.types import FloatArray, Primitive, SupportPlane
 
 __all__ = ["FrameResult", "Perception", "PerceptionParams"]
 
@@ -57,6 +57,14 @@ class FrameResult:
     support: SupportPlane | None
     primitives: tuple[Primitive, ...]
     events: tuple[SceneEvent, ...]
+    centroids: tuple[FloatArray, ...] = ()
+    reason: str | None = None
+    """Why this frame gave no primitive (one line), None when it gave some."""
+
+
+def _signature(primitive: Primitive) -> tuple[str, float]:
+    """Shape kind and size (radius, or 0 for a plane) by which a moved object is known again."""
+    return primitive.kind.value, primitive.radius or 0.0
 
 
 class Perception:
@@ -74,6 +82,8 @@ class Perception:
         self.averager = SceneAverager(
             p.move_threshold_m, p.confirm_frames, p.stable_frames, p.min_hits
         )
+        self.reasons: dict[str, str] = {}
+        self.last_stamp: float | None = None
 
     def process(self, frame: Frame) -> FrameResult:
         """Run one frame through the chain."""
@@ -83,10 +93,23 @@ class Perception:
         seg = segment(frame, self.params.segmentation, seed=self.seed + index)
         fitted = []
         for cluster in seg.clusters:
-            fit = fit_cluster(cluster.points, support=seg.support, params=self.params.fit, rng=rng)
+            fit = fit_cluster(
+                cluster.points,
+                support=cluster.support or seg.support,
+                params=self.params.fit.for_noise(cluster.noise_m),
+                rng=rng,
+            )
             if fit is not None:
                 fitted.append((cluster, fit.primitive))
-        ids = self.tracker.update([c.centroid for c, _ in fitted])
+        reason = seg.reason
+        if seg.clusters and not fitted:
+            reason = f"clusters rejected: no model fits any of the {len(seg.clusters)} cluster(s)"
+        if reason is not None:
+            self.reasons[reason.split(":")[0]] = reason
+        self.last_stamp = frame.stamp
+        ids = self.tracker.update(
+            [c.centroid for c, _ in fitted], [_signature(p) for _, p in fitted]
+        )
         primitives, observations = [], []
         for (cluster, prim), tid in zip(fitted, ids, strict=True):
             colour = None if cluster.colours is None else mean_colour(cluster.colours)
@@ -95,16 +118,51 @@ class Perception:
             observations.append(Observation(prim, cluster.centroid))
         events = self.averager.update(observations, self.tracker.deleted, frame.stamp)
         log.debug("frame %d: %d primitives, %d events", index, len(primitives), len(events))
-        return FrameResult(index, frame.stamp, seg.support, tuple(primitives), tuple(events))
+        return FrameResult(
+            index,
+            frame.stamp,
+            seg.support,
+            tuple(primitives),
+            tuple(events),
+            tuple(o.cluster_centroid for o in observations),
+            reason,
+        )
+
+    def finish(self) -> StableScene | None:
+        """The end of a finite source: the scene it has, averaged over the frames seen, if no
+        stable scene was emitted for it (:meth:`SceneAverager.flush`)."""
+        return self.averager.flush(self.last_stamp)
+
+    def why_no_scene(self) -> list[str]:
+        """One line per reason the frames so far gave no scene (the last frame's wording for
+        each cause), and "not stable yet" when objects were seen but no scene held still."""
+        lines = list(self.reasons.values())
+        if self.averager.objects and not self.averager.stable_sent:
+            p = self.params
+            lines.append(
+                f"not stable yet: {self.frames} frame(s) seen, a scene needs its objects seen "
+                f"{p.min_hits} times and then {p.stable_frames} frames without a change"
+            )
+        return lines
 
     def run(self, frames: Iterable[Frame]) -> Iterator[FrameResult]:
         """Process frames lazily, one result per frame."""
         for frame in frames:
             yield self.process(frame)
 
-    def stable_scenes(self, frames: Iterable[Frame]) -> Iterator[StableScene]:
-        """Only the stable scenes of a stream: what a memory client consumes."""
+    def stable_scenes(
+        self, frames: Iterable[Frame], *, finish: bool = False
+    ) -> Iterator[StableScene]:
+        """Only the stable scenes of a stream: what a memory client consumes.
+
+        ``finish``: the stream is finite (a file, a bag); at its end, emit the scene it has if
+        it did not hold still long enough (:meth:`finish`).
+        """
         for result in self.run(frames):
             for event in result.events:
                 if isinstance(event, StableScene):
                     yield event
+        if finish:
+            last = self.finish()
+            if last is not None:
+                yield last

@@ -1,19 +1,38 @@
-"""Segmentation: from a raw frame to the object clusters standing on the support (table).
+"""Segmentation: from a raw frame to the object clusters standing on their supports.
 
 Steps (PITT's, with its quirks fixed; see ``shared/reference/pitt-perception.md`` §4):
 
-1. depth cut in the sensor frame (``z <= max_depth_m``), then transform to the world frame;
-2. voxel grid (``voxel_m``): each occupied voxel becomes the mean of its points. It is computed in
-   numpy so that every full-resolution point keeps the index of its voxel;
-3. support plane: RANSAC (numpy, seeded) on the voxels, repeated until a horizontal plane
-   (normal within ``max_support_tilt_deg`` of world z) holding at least
-   ``min_support_fraction`` of the voxels is found; its normal is turned to point up. The
-   threshold is 1 cm, not PITT's 2 cm, which ate the bottom of every object;
-4. points above the support: more than ``above_margin_m`` and less than ``max_height_m`` above
-   the plane, inside the support's xy bounding box shrunk by ``edge_margin_m``;
-5. statistical outlier removal and DBSCAN (open3d) on those voxels; clusters with fewer than
-   ``min_cluster_voxels`` voxels are dropped;
-6. each cluster gets its full-resolution points (and colours) back through the voxel index.
+1. depth cut in the sensor frame (``z <= max_depth_m``). On an organised frame the depth
+   noise is measured from the image and flying pixels and veils are dropped
+   (:mod:`shapes.artefacts`); then the points go to the world frame (z up, the gravity
+   direction);
+2. voxel grid (``voxel_m``): each occupied voxel becomes the mean of its points, computed in
+   numpy so that every full-resolution point keeps the index of its voxel. Voxels with fewer
+   than two occupied neighbours (stray returns, outliers) are set aside;
+3. planes: RANSAC (numpy, seeded) finds up to ``max_planes`` planes one after another, each
+   holding at least ``min_support_fraction`` of the voxels and spanning at least
+   ``min_plane_extent_m`` (a smaller one is the face of an object, and the search stops).
+   Threshold 1 cm, not PITT's 2 cm, which ate the bottom of every object;
+4. **the support rule**: a support is a *horizontal* plane (normal within
+   ``max_support_tilt_deg`` of world z, i.e. of gravity) *with objects on it*. Every voxel that
+   belongs to no plane and lies between ``above_margin`` and ``max_height_m`` above a horizontal
+   plane, inside that plane's xy bounding box shrunk by ``edge_margin_m``, goes to the *nearest
+   such plane below it*: objects on a table belong to the table, not to the floor under it.
+   Every horizontal plane that gets clusters is reported (:attr:`Segmentation.supports`); the
+   one with the most object voxels is *the* support. The largest plane (often the floor or a
+   wall) wins nothing by its size;
+5. the above-table margin adapts to the noise: ``above_margin = max(above_margin_m, 3 sigma)``
+   with sigma the robust spread of the support's voxels about the plane; full-resolution points
+   are cut at ``max(above_margin_m, 2 sigma(z))`` with ``sigma(z) = sigma_1m z²`` (measured on
+   the image, or from the support's residuals on an unorganised cloud; a cloud that is not in
+   a camera frame, with points at z <= 0.1 m, gets one sigma for every range);
+6. statistical outlier removal and DBSCAN (open3d) on those voxels; each cluster is cut along
+   its concave seams, which separates objects that touch (:mod:`shapes.split`); clusters with
+   fewer than ``min_cluster_voxels`` voxels are dropped;
+7. each cluster gets its full-resolution points (and colours) back through the voxel index.
+
+When there is no cluster, :attr:`Segmentation.reason` says why in one line: no support found
+(with the planes seen), or no clusters above it, or clusters too small.
 """
 
 from __future__ import annotations
@@ -26,7 +45,9 @@ import numpy as np
 import numpy.typing as npt
 import open3d as o3d
 
+from shapes.artefacts import depth_noise_1m, flying_pixels, sparse_points, sparse_voxels
 from shapes.frame import Frame
+from shapes.split import split_touching
 from shapes.types import FloatArray, SupportPlane, vec3
 
 __all__ = ["Cluster", "Segmentation", "SegmentationParams", "segment"]
@@ -40,28 +61,35 @@ class SegmentationParams:
 
     voxel_m: float = 0.01
     max_depth_m: float = 3.0
+    filter_artefacts: bool = True
     support_threshold_m: float = 0.01
     support_iterations: int = 500
     max_support_tilt_deg: float = 10.0
     min_support_fraction: float = 0.03
-    max_support_attempts: int = 4
+    max_planes: int = 5
+    min_plane_extent_m: float = 0.25
     above_margin_m: float = 0.008
-    max_height_m: float = 1.0
+    max_height_m: float = 0.6
     edge_margin_m: float = 0.02
     outlier_neighbours: int = 10
     outlier_std_ratio: float = 3.0
     cluster_eps_m: float = 0.03
     cluster_min_points: int = 3
     min_cluster_voxels: int = 12
+    split_touching: bool = True
+    min_split_extent_m: float = 0.07
 
 
 @dataclass(frozen=True, eq=False)
 class Cluster:
-    """The full-resolution points of one object, in the world frame."""
+    """The full-resolution points of one object, in the world frame, and its support."""
 
     points: FloatArray
     colours: FloatArray | None
     voxels: FloatArray
+    support: SupportPlane | None = None
+    noise_m: float = 0.0
+    """The depth noise (one sigma) expected at the cluster's range, in metres."""
 
     @property
     def centroid(self) -> FloatArray:
@@ -71,10 +99,15 @@ class Cluster:
 
 @dataclass(frozen=True, eq=False)
 class Segmentation:
-    """What :func:`segment` found: the support plane (None if none) and the clusters on it."""
+    """What :func:`segment` found: the support plane (None if none), the clusters on every
+    support, the supports that carry clusters, the depth noise at 1 m, and, when there is no
+    cluster, the reason in one line."""
 
     support: SupportPlane | None
     clusters: tuple[Cluster, ...]
+    supports: tuple[SupportPlane, ...] = ()
+    noise_1m: float = 0.0
+    reason: str | None = None
 
 
 def voxel_grid(points: FloatArray, voxel_m: float) -> tuple[FloatArray, npt.NDArray[np.intp]]:
@@ -144,63 +177,275 @@ def ransac_plane(
     return normals[best], inliers
 
 
-def find_support(
-    voxels: FloatArray, params: SegmentationParams, seed: int
-) -> tuple[SupportPlane, npt.NDArray[np.bool_]] | None:
-    """The first horizontal plane RANSAC finds, and the mask of its inlier voxels."""
+@dataclass(frozen=True, eq=False)
+class _Plane:
+    normal: FloatArray
+    offset: float
+    inliers: npt.NDArray[np.bool_]
+    horizontal: bool
+
+    def describe(self) -> str:
+        tilt = math.degrees(math.acos(min(1.0, abs(float(self.normal[2])))))
+        height = -self.offset / self.normal[2] if abs(self.normal[2]) > 1e-6 else float("nan")
+        kind = f"horizontal at z={height:.2f} m" if self.horizontal else f"tilted {tilt:.0f} deg"
+        return f"{kind} ({int(self.inliers.sum())} voxels)"
+
+
+def find_planes(
+    voxels: FloatArray, params: SegmentationParams, seed: int, tolerance: FloatArray | None = None
+) -> list[_Plane]:
+    """Up to ``max_planes`` planes, one after another on what the previous ones left; the
+    horizontal ones have their normal turned up and refitted by least squares.
+
+    ``tolerance``: per voxel, how far from a plane it may lie and still belong to it (the
+    depth noise grows with the range); by default ``support_threshold_m``.
+    """
+    if tolerance is None:
+        tolerance = np.full(len(voxels), params.support_threshold_m)
     cos_tilt = math.cos(math.radians(params.max_support_tilt_deg))
     remaining = np.arange(len(voxels))
     min_inliers = max(3, int(params.min_support_fraction * len(voxels)))
     rng = np.random.default_rng(seed)
-    for _ in range(params.max_support_attempts):
+    planes: list[_Plane] = []
+    for _ in range(params.max_planes):
         if len(remaining) < min_inliers:
-            return None
+            break
         found = ransac_plane(
             voxels[remaining], params.support_threshold_m, params.support_iterations, rng
         )
         if found is None or len(found[1]) < min_inliers:
-            return None
+            break
         n, inl = found
-        if abs(n[2]) >= cos_tilt:
-            sign = 1.0 if n[2] > 0 else -1.0
-            # Refit by least squares on the inliers for a plane free of sampling noise.
-            pts = voxels[remaining[inl]]
-            centre = pts.mean(axis=0)
-            normal = np.linalg.svd(pts - centre, full_matrices=False)[2][2]
-            normal *= 1.0 if normal @ (sign * n) > 0 else -1.0
-            mask = np.zeros(len(voxels), dtype=bool)
-            mask[remaining[inl]] = True
-            return SupportPlane(vec3(normal), float(-normal @ centre)), mask
-        remaining = np.delete(remaining, inl)
-    return None
+        if np.ptp(voxels[remaining[inl]], axis=0).max() < params.min_plane_extent_m:
+            break  # a face of an object (a box side, a can's top), not a table, floor or wall
+        mask = np.zeros(len(voxels), dtype=bool)
+        mask[remaining[inl]] = True
+        horizontal = abs(n[2]) >= cos_tilt
+        # Refit by least squares on the inliers; the refit plane takes the voxels within
+        # their tolerance of it.
+        pts = voxels[mask]
+        centre = pts.mean(axis=0)
+        n = np.linalg.svd(pts - centre, full_matrices=False)[2][2]
+        if horizontal and n[2] < 0:
+            n = -n
+        offset = float(-n @ centre)
+        near = np.abs(voxels[remaining] @ n + offset) <= tolerance[remaining]
+        mask[:] = False
+        mask[remaining[near]] = True
+        planes.append(_Plane(np.asarray(n), offset, mask, horizontal))
+        remaining = remaining[~mask[remaining]]
+    return planes
+
+
+def _robust_sigma(values: FloatArray) -> float:
+    if len(values) == 0:
+        return 0.0
+    return float(1.4826 * np.median(np.abs(values - np.median(values))))
+
+
+def _focal_px(frame: Frame) -> float:
+    """The focal length in pixels of an organised frame, from its points and pixel columns."""
+    assert frame.image_shape is not None and frame.pixels is not None
+    u = (frame.pixels % frame.image_shape[1]).astype(np.float64)
+    slope = frame.points[:, 0] / frame.points[:, 2]
+    if np.ptp(u) == 0:
+        return 570.0
+    a = np.polyfit(u[:: max(1, len(u) // 2000)], slope[:: max(1, len(u) // 2000)], 1)[0]
+    return float(1.0 / a) if a > 0 else 570.0
+
+
+def _artefact_mask(
+    frame: Frame, keep: npt.NDArray[np.bool_]
+) -> tuple[npt.NDArray[np.bool_], float]:
+    """Points kept after dropping flying pixels and veils, and the noise at 1 m (organised)."""
+    assert frame.image_shape is not None and frame.pixels is not None
+    image = np.full(frame.image_shape[0] * frame.image_shape[1], np.nan)
+    image[frame.pixels[keep]] = frame.points[keep, 2]
+    image = image.reshape(frame.image_shape)
+    sigma_1m = depth_noise_1m(image)
+    drop = flying_pixels(image, sigma_1m, focal_px=_focal_px(frame)).ravel()
+    return keep & ~drop[frame.pixels], sigma_1m
 
 
 def segment(frame: Frame, params: SegmentationParams | None = None, seed: int = 0) -> Segmentation:
-    """Find the support plane and the object clusters above it in one frame."""
+    """Find the supports and the object clusters on them in one frame (see the module doc)."""
     params = params or SegmentationParams()
     keep = frame.points[:, 2] <= params.max_depth_m
     if not keep.any():
-        return Segmentation(None, ())
+        return Segmentation(None, (), reason=f"no point within {params.max_depth_m} m")
+    sigma_1m = 0.0
+    if params.filter_artefacts and frame.pixels is not None:
+        keep, sigma_1m = _artefact_mask(frame, keep)
     points = frame.world_points(keep)
+    depth = frame.points[keep, 2]
+    viewpoint: FloatArray | None = frame.world_from_sensor[:3, 3]
+    if frame.pixels is None and not (depth > 0.1).all():
+        viewpoint = None
+        # Not in a camera's frame (e.g. a cloud already in the world frame): the range of each
+        # point is unknown, so the noise is taken as the same everywhere.
+        depth = np.ones(len(depth))
     colours = None if frame.colours is None else frame.colours[keep]
     voxels, voxel_of = voxel_grid(points, params.voxel_m)
-    found = find_support(voxels, params, seed)
-    if found is None:
+    alive = np.ones(len(voxels), dtype=bool)
+    alive_idx = np.arange(len(voxels))
+    counts = np.bincount(voxel_of, minlength=len(voxels))
+    voxel_depth = np.bincount(voxel_of, weights=depth, minlength=len(voxels)) / counts
+    tolerance = np.maximum(params.support_threshold_m, 3 * sigma_1m * voxel_depth**2)
+    planes = find_planes(voxels[alive], params, seed, tolerance[alive])
+    horizontal = [p for p in planes if p.horizontal]
+    if not horizontal:
+        seen = "; ".join(p.describe() for p in planes) or "none"
         log.info("no horizontal support plane in %d voxels", len(voxels))
-        return Segmentation(None, ())
-    support, support_mask = found
-    height = support.signed_distance(voxels)
-    table = voxels[support_mask]
-    lo = table[:, :2].min(axis=0) + params.edge_margin_m
-    hi = table[:, :2].max(axis=0) - params.edge_margin_m
-    above = (
-        (height > params.above_margin_m)
-        & (height < params.max_height_m)
-        & np.all((voxels[:, :2] > lo) & (voxels[:, :2] < hi), axis=1)
+        return Segmentation(
+            None,
+            (),
+            noise_1m=sigma_1m,
+            reason=f"no support found: no horizontal plane among the planes seen ({seen})",
+        )
+    in_plane = np.zeros(len(voxels), dtype=bool)
+    for p in planes:
+        in_plane[alive_idx[p.inliers]] = True
+    free = alive & ~in_plane
+    # Stray returns and outliers: free voxels with fewer than two occupied neighbours.
+    free_idx = np.flatnonzero(free)
+    free[free_idx[sparse_voxels(voxels[free_idx], params.voxel_m, among=voxels)]] = False
+    # Each free voxel goes to the nearest horizontal plane below it that covers it.
+    best_height = np.full(len(voxels), np.inf)
+    owner = np.full(len(voxels), -1)
+    margins, supports = [], []
+    for k, p in enumerate(horizontal):
+        support = SupportPlane(vec3(p.normal), p.offset)
+        supports.append(support)
+        table = voxels[alive_idx[p.inliers]]
+        sigma_vox = _robust_sigma(support.signed_distance(table))
+        margin = max(params.above_margin_m, 3 * sigma_vox)
+        margins.append(margin)
+        height = support.signed_distance(voxels)
+        lo = table[:, :2].min(axis=0) + params.edge_margin_m
+        hi = table[:, :2].max(axis=0) - params.edge_margin_m
+        over = (
+            free
+            & (height > margin)
+            & (height < params.max_height_m)
+            & np.all((voxels[:, :2] > lo) & (voxels[:, :2] < hi), axis=1)
+            & (height < best_height)
+        )
+        best_height[over] = height[over]
+        owner[over] = k
+    if sigma_1m == 0.0:
+        # Unorganised: the noise from the full-resolution residuals of the biggest support.
+        main = max(range(len(horizontal)), key=lambda k: int(horizontal[k].inliers.sum()))
+        on = np.zeros(len(voxels), dtype=bool)
+        on[alive_idx[horizontal[main].inliers]] = True
+        sel = on[voxel_of]
+        if sel.sum() > 100:
+            resid = supports[main].signed_distance(points[sel])
+            sigma_1m = _robust_sigma(resid) / float(np.median(depth[sel] ** 2))
+    clusters: list[Cluster] = []
+    too_small = above = 0
+    votes = np.zeros(len(horizontal), dtype=np.int64)
+    for k, support in enumerate(supports):
+        candidates = np.flatnonzero(owner == k)
+        above += len(candidates)
+        if len(candidates) < params.min_cluster_voxels:
+            continue
+        found, small = _clusters(
+            candidates,
+            voxels,
+            voxel_of,
+            points,
+            depth,
+            colours,
+            support,
+            margins[k],
+            sigma_1m,
+            params,
+            frame.pixels is not None and params.filter_artefacts,
+            viewpoint,
+        )
+        too_small += small
+        votes[k] = sum(len(c.voxels) for c in found)
+        clusters += found
+    with_objects = [supports[k] for k in np.argsort(-votes, kind="stable") if votes[k] > 0]
+    primary = (
+        with_objects[0]
+        if with_objects
+        else supports[max(range(len(horizontal)), key=lambda k: int(horizontal[k].inliers.sum()))]
     )
-    candidates = np.flatnonzero(above)
-    if len(candidates) < params.min_cluster_voxels:
-        return Segmentation(support, ())
+    reason = None
+    if not clusters:
+        if above < params.min_cluster_voxels:
+            reason = (
+                f"no clusters above the support: {above} voxels above "
+                f"{len(horizontal)} horizontal plane(s)"
+            )
+        elif too_small:
+            reason = (
+                f"clusters rejected: {too_small} cluster(s) smaller than "
+                f"{params.min_cluster_voxels} voxels"
+            )
+        else:
+            reason = (
+                f"no clusters above the support: {above} voxels above it, all stray points "
+                "or outliers"
+            )
+    log.debug("segmented %d points into %d clusters", len(points), len(clusters))
+    return Segmentation(primary, tuple(clusters), tuple(with_objects), sigma_1m, reason)
+
+
+def _stacked(voxels: FloatArray, parts: npt.NDArray[np.int64], min_apart_m: float) -> bool:
+    """Whether two parts stand on top of each other (their centres closer than ``min_apart_m``
+    across the table): objects on a table touch side by side, so such a cut runs through one
+    object (an occlusion line, say) and is not taken."""
+    centres = np.array([voxels[parts == k, :2].mean(axis=0) for k in range(int(parts.max()) + 1)])
+    gaps = np.linalg.norm(centres[:, None, :] - centres[None, :, :], axis=2)
+    return bool((gaps[np.triu_indices(len(centres), 1)] < min_apart_m).any())
+
+
+def _split(
+    labels: npt.NDArray[np.int64],
+    voxels: FloatArray,
+    viewpoint: FloatArray | None,
+    params: SegmentationParams,
+    sigma_1m: float,
+) -> npt.NDArray[np.int64]:
+    """Labels with every cluster cut along its concave seams (:mod:`shapes.split`)."""
+    out = labels.copy()
+    next_label = int(labels.max(initial=-1)) + 1
+    for label in range(next_label):
+        members = np.flatnonzero(labels == label)
+        if len(members) < 2 * params.min_cluster_voxels:
+            continue
+        if np.ptp(voxels[members, :2], axis=0).max() < params.min_split_extent_m:
+            continue  # narrower than two of the smallest objects side by side
+        ranges = 1.0 if viewpoint is None else np.linalg.norm(voxels[members] - viewpoint, axis=1)
+        noise = sigma_1m * float(np.median(ranges)) ** 2
+        parts = split_touching(
+            voxels[members], viewpoint, min_voxels=params.min_cluster_voxels, noise_m=noise
+        )
+        if parts.max() == 0 or _stacked(voxels[members], parts, params.cluster_eps_m):
+            continue
+        for part in range(1, int(parts.max()) + 1):
+            out[members[parts == part]] = next_label
+            next_label += 1
+    return out
+
+
+def _clusters(
+    candidates: npt.NDArray[np.intp],
+    voxels: FloatArray,
+    voxel_of: npt.NDArray[np.intp],
+    points: FloatArray,
+    depth: FloatArray,
+    colours: FloatArray | None,
+    support: SupportPlane,
+    margin: float,
+    sigma_1m: float,
+    params: SegmentationParams,
+    organised: bool,
+    viewpoint: FloatArray | None,
+) -> tuple[list[Cluster], int]:
+    """DBSCAN clusters of the candidate voxels above one support, and how many were too small."""
     cloud = _cloud(voxels[candidates])
     _, kept = cloud.remove_statistical_outlier(params.outlier_neighbours, params.outlier_std_ratio)
     candidates = candidates[np.asarray(kept, dtype=np.intp)]
@@ -208,24 +453,32 @@ def segment(frame: Frame, params: SegmentationParams | None = None, seed: int = 
         _cloud(voxels[candidates]).cluster_dbscan(params.cluster_eps_m, params.cluster_min_points),
         dtype=np.int64,
     )
+    if params.split_touching:
+        labels = _split(labels, voxels[candidates], viewpoint, params, sigma_1m)
     voxel_label = np.full(len(voxels), -1, dtype=np.int64)
     voxel_label[candidates] = labels
     point_label = voxel_label[voxel_of]
-    point_label[support.signed_distance(points) <= params.above_margin_m] = -1
+    cut = np.maximum(params.above_margin_m, 2 * sigma_1m * depth**2)
+    point_label[support.signed_distance(points) <= np.minimum(cut, margin)] = -1
     clusters = []
+    small = 0
     order = np.argsort(point_label, kind="stable")
     bounds = np.searchsorted(point_label[order], np.arange(labels.max(initial=-1) + 2))
     for label in range(labels.max(initial=-1) + 1):
         n_vox = int((labels == label).sum())
         idx = order[bounds[label] : bounds[label + 1]]
         if n_vox < params.min_cluster_voxels or len(idx) < params.min_cluster_voxels:
+            small += 1
             continue
+        if not organised:
+            idx = idx[~sparse_points(points[idx])]
         clusters.append(
             Cluster(
                 points[idx],
                 None if colours is None else colours[idx],
                 voxels[candidates[labels == label]],
+                support,
+                sigma_1m * float(np.median(depth[idx])) ** 2,
             )
         )
-    log.debug("segmented %d points into %d clusters", len(points), len(clusters))
-    return Segmentation(support, tuple(clusters))
+    return clusters, small

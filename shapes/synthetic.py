@@ -114,6 +114,25 @@ class TruthObject:
     size: Vec3 = (0.0, 0.0, 0.0)
     yaw: float = 0.0
     colour: Vec3 = PALETTE["red"]
+    tilt: float = 0.0
+
+    @property
+    def rotation(self) -> FloatArray:
+        """World-from-object rotation: a tilt about the object's x axis, then the yaw about z.
+
+        The object frame has its origin at ``position`` (the base centre; a sphere's lowest
+        point) and its axis along +z, from the base toward the top or apex.
+        """
+        c, s = math.cos(self.yaw), math.sin(self.yaw)
+        ct, st = math.cos(self.tilt), math.sin(self.tilt)
+        yaw = np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
+        tilt = np.array([[1.0, 0.0, 0.0], [0.0, ct, -st], [0.0, st, ct]])
+        return np.asarray(yaw @ tilt, dtype=np.float64)
+
+    @property
+    def axis(self) -> Vec3:
+        """The unit axis in the world frame (base toward top or apex)."""
+        return vec3(self.rotation[:, 2])
 
     @property
     def expected_kind(self) -> ShapeKind:
@@ -126,16 +145,18 @@ class TruthObject:
         x, y, z = self.position
         if self.kind == "Sphere":
             return (x, y, z + self.radius)
+        a = np.asarray(self.axis)
         if self.kind == "Cone":
-            return (x, y, z + self.height / 4.0)
+            return vec3(np.asarray(self.position) + a * self.height / 4.0)
         h = self.size[2] if self.kind == "Box" else self.height
-        return (x, y, z + h / 2.0)
+        return vec3(np.asarray(self.position) + a * h / 2.0)
 
     @property
     def apex(self) -> Vec3 | None:
         """A cone's apex, else None."""
-        x, y, z = self.position
-        return (x, y, z + self.height) if self.kind == "Cone" else None
+        if self.kind != "Cone":
+            return None
+        return vec3(np.asarray(self.position) + np.asarray(self.axis) * self.height)
 
     @property
     def footprint_radius(self) -> float:
@@ -181,8 +202,7 @@ def _valid(t: FloatArray, ok: npt.NDArray[np.bool_]) -> FloatArray:
 
 def _hit_object(obj: TruthObject, origin: FloatArray, dirs: FloatArray) -> FloatArray:
     """Ray parameter of the first hit on one object (inf for a miss)."""
-    c, s = math.cos(obj.yaw), math.sin(obj.yaw)
-    rot = np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
+    rot = obj.rotation
     o = (origin - np.asarray(obj.position)) @ rot  # local = R^T (p - pos)
     d = dirs @ rot
     ox, oy, oz = o
@@ -234,7 +254,7 @@ def _hit_object(obj: TruthObject, origin: FloatArray, dirs: FloatArray) -> Float
 def _cast(obj: TruthObject, origin: FloatArray, dirs: FloatArray) -> FloatArray:
     """Like :func:`_hit_object`, but only for the rays that pass the object's bounding sphere."""
     height = obj.size[2] if obj.kind == "Box" else obj.height
-    centre = np.asarray(obj.position) + np.array([0.0, 0.0, height / 2])
+    centre = np.asarray(obj.position) + obj.rotation[:, 2] * (height / 2)
     radius = math.hypot(obj.footprint_radius, height / 2) * 1.01
     oc = centre - origin
     along = dirs @ oc

@@ -9,7 +9,9 @@ Fixed here (reference §4.16 #9): one update per frame over all detections; matc
 nearest-first (all detection-track pairs within the gate, closest pair first, each track and
 detection used once) instead of PITT's order-dependent greedy loop that dropped a detection whose
 nearest track was taken; a detection whose nearest track is taken can still join another track
-in its gate or start a new one; tracks age on empty frames too.
+in its gate or start a new one; tracks age on empty frames too. A detection outside every gate
+takes the nearest unmatched track of the same shape kind and size (within ``reid_gate_m`` and
+``reid_size_m``): an object moved far in one step keeps its id.
 
 >>> t = Tracker()
 >>> t.update([np.array([0.0, 0.0, 0.0])])
@@ -41,6 +43,7 @@ class Track:
     centroid: FloatArray
     hits: int = 1
     missed: int = 0
+    signature: tuple[str, float] | None = None
 
 
 @dataclass
@@ -54,6 +57,8 @@ class Tracker:
     tracks: dict[int, Track] = field(default_factory=dict)
     next_id: int = 0
     deleted: list[int] = field(default_factory=list)
+    reid_gate_m: float = 1.0
+    reid_size_m: float = 0.01
 
     def __post_init__(self) -> None:
         if self.gate_m <= 0 or self.forget_after < 1 or self.weight_old < 0 or self.weight_new <= 0:
@@ -63,8 +68,16 @@ class Tracker:
                 f"{self.weight_new}"
             )
 
-    def update(self, centroids: Sequence[FloatArray]) -> list[int]:
+    def update(
+        self,
+        centroids: Sequence[FloatArray],
+        signatures: Sequence[tuple[str, float] | None] | None = None,
+    ) -> list[int]:
         """Match this frame's cluster centroids to tracks; return one track id per centroid.
+
+        ``signatures`` (the shape kind and size of each detection): a detection left without a
+        track in the gate takes the nearest unmatched track within ``reid_gate_m`` that has
+        the same kind and a size within ``reid_size_m``, so an object moved far keeps its id.
 
         Tracks not matched this frame age by one; those missed ``forget_after`` times in a row
         are deleted (their ids are listed in ``self.deleted`` until the next update).
@@ -85,13 +98,19 @@ class Tracker:
                     continue
                 assigned[d_i] = ids[t_i]
                 used_tracks.add(t_i)
+        sigs: list[tuple[str, float] | None] = (
+            list(signatures) if signatures is not None else [None] * len(centroids)
+        )
+        self._reidentify(centroids, sigs, assigned, ids)
         total = self.weight_old + self.weight_new
         for i, c in enumerate(centroids):
             track_id = assigned[i]
             if track_id is None:
                 track_id = self.next_id
                 self.next_id += 1
-                self.tracks[track_id] = Track(track_id, np.asarray(c, dtype=np.float64).copy())
+                self.tracks[track_id] = Track(
+                    track_id, np.asarray(c, dtype=np.float64).copy(), signature=sigs[i]
+                )
                 assigned[i] = track_id
                 log.debug("new track %d at %s", track_id, c)
                 continue
@@ -99,6 +118,8 @@ class Tracker:
             tr.centroid = (self.weight_old * tr.centroid + self.weight_new * np.asarray(c)) / total
             tr.hits += 1
             tr.missed = 0
+            if sigs[i] is not None:
+                tr.signature = sigs[i]
         seen = set(assigned)
         for track_id in list(self.tracks):
             if track_id in seen:
@@ -110,3 +131,32 @@ class Tracker:
                 self.deleted.append(track_id)
                 log.debug("track %d deleted after %d misses", track_id, tr.missed)
         return [int(a) for a in assigned if a is not None]
+
+    def _reidentify(
+        self,
+        centroids: Sequence[FloatArray],
+        sigs: list[tuple[str, float] | None],
+        assigned: list[int | None],
+        ids: list[int],
+    ) -> None:
+        """Give unassigned detections the nearest free track of the same shape and size."""
+        taken = {a for a in assigned if a is not None}
+        for i, c in enumerate(centroids):
+            sig = sigs[i]
+            if assigned[i] is not None or sig is None:
+                continue
+            best, best_d = None, self.reid_gate_m
+            for track_id in ids:
+                tr = self.tracks[track_id]
+                if track_id in taken or tr.signature is None or tr.signature[0] != sig[0]:
+                    continue
+                if abs(tr.signature[1] - sig[1]) > self.reid_size_m:
+                    continue
+                d = float(np.linalg.norm(np.asarray(c) - tr.centroid))
+                if d < best_d:
+                    best, best_d = track_id, d
+            if best is not None:
+                assigned[i] = best
+                taken.add(best)
+                self.tracks[best].centroid = np.asarray(c, dtype=np.float64).copy()
+                log.debug("track %d re-identified %.2f m away", best, best_d)

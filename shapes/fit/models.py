@@ -266,6 +266,8 @@ class ConeModel:
     min_half_angle: float = np.radians(10.0)
     max_half_angle: float = np.radians(80.0)
     max_apex_distance: float = 1.0
+    with_base: bool = True
+    cap_band: float = 0.01
     name: str = "cone"
     sample_size: int = 3
 
@@ -292,12 +294,38 @@ class ConeModel:
         ok &= np.linalg.norm(apex - p[0], axis=1) <= self.max_apex_distance
         return np.column_stack((apex, axis, theta)), ok
 
-    def distances(self, params: FloatArray, points: FloatArray) -> FloatArray:
+    def lateral_distances(self, params: FloatArray, points: FloatArray) -> FloatArray:
+        """Distances to the lateral surface only (PITT's cone)."""
         k, rho, sq = _axial(params[:, :3], params[:, 3:6], points)
         c, s = np.cos(params[:, 6:7]), np.sin(params[:, 6:7])
         along = k * c + rho * s
         d = np.where(along >= 0, np.abs(rho * c - k * s), np.sqrt(sq))
         return np.asarray(d, dtype=np.float64)
+
+    def distances(self, params: FloatArray, points: FloatArray) -> FloatArray:
+        """Distances to the lateral surface or, if nearer, the base disc.
+
+        The base sits at the mean axial position of the points inside its rim within
+        ``cap_band`` of the far end of the points (their 99th percentile along the axis).
+        A cone lying on its side shows its flat base to the camera; without the disc, that
+        face hands the cluster to "plane".
+        """
+        lateral = self.lateral_distances(params, points)
+        if not self.with_base:
+            return lateral
+        k, rho, _ = _axial(params[:, :3], params[:, 3:6], points)
+        n = k.shape[1]
+        top = max(1, n // 100)
+        end = np.partition(k, n - 1 - top, axis=1)[:, n - 1 - top][:, None]
+        rim = np.maximum(end, 0.0) * np.tan(params[:, 6:7])
+        near = (np.abs(k - end) < self.cap_band) & (rho < 0.9 * rim)
+        count = near.sum(axis=1)
+        base = np.where(
+            count[:, None] > 0, (k * near).sum(axis=1)[:, None] / np.maximum(count[:, None], 1), end
+        )
+        radius = np.maximum(base, 0.0) * np.tan(params[:, 6:7])
+        disc = np.hypot(k - base, np.maximum(rho - radius, 0.0))
+        return np.asarray(np.minimum(lateral, disc), dtype=np.float64)
 
     @staticmethod
     def residuals(x: FloatArray, pts: FloatArray) -> FloatArray:
@@ -308,7 +336,8 @@ class ConeModel:
         return np.asarray(rho * np.cos(x[:, 6:7]) - k * np.sin(x[:, 6:7]), dtype=np.float64)
 
     def refine(self, params: FloatArray, points: FloatArray, threshold: float) -> FloatArray:
-        x = _refit_rounds(params, points, threshold, self.distances, self.residuals)
+        # The base disc's points would pull the lateral surface: refine on the lateral inliers.
+        x = _refit_rounds(params, points, threshold, self.lateral_distances, self.residuals)
         axis = x[3:6] / np.linalg.norm(x[3:6])
         return np.concatenate((x[:3], axis, [x[6]]))
 

@@ -41,16 +41,24 @@ to drop the bottom centimetre of each object with the table; this gives it back.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 import open3d as o3d
+from scipy.spatial import cKDTree
 
 from shapes.fit._ransac import Model, ransac, refine_if_better
 from shapes.fit.models import ConeModel, CylinderModel, PlaneModel, SphereModel
 from shapes.types import FloatArray, Primitive, ShapeKind, SupportPlane, vec3
 
-__all__ = ["ClusterFit", "FitParams", "estimate_normals", "fit_cluster", "pitt_choice"]
+__all__ = [
+    "ClusterFit",
+    "FitParams",
+    "estimate_normals",
+    "fit_cluster",
+    "normals_at",
+    "pitt_choice",
+]
 
 ORDER = (ShapeKind.SPHERE, ShapeKind.CYLINDER, ShapeKind.CONE, ShapeKind.PLANE)
 
@@ -83,6 +91,26 @@ class FitParams:
     refine_margin: float = 0.15
     upright_tolerance_deg: float = 20.0
     snap_distance_m: float = 0.03
+    noise_factor: float = 3.0
+
+    def for_noise(self, sigma_m: float) -> FitParams:
+        """These parameters with every distance threshold raised to at least
+        ``noise_factor * sigma_m`` (the depth noise at the cluster's range); unchanged when the
+        noise is low enough for the defaults.
+
+        >>> FitParams().for_noise(0.005).selection_threshold_m
+        0.015
+        """
+        floor = self.noise_factor * sigma_m
+        names = (
+            "sphere_threshold_m",
+            "cylinder_threshold_m",
+            "cone_threshold_m",
+            "plane_threshold_m",
+            "selection_threshold_m",
+        )
+        changes = {n: round(max(getattr(self, n), floor), 6) for n in names}
+        return replace(self, **changes)
 
 
 @dataclass(frozen=True, eq=False)
@@ -114,6 +142,21 @@ def pitt_choice(counts: dict[ShapeKind, int]) -> ShapeKind | None:
     if s >= p and s >= co and s >= cy:
         return ShapeKind.SPHERE
     return None
+
+
+def normals_at(points: FloatArray, at: FloatArray, neighbours: int) -> FloatArray:
+    """Unoriented unit normals at the points ``at``, each from its ``neighbours`` nearest
+    points of ``points`` (the smallest principal axis of their covariance).
+
+    >>> flat = np.column_stack((np.random.default_rng(0).random((50, 2)), np.zeros(50)))
+    >>> np.abs(normals_at(flat, flat[:2], 10)).round(6).tolist()
+    [[0.0, 0.0, 1.0], [0.0, 0.0, 1.0]]
+    """
+    _, idx = cKDTree(points).query(at, k=neighbours)
+    patches = points[idx]
+    centred = patches - patches.mean(axis=1, keepdims=True)
+    cov = np.einsum("nki,nkj->nij", centred, centred)
+    return np.asarray(np.linalg.eigh(cov)[1][:, :, 0], dtype=np.float64)
 
 
 def estimate_normals(points: FloatArray, neighbours: int) -> FloatArray:
@@ -227,15 +270,15 @@ def fit_cluster(
     fp = params or FitParams()
     if len(points) < 10:
         return None
-    # Normals come from the full-resolution points: with the same number of neighbours their
-    # patches are smaller than on the sample, so a short band of a cylinder's side below its
-    # top keeps normals square to the axis.
-    all_normals = estimate_normals(points, min(fp.normal_neighbours, len(points) - 1))
+    # Normals from the full-resolution neighbours of each sampled point: with the same number
+    # of neighbours their patches are smaller than on the sample, so a short band of a
+    # cylinder's side below its top keeps normals square to the axis.
     if len(points) > fp.max_fit_points:
         chosen = np.sort(rng.choice(len(points), fp.max_fit_points, replace=False))
-        sample, normals = points[chosen], all_normals[chosen]
+        sample = points[chosen]
     else:
-        sample, normals = points, all_normals
+        sample = points
+    normals = normals_at(points, sample, min(fp.normal_neighbours, len(points) - 1))
     t_sel = fp.selection_threshold_m
     # A sphere or cylinder is seen over a good part of its circumference (a third of it already
     # spans 1.7 radii), so its radius is bounded by the cluster's size: wider ones only imitate
@@ -328,6 +371,30 @@ def fit_cluster(
         plane_d = plane_model.distances(np.array([p for p, _ in planes]), sample).min(axis=0)
     if planes:
         surface[ShapeKind.PLANE], costs[ShapeKind.PLANE] = plane_d, _cost(plane_d, t_sel)
+    plane_cost = costs.get(ShapeKind.PLANE, np.inf)
+    if planes and costs.get(ShapeKind.CONE, np.inf) > plane_cost - fp.tie_margin:
+        # A cone on its side shows its flat base: hypotheses drawn from the whole cluster then
+        # mostly hold a base point and miss the cone. When the planes beat the cone, draw more
+        # from what the first plane leaves (the lateral surface) and keep the cone if it
+        # explains the whole cluster better.
+        off = plane_model.distances(planes[0][0][None, :], sample)[0] >= fp.plane_threshold_m
+        if off.sum() >= max(20, fp.min_plane_share * len(sample)):
+            model, thr = models[ShapeKind.CONE]
+            res = ransac(
+                model,
+                sample[off],
+                normals[off],
+                threshold=thr,
+                rng=rng,
+                max_iterations=fp.max_iterations,
+                refine=False,
+                min_iterations=fp.min_iterations,
+                preview_points=fp.preview_points,
+            )
+            if res is not None:
+                d = model.distances(res.params[None, :], sample)[0]
+                if _cost(d, t_sel) < costs.get(ShapeKind.CONE, np.inf):
+                    score(ShapeKind.CONE, res.params)
     if not costs:
         return None
     # Least-squares refinement only for the curved candidates still in the running.

@@ -4,6 +4,7 @@ import gc
 from pathlib import Path
 
 import numpy as np
+import open3d as o3d
 import pytest
 import rdflib
 from typer.testing import CliRunner
@@ -16,7 +17,8 @@ from api.summary import memory_sizes
 from kg import Store
 from shapes import Frame
 from shapes.bags import write_bag
-from shapes.synthetic import TabletopScene
+from shapes.sensor import DepthCamera
+from shapes.synthetic import TabletopScene, TruthObject
 from tests.conftest import LiveServer
 
 runner = CliRunner()
@@ -60,6 +62,58 @@ def test_perceive_refuses_bad_sources(tmp_path: Path, arguments: list[str], frag
     result = runner.invoke(app, ["perceive", *arguments])
     assert result.exit_code == 2
     assert fragment in " ".join(result.output.split())  # rich wraps long lines
+
+
+def _scan(path: Path, objects: tuple[TruthObject, ...]) -> Path:
+    """One 320x240 scan of the simulated depth camera, written as a PLY in the world frame."""
+    camera = DepthCamera().scaled(0.5)
+    shot = camera.shoot(TabletopScene(objects), np.random.default_rng(3))
+    cloud = o3d.geometry.PointCloud(o3d.utility.Vector3dVector(shot.frame.world_points()))
+    assert o3d.io.write_point_cloud(str(path), cloud)
+    return path
+
+
+def test_one_scan_stores_one_scene_with_the_frames_it_averages(tmp_path: Path) -> None:
+    objects = (
+        TruthObject("Sphere", (-0.1, 0.0, 0.0), radius=0.05, height=0.1),
+        TruthObject("Cylinder", (0.12, 0.05, 0.0), radius=0.04, height=0.14),
+    )
+    scan = _scan(tmp_path / "scan.ply", objects)
+    data = tmp_path / "data"
+    result = runner.invoke(app, ["perceive", str(scan), "--local", "--data", str(data)])
+    assert result.exit_code == 0, result.output
+    output = " ".join(result.output.split())
+    assert "(Cylinder, Sphere; 1 frame(s) averaged, end of the source): learned" in output
+    assert "1 scene(s) stored" in output
+    waiting = runner.invoke(
+        app, ["perceive", str(scan), "--local", "--data", str(tmp_path / "d2"), "--wait-stable"]
+    )
+    assert waiting.exit_code == 0, waiting.output
+    output = " ".join(waiting.output.split())
+    assert "0 scene(s) stored" in output
+    assert "no scene: not stable yet: 1 frame(s) seen" in output
+
+
+def test_a_scan_of_an_empty_table_says_why_no_scene(tmp_path: Path) -> None:
+    scan = _scan(tmp_path / "empty.ply", ())
+    result = runner.invoke(app, ["perceive", str(scan), "--local", "--data", str(tmp_path / "d")])
+    assert result.exit_code == 0, result.output
+    output = " ".join(result.output.split())
+    assert "0 scene(s) stored" in output
+    assert "no scene: no clusters above the support" in output
+
+
+def test_a_malformed_cloud_file_is_refused_with_its_bracketed_values(tmp_path: Path) -> None:
+    bad = tmp_path / "flat.ply"
+    bad.write_text(
+        "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\n"
+        "end_header\n0 0\n"
+    )
+    result = runner.invoke(app, ["perceive", str(bad), "--local", "--data", str(tmp_path / "d")])
+    assert result.exit_code == 2
+    output = " ".join(result.output.split())
+    assert "flat.ply" in output
+    assert "the vertices have no z property: ['x', 'y']" in output
 
 
 def test_perceive_over_http_recognises_a_scene_seen_again(live_server: LiveServer) -> None:

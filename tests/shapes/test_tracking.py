@@ -133,3 +133,25 @@ def test_scene_events_appear_move_vanish_and_settle():
 def test_an_observation_needs_a_tracking_id():
     with pytest.raises(ValueError, match="tracking_id"):
         _ = Observation(Primitive(ShapeKind.SPHERE, centre=(0, 0, 0)), c(0, 0, 0)).tracking_id
+
+
+def test_an_object_moved_beyond_the_gate_keeps_its_id_by_its_shape_and_size():
+    t = Tracker(gate_m=0.2)
+    can, ball = ("Cylinder", 0.04), ("Sphere", 0.05)
+    first = t.update([np.array([0.0, 0.0, 0.1]), np.array([0.3, 0.0, 0.1])], [can, ball])
+    moved = t.update([np.array([0.0, 0.5, 0.1]), np.array([0.3, 0.0, 0.1])], [can, ball])
+    assert moved == first
+    # A different shape that far away is a new object.
+    other = t.update([np.array([0.6, 0.5, 0.1]), np.array([0.3, 0.0, 0.1])], [ball, ball])
+    assert other[0] not in first and other[1] == first[1]
+
+
+def test_the_majority_shape_weighs_each_frame_by_its_fit_quality():
+    avg = SceneAverager(min_hits=1)
+    good = Primitive(ShapeKind.CONE, centre=(0, 0, 0.03), radius=0.04, height=0.1, tracking_id=0)
+    for ratio, kind in ((0.95, ShapeKind.CONE), (0.3, ShapeKind.PLANE), (0.3, ShapeKind.PLANE)):
+        prim = Primitive(kind, centre=good.centre, tracking_id=0, inlier_ratio=ratio)
+        if kind is ShapeKind.CONE:
+            prim = good
+        avg.update([Observation(prim, np.zeros(3))])
+    assert avg.stable_scene().primitives[0].kind is ShapeKind.CONE

@@ -1,0 +1,166 @@
+"""Sensor artefacts: the depth noise of a frame, flying pixels and veils, sparse outliers.
+
+A depth sensor averages the surfaces inside a pixel at a depth edge and returns *flying pixels*
+on the ray between the foreground and the background; along a silhouette they form a *veil*.
+On an organised frame (a depth image, a bag or PCD with width x height) they are found in the
+image:
+
+- the noise is measured first: on a smooth surface the second difference of three neighbouring
+  depths along a row is noise only, so ``sigma_1m = 1.4826 * median|d[i-1] - 2 d[i] + d[i+1]|
+  / (sqrt(6) z²)`` (median: edges do not count), and ``sigma(z) = sigma_1m * z²`` as for a
+  structured-light or stereo sensor whose depth comes from disparity;
+- a pixel is *supported* by each of its 8 neighbours whose depth lies within
+  ``T(z) = max(min_jump_m, jump_sigmas * sigma(z))`` of its own. A pixel on a surface has 3 or
+  more supporting neighbours (5 on a straight edge, 3 in a corner); a mixed pixel takes a random
+  depth between the two sides and has at most its few mixed neighbours on the edge line. Pixels
+  with fewer than ``min_support`` supporting neighbours are dropped;
+- at a depth edge (the neighbourhood spans more than T), a pixel whose surface is seen at more
+  than ``max_ray_angle_deg`` from its normal (the local surface from the neighbours at +-1
+  pixel lies along the ray: a veil) is dropped too.
+
+On an unorganised cloud, the same artefacts are sparse: :func:`sparse_voxels` drops voxels with
+fewer than ``min_neighbours`` occupied voxels in their 3 x 3 x 3 block (a real surface seen by
+the camera fills at least a line of them), and :func:`sparse_points` drops the points of an
+object far sparser than its surface (the k-th neighbour distance against the median).
+
+>>> depth = np.full((5, 5), 1.0)
+>>> depth[2, 2] = 0.8  # one flying pixel in front of a flat wall
+>>> flying_pixels(depth, 0.001).nonzero()
+(array([2]), array([2]))
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import numpy.typing as npt
+from scipy.spatial import cKDTree
+
+from shapes.types import FloatArray
+
+__all__ = ["depth_noise_1m", "flying_pixels", "sparse_points", "sparse_voxels"]
+
+BoolArray = npt.NDArray[np.bool_]
+
+
+def depth_noise_1m(depth: FloatArray) -> float:
+    """Robust depth noise of an image at 1 m, assuming ``sigma(z) = sigma_1m * z²``.
+
+    NaN marks pixels without a return. Returns 0.0 when fewer than 100 triples are valid.
+
+    >>> rng = np.random.default_rng(0)
+    >>> flat = 1.0 + rng.normal(0.0, 0.002, (200, 200))
+    >>> round(depth_noise_1m(flat), 4)
+    0.002
+    """
+    d = np.asarray(depth, dtype=np.float64)
+    second = d[:, :-2] - 2 * d[:, 1:-1] + d[:, 2:]
+    z = d[:, 1:-1]
+    ok = np.isfinite(second) & (z > 0)
+    if ok.sum() < 100:
+        return 0.0
+    e = np.abs(second[ok]) / (math.sqrt(6.0) * z[ok] ** 2)
+    return float(1.4826 * np.median(e))
+
+
+_NEIGHBOURS = [(dy, dx) for dy in (-1, 0, 1) for dx in (-1, 0, 1) if (dy, dx) != (0, 0)]
+
+
+def flying_pixels(
+    depth: FloatArray,
+    sigma_1m: float,
+    *,
+    min_jump_m: float = 0.01,
+    jump_sigmas: float = 4.0,
+    min_support: int = 3,
+    max_ray_angle_deg: float = 85.0,
+    focal_px: float = 570.0,
+) -> BoolArray:
+    """Mask of the pixels to drop as flying pixels or veils (see the module docstring).
+
+    ``depth`` is ``(H, W)`` in metres with NaN for no return; ``sigma_1m`` the noise at 1 m
+    (:func:`depth_noise_1m`); ``focal_px`` the focal length, which sets the pixel's footprint.
+    """
+    d = np.asarray(depth, dtype=np.float32)
+    h, w = d.shape
+    valid = np.isfinite(d)
+    z = np.where(valid, d, np.float32(1.0))
+    jump = np.maximum(np.float32(min_jump_m), np.float32(jump_sigmas * sigma_1m) * z * z)
+    padded = np.pad(d, 1, constant_values=np.nan)
+    support = np.zeros(d.shape, dtype=np.int8)
+    lo, hi = d.copy(), d.copy()
+    for dy, dx in _NEIGHBOURS:
+        n = padded[1 + dy : 1 + dy + h, 1 + dx : 1 + dx + w]
+        support += np.abs(n - d) <= jump
+        np.fmin(lo, n, out=lo)
+        np.fmax(hi, n, out=hi)
+    drop = valid & (support < min_support)
+    ys, xs = np.nonzero(valid & ~drop & (hi - lo > jump))
+    if len(ys):
+        # At a depth edge, the slope of the surface along the ray from the neighbours on
+        # either side (both on the pixel's own surface): the depth change over the pixel's
+        # footprint z / f. A veil runs nearly along the ray.
+        here, tol = d[ys, xs], jump[ys, xs]
+        footprint = here / focal_px
+        slope = np.zeros(len(ys), dtype=np.float32)
+        for dy, dx in ((0, 1), (1, 0), (1, 1), (1, -1)):
+            a = padded[1 + ys + dy, 1 + xs + dx]
+            b = padded[1 + ys - dy, 1 + xs - dx]
+            step = np.abs(a - b) / (2 * footprint * math.hypot(dy, dx))
+            both = (np.abs(a - here) <= tol) & (np.abs(b - here) <= tol)
+            slope = np.where(both, np.maximum(slope, step), slope)
+        veil = slope > math.tan(math.radians(max_ray_angle_deg))
+        drop[ys[veil], xs[veil]] = True
+    return np.asarray(drop, dtype=np.bool_)
+
+
+def sparse_voxels(
+    voxels: FloatArray, voxel_m: float, min_neighbours: int = 2, among: FloatArray | None = None
+) -> BoolArray:
+    """Mask of voxel centres with fewer than ``min_neighbours`` occupied voxels around them
+    (in their 3 x 3 x 3 block of the grid), counted among ``among`` (default: ``voxels``).
+
+    >>> line = np.array([[0.0, 0, 0], [0.01, 0, 0], [0.02, 0, 0], [0.5, 0.5, 0.5]])
+    >>> sparse_voxels(line, 0.01).tolist()
+    [True, False, True, True]
+    """
+    every = voxels if among is None else among
+    origin = np.floor(every / voxel_m + 0.5).astype(np.int64).min(axis=0) - 1
+    span = np.floor(every / voxel_m + 0.5).astype(np.int64).max(axis=0) - origin + 2
+
+    def flat_keys(v: FloatArray) -> npt.NDArray[np.int64]:
+        k = np.floor(v / voxel_m + 0.5).astype(np.int64) - origin
+        return np.asarray((k[:, 0] * span[1] + k[:, 1]) * span[2] + k[:, 2], dtype=np.int64)
+
+    occupied = np.sort(flat_keys(every))
+    flat = flat_keys(voxels)
+    count = np.zeros(len(voxels), dtype=np.int64)
+    for dx in (-1, 0, 1):
+        for dy in (-1, 0, 1):
+            for dz in (-1, 0, 1):
+                if dx == dy == dz == 0:
+                    continue
+                probe = flat + (dx * span[1] + dy) * span[2] + dz
+                at = np.searchsorted(occupied, probe)
+                at = np.minimum(at, len(occupied) - 1)
+                count += occupied[at] == probe
+    return np.asarray(count < min_neighbours, dtype=np.bool_)
+
+
+def sparse_points(points: FloatArray, neighbours: int = 8, ratio: float = 2.5) -> BoolArray:
+    """Mask of the points of one object whose ``neighbours``-th nearest neighbour is more than
+    ``ratio`` times farther than the median point's: flying pixels and veils in an unorganised
+    cloud, which thin out along the rays while the surface keeps the sensor's pixel density.
+
+    >>> rng = np.random.default_rng(0)
+    >>> surface = np.column_stack((rng.random((400, 2)) * 0.05, np.zeros(400)))
+    >>> veil = np.array([[0.02, 0.02, 0.03], [0.02, 0.02, 0.06]])
+    >>> sparse_points(np.vstack((surface, veil)))[-2:].tolist(), int(sparse_points(surface).sum())
+    ([True, True], 0)
+    """
+    if len(points) <= neighbours + 1:
+        return np.zeros(len(points), dtype=np.bool_)
+    dist, _ = cKDTree(points).query(points, k=neighbours + 1)
+    far = dist[:, -1]
+    return np.asarray(far > ratio * np.median(far), dtype=np.bool_)

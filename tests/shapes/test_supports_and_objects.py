@@ -1,0 +1,94 @@
+"""A real room: the table among floor and wall, touching objects, a lying cone, one scan."""
+
+import math
+
+import numpy as np
+import pytest
+
+from shapes import Perception, PerceptionParams, ShapeKind, segment
+from shapes.segment import SegmentationParams
+from shapes.sensor import DepthCamera, Room, resting
+from shapes.synthetic import TabletopScene, TruthObject
+
+CAMERA = DepthCamera().scaled(0.5)
+ROOM = Room(floor_z=-0.72, wall_y=0.95)
+CAN = TruthObject("Cylinder", (0.1, 0.05, 0.0), radius=0.04, height=0.14)
+BALL = TruthObject("Sphere", (-0.12, 0.0, 0.0), radius=0.05, height=0.1)
+
+
+def shoot(*objects, room=None, table=(1.2, 0.8), seed=0):
+    scene = TabletopScene(tuple(objects), table_size=table)
+    return CAMERA.shoot(scene, np.random.default_rng(seed), room=room).frame
+
+
+def test_the_table_is_the_support_with_the_floor_and_a_wall_in_view():
+    seg = segment(shoot(CAN, BALL, room=ROOM, table=(0.9, 0.7)))
+    assert seg.support is not None
+    assert seg.support.offset == pytest.approx(0.0, abs=0.01)  # z = 0, not the floor at -0.72
+    assert len(seg.supports) == 1 and len(seg.clusters) == 2
+
+
+def test_objects_on_the_floor_and_on_the_table_give_two_supports():
+    ball_on_floor = TruthObject("Sphere", (0.6, 0.2, -0.72), radius=0.08, height=0.16)
+    seg = segment(shoot(CAN, BALL, ball_on_floor, room=ROOM, table=(0.9, 0.7)))
+    heights = sorted(round(-s.offset, 2) for s in seg.supports)
+    assert heights == [-0.72, 0.0]
+    on_floor = [c for c in seg.clusters if c.support is not None and c.support.offset > 0.5]
+    assert len(on_floor) == 1
+    assert on_floor[0].centroid[0] == pytest.approx(0.6, abs=0.06)
+
+
+def test_a_wall_alone_is_no_support_and_says_so():
+    frame = shoot(room=Room(wall_y=0.95), table=(0.0, 0.0))
+    seg = segment(frame)
+    assert seg.support is None
+    assert seg.reason is not None and seg.reason.startswith("no support found")
+    assert "tilted 90 deg" in seg.reason
+
+
+@pytest.mark.parametrize("gap_m", [0.0, 0.005, 0.01])
+def test_touching_objects_are_separated(gap_m):
+    left = TruthObject("Cylinder", (-0.04, 0.0, 0.0), radius=0.04, height=0.12)
+    right = TruthObject("Sphere", (gap_m + 0.045, 0.0, 0.0), radius=0.045, height=0.09)
+    result = Perception().process(shoot(left, right))
+    assert sorted(p.kind.value for p in result.primitives) == ["Cylinder", "Sphere"]
+
+
+def test_touching_objects_merge_without_the_split():
+    left = TruthObject("Cylinder", (-0.04, 0.0, 0.0), radius=0.04, height=0.12)
+    right = TruthObject("Sphere", (0.045, 0.0, 0.0), radius=0.045, height=0.09)
+    params = SegmentationParams(split_touching=False)
+    assert len(segment(shoot(left, right), params).clusters) == 1
+
+
+def test_a_cone_lying_on_its_side_is_a_cone_with_its_height_and_apex():
+    r, h = 0.05, 0.12
+    cone = resting(
+        TruthObject("Cone", (0.0, 0.05, 0.0), r, h, tilt=math.pi / 2 + math.atan2(r, h), yaw=1.6)
+    )
+    (prim,) = Perception().process(shoot(cone)).primitives
+    assert prim.kind is ShapeKind.CONE
+    assert prim.height == pytest.approx(h, abs=0.02)
+    assert prim.apex is not None and math.dist(prim.apex, cone.apex) < 0.015
+
+
+def test_one_scan_gives_its_scene_at_the_end_of_the_source():
+    perception = Perception()
+    scenes = list(perception.stable_scenes([shoot(CAN, BALL)], finish=True))
+    assert len(scenes) == 1
+    scene = scenes[0]
+    assert scene.partial and scene.frames == 1
+    assert sorted(p.kind.value for p in scene.primitives) == ["Cylinder", "Sphere"]
+
+
+def test_without_finishing_one_scan_is_not_stable_yet():
+    perception = Perception(PerceptionParams(stable_frames=5))
+    assert list(perception.stable_scenes([shoot(CAN, BALL)])) == []
+    (line,) = perception.why_no_scene()
+    assert line.startswith("not stable yet: 1 frame(s) seen")
+
+
+def test_an_empty_table_says_there_is_nothing_above_it():
+    result = Perception().process(shoot())
+    assert result.primitives == ()
+    assert result.reason is not None and result.reason.startswith("no clusters above the support")
