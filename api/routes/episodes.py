@@ -19,6 +19,7 @@ from pydantic import BaseModel, ConfigDict, Field
 from starlette.concurrency import run_in_threadpool
 
 from api.deps import EpisodesDep, require_token
+from api.openapi_errors import error_responses
 from episodes import (
     ArgumentSpec,
     Cue,
@@ -181,7 +182,12 @@ def _report(report: ImportReport) -> Any:
     return {**_answer(report.episode), "skipped": _answer(report.skipped)}
 
 
-@router.post("/episodes/import", status_code=status.HTTP_201_CREATED, dependencies=WRITE)
+@router.post(
+    "/episodes/import",
+    status_code=status.HTTP_201_CREATED,
+    dependencies=WRITE,
+    responses=error_responses(404),
+)
 async def import_bag(memory: EpisodesDep, body: ImportIn) -> Any:
     """Import a ROS 1 or ROS 2 bag inside the server's data directory as a finished episode;
     the answer lists the topics skipped (no channel kind for their type)."""
@@ -529,7 +535,11 @@ class LeaseIn(_Strict):
     lease_s: float = Field(60.0, description="Seconds the claim holds from now.")
 
 
-@router.post("/augmentations/{name}/claims", dependencies=WRITE)
+@router.post(
+    "/augmentations/{name}/claims",
+    dependencies=WRITE,
+    responses={204: {"description": "No episode lacks this augmentation (after waiting)"}},
+)
 async def claim(memory: EpisodesDep, name: str, body: ClaimIn) -> Any:
     """Claim an ended episode of the activity that lacks this augmentation: a run is started
     for the worker and the episode leased to it. 204 when there is no work (after waiting)."""

@@ -21,11 +21,6 @@ from schemathesis.specs.openapi.checks import status_code_conformance
 from tests.api.armor.conftest import start_live_server
 
 EXAMPLES = int(os.environ.get("ENGRAM_FUZZ_EXAMPLES", "6"))
-ELSEWHERE = {
-    # issue 12 item 6 (validating the import path) is the episodes branch's; drop this entry
-    # when it is merged
-    "POST /episodes/import",
-}
 
 
 @pytest.fixture(scope="module")
@@ -65,11 +60,7 @@ def _fuzz(operation: Any) -> str | None:
 
 @pytest.mark.slow
 def test_no_request_gets_a_server_error_or_an_undocumented_status(live_schema: Any) -> None:
-    operations = [
-        operation
-        for result in live_schema.get_all_operations()
-        if (operation := result.ok()).label not in ELSEWHERE
-    ]
+    operations = [result.ok() for result in live_schema.get_all_operations()]
     assert len(operations) > 30
     failures = [f for f in map(_fuzz, operations) if f is not None]
     assert failures == [], "\n\n".join(failures)
