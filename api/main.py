@@ -14,7 +14,7 @@ from api.armor.memory import sleep_if_due
 from api.config import Settings, get_settings
 from api.errors import install_error_handlers
 from api.memory_state import live_memory_state
-from api.routes import admin, armor, episodes, export, health, sparql, streams
+from api.routes import admin, armor, episodes, export, health, sparql, streams, views
 from episodes import EpisodeMemory
 from episodes.streams import RecordingRegistry
 from kg import Store, ensure_ontology
@@ -95,5 +95,6 @@ def create_app(settings: Settings | None = None) -> FastAPI:
     # armor first: route matching is a sizeable share of a directive's time
     for module in (armor, health, sparql, export, admin, episodes, streams):
         app.include_router(module.router)
+    views.install(app)  # the web views: JSON under /views, pages under /web (api/web/)
     fast_armor.install(app)  # well-formed ARMOR requests skip the router (api/fast_armor.py)
     return app

@@ -1,0 +1,244 @@
+"""The memory graph: learned classes (live and forgotten) as nodes, and one class in detail.
+
+Live classes come from :meth:`SceneMemory.classes` (scores and levels derived now); forgotten
+ones from :meth:`SceneMemory.trash` and the trash graph's triples, which keep the class's
+signature, counters and last score as they were when it was forgotten.
+"""
+
+import datetime as dt
+from typing import Any
+
+from pyoxigraph import Literal, NamedNode
+
+from api.views.models import (
+    ClassDetail,
+    ClassList,
+    ClassNode,
+    Restriction,
+    SceneEntry,
+    ScorePoint,
+)
+from api.views.scenes import scene_entries
+from api.views.words import relation_of, words
+from kg import Store
+from ontologies.vocab import (
+    CREATED,
+    EPISODIC,
+    FORGOTTEN_SIGNATURE,
+    LAST_ACCESSED,
+    LEVEL,
+    PINNED,
+    RDF_TYPE,
+    RETRIEVE_COUNT,
+    SCORE,
+    STORE_COUNT,
+    TRASH,
+    TRASH_CLASS,
+)
+from reasoners.memory import SceneMemory
+from reasoners.results import ClassSummary
+from reasoners.signature import Signature
+
+__all__ = ["UnknownClassError", "class_detail", "class_list", "local_name"]
+
+SCENES_SHOWN = 50
+"""The stored scenes a class's detail lists, newest first."""
+
+
+class UnknownClassError(LookupError):
+    """No live or forgotten class has that name."""
+
+
+def local_name(iri: NamedNode | str) -> str:
+    """The part of an IRI after its ``#`` (or last ``/``)."""
+    text = iri.value if isinstance(iri, NamedNode) else iri
+    return text.rsplit("#", 1)[-1] if "#" in text else text.rsplit("/", 1)[-1]
+
+
+def _restrictions(signature: Signature) -> list[tuple[str, str, int]]:
+    return [(local_name(p), local_name(t), n) for (p, t), n in signature.items()]
+
+
+def _relations(signature: Signature) -> list[str]:
+    out = []
+    for scene_property, target, _ in _restrictions(signature):
+        kind, relation = relation_of(scene_property)
+        out.append(f"{kind} {relation} {target.lower()}")
+    return out
+
+
+def _live_node(summary: ClassSummary) -> ClassNode:
+    s = summary.scores
+    return ClassNode(
+        name=local_name(summary.iri),
+        iri=summary.iri.value,
+        complexity=summary.signature.complexity,
+        score=s.normalised,
+        level=s.level,
+        pinned=s.pinned,
+        forgotten=False,
+        items=summary.items,
+        store_count=s.store_count,
+        retrieve_count=s.retrieve_count,
+        parents=[local_name(p) for p in summary.parents],
+        relations=_relations(summary.signature),
+    )
+
+
+def _trash_values(store: Store, iri: NamedNode) -> dict[NamedNode, Any]:
+    return {q.predicate: q.object for q in store.quads(iri, None, None, TRASH)}
+
+
+def _number(term: Any, default: float = 0.0) -> float:
+    try:
+        return float(term.value) if isinstance(term, Literal) else default
+    except ValueError:
+        return default
+
+
+def _time(term: Any) -> dt.datetime | None:
+    try:
+        return dt.datetime.fromisoformat(term.value) if isinstance(term, Literal) else None
+    except ValueError:
+        return None
+
+
+def _forgotten_node(store: Store, iri: NamedNode, top: float) -> ClassNode | None:
+    values = _trash_values(store, iri)
+    if FORGOTTEN_SIGNATURE not in values:
+        return None  # an experienced scene forgotten alone: not a node of the graph
+    signature = Signature.from_json(values[FORGOTTEN_SIGNATURE].value)
+    raw = _number(values.get(SCORE))
+    return ClassNode(
+        name=local_name(iri),
+        iri=iri.value,
+        complexity=signature.complexity,
+        score=min(raw / top, 1.0) if top > 0 else 0.0,
+        level="WEAK",
+        pinned=values.get(PINNED, Literal(False)).value == "true",
+        forgotten=True,
+        items=sum(1 for _ in store.quads(None, RDF_TYPE, iri, TRASH)),
+        store_count=int(_number(values.get(STORE_COUNT))),
+        retrieve_count=int(_number(values.get(RETRIEVE_COUNT))),
+        parents=[],
+        relations=_relations(signature),
+    )
+
+
+def _forgotten_classes(memory: SceneMemory, top: float) -> list[ClassNode]:
+    nodes = []
+    for iri in memory.trash():
+        if any(True for _ in memory.store.quads(iri, RDF_TYPE, TRASH_CLASS, TRASH)) or any(
+            True for _ in memory.store.quads(iri, FORGOTTEN_SIGNATURE, None, TRASH)
+        ):
+            node = _forgotten_node(memory.store, iri, top)
+            if node is not None:
+                nodes.append(node)
+    return nodes
+
+
+def _matches(node: ClassNode, query: str) -> bool:
+    q = query.lower()
+    return q in node.name.lower() or any(q in r.lower() for r in node.relations)
+
+
+def _all_nodes(memory: SceneMemory, *, trash: bool) -> list[ClassNode]:
+    summaries = memory.classes()
+    nodes = [_live_node(s) for s in summaries]
+    if trash:
+        top = max((s.scores.raw_score for s in summaries), default=0.0)
+        nodes.extend(_forgotten_classes(memory, top))
+    return nodes
+
+
+def class_list(
+    memory: SceneMemory, *, trash: bool, query: str | None, offset: int, limit: int
+) -> ClassList:
+    """The classes (and with ``trash`` the forgotten ones), simplest first, matching ``query``
+    (a part of the name or of a relation like "sphere isAboveOf plane") when given."""
+    nodes = _all_nodes(memory, trash=trash)
+    if query:
+        nodes = [n for n in nodes if _matches(n, query)]
+    return ClassList(
+        total=len(nodes), offset=offset, limit=limit, classes=nodes[offset : offset + limit]
+    )
+
+
+def _find(memory: SceneMemory, name: str) -> tuple[ClassSummary | None, NamedNode | None]:
+    for summary in memory.classes():
+        if local_name(summary.iri) == name or summary.iri.value == name:
+            return summary, None
+    for iri in memory.trash():
+        if local_name(iri) == name or iri.value == name:
+            return None, iri
+    raise UnknownClassError(
+        f"name: got {name!r}, expected the name of a learned or forgotten scene class"
+    )
+
+
+def _history(memory: SceneMemory, iri: NamedNode, node: ClassNode) -> list[ScorePoint]:
+    """Past scores when the memory keeps them (a ``score_history`` method returning records
+    with ``time``, ``normalised`` and ``level``), then the score now."""
+    points: list[ScorePoint] = []
+    history = getattr(memory, "score_history", None)
+    if callable(history):
+        for record in history(iri):
+            points.append(
+                ScorePoint(
+                    time=record.time,
+                    score=record.normalised,
+                    level=getattr(record, "level", None),
+                )
+            )
+    points.append(ScorePoint(time=dt.datetime.now(dt.UTC), score=node.score, level=node.level))
+    return points
+
+
+def _scenes_of(store: Store, iri: NamedNode, graph: NamedNode) -> list[SceneEntry]:
+    items = [q.subject for q in store.quads(None, RDF_TYPE, iri, graph)]
+    entries = scene_entries(store, [i for i in items if isinstance(i, NamedNode)], graph)
+    entries.sort(key=lambda e: e.created or dt.datetime.min.replace(tzinfo=dt.UTC), reverse=True)
+    return entries[:SCENES_SHOWN]
+
+
+def class_detail(memory: SceneMemory, name: str) -> ClassDetail:
+    """One class (live or forgotten) by its name or IRI; raises :class:`UnknownClassError`."""
+    summary, trashed = _find(memory, name)
+    if summary is not None:
+        node, s = _live_node(summary), summary.scores
+        restrictions = _restrictions(summary.signature)
+        return ClassDetail(
+            node=node,
+            words=words(restrictions),
+            restrictions=[Restriction(property=p, type=t, n=n) for p, t, n in restrictions],
+            children=[local_name(c) for c in summary.children],
+            raw_score=s.raw_score,
+            stored_level=s.stored_level,
+            consecutive_weak=s.consecutive_weak,
+            created=s.created,
+            last_accessed=s.last_accessed,
+            history=_history(memory, summary.iri, node),
+            scenes=_scenes_of(memory.store, summary.iri, EPISODIC),
+        )
+    assert trashed is not None
+    top = max((c.scores.raw_score for c in memory.classes()), default=0.0)
+    forgotten = _forgotten_node(memory.store, trashed, top)
+    if forgotten is None:
+        raise UnknownClassError(f"name: {name!r} is a forgotten scene, not a class")
+    values = _trash_values(memory.store, trashed)
+    signature = Signature.from_json(values[FORGOTTEN_SIGNATURE].value)
+    restrictions = _restrictions(signature)
+    level = values.get(LEVEL)
+    return ClassDetail(
+        node=forgotten,
+        words=words(restrictions),
+        restrictions=[Restriction(property=p, type=t, n=n) for p, t, n in restrictions],
+        children=[],
+        raw_score=_number(values.get(SCORE)),
+        stored_level=level.value if isinstance(level, Literal) else None,
+        consecutive_weak=None,
+        created=_time(values.get(CREATED)),
+        last_accessed=_time(values.get(LAST_ACCESSED)),
+        history=[],
+        scenes=_scenes_of(memory.store, trashed, TRASH),
+    )
