@@ -16,6 +16,7 @@ from pathlib import Path
 import httpx
 import numpy as np
 import pytest
+from pyoxigraph import NamedNode
 
 from api.config import Settings
 from api.main import create_app
@@ -48,36 +49,66 @@ SCENES: dict[str, list[Primitive]] = {
         _table(),
         Primitive("ball", "Sphere", centre=(-0.18, 0.0, 0.04), radius=0.04, colour=YELLOW),
         Primitive(
-            "can", "Cylinder", centre=(0.12, 0.0, 0.07), axis=(0, 0, 1), radius=0.04,
-            height=0.14, colour=BLUE,
+            "can",
+            "Cylinder",
+            centre=(0.12, 0.0, 0.07),
+            axis=(0, 0, 1),
+            radius=0.04,
+            height=0.14,
+            colour=BLUE,
         ),
     ],
     "funnel": [
         _table(),
         Primitive("ball", "Sphere", centre=(-0.18, 0.0, 0.04), radius=0.04, colour=YELLOW),
         Primitive(
-            "can", "Cylinder", centre=(0.12, 0.0, 0.07), axis=(0, 0, 1), radius=0.04,
-            height=0.14, colour=BLUE,
+            "can",
+            "Cylinder",
+            centre=(0.12, 0.0, 0.07),
+            axis=(0, 0, 1),
+            radius=0.04,
+            height=0.14,
+            colour=BLUE,
         ),
         Primitive(
-            "funnel", "Cone", centre=(0.0, 0.2, 0.06), axis=(0, 0, 1), radius=0.05,
-            height=0.12, colour=RED,
+            "funnel",
+            "Cone",
+            centre=(0.0, 0.2, 0.06),
+            axis=(0, 0, 1),
+            radius=0.05,
+            height=0.12,
+            colour=RED,
         ),
     ],
     "two cans": [
         Primitive(
-            "left", "Cylinder", centre=(-0.15, 0.1, 0.05), axis=(0, 0, 1), radius=0.035,
-            height=0.1, colour=GREEN,
+            "left",
+            "Cylinder",
+            centre=(-0.15, 0.1, 0.05),
+            axis=(0, 0, 1),
+            radius=0.035,
+            height=0.1,
+            colour=GREEN,
         ),
         Primitive(
-            "right", "Cylinder", centre=(0.15, -0.05, 0.09), axis=(0, 0, 1), radius=0.04,
-            height=0.18, colour=RED,
+            "right",
+            "Cylinder",
+            centre=(0.15, -0.05, 0.09),
+            axis=(0, 0, 1),
+            radius=0.04,
+            height=0.18,
+            colour=RED,
         ),
     ],
     "ball before a cone": [
         Primitive("ball", "Sphere", centre=(0.0, -0.12, 0.05), radius=0.05, colour=RED),
         Primitive(
-            "cone", "Cone", centre=(0.0, 0.18, 0.07), axis=(0, 0, 1), radius=0.05, height=0.14,
+            "cone",
+            "Cone",
+            centre=(0.0, 0.18, 0.07),
+            axis=(0, 0, 1),
+            radius=0.05,
+            height=0.14,
             colour=GREEN,
         ),
     ],
@@ -130,7 +161,7 @@ def build_memory(data_dir: Path) -> str:
         recorder.tick(samples, time_ns=T0_NS + i * TICK_NS)
     for k, title in enumerate(SCRIPT):
         clock.now = START + dt.timedelta(minutes=10 * k)
-        memory.store_scene(SCENES[title], episode=NamedNodeOf(episode.iri))
+        memory.store_scene(SCENES[title], episode=NamedNode(episode.iri))
     clock.now = START + dt.timedelta(hours=2)
     episodes.annotate(
         episode.id,
@@ -157,12 +188,6 @@ def build_memory(data_dir: Path) -> str:
     del memory, episodes, store
     gc.collect()  # the memories hold the store in cycles; free them to unlock the directory
     return episode.id
-
-
-def NamedNodeOf(iri: str):  # noqa: N802
-    from pyoxigraph import NamedNode
-
-    return NamedNode(iri)
 
 
 @pytest.fixture(scope="module")
