@@ -23,7 +23,13 @@ import numpy as np
 from numpy.typing import NDArray
 
 from api.views.models import ChannelInfo, ChannelList, FrameList, PlotData
-from episodes.streams import InvalidSampleError, Kind, Replayer, UnknownProviderError
+from episodes.streams import (
+    InvalidSampleError,
+    Kind,
+    RecordingNotFoundError,
+    Replayer,
+    UnknownProviderError,
+)
 
 __all__ = ["MAX_POINTS", "channel_list", "decimate", "frame_list", "plot_data"]
 
@@ -64,6 +70,8 @@ def _cached(path: Path, key: str, compute: Any) -> Any:
 
 
 def _replayer(path: Path) -> Replayer:
+    if not path.exists():
+        raise RecordingNotFoundError(f"episode: nothing was recorded at {path.name!r}")
     replayer: Replayer = _cached(_file(path), "", lambda: Replayer(path))
     return replayer
 

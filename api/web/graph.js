@@ -145,6 +145,7 @@ export async function start() {
         "target-arrow-color": "#9aa4ae", "curve-style": "straight", "arrow-scale": 0.7 } },
     ],
   });
+  window.engramGraph = cy; // for scripts and tests driving the page
   cy.on("tap", "node", (event) => select(event.target.id()));
   document.getElementById("graph-trash").addEventListener("change", () => load());
   document.getElementById("graph-search").addEventListener("input", applySearch);
