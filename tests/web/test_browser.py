@@ -97,7 +97,7 @@ def test_memory_graph_draws_classes_and_shows_a_class(
         "fetch('/views/classes').then(r => r.json()).then(b => "
         "b.classes.reduce((a, c) => c.score > a.score ? c : a).name)"
     )
-    page.evaluate("name => window.engramGraph.$id(name).emit('tap')", best)
+    page.evaluate("name => { window.engramGraph.$id(name).emit('tap'); }", best)
     page.wait_for_selector(f"#class-detail[data-selected='{best}']")
     text = page.inner_text("#class-detail")
     assert "a sphere left of a cylinder" in text and "Unpin" in text
@@ -114,7 +114,7 @@ def test_pin_asks_for_nothing_without_a_token_and_pins(
     page.wait_for_selector("#cy[data-nodes='4']")
     classes = view_server.client.get("/views/classes").json()["classes"]
     loose = next(c for c in classes if not c["pinned"])
-    page.evaluate("n => window.engramGraph.$id(n).emit('tap')", loose["name"])
+    page.evaluate("n => { window.engramGraph.$id(n).emit('tap'); }", loose["name"])
     page.wait_for_selector(f"#class-detail[data-selected='{loose['name']}'] #pin")
     page.click("#pin")
     page.wait_for_selector("#class-detail:has-text('Unpin')")

@@ -81,7 +81,12 @@ def test_channels_and_decimated_plot(view_server: ViewServer) -> None:
         ("/views/classes", {"limit": 0}, 422, "limit"),
         ("/views/episodes/tidying-1/plot", {"channel": "cam/rgb"}, 422, "numeric"),
         ("/views/episodes/tidying-1/plot", {"channel": "nope"}, 404, "nope"),
-        ("/views/episodes/tidying-1/plot", {"channel": "arm/joints", "points": 5000}, 422, "points"),
+        (
+            "/views/episodes/tidying-1/plot",
+            {"channel": "arm/joints", "points": 5000},
+            422,
+            "points",
+        ),
         ("/views/episodes/bad id!/channels", {}, 422, "bad id!"),
         ("/views/episodes/babbling-9/channels", {}, 404, ""),
     ],
