@@ -22,14 +22,14 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
-from api.config import Settings  # noqa: E402
-from api.main import create_app  # noqa: E402
-from bench.scene_memory import random_scene  # noqa: E402
-from episodes import EpisodeMemory  # noqa: E402
-from kg import Store  # noqa: E402
-from reasoners.memory import SceneMemory  # noqa: E402
-from tests.conftest import free_port, serve  # noqa: E402
-from tests.web.browser import CHROMIUM_ARGS, chromium_path  # noqa: E402
+from api.config import Settings
+from api.main import create_app
+from bench.scene_memory import random_scene
+from episodes import EpisodeMemory
+from kg import Store
+from reasoners.memory import SceneMemory
+from tests.conftest import free_port, serve
+from tests.web.browser import CHROMIUM_ARGS, chromium_path
 
 SEED = 18
 T0_NS = 1_770_000_000_000_000_000
@@ -97,7 +97,8 @@ def main() -> None:
         began = time.perf_counter()
         build(data_dir, args.classes, samples)
         print(
-            f"built {args.classes} classes and {samples} samples in {time.perf_counter() - began:.1f} s"
+            f"built {args.classes} classes and {samples} samples "
+            f"in {time.perf_counter() - began:.1f} s"
         )
         settings = Settings(host="127.0.0.1", port=free_port(), data_dir=data_dir)
         server, thread, url = serve(create_app(settings), settings)
