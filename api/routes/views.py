@@ -44,7 +44,7 @@ def _not_found(error: LookupError) -> HTTPException:
     return HTTPException(status.HTTP_404_NOT_FOUND, str(error))
 
 
-def _json(model: ClassList | SceneList) -> Response:
+def _json(model: SceneList) -> Response:
     # Serialised by pydantic in one pass: the graph of 10,000 classes is read in one request.
     return Response(model.model_dump_json(), media_type="application/json")
 
@@ -67,11 +67,10 @@ async def classes(
 ) -> Response:
     """Learned scene classes, simplest first, with normalised score, level, pinned and forgotten
     marks, direct superclasses and the signature in words."""
-    memory = _memory(request)
-    page = await run_in_threadpool(
-        graph.class_list, memory, trash=trash, query=q, offset=offset, limit=limit
+    body = await run_in_threadpool(
+        graph.class_list_json, _memory(request), trash=trash, query=q, offset=offset, limit=limit
     )
-    return _json(page)
+    return Response(body, media_type="application/json")
 
 
 @router.get("/views/classes/{name}", summary="One class in detail")

@@ -6,6 +6,8 @@ signature, counters and last score as they were when it was forgotten.
 """
 
 import datetime as dt
+import json
+import threading
 from functools import cache
 from typing import Any
 
@@ -13,7 +15,6 @@ from pyoxigraph import Literal, NamedNode
 
 from api.views.models import (
     ClassDetail,
-    ClassList,
     ClassNode,
     Restriction,
     SceneEntry,
@@ -40,7 +41,7 @@ from reasoners.memory import SceneMemory
 from reasoners.results import ClassSummary
 from reasoners.signature import Signature
 
-__all__ = ["UnknownClassError", "class_detail", "class_list", "local_name"]
+__all__ = ["UnknownClassError", "class_detail", "class_list_json", "local_name"]
 
 SCENES_SHOWN = 50
 """The stored scenes a class's detail lists, newest first."""
@@ -70,23 +71,28 @@ def _relations(signature: Signature) -> list[str]:
     return [_relation(p.value, t.value) for (p, t) in signature]
 
 
-def _live_node(summary: ClassSummary) -> ClassNode:
+def _live_fields(summary: ClassSummary) -> dict[str, Any]:
+    """A live class as :class:`ClassNode`'s fields (plain values, so a list of 10,000 serialises
+    without a model per node)."""
     s = summary.scores
-    # built from checked values, so pydantic's validation is skipped (10,000 nodes per request)
-    return ClassNode.model_construct(
-        name=local_name(summary.iri),
-        iri=summary.iri.value,
-        complexity=summary.signature.complexity,
-        score=s.normalised,
-        level=s.level,  # type: ignore[arg-type]
-        pinned=s.pinned,
-        forgotten=False,
-        items=summary.items,
-        store_count=s.store_count,
-        retrieve_count=s.retrieve_count,
-        parents=[local_name(p) for p in summary.parents],
-        relations=_relations(summary.signature),
-    )
+    return {
+        "name": local_name(summary.iri),
+        "iri": summary.iri.value,
+        "complexity": summary.signature.complexity,
+        "score": s.normalised,
+        "level": s.level,
+        "pinned": s.pinned,
+        "forgotten": False,
+        "items": summary.items,
+        "store_count": s.store_count,
+        "retrieve_count": s.retrieve_count,
+        "parents": [local_name(p) for p in summary.parents],
+        "relations": _relations(summary.signature),
+    }
+
+
+def _live_node(summary: ClassSummary) -> ClassNode:
+    return ClassNode(**_live_fields(summary))
 
 
 def _trash_values(store: Store, iri: NamedNode) -> dict[NamedNode, Any]:
@@ -141,31 +147,51 @@ def _forgotten_classes(memory: SceneMemory, top: float) -> list[ClassNode]:
     return nodes
 
 
-def _matches(node: ClassNode, query: str) -> bool:
+def _matches(node: dict[str, Any], query: str) -> bool:
     q = query.lower()
-    return q in node.name.lower() or any(q in r.lower() for r in node.relations)
+    return q in node["name"].lower() or any(q in r.lower() for r in node["relations"])
 
 
-def _all_nodes(memory: SceneMemory, *, trash: bool) -> list[ClassNode]:
-    summaries = memory.classes()
-    nodes = [_live_node(s) for s in summaries]
-    if trash:
-        top = max((s.scores.raw_score for s in summaries), default=0.0)
-        nodes.extend(_forgotten_classes(memory, top))
-    return nodes
+class _NodeCache:
+    """The node lists of the last memory state seen (the store's transaction count names it):
+    deriving 10,000 classes' scores takes seconds, serving them again must not."""
+
+    def __init__(self) -> None:
+        self._lock = threading.Lock()
+        self._entries: dict[tuple[int, bool], tuple[int, list[dict[str, Any]]]] = {}
+
+    def nodes(self, memory: SceneMemory, *, trash: bool) -> list[dict[str, Any]]:
+        key, generation = (id(memory), trash), memory.store.generation
+        with self._lock:
+            cached = self._entries.get(key)
+        if cached is not None and cached[0] == generation:
+            return cached[1]
+        summaries = memory.classes()
+        nodes = [_live_fields(s) for s in summaries]
+        if trash:
+            top = max((s.scores.raw_score for s in summaries), default=0.0)
+            nodes.extend(n.model_dump() for n in _forgotten_classes(memory, top))
+        with self._lock:
+            self._entries = {k: v for k, v in self._entries.items() if k[0] == id(memory)}
+            self._entries[key] = (generation, nodes)
+        return nodes
 
 
-def class_list(
+_cache = _NodeCache()
+
+
+def class_list_json(
     memory: SceneMemory, *, trash: bool, query: str | None, offset: int, limit: int
-) -> ClassList:
-    """The classes (and with ``trash`` the forgotten ones), simplest first, matching ``query``
-    (a part of the name or of a relation like "sphere isAboveOf plane") when given."""
-    nodes = _all_nodes(memory, trash=trash)
+) -> bytes:
+    """A :class:`ClassList` as JSON: the classes (with ``trash`` the forgotten ones too),
+    simplest first, matching ``query`` (a part of the name or of a relation like
+    "sphere isAboveOf plane") when given."""
+    nodes = _cache.nodes(memory, trash=trash)
     if query:
         nodes = [n for n in nodes if _matches(n, query)]
-    return ClassList(
-        total=len(nodes), offset=offset, limit=limit, classes=nodes[offset : offset + limit]
-    )
+    page = {"total": len(nodes), "offset": offset, "limit": limit}
+    page["classes"] = nodes[offset : offset + limit]  # type: ignore[assignment]
+    return json.dumps(page, separators=(",", ":")).encode()
 
 
 def _find(memory: SceneMemory, name: str) -> tuple[ClassSummary | None, NamedNode | None]:

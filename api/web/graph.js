@@ -45,8 +45,12 @@ async function load() {
   nodes = page.classes;
   document.getElementById("graph-count").textContent =
     `${page.total} classes${trash ? " (with the trash)" : ""}`;
+  const big = nodes.length > DAGRE_LIMIT;
+  cy.startBatch();
   cy.elements().remove();
+  cy.style(styles(big));
   cy.add(elements());
+  cy.endBatch();
   cy.layout(layoutOptions(nodes.length)).run();
   applySearch();
   document.getElementById("cy").dataset.nodes = String(cy.nodes().length);
@@ -127,23 +131,31 @@ async function select(name) {
   } catch (error) { showError(panel, error); }
 }
 
+// Large memories draw without labels (but on the selected and matching classes) and with plain
+// edges: text and arrow heads for 10,000 classes would take seconds to draw.
+function styles(big) {
+  return [
+    { selector: "node", style: { width: "data(size)", height: "data(size)", "background-color": "data(colour)",
+      label: big ? "" : "data(id)", "font-size": 9, "min-zoomed-font-size": 7, "text-valign": "bottom" } },
+    { selector: "node.pinned", style: { "border-width": 4, "border-color": "#1565c0" } },
+    { selector: "node.forgotten", style: { "border-width": 2, "border-style": "dashed", "border-color": "#555", opacity: 0.45 } },
+    { selector: "node.match", style: { label: "data(id)", "overlay-color": "#1565c0", "overlay-opacity": 0.25, "overlay-padding": 6 } },
+    { selector: "node.dim", style: { opacity: 0.15 } },
+    { selector: "node:selected", style: { label: "data(id)", "border-width": 4, "border-color": "#000" } },
+    { selector: "edge", style: big
+      ? { width: 0.6, "line-color": "#c3c9cf", "curve-style": "haystack" }
+      : { width: 1.2, "line-color": "#9aa4ae", "target-arrow-shape": "triangle",
+        "target-arrow-color": "#9aa4ae", "curve-style": "straight", "arrow-scale": 0.7 } },
+  ];
+}
+
 export async function start() {
   cy = cytoscape({
     container: document.getElementById("cy"),
     hideEdgesOnViewport: true,
     textureOnViewport: true,
     minZoom: 0.02,
-    style: [
-      { selector: "node", style: { width: "data(size)", height: "data(size)", "background-color": "data(colour)",
-        label: "data(id)", "font-size": 9, "min-zoomed-font-size": 7, "text-valign": "bottom" } },
-      { selector: "node.pinned", style: { "border-width": 4, "border-color": "#1565c0" } },
-      { selector: "node.forgotten", style: { "border-width": 2, "border-style": "dashed", "border-color": "#555", opacity: 0.45 } },
-      { selector: "node.match", style: { "overlay-color": "#1565c0", "overlay-opacity": 0.25, "overlay-padding": 6 } },
-      { selector: "node.dim", style: { opacity: 0.15 } },
-      { selector: "node:selected", style: { "border-width": 4, "border-color": "#000" } },
-      { selector: "edge", style: { width: 1.2, "line-color": "#9aa4ae", "target-arrow-shape": "triangle",
-        "target-arrow-color": "#9aa4ae", "curve-style": "straight", "arrow-scale": 0.7 } },
-    ],
+    style: styles(false),
   });
   window.engramGraph = cy; // for scripts and tests driving the page
   cy.on("tap", "node", (event) => select(event.target.id()));
