@@ -14,11 +14,13 @@ import random
 import statistics
 import sys
 import tempfile
+import threading
 import time
 from pathlib import Path
 
 import httpx
 import numpy as np
+import uvicorn
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
@@ -60,6 +62,23 @@ def build(data_dir: Path, classes: int, samples: int) -> None:
     gc.collect()
 
 
+def serve(settings: Settings) -> tuple[uvicorn.Server, threading.Thread, str]:
+    """The app on a loopback port; waits for it to open a large memory (minutes at most)."""
+    server = uvicorn.Server(
+        uvicorn.Config(
+            create_app(settings), host=settings.host, port=settings.port, log_level="warning"
+        )
+    )
+    thread = threading.Thread(target=server.run, daemon=True)
+    thread.start()
+    deadline = time.monotonic() + 600
+    while not server.started:
+        if not thread.is_alive() or time.monotonic() > deadline:
+            raise RuntimeError("the server did not start")
+        time.sleep(0.1)
+    return server, thread, f"http://{settings.host}:{settings.port}"
+
+
 def timed(client: httpx.Client, url: str, repeat: int) -> float:
     times = []
     for _ in range(repeat):
@@ -90,18 +109,22 @@ def main() -> None:
     parser.add_argument("--classes", type=int, default=10_000)
     parser.add_argument("--minutes", type=float, default=10.0)
     parser.add_argument("--repeat", type=int, default=5)
+    parser.add_argument(
+        "--data", type=Path, help="Reuse (or keep) the memory built in this directory."
+    )
     args = parser.parse_args()
     samples = int(args.minutes * 60 * 100)
     with tempfile.TemporaryDirectory(prefix="engram-bench-views-") as work:
-        data_dir = Path(work) / "data"
+        data_dir = args.data or Path(work) / "data"
         began = time.perf_counter()
-        build(data_dir, args.classes, samples)
+        if not (data_dir / "store").exists():
+            build(data_dir, args.classes, samples)
         print(
             f"built {args.classes} classes and {samples} samples "
             f"in {time.perf_counter() - began:.1f} s"
         )
         settings = Settings(host="127.0.0.1", port=free_port(), data_dir=data_dir)
-        server, thread, url = serve(create_app(settings), settings)
+        server, thread, url = serve(settings)
         try:
             with httpx.Client(base_url=url, timeout=120) as client:
                 health = timed(client, "/health", args.repeat)
