@@ -30,7 +30,7 @@ from bench.scene_memory import random_scene
 from episodes import EpisodeMemory
 from kg import Store
 from reasoners.memory import SceneMemory
-from tests.conftest import free_port, serve
+from tests.conftest import free_port
 from tests.web.browser import CHROMIUM_ARGS, chromium_path
 
 SEED = 18
