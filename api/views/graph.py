@@ -153,31 +153,40 @@ def _matches(node: dict[str, Any], query: str) -> bool:
 
 
 class _NodeCache:
-    """The node lists of the last memory state seen (the store's transaction count names it):
-    deriving 10,000 classes' scores takes seconds, serving them again must not."""
+    """The node list of the last memory state seen (the store's transaction count names it),
+    and its whole page as JSON: deriving 10,000 classes' scores takes seconds, serialising them
+    a third of one; serving them again must take neither."""
 
     def __init__(self) -> None:
         self._lock = threading.Lock()
-        self._entries: dict[tuple[int, bool], tuple[int, list[dict[str, Any]]]] = {}
+        self._entries: dict[tuple[int, bool], tuple[int, list[dict[str, Any]], bytes]] = {}
 
-    def nodes(self, memory: SceneMemory, *, trash: bool) -> list[dict[str, Any]]:
+    def get(self, memory: SceneMemory, *, trash: bool) -> tuple[list[dict[str, Any]], bytes]:
+        """The nodes, and the JSON of the page holding all of them."""
         key, generation = (id(memory), trash), memory.store.generation
         with self._lock:
             cached = self._entries.get(key)
         if cached is not None and cached[0] == generation:
-            return cached[1]
+            return cached[1], cached[2]
         summaries = memory.classes()
         nodes = [_live_fields(s) for s in summaries]
         if trash:
             top = max((s.scores.raw_score for s in summaries), default=0.0)
             nodes.extend(n.model_dump() for n in _forgotten_classes(memory, top))
+        whole = _page(nodes, offset=0, limit=len(nodes))
         with self._lock:
             self._entries = {k: v for k, v in self._entries.items() if k[0] == id(memory)}
-            self._entries[key] = (generation, nodes)
-        return nodes
+            self._entries[key] = (generation, nodes, whole)
+        return nodes, whole
 
 
 _cache = _NodeCache()
+
+
+def _page(nodes: list[dict[str, Any]], *, offset: int, limit: int) -> bytes:
+    page: dict[str, Any] = {"total": len(nodes), "offset": offset, "limit": limit}
+    page["classes"] = nodes[offset : offset + limit]
+    return json.dumps(page, separators=(",", ":")).encode()
 
 
 def class_list_json(
@@ -186,12 +195,14 @@ def class_list_json(
     """A :class:`ClassList` as JSON: the classes (with ``trash`` the forgotten ones too),
     simplest first, matching ``query`` (a part of the name or of a relation like
     "sphere isAboveOf plane") when given."""
-    nodes = _cache.nodes(memory, trash=trash)
+    nodes, whole = _cache.get(memory, trash=trash)
+    if not query and offset == 0 and limit >= len(nodes):
+        if limit == len(nodes):
+            return whole
+        return whole.replace(b'"limit":%d' % len(nodes), b'"limit":%d' % limit, 1)
     if query:
         nodes = [n for n in nodes if _matches(n, query)]
-    page = {"total": len(nodes), "offset": offset, "limit": limit}
-    page["classes"] = nodes[offset : offset + limit]  # type: ignore[assignment]
-    return json.dumps(page, separators=(",", ":")).encode()
+    return _page(nodes, offset=offset, limit=limit)
 
 
 def _find(memory: SceneMemory, name: str) -> tuple[ClassSummary | None, NamedNode | None]:
