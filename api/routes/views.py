@@ -64,11 +64,18 @@ async def classes(
     ] = None,
     offset: Offset = 0,
     limit: Annotated[int, Query(ge=1, le=50_000)] = 20_000,
+    relations: Annotated[bool, Query(description="Include each class's relations.")] = True,
 ) -> Response:
     """Learned scene classes, simplest first, with normalised score, level, pinned and forgotten
     marks, direct superclasses and the signature in words."""
     body = await run_in_threadpool(
-        graph.class_list_json, _memory(request), trash=trash, query=q, offset=offset, limit=limit
+        graph.class_list_json,
+        _memory(request),
+        trash=trash,
+        query=q,
+        offset=offset,
+        limit=limit,
+        relations=relations,
     )
     return Response(body, media_type="application/json")
 

@@ -159,11 +159,14 @@ class _NodeCache:
 
     def __init__(self) -> None:
         self._lock = threading.Lock()
-        self._entries: dict[tuple[int, bool], tuple[int, list[dict[str, Any]], bytes]] = {}
+        self._entries: dict[tuple[int, bool, bool], tuple[int, list[dict[str, Any]], bytes]] = {}
 
-    def get(self, memory: SceneMemory, *, trash: bool) -> tuple[list[dict[str, Any]], bytes]:
-        """The nodes, and the JSON of the page holding all of them."""
-        key, generation = (id(memory), trash), memory.store.generation
+    def get(
+        self, memory: SceneMemory, *, trash: bool, relations: bool
+    ) -> tuple[list[dict[str, Any]], bytes]:
+        """The nodes (with their relations), and the JSON of the page holding all of them
+        (without the relations unless ``relations``)."""
+        key, generation = (id(memory), trash, relations), memory.store.generation
         with self._lock:
             cached = self._entries.get(key)
         if cached is not None and cached[0] == generation:
@@ -173,7 +176,8 @@ class _NodeCache:
         if trash:
             top = max((s.scores.raw_score for s in summaries), default=0.0)
             nodes.extend(n.model_dump() for n in _forgotten_classes(memory, top))
-        whole = _page(nodes, offset=0, limit=len(nodes))
+        shown = nodes if relations else [_without_relations(n) for n in nodes]
+        whole = _page(shown, offset=0, limit=len(nodes))
         with self._lock:
             self._entries = {k: v for k, v in self._entries.items() if k[0] == id(memory)}
             self._entries[key] = (generation, nodes, whole)
@@ -183,6 +187,10 @@ class _NodeCache:
 _cache = _NodeCache()
 
 
+def _without_relations(node: dict[str, Any]) -> dict[str, Any]:
+    return {k: v for k, v in node.items() if k != "relations"}
+
+
 def _page(nodes: list[dict[str, Any]], *, offset: int, limit: int) -> bytes:
     page: dict[str, Any] = {"total": len(nodes), "offset": offset, "limit": limit}
     page["classes"] = nodes[offset : offset + limit]
@@ -190,18 +198,30 @@ def _page(nodes: list[dict[str, Any]], *, offset: int, limit: int) -> bytes:
 
 
 def class_list_json(
-    memory: SceneMemory, *, trash: bool, query: str | None, offset: int, limit: int
+    memory: SceneMemory,
+    *,
+    trash: bool,
+    query: str | None,
+    offset: int,
+    limit: int,
+    relations: bool = True,
 ) -> bytes:
     """A :class:`ClassList` as JSON: the classes (with ``trash`` the forgotten ones too),
     simplest first, matching ``query`` (a part of the name or of a relation like
-    "sphere isAboveOf plane") when given."""
-    nodes, whole = _cache.get(memory, trash=trash)
+    "sphere isAboveOf plane") when given; without ``relations``, the nodes leave them out
+    (a fifth of the bytes)."""
+    nodes, whole = _cache.get(memory, trash=trash, relations=relations)
     if not query and offset == 0 and limit >= len(nodes):
         if limit == len(nodes):
             return whole
         return whole.replace(b'"limit":%d' % len(nodes), b'"limit":%d' % limit, 1)
     if query:
         nodes = [n for n in nodes if _matches(n, query)]
+    if not relations:
+        nodes = [_without_relations(n) for n in nodes[offset : offset + limit]]
+        return _page(nodes, offset=0, limit=limit).replace(
+            b'"offset":0', b'"offset":%d' % offset, 1
+        )
     return _page(nodes, offset=offset, limit=limit)
 
 

@@ -44,8 +44,10 @@ class ClassNode(BaseModel):
     store_count: int
     retrieve_count: int
     parents: list[str] = Field(description="Names of the direct superclasses.")
-    relations: list[str] = Field(
-        description='The signature in words, one entry per key: "sphere isAboveOf plane".'
+    relations: list[str] | None = Field(
+        None,
+        description='The signature in words, one entry per key: "sphere isAboveOf plane" '
+        "(left out of a list asked for with relations=false).",
     )
 
 

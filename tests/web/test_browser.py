@@ -106,6 +106,25 @@ def test_memory_graph_draws_classes_and_shows_a_class(
     _save(view_server, page, "memory-graph")
 
 
+def test_large_memories_draw_an_overview_that_selects_classes(
+    watched: Watched, view_server: ViewServer
+) -> None:
+    page = watched.page
+    page.goto(f"{view_server.url}/web/?overview#graph")  # as a memory of 10,000 classes draws
+    canvas = page.wait_for_selector("#graph-overview[data-positions]")
+    positions = json.loads(canvas.get_attribute("data-positions") or "[]")
+    assert len(positions) == 4
+    pixels = _pixels(canvas.screenshot())
+    for point in positions:
+        x, y = round(point["x"]), round(point["y"])
+        assert np.abs(pixels[y, x] - [255, 255, 255]).sum() > 60, point
+    target = positions[-1]
+    canvas.click(position={"x": target["x"], "y": target["y"]})
+    page.wait_for_selector(f"#class-detail[data-selected='{target['name']}']")
+    page.fill("#graph-search", "cone isBehindOf")
+    page.wait_for_selector("#graph-count[data-matches='2']")
+
+
 def test_pin_asks_for_nothing_without_a_token_and_pins(
     watched: Watched, view_server: ViewServer
 ) -> None:
