@@ -64,7 +64,9 @@ function overviewLayout() {
 
 function drawOverview() {
   const { canvas, layout, view } = overview;
-  const g = canvas.getContext("2d");
+  // A CPU-backed canvas: tens of thousands of lines rasterise faster there than through a
+  // software GPU (headless, or a machine without one).
+  const g = canvas.getContext("2d", { willReadFrequently: true });
   const w = canvas.width, h = canvas.height;
   g.fillStyle = "#ffffff"; g.fillRect(0, 0, w, h);
   const sx = (x) => view.x + x * view.scale * w / layout.width;
