@@ -21,6 +21,20 @@ export async function getJSON(url) {
   return answer.json();
 }
 
+const scripts = {};
+
+// A classic script (a vendored library) loaded once, when a view first needs it.
+export function loadScript(src) {
+  scripts[src] ??= new Promise((resolve, reject) => {
+    const tag = document.createElement("script");
+    tag.src = src;
+    tag.onload = resolve;
+    tag.onerror = () => reject(new Error(`could not load ${src}`));
+    document.head.append(tag);
+  });
+  return scripts[src];
+}
+
 export function authHeaders() {
   const token = document.getElementById("token").value.trim();
   return token ? { Authorization: `Bearer ${token}` } : {};

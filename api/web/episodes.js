@@ -1,7 +1,7 @@
 // Episodes: a timeline by activity with participants, annotation ranges, stored scenes,
 // augmentation runs and ratings; an episode's channels with coverage, decimated plots, camera
 // frames with a scrubber, and replay controls over /episodes/{id}/streams/replay.
-import { element, getJSON, showError } from "./app.js";
+import { element, getJSON, loadScript, showError } from "./app.js";
 
 let timeline = null, episodes = [], replayAbort = null;
 
@@ -160,6 +160,7 @@ async function select(id) {
 }
 
 export async function start() {
+  await loadScript("vendor/vis-timeline-graph2d.min.js"); // 0.5 MB: only for this view
   const page = await getJSON("/views/episodes?limit=500");
   episodes = page.episodes;
   const { groups, rows } = items();
