@@ -246,7 +246,7 @@ async function select(name) {
       : [element("button", { id: "pin", onclick: () => act(node.pinned ? "UNPIN" : "PIN", [node.iri]) },
         node.pinned ? "Unpin" : "Pin (never forget)")];
     panel.replaceChildren(
-      element("h2", {}, node.name, node.pinned ? " 📌" : "", node.forgotten ? " (forgotten)" : ""),
+      element("h2", {}, node.name, node.pinned ? " (pinned)" : "", node.forgotten ? " (forgotten)" : ""),
       element("p", { class: "words" }, detail.words),
       counters(node, detail), historyChart(detail),
       element("h3", {}, "Stored scenes"),
