@@ -68,6 +68,11 @@ def _refuse_damaged(settings: Settings) -> None:
         raise typer.Exit(1)
 
 
+def views_url(settings: Settings) -> str:
+    """Where the served web views are."""
+    return f"http://{settings.host}:{settings.port}/web/"
+
+
 def _serve(settings: Settings) -> None:
     _refuse_damaged(settings)
     # Engram's own loggers go through uvicorn's handler, at INFO, like the server's.
@@ -77,6 +82,7 @@ def _serve(settings: Settings) -> None:
         f"Serving {settings.store_dir} on http://{settings.host}:{settings.port} "
         "(SPARQL at /sparql, OWL export at /export, API docs at /docs); Ctrl-C stops."
     )
+    console.print(f"Web views (memory graph, scenes in 3D, episodes, query): {views_url(settings)}")
     uvicorn.run(
         create_app(settings),
         host=settings.host,

@@ -17,7 +17,7 @@ from api.errors import install_error_handlers
 from api.finite_json import FiniteJsonBodies
 from api.memory_state import live_memory_state
 from api.openapi_errors import install_error_docs
-from api.routes import admin, armor, ask, episodes, export, health, sparql, streams
+from api.routes import admin, armor, ask, episodes, export, health, sparql, streams, views
 from episodes import EpisodeMemory
 from episodes.streams import RecordingRegistry
 from kg import Store, ensure_ontology
@@ -114,6 +114,7 @@ def create_app(settings: Settings | None = None) -> FastAPI:
     # armor first: route matching is a sizeable share of a directive's time
     for module in (armor, health, sparql, export, admin, episodes, streams, ask):
         app.include_router(module.router)
+    views.install(app)  # the web views: JSON under /views, pages under /web (api/web/)
     app.add_middleware(
         FiniteJsonBodies
     )  # NaN, Infinity, 1e999 in a JSON body: 422 (api/finite_json.py)

@@ -55,6 +55,7 @@ from episodes.model import (
     StreamDescriptor,
 )
 from episodes.queue import AugmentationQueue
+from episodes.scene_channel import write_episode_scenes
 from episodes.snapshot import MemoryState, read_memory_state
 from episodes.streamlink import descriptors_from_recording, descriptors_from_stats
 from episodes.streams import Recorder, RecordingRegistry, Replayer, export_bag, import_bag
@@ -200,6 +201,8 @@ class EpisodeMemory:
         lifecycle.end_episode(
             self.store, episode_id, end=ended, streams=streams, memory_state=self.memory_state
         )
+        if self.data_dir is not None:  # its scenes, for Foxglove (episodes/scene_channel.py)
+            write_episode_scenes(self.store, self.data_dir, episode_id)
         return self.get(episode_id)
 
     def _close_streams(self, episode_id: str) -> list[StreamDescriptor]:

@@ -1,12 +1,14 @@
 """The perception client and the demo: point clouds in, scenes in the memory, results out."""
 
 import gc
+import json
 from pathlib import Path
 
 import numpy as np
 import open3d as o3d
 import pytest
 import rdflib
+from mcap.reader import make_reader
 from typer.testing import CliRunner
 
 from api.cli import app
@@ -143,6 +145,12 @@ def test_demo_learns_recalls_forgets_and_exports(tmp_path: Path) -> None:
     assert "> Why did you not recognise the last scene?" in asked
     export = rdflib.Graph().parse(tmp_path / "engram.owl", format="xml")
     assert len(list(export.subjects(rdflib.RDF.type, rdflib.OWL.Ontology))) == 1
+    (scenes,) = (tmp_path / "scenes").glob("*.mcap")  # the demo episode, for Foxglove
+    with scenes.open("rb") as stream:
+        read = list(make_reader(stream).iter_messages())
+    assert read and {s.name for s, _, _ in read} == {"foxglove.SceneUpdate"}
+    entities = [json.loads(m.data)["entities"][0] for _, _, m in read]
+    assert all(len(e["spheres"]) + len(e["cylinders"]) >= 2 for e in entities)
     again = runner.invoke(app, ["demo", "--no-serve", "--data", str(tmp_path)])
     assert again.exit_code == 2
     assert "--reset" in again.output

@@ -1,0 +1,204 @@
+"""Stored (experienced) scenes read back from the store: lists, and one scene with its
+primitives and the relations the encoder fired, as the 3D view draws them.
+
+The triples are the ones :func:`reasoners.persist.write_item` wrote: the scene's type (its
+class), creation time and episode, and per primitive its kind, label, centre, axis, radius,
+height, apex and colour. Forgotten scenes are read from the trash graph the same way.
+"""
+
+import datetime as dt
+from collections.abc import Sequence
+from typing import Any
+
+from pyoxigraph import Literal, NamedNode
+
+from api.views.models import Relation, SceneDetail, SceneEntry, SceneList, ScenePrimitive
+from kg import Store
+from ontologies.vocab import (
+    APEX,
+    AXIS,
+    CENTRE,
+    COLOUR,
+    CREATED,
+    ENGRAM_NS,
+    EPISODIC,
+    EXPERIENCED_SCENE,
+    HAPPENED_DURING,
+    HAS_PRIMITIVE,
+    HEIGHT,
+    OWL_NAMED_INDIVIDUAL,
+    RADIUS,
+    RDF_TYPE,
+    RDFS_LABEL,
+    SPATIAL_INVERSES,
+    TRASH,
+)
+
+__all__ = [
+    "UnknownSceneError",
+    "latest_scene",
+    "scene_detail",
+    "scene_entries",
+    "scene_list",
+]
+
+_KINDS = {ENGRAM_NS + k: k for k in ("Sphere", "Cylinder", "Cone", "Plane")}
+_RELATIONS = {p.value: p.value.rsplit("#", 1)[-1] for p in SPATIAL_INVERSES}
+
+
+class UnknownSceneError(LookupError):
+    """No stored scene has that name."""
+
+
+def _name(iri: NamedNode) -> str:
+    return iri.value.rsplit("#", 1)[-1]
+
+
+def _time(term: Any) -> dt.datetime | None:
+    if not isinstance(term, Literal):
+        return None
+    try:
+        return dt.datetime.fromisoformat(term.value)
+    except ValueError:
+        return None
+
+
+def _entry(store: Store, item: NamedNode, graph: NamedNode) -> SceneEntry:
+    created: dt.datetime | None = None
+    cls: str | None = None
+    episode: str | None = None
+    for quad in store.quads(item, None, None, graph):
+        p, o = quad.predicate, quad.object
+        if p == CREATED:
+            created = _time(o)
+        elif p == HAPPENED_DURING and isinstance(o, NamedNode):
+            episode = o.value.rsplit("/", 1)[-1].rsplit("#", 1)[-1]
+        elif p == RDF_TYPE and o not in (EXPERIENCED_SCENE, OWL_NAMED_INDIVIDUAL):
+            cls = _name(o) if isinstance(o, NamedNode) else None
+    return SceneEntry(
+        name=_name(item),
+        iri=item.value,
+        cls=cls,
+        created=created,
+        episode=episode,
+        forgotten=graph == TRASH,
+    )
+
+
+def scene_entries(store: Store, items: Sequence[NamedNode], graph: NamedNode) -> list[SceneEntry]:
+    """The list entries of ``items``, read from ``graph``."""
+    return [_entry(store, item, graph) for item in items]
+
+
+def _newest_first(entries: list[SceneEntry]) -> list[SceneEntry]:
+    oldest = dt.datetime.min.replace(tzinfo=dt.UTC)
+    return sorted(entries, key=lambda e: (e.created or oldest, e.name), reverse=True)
+
+
+def scene_list(
+    store: Store, *, cls: str | None, episode: str | None, offset: int, limit: int
+) -> SceneList:
+    """Live stored scenes, newest first; only those of class ``cls`` or episode ``episode``
+    (names) when given."""
+    items = [
+        q.subject
+        for q in store.quads(None, RDF_TYPE, EXPERIENCED_SCENE, EPISODIC)
+        if isinstance(q.subject, NamedNode)
+    ]
+    entries = scene_entries(store, items, EPISODIC)
+    if cls is not None:
+        entries = [e for e in entries if e.cls == cls]
+    if episode is not None:
+        entries = [e for e in entries if e.episode == episode]
+    entries = _newest_first(entries)
+    return SceneList(
+        total=len(entries), offset=offset, limit=limit, scenes=entries[offset : offset + limit]
+    )
+
+
+def _vector(values: dict[NamedNode, Any], props: tuple[NamedNode, ...]) -> Any:
+    if not all(isinstance(values.get(p), Literal) for p in props):
+        return None
+    return tuple(float(values[p].value) for p in props)
+
+
+def _number(values: dict[NamedNode, Any], prop: NamedNode) -> float | None:
+    term = values.get(prop)
+    return float(term.value) if isinstance(term, Literal) else None
+
+
+def _primitive(store: Store, iri: NamedNode, graph: NamedNode) -> ScenePrimitive | None:
+    values: dict[NamedNode, Any] = {}
+    kind = None
+    for quad in store.quads(iri, None, None, graph):
+        if quad.predicate == RDF_TYPE and isinstance(quad.object, NamedNode):
+            kind = _KINDS.get(quad.object.value, kind)
+        else:
+            values.setdefault(quad.predicate, quad.object)
+    centre = _vector(values, CENTRE)
+    if kind is None or centre is None:
+        return None
+    label = values.get(RDFS_LABEL)
+    return ScenePrimitive(
+        id=label.value if isinstance(label, Literal) else _name(iri),
+        kind=kind,
+        centre=centre,
+        axis=_vector(values, AXIS),
+        radius=_number(values, RADIUS),
+        height=_number(values, HEIGHT),
+        apex=_vector(values, APEX),
+        colour=_vector(values, COLOUR),
+    )
+
+
+def _graph_of(store: Store, item: NamedNode) -> NamedNode | None:
+    for graph in (EPISODIC, TRASH):
+        if any(True for _ in store.quads(item, RDF_TYPE, EXPERIENCED_SCENE, graph)):
+            return graph
+    return None
+
+
+def scene_detail(store: Store, name: str) -> SceneDetail:
+    """A stored scene (live or forgotten) by name or IRI, with its primitives and relations.
+
+    Raises :class:`UnknownSceneError`."""
+    try:
+        item = NamedNode(name if ":" in name else ENGRAM_NS + name)
+    except ValueError:
+        item = None
+    graph = None if item is None else _graph_of(store, item)
+    if item is None or graph is None:
+        raise UnknownSceneError(f"name: got {name!r}, expected the name of a stored scene")
+    members = [
+        q.object
+        for q in store.quads(item, HAS_PRIMITIVE, None, graph)
+        if isinstance(q.object, NamedNode)
+    ]
+    members.sort(key=lambda m: (len(m.value), m.value))  # <scene>-0, -1, ..., -10
+    primitives: list[ScenePrimitive] = []
+    labels: dict[str, str] = {}
+    for member in members:
+        primitive = _primitive(store, member, graph)
+        if primitive is not None:
+            primitives.append(primitive)
+            labels[member.value] = primitive.id
+    relations = [
+        Relation(
+            subject=labels[member.value],
+            relation=_RELATIONS[q.predicate.value],
+            object=labels[q.object.value],
+        )
+        for member in members
+        if member.value in labels
+        for q in store.quads(member, None, None, graph)
+        if q.predicate.value in _RELATIONS
+        and isinstance(q.object, NamedNode)
+        and q.object.value in labels
+    ]
+    return SceneDetail(scene=_entry(store, item, graph), primitives=primitives, relations=relations)
+
+
+def latest_scene(store: Store) -> SceneDetail | None:
+    """The scene stored last (by creation time), or None when none is stored."""
+    page = scene_list(store, cls=None, episode=None, offset=0, limit=1)
+    return scene_detail(store, page.scenes[0].iri) if page.scenes else None

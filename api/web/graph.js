@@ -1,0 +1,301 @@
+// The memory graph: classes as nodes sized by score and coloured by level, direct subclass
+// edges top-down by complexity; a class's detail with pin / restore.
+import { directive, element, getJSON, showError } from "./app.js";
+
+const COLOURS = { HIGH: "#2e7d32", LOW: "#f9a825", WEAK: "#c62828" };
+const DAGRE_LIMIT = 300; // above this many nodes, rows by complexity (dagre is too slow there)
+let cy = null;
+let nodes = [];
+
+function layoutOptions(count) {
+  if (count <= DAGRE_LIMIT) {
+    return { name: "dagre", rankDir: "TB", nodeSep: 18, rankSep: 60, animate: false, fit: true };
+  }
+  // Large memories: one row per complexity, simplest on top, placed without a layout pass.
+  const rows = new Map();
+  for (const node of nodes) {
+    if (!rows.has(node.complexity)) rows.set(node.complexity, []);
+    rows.get(node.complexity).push(node.name);
+  }
+  const position = {};
+  [...rows.keys()].sort((a, b) => a - b).forEach((complexity, row) => {
+    rows.get(complexity).forEach((name, column) => { position[name] = { x: column * 70, y: row * 120 }; });
+  });
+  return { name: "preset", positions: (n) => position[n.id()], fit: true, animate: false };
+}
+
+function elements() {
+  const present = new Set(nodes.map((n) => n.name));
+  const out = nodes.map((n) => ({
+    group: "nodes",
+    data: { id: n.name, size: 18 + 42 * n.score, colour: COLOURS[n.level] || "#888" },
+    classes: [n.pinned ? "pinned" : "", n.forgotten ? "forgotten" : ""].join(" ").trim(),
+  }));
+  for (const n of nodes) {
+    for (const parent of n.parents) {
+      if (present.has(parent)) out.push({ group: "edges", data: { id: `${parent}>${n.name}`, source: parent, target: n.name } });
+    }
+  }
+  return out;
+}
+
+// Memories beyond this many classes are drawn by a plain canvas overview (rows by complexity,
+// simplest on top): cytoscape needs tens of seconds for 10,000 nodes here. ?overview forces it.
+const OVERVIEW_LIMIT = new URLSearchParams(location.search).has("overview") ? 0 : 2000;
+let overview = null;
+
+function overviewLayout() {
+  const rows = new Map();
+  for (const node of nodes) {
+    if (!rows.has(node.complexity)) rows.set(node.complexity, []);
+    rows.get(node.complexity).push(node);
+  }
+  const keys = [...rows.keys()].sort((a, b) => a - b);
+  const widest = Math.max(...keys.map((k) => rows.get(k).length));
+  const placed = new Map();
+  keys.forEach((k, row) => {
+    const members = rows.get(k);
+    members.forEach((node, column) => {
+      placed.set(node.name, { node, x: (column + 0.5) * widest / members.length, y: row + 0.5 });
+    });
+  });
+  return { placed, width: widest, height: keys.length };
+}
+
+function drawOverview() {
+  const { canvas, layout, view } = overview;
+  // A CPU-backed canvas: tens of thousands of lines rasterise faster there than through a
+  // software GPU (headless, or a machine without one).
+  const g = canvas.getContext("2d", { willReadFrequently: true });
+  const w = canvas.width, h = canvas.height;
+  g.fillStyle = "#ffffff"; g.fillRect(0, 0, w, h);
+  const sx = (x) => view.x + x * view.scale * w / layout.width;
+  const sy = (y) => view.y + y * view.scale * h / layout.height;
+  const query = matching !== null;
+  g.strokeStyle = "rgba(120,130,140,0.18)"; g.lineWidth = 0.5; g.beginPath();
+  for (const { node, x, y } of layout.placed.values()) {
+    for (const parent of node.parents) {
+      const p = layout.placed.get(parent);
+      if (p) { g.moveTo(sx(p.x), sy(p.y)); g.lineTo(sx(x), sy(y)); }
+    }
+  }
+  g.stroke();
+  const unit = Math.min(view.scale * w / layout.width, view.scale * h / layout.height);
+  let matches = 0;
+  for (const { node, x, y } of layout.placed.values()) {
+    const hit = query && matching.has(node.name);
+    if (hit) matches += 1;
+    g.globalAlpha = node.forgotten ? 0.45 : query && !hit ? 0.15 : 1;
+    const r = Math.max(1.5, unit * (0.15 + 0.3 * node.score));
+    g.fillStyle = COLOURS[node.level] || "#888";
+    g.beginPath(); g.arc(sx(x), sy(y), r, 0, 2 * Math.PI); g.fill();
+    if (node.pinned || hit || node.name === overview.selected) {
+      g.lineWidth = 2; g.strokeStyle = node.name === overview.selected ? "#000" : "#1565c0"; g.stroke();
+    }
+  }
+  g.globalAlpha = 1;
+  document.getElementById("graph-count").dataset.matches = String(matches);
+  overview.screen = (x, y) => [sx(x), sy(y)];
+  if (layout.placed.size <= 200) { // where each class is drawn, for scripts and tests
+    overview.canvas.dataset.positions = JSON.stringify([...layout.placed.values()].map(
+      ({ node, x, y }) => ({ name: node.name, x: sx(x), y: sy(y) })));
+  }
+}
+
+function showOverview() {
+  const box = document.getElementById("cy");
+  if (!overview) {
+    const canvas = element("canvas", { id: "graph-overview" });
+    canvas.style.cssText = "position:absolute;inset:0;z-index:10;background:#fff";
+    box.append(canvas);
+    overview = { canvas, view: { x: 0, y: 0, scale: 1 }, selected: null };
+    canvas.addEventListener("wheel", (e) => {
+      e.preventDefault();
+      const f = e.deltaY < 0 ? 1.25 : 0.8, v = overview.view;
+      v.x = e.offsetX - (e.offsetX - v.x) * f; v.y = e.offsetY - (e.offsetY - v.y) * f; v.scale *= f;
+      drawOverview();
+    }, { passive: false });
+    let drag = null;
+    canvas.addEventListener("mousedown", (e) => { drag = { x: e.offsetX, y: e.offsetY, moved: false }; });
+    canvas.addEventListener("mousemove", (e) => {
+      if (!drag) return;
+      overview.view.x += e.offsetX - drag.x; overview.view.y += e.offsetY - drag.y;
+      drag.moved = drag.moved || Math.abs(e.offsetX - drag.x) + Math.abs(e.offsetY - drag.y) > 2;
+      drag.x = e.offsetX; drag.y = e.offsetY; drawOverview();
+    });
+    canvas.addEventListener("mouseup", (e) => {
+      const moved = drag && drag.moved; drag = null;
+      if (moved) return;
+      let best = null, distance = 12 * 12;
+      for (const { node, x, y } of overview.layout.placed.values()) {
+        const [px, py] = overview.screen(x, y);
+        const d = (px - e.offsetX) ** 2 + (py - e.offsetY) ** 2;
+        if (d < distance) { best = node; distance = d; }
+      }
+      if (best) { overview.selected = best.name; drawOverview(); select(best.name); }
+    });
+  }
+  box.style.position = "relative";
+  overview.canvas.width = box.clientWidth; overview.canvas.height = box.clientHeight;
+  overview.canvas.hidden = false;
+  overview.layout = overviewLayout();
+  drawOverview();
+}
+
+async function load() {
+  const trash = document.getElementById("graph-trash").checked;
+  performance.mark("graph-load");
+  const page = await getJSON(`/views/classes?trash=${trash}&relations=false`);
+  performance.mark("graph-fetched");
+  nodes = page.classes;
+  document.getElementById("graph-count").textContent =
+    `${page.total} classes${trash ? " (with the trash)" : ""}`;
+  if (nodes.length > OVERVIEW_LIMIT) {
+    cy.elements().remove();
+    showOverview();
+    document.getElementById("cy").dataset.nodes = String(nodes.length);
+    document.getElementById("cy").dataset.edges = String(nodes.reduce((n, c) => n + c.parents.length, 0));
+    return;
+  }
+  if (overview) overview.canvas.hidden = true;
+  const big = nodes.length > DAGRE_LIMIT;
+  cy.startBatch();
+  cy.elements().remove();
+  cy.style(styles(big));
+  cy.add(elements());
+  cy.endBatch();
+  performance.mark("graph-added");
+  cy.layout(layoutOptions(nodes.length)).run();
+  performance.mark("graph-laid-out");
+  applySearch();
+  document.getElementById("cy").dataset.nodes = String(cy.nodes().length);
+  document.getElementById("cy").dataset.edges = String(cy.edges().length);
+}
+
+// The classes matching the search box (names, or relations such as "sphere isAboveOf"), asked
+// of the server, which holds every class's relations; null when the box is empty.
+let matching = null, searchTimer = null;
+
+async function search() {
+  const query = document.getElementById("graph-search").value.trim();
+  const trash = document.getElementById("graph-trash").checked;
+  if (!query) {
+    matching = null;
+  } else {
+    const params = new URLSearchParams({ q: query, trash, relations: "false", limit: "50000" });
+    const page = await getJSON(`/views/classes?${params}`);
+    matching = new Set(page.classes.map((c) => c.name));
+  }
+  applySearch();
+}
+
+function applySearch() {
+  if (overview && !overview.canvas.hidden) { drawOverview(); return; }
+  cy.batch(() => {
+    cy.nodes().removeClass("match dim");
+    if (matching === null) return;
+    cy.nodes().forEach((node) => node.addClass(matching.has(node.id()) ? "match" : "dim"));
+  });
+  document.getElementById("graph-count").dataset.matches = String(matching ? cy.nodes(".match").length : 0);
+}
+
+function counters(node, detail) {
+  const rows = [
+    ["score (normalised)", node.score.toFixed(3)],
+    ["level", element("span", { class: `level-${node.level}` }, node.level)],
+    ["stored level", detail.stored_level ?? "none yet"],
+    ["complexity", node.complexity],
+    ["stored", node.store_count], ["retrieved", node.retrieve_count],
+    ["scenes", node.items], ["weak passes", detail.consecutive_weak ?? "-"],
+    ["created", detail.created ?? "-"], ["last accessed", detail.last_accessed ?? "-"],
+    ["parents", node.parents.join(", ") || "-"], ["children", detail.children.join(", ") || "-"],
+  ];
+  return element("table", { class: "counters" },
+    rows.map(([k, v]) => element("tr", {}, element("th", {}, k), element("td", {}, v))));
+}
+
+function historyChart(detail) {
+  const box = element("div", { class: "history" });
+  const points = detail.history;
+  if (!points.length) return box;
+  const t = points.map((p) => Date.parse(p.time) / 1000);
+  const s = points.map((p) => p.score);
+  const opts = { width: 340, height: 140, title: "normalised score over time",
+    series: [{}, { label: "score", stroke: "#1565c0", points: { show: true, size: 6 } }],
+    scales: { y: { range: [0, 1] } } };
+  requestAnimationFrame(() => new uPlot(opts, [t, s], box));
+  return box;
+}
+
+async function select(name) {
+  const panel = document.getElementById("class-detail");
+  try {
+    const detail = await getJSON(`/views/classes/${encodeURIComponent(name)}`);
+    const node = detail.node;
+    const message = element("p", { class: "action-message" });
+    const act = async (command, args) => {
+      try {
+        await directive("MEMORY", command, "", args);
+        message.textContent = `${command.toLowerCase()}: done`;
+        await load();
+        await select(name);
+      } catch (error) { message.textContent = error.message; message.className = "error"; }
+    };
+    const actions = node.forgotten
+      ? [element("button", { id: "restore", onclick: () => act("RESTORE", [node.iri]) }, "Restore from the trash")]
+      : [element("button", { id: "pin", onclick: () => act(node.pinned ? "UNPIN" : "PIN", [node.iri]) },
+        node.pinned ? "Unpin" : "Pin (never forget)")];
+    panel.replaceChildren(
+      element("h2", {}, node.name, node.pinned ? " (pinned)" : "", node.forgotten ? " (forgotten)" : ""),
+      element("p", { class: "words" }, detail.words),
+      counters(node, detail), historyChart(detail),
+      element("h3", {}, "Stored scenes"),
+      element("ul", { class: "scenes" }, detail.scenes.length
+        ? detail.scenes.map((s) => element("li", {},
+          element("a", { href: `#scene/${encodeURIComponent(s.name)}` }, s.name), ` ${s.created ?? ""}`))
+        : element("li", { class: "muted" }, "none")),
+      element("div", { class: "actions" }, actions), message,
+    );
+    panel.dataset.selected = node.name;
+  } catch (error) { showError(panel, error); }
+}
+
+// Large memories draw without labels (but on the selected and matching classes) and with plain
+// edges: text and arrow heads for 10,000 classes would take seconds to draw.
+function styles(big) {
+  return [
+    { selector: "node", style: { width: "data(size)", height: "data(size)", "background-color": "data(colour)",
+      label: big ? "" : "data(id)", "font-size": 9, "min-zoomed-font-size": 7, "text-valign": "bottom" } },
+    { selector: "node.pinned", style: { "border-width": 4, "border-color": "#1565c0" } },
+    { selector: "node.forgotten", style: { "border-width": 2, "border-style": "dashed", "border-color": "#555", opacity: 0.45 } },
+    { selector: "node.match", style: { label: "data(id)", "overlay-color": "#1565c0", "overlay-opacity": 0.25, "overlay-padding": 6 } },
+    { selector: "node.dim", style: { opacity: 0.15 } },
+    { selector: "node:selected", style: { label: "data(id)", "border-width": 4, "border-color": "#000" } },
+    { selector: "edge", style: big
+      ? { width: 0.6, "line-color": "#c3c9cf", "curve-style": "haystack" }
+      : { width: 1.2, "line-color": "#9aa4ae", "target-arrow-shape": "triangle",
+        "target-arrow-color": "#9aa4ae", "curve-style": "straight", "arrow-scale": 0.7 } },
+  ];
+}
+
+export async function start() {
+  cy = cytoscape({
+    container: document.getElementById("cy"),
+    hideEdgesOnViewport: true,
+    textureOnViewport: true,
+    minZoom: 0.02,
+    style: styles(false),
+  });
+  window.engramGraph = cy; // for scripts and tests driving the page
+  cy.on("tap", "node", (event) => select(event.target.id()));
+  document.getElementById("graph-trash").addEventListener("change", () => load().then(search));
+  document.getElementById("graph-search").addEventListener("input", () => {
+    clearTimeout(searchTimer);
+    searchTimer = setTimeout(() => search().catch(console.warn), 150);
+  });
+  await load();
+}
+
+export async function show() {
+  cy.resize();
+}
