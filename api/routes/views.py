@@ -11,6 +11,7 @@ from fastapi.staticfiles import StaticFiles
 from starlette.concurrency import run_in_threadpool
 
 from api.deps import EpisodesDep, StoreDep
+from api.openapi_errors import error_responses
 from api.views import channels, graph, scenes, timeline
 from api.views.models import (
     ChannelList,
@@ -31,6 +32,7 @@ WEB_DIR = Path(__file__).resolve().parent.parent / "web"
 """The static pages, scripts, styles and vendored libraries."""
 
 router = APIRouter(tags=["views"])
+_NOT_FOUND = error_responses(404)
 
 Offset = Annotated[int, Query(ge=0, description="Entries to skip.")]
 
@@ -80,7 +82,7 @@ async def classes(
     return Response(body, media_type="application/json")
 
 
-@router.get("/views/classes/{name}", summary="One class in detail")
+@router.get("/views/classes/{name}", summary="One class in detail", responses=_NOT_FOUND)
 async def class_detail(request: Request, name: str) -> ClassDetail:
     """Its definition in words, counters, score and level (over time when the memory keeps a
     history), its children and its most recent stored scenes."""
@@ -104,7 +106,7 @@ async def scene_list(
     return _json(page)
 
 
-@router.get("/views/scenes/latest", summary="The scene stored last")
+@router.get("/views/scenes/latest", summary="The scene stored last", responses=_NOT_FOUND)
 async def latest_scene(store: StoreDep) -> SceneDetail:
     """For the live 3D view, which polls it; 404 while no scene is stored."""
     found = await run_in_threadpool(scenes.latest_scene, store)
@@ -113,7 +115,9 @@ async def latest_scene(store: StoreDep) -> SceneDetail:
     return found
 
 
-@router.get("/views/scenes/{name}", summary="A stored scene with its primitives")
+@router.get(
+    "/views/scenes/{name}", summary="A stored scene with its primitives", responses=_NOT_FOUND
+)
 async def scene_detail(store: StoreDep, name: str) -> SceneDetail:
     try:
         return await run_in_threadpool(scenes.scene_detail, store, name)
@@ -130,13 +134,21 @@ async def episode_list(
     return await run_in_threadpool(timeline.episode_list, memory, offset=offset, limit=limit)
 
 
-@router.get("/views/episodes/{episode_id}/channels", summary="An episode's recorded channels")
+@router.get(
+    "/views/episodes/{episode_id}/channels",
+    summary="An episode's recorded channels",
+    responses=_NOT_FOUND,
+)
 async def channel_list(memory: EpisodesDep, episode_id: str) -> ChannelList:
     path = memory.streams_path(check_id(episode_id, "episode_id"))
     return await run_in_threadpool(channels.channel_list, episode_id, path)
 
 
-@router.get("/views/episodes/{episode_id}/plot", summary="A numeric channel, decimated")
+@router.get(
+    "/views/episodes/{episode_id}/plot",
+    summary="A numeric channel, decimated",
+    responses=_NOT_FOUND,
+)
 async def plot(
     memory: EpisodesDep,
     episode_id: str,
@@ -148,7 +160,11 @@ async def plot(
     return await run_in_threadpool(channels.plot_data, path, channel, points=points)
 
 
-@router.get("/views/episodes/{episode_id}/frames", summary="The frames holding a channel")
+@router.get(
+    "/views/episodes/{episode_id}/frames",
+    summary="The frames holding a channel",
+    responses=_NOT_FOUND,
+)
 async def frames(
     memory: EpisodesDep,
     episode_id: str,
