@@ -3,7 +3,10 @@
 EngramError
 ├── StoreError
 │   ├── StoreLockedError        the store directory is held by another process
-│   └── TransactionError        a transaction could not be applied; nothing was written
+│   ├── TransactionError        a transaction could not be applied; nothing was written
+│   ├── StoreUnavailableError   the SPARQL server holding the memory cannot be reached
+│   ├── LeaseHeldError          another Engram writes this memory on the shared server
+│   └── ReadOnlyStoreError      this Engram follows a memory and may not write it
 └── QueryError
     ├── QuerySyntaxError        the SPARQL text does not parse (also a SyntaxError)
     ├── QueryRefusedError       the query would write, or reach outside the store
@@ -13,13 +16,16 @@ EngramError
 
 __all__ = [
     "EngramError",
+    "LeaseHeldError",
     "QueryError",
     "QueryRefusedError",
     "QuerySyntaxError",
     "QueryTimeoutError",
+    "ReadOnlyStoreError",
     "ResultTooLargeError",
     "StoreError",
     "StoreLockedError",
+    "StoreUnavailableError",
     "TransactionError",
 ]
 
@@ -38,6 +44,18 @@ class StoreLockedError(StoreError):
 
 class TransactionError(StoreError):
     """A transaction could not be applied; the store is unchanged."""
+
+
+class StoreUnavailableError(StoreError):
+    """The SPARQL server holding the memory did not answer; retry when it is back."""
+
+
+class LeaseHeldError(StoreError):
+    """Another Engram holds the writer's lease of this memory on the shared server."""
+
+
+class ReadOnlyStoreError(StoreError):
+    """This Engram follows a memory on a shared server read-only and may not write it."""
 
 
 class QueryError(EngramError):
