@@ -26,6 +26,7 @@ from kg.errors import (
     QueryRefusedError,
     QuerySyntaxError,
     QueryTimeoutError,
+    ReadOnlyStoreError,
     ResultTooLargeError,
     StoreError,
 )
@@ -39,6 +40,7 @@ _STATUS: list[tuple[type[Exception], int]] = [
     (NotAcceptable, 406),
     (QueryTimeoutError, 503),
     (ResultTooLargeError, 400),
+    (ReadOnlyStoreError, 409),
     (StoreError, 503),
     (InvalidInputError, 422),
     (NotFoundError, 404),

@@ -11,14 +11,14 @@ from starlette.concurrency import run_in_threadpool
 from api import fast_armor
 from api.armor import ArmorEngine
 from api.armor.memory import sleep_if_due
+from api.backend import open_store
 from api.config import Settings, get_settings
 from api.errors import install_error_handlers
 from api.memory_state import live_memory_state
 from api.routes import admin, armor, episodes, export, health, sparql, streams
 from episodes import EpisodeMemory
 from episodes.streams import RecordingRegistry
-from kg import Store, ensure_ontology
-from kg.sandbox import QueryRunner
+from kg import ensure_ontology
 from reasoners.memory import SceneMemory
 
 __all__ = ["create_app"]
@@ -50,23 +50,17 @@ def create_app(settings: Settings | None = None) -> FastAPI:
 
     @asynccontextmanager
     async def lifespan(app: FastAPI) -> AsyncIterator[None]:
-        store = Store(settings.store_dir)
+        opened = open_store(settings)  # embedded, or a memory on a SPARQL server (issue 19)
+        store = opened.store
         status = ensure_ontology(store)
-        log.info(
-            "store %s: ontology %s %s", settings.store_dir, status.version.value, status.action
-        )
-        runner = QueryRunner(
-            store,
-            snapshot_dir=settings.snapshot_dir,
-            workers=settings.sparql_workers,
-            timeout_s=settings.sparql_timeout_s,
-            max_result_bytes=settings.sparql_max_result_bytes,
-        )
+        log.info("store %s: ontology %s %s", opened.where, status.version.value, status.action)
+        runner = opened.runner(settings)
         recordings = RecordingRegistry()
         state = app.state
         state.settings, state.store, state.runner = settings, store, runner
         state.recordings = recordings
         state.scene_memory = scene_memory = SceneMemory(store)
+        opened.watch(scene_memory)
         state.armor = ArmorEngine(store, scene_memory=scene_memory)
         state.episodes = EpisodeMemory(
             store,
@@ -82,6 +76,7 @@ def create_app(settings: Settings | None = None) -> FastAPI:
             recordings.close_all()  # a recording still open at shutdown ends as a complete file
             runner.close()
             store.flush()
+            opened.close()
             # release the store's directory lock
             state.store = state.runner = state.armor = state.episodes = state.scene_memory = None
 

@@ -63,6 +63,15 @@ class SparqlServer:
                 return self._client.send(request)
             except _NOTHING_SENT as error:
                 failure: httpx.TransportError = error
+            except httpx.TimeoutException as error:  # never repeated: it would take as long
+                if not read_only:
+                    raise WriteOutcomeUnknownError(
+                        f"the SPARQL server at {self.url} did not answer a write in time; "
+                        "whether it applied is checked against the memory's revision"
+                    ) from error
+                raise StoreUnavailableError(
+                    f"the SPARQL server at {self.url} did not answer in time ({error!r})"
+                ) from error
             except httpx.TransportError as error:
                 if not read_only:
                     raise WriteOutcomeUnknownError(

@@ -138,6 +138,12 @@ class SceneMemory:
             len(self._model.items),
         )
 
+    def reload(self) -> None:
+        """Rebuild the in-memory index from the store: after another Engram changed it (a
+        follower of a shared memory) or a failed write left the index unsure (kg.remote)."""
+        with self._lock:
+            self._model = persist.load_model(self.store, self._weights())
+
     # Helpers -----------------------------------------------------------------------------------
 
     def _weights(self) -> tuple[float, float, float, float]:

@@ -1,0 +1,81 @@
+"""Which store the server opens: the embedded one in ``data_dir`` (the default), or a memory on
+a shared SPARQL server (``ENGRAM_STORE_URL``) as its writer or, with ``ENGRAM_FOLLOW``, as a
+follower that keeps its scene memory in step with the writer's journal."""
+
+import logging
+from dataclasses import dataclass
+
+from api.config import Settings
+from kg import Store
+from kg.fleet import RemoteMemory, open_remote
+from kg.remote import Change
+from kg.remote_runner import RemoteQueryRunner
+from kg.sandbox import QueryRunner
+from ontologies.vocab import ENGRAM_NS
+from reasoners.memory import SceneMemory
+
+__all__ = ["OpenedStore", "open_store"]
+
+log = logging.getLogger(__name__)
+
+
+@dataclass
+class OpenedStore:
+    """The store the app serves, and the remote memory behind it if there is one."""
+
+    store: Store
+    where: str
+    remote: RemoteMemory | None = None
+
+    def runner(self, settings: Settings) -> QueryRunner:
+        """The analysts' SPARQL runner: worker processes over snapshots, or the server."""
+        if self.remote is not None:
+            return RemoteQueryRunner(
+                self.store,
+                timeout_s=settings.sparql_timeout_s,
+                max_result_bytes=settings.sparql_max_result_bytes,
+            )
+        return QueryRunner(
+            self.store,
+            snapshot_dir=settings.snapshot_dir,
+            workers=settings.sparql_workers,
+            timeout_s=settings.sparql_timeout_s,
+            max_result_bytes=settings.sparql_max_result_bytes,
+        )
+
+    def watch(self, memory: SceneMemory) -> None:
+        """Rebuild ``memory``'s index when the store changes behind it: a change the follower
+        read from the journal, or the catch-up after a write that failed."""
+        if self.remote is None:
+            return
+
+        def changed(change: Change) -> None:
+            if change.touched is not None and not any(
+                iri.value.startswith(ENGRAM_NS) for iri in change.touched
+            ):
+                return  # nothing of the scene memory (episodes, references)
+            memory.reload()
+            log.info("scene memory reloaded at revision %d", change.revision)
+
+        self.remote.dataset.listen(changed)
+
+    def close(self) -> None:
+        if self.remote is not None:
+            self.remote.close()
+
+
+def open_store(settings: Settings) -> OpenedStore:
+    """Open the store ``settings`` name (see the module's summary)."""
+    if settings.store_url is None:
+        return OpenedStore(Store(settings.store_dir), str(settings.store_dir))
+    remote = open_remote(
+        settings.store_url,
+        settings.memory,
+        profile=settings.store_profile,
+        follow=settings.follow,
+        lease_s=settings.lease_s,
+    )
+    role = "following" if settings.follow else "writing"
+    return OpenedStore(
+        remote.store, f"memory {settings.memory} at {settings.store_url} ({role})", remote
+    )
