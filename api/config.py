@@ -71,16 +71,6 @@ class Settings(BaseSettings):
     lease_s: float = Field(
         15.0, gt=0, le=3600, description="Term of the writer's lease on the server, in seconds."
     )
-    streams_url: str | None = Field(
-        None,
-        pattern=r"^s3://[a-z0-9][a-z0-9.-]{1,61}[a-z0-9](/\S*)?$",
-        description="s3://bucket/prefix where ended episodes' recordings are uploaded.",
-    )
-    streams_endpoint: str | None = Field(
-        None,
-        pattern=r"^https?://\S+$",
-        description="The S3-compatible service's URL (unset: AWS's own).",
-    )
 
     @property
     def store_dir(self) -> Path:

@@ -1,8 +1,10 @@
 """A fleet on one Oxigraph server: two Engram servers each write their robot's memory, a third
 follows robot A's, and fleet queries run across both memories on the server's own endpoint."""
 
+import re
 import time
 from collections.abc import Callable
+from pathlib import Path
 
 import httpx
 import pytest
@@ -45,18 +47,11 @@ SELECT ?classA ?classB WHERE {
 }
 """
 
-LAST_CONE_BEHIND_SPHERE = """
-PREFIX engram: <https://w3id.org/engram/ontology#>
-SELECT ?graph ?scene ?time WHERE {
-  GRAPH ?graph {
-    ?scene engram:hasPrimitive ?cone, ?sphere ; engram:created ?time .
-    ?cone a engram:Cone ; engram:isBehindOf ?sphere .
-    ?sphere a engram:Sphere .
-  }
-  FILTER(STRENDS(STR(?graph), "/graph/episodic"))
-}
-ORDER BY DESC(?time) LIMIT 1
-"""
+ROOT = Path(__file__).resolve().parents[2]
+LAST_CONE_BEHIND_SPHERE = re.findall(
+    r"```sparql\n(.*?)```", (ROOT / "README.md").read_text(encoding="utf-8"), re.S
+)[0]
+"""The README's fleet query, as the README shows it."""
 
 
 def _fleet_query(server: OxigraphServer, query: str) -> list[dict[str, str]]:
