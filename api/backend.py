@@ -6,6 +6,8 @@ import logging
 from dataclasses import dataclass
 
 from api.config import Settings
+from episodes.archive import StreamArchive
+from episodes.streams.objects import ObjectStore
 from kg import Store
 from kg.fleet import RemoteMemory, open_remote
 from kg.remote import Change
@@ -14,7 +16,7 @@ from kg.sandbox import QueryRunner
 from ontologies.vocab import ENGRAM_NS
 from reasoners.memory import SceneMemory
 
-__all__ = ["OpenedStore", "open_store"]
+__all__ = ["OpenedStore", "open_archive", "open_store"]
 
 log = logging.getLogger(__name__)
 
@@ -79,3 +81,12 @@ def open_store(settings: Settings) -> OpenedStore:
     return OpenedStore(
         remote.store, f"memory {settings.memory} at {settings.store_url} ({role})", remote
     )
+
+
+def open_archive(settings: Settings) -> StreamArchive | None:
+    """Object storage for ended episodes' recordings (``ENGRAM_STREAMS_URL``), if set; the
+    credentials come from the usual AWS variables or files."""
+    if settings.streams_url is None:
+        return None
+    objects = ObjectStore(settings.streams_url, endpoint_url=settings.streams_endpoint)
+    return StreamArchive(objects, settings.data_dir / "streams")

@@ -72,6 +72,17 @@ class Settings(BaseSettings):
         15.0, gt=0, le=3600, description="Term of the writer's lease on the server, in seconds."
     )
 
+    streams_url: str | None = Field(
+        None,
+        pattern=r"^s3://[a-z0-9][a-z0-9.-]{1,61}[a-z0-9](/\S*)?$",
+        description="s3://bucket/prefix where ended episodes' recordings go (unset: kept local).",
+    )
+    streams_endpoint: str | None = Field(
+        None,
+        pattern=r"^https?://\S+$",
+        description="URL of the S3-compatible service of streams_url (unset: AWS's own).",
+    )
+
     @property
     def store_dir(self) -> Path:
         return self.data_dir / "store"

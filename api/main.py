@@ -11,7 +11,7 @@ from starlette.concurrency import run_in_threadpool
 from api import fast_armor
 from api.armor import ArmorEngine
 from api.armor.memory import sleep_if_due
-from api.backend import open_store
+from api.backend import open_archive, open_store
 from api.config import Settings, get_settings
 from api.errors import install_error_handlers
 from api.memory_state import live_memory_state
@@ -67,6 +67,7 @@ def create_app(settings: Settings | None = None) -> FastAPI:
             data_dir=settings.data_dir,
             recordings=recordings,
             memory_state=live_memory_state(scene_memory),
+            archive=open_archive(settings),
         )
         sleeper = asyncio.create_task(_sleep_when_due(scene_memory, settings.sleep_check_s))
         try:

@@ -27,6 +27,7 @@ from typing import Literal as Which
 from pyoxigraph import Literal
 
 from episodes import augmentation, cues, feedback, lifecycle, transfer
+from episodes.archive import StreamArchive
 from episodes.augmentation import DerivedSpec
 from episodes.cues import Cue
 from episodes.errors import EpisodeNotFoundError, EpisodeStateError, InvalidInputError
@@ -45,7 +46,7 @@ from episodes.model import (
 )
 from episodes.snapshot import MemoryState, read_memory_state
 from episodes.streamlink import descriptors_from_recording, descriptors_from_stats
-from episodes.streams import Recorder, RecordingRegistry, Replayer, import_bag
+from episodes.streams import Recorder, RecordingRegistry, Replayer, StreamError, import_bag
 from episodes.terms import check_id, episode_iri, new_id
 from episodes.times import Clock, parse_time, system_clock
 from kg import Store
@@ -74,8 +75,11 @@ class EpisodeMemory:
         clock: Clock = system_clock,
         recordings: Any = None,
         memory_state: MemoryState = read_memory_state,
+        archive: StreamArchive | None = None,
     ) -> None:
         self.store = store
+        self.archive = archive
+        """Where ended episodes' recordings go (object storage), if anywhere."""
         self.memory_state = memory_state
         self.data_dir = data_dir
         self.clock = clock
@@ -170,7 +174,18 @@ class EpisodeMemory:
         lifecycle.end_episode(
             self.store, episode_id, end=ended, streams=streams, memory_state=self.memory_state
         )
+        if self.archive is not None:  # issue 19: the recording moves to object storage
+            try:
+                self.archive.archive(self.store, episode_id)
+            except StreamError as error:
+                log.warning("episode %s: recording kept local: %s", episode_id, error)
         return self.get(episode_id)
+
+    def local_streams(self, episode_id: str) -> Path:
+        """The episode's bag directory for reading: fetched from object storage if need be."""
+        if self.archive is not None:
+            return self.archive.local(self.store, check_id(episode_id, "episode"))
+        return self.streams_path(episode_id)
 
     def _close_streams(self, episode_id: str) -> list[StreamDescriptor]:
         """Close the episode's recording if it is open and describe what it holds."""
@@ -269,6 +284,7 @@ class EpisodeMemory:
             self._recordings.close(episode_id)
         for key in [k for k in self._run_writers if k[0] == episode_id]:
             self._run_writers.pop(key).close()
+        stored = self.archive.stored(self.store, episode_id) if self.archive else []
         moved: list[tuple[Path, Path]] = []
         if self.data_dir is not None:
             for path in (self.streams_path(episode_id), self._dir("augmentations") / episode_id):
@@ -285,6 +301,8 @@ class EpisodeMemory:
             raise
         for _, aside in moved:
             shutil.rmtree(aside, ignore_errors=True)
+        if self.archive is not None and stored:
+            self.archive.delete(stored)
         log.info("episode %s deleted", episode_id)
 
     def export_rdf(self, episode_id: str) -> bytes:
@@ -388,7 +406,7 @@ class EpisodeMemory:
         with self._lock:
             writer = self._run_writers.get(key)
             if writer is None:
-                source = self.streams_path(episode_id)
+                source = self.local_streams(episode_id)
                 times = (
                     {t.frame: t.time_ns for t in Replayer(source).ticks} if source.exists() else {}
                 )

@@ -300,3 +300,10 @@ followers rebuild everything."""
 COMMITTED_AT = engram("committedAt")
 LEASE_HOLDER = engram("leaseHolder")
 LEASE_EXPIRES = engram("leaseExpires")
+
+# --- Recordings on object storage (episodes.archive, issue 19) -------------------------------
+STREAM_OBJECT = engram("streamObject")
+"""On an episode and on its stream descriptors: an ``s3://`` object holding its recording."""
+BYTE_SIZE = engram("byteSize")
+SHA256 = engram("sha256")
+"""On a stored object: the hex SHA-256 of its bytes."""

@@ -7,7 +7,7 @@ from collections.abc import Iterator
 
 import pytest
 
-from tests.backends.servers import OxigraphServer
+from tests.backends.servers import MotoServer, OxigraphServer
 
 
 @pytest.fixture(scope="session")
@@ -36,3 +36,25 @@ def sparql_server(request: pytest.FixtureRequest) -> tuple[str, str]:
 def memory_name() -> str:
     """A memory name no other test uses."""
     return f"robot-{uuid.uuid4().hex[:12]}"
+
+
+@pytest.fixture(scope="session")
+def s3_server() -> Iterator[MotoServer]:
+    """moto's S3 server for the session, with test credentials in the environment."""
+    saved = {k: os.environ.get(k) for k in _AWS}
+    os.environ.update(_AWS)
+    server = MotoServer().start()
+    yield server
+    server.stop()
+    for key, value in saved.items():
+        if value is None:
+            os.environ.pop(key, None)
+        else:
+            os.environ[key] = value
+
+
+_AWS = {
+    "AWS_ACCESS_KEY_ID": "engram-test",
+    "AWS_SECRET_ACCESS_KEY": "engram-test",
+    "AWS_DEFAULT_REGION": "us-east-1",
+}
