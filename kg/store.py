@@ -397,6 +397,8 @@ class Store:
         On the same file system the copy is made of hard links and is cheap. Raises
         ``FileExistsError`` if ``target`` exists and ``StoreError`` for an in-memory store.
         """
+        if self.remote is not None:
+            self.remote.backup(str(target))
         if self.path is None:
             raise StoreError("an in-memory store cannot be backed up; open one on disk")
         target = Path(target)

@@ -8,7 +8,7 @@ import pytest
 from pyoxigraph import Literal, NamedNode
 
 from kg import Store, TransactionError
-from kg.errors import ReadOnlyStoreError, StoreUnavailableError
+from kg.errors import ReadOnlyStoreError, StoreError, StoreUnavailableError
 from kg.fleet import RemoteMemory, open_remote
 from kg.namespace import Namespace
 from ontologies.vocab import EPISODES, MEMORY, RDFS_LABEL, engram
@@ -137,7 +137,7 @@ def test_a_graph_reads_and_fills_through_the_graph_store_protocol(remote: Remote
     )
     assert answer.status_code == 200 and b"http://ex.org/a" in answer.content
     with pytest.raises(TransactionError):
-        store.fill_graph(engram("g2") and NamedNode(graph.value + "2"), b"not n-triples")
+        store.fill_graph(NamedNode(graph.value + "2"), b"not n-triples")
     assert store.graph_ntriples(NamedNode(graph.value + "2")) == b""
 
 
@@ -166,6 +166,12 @@ def test_an_unreachable_server_is_a_clear_unavailable_error() -> None:
         open_remote(f"http://127.0.0.1:{free_port()}", "robot")
 
 
-def test_a_store_on_a_server_keeps_the_embedded_api(remote: RemoteMemory) -> None:
-    assert isinstance(remote.store, Store)
-    assert remote.store.select("graph_sizes") == []
+def test_a_store_on_a_server_keeps_the_embedded_api(remote: RemoteMemory, tmp_path) -> None:  # type: ignore[no-untyped-def]
+    store = remote.store
+    assert isinstance(store, Store)
+    assert store.select("graph_sizes") == [] and len(store) == 0
+    with store.transaction() as tx:
+        tx.insert(A, RDFS_LABEL, Literal("a"), MEMORY)
+    assert len(store) == 1
+    with pytest.raises(StoreError, match="backed up by the server"):
+        store.backup(tmp_path / "copy")
