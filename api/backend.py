@@ -14,6 +14,7 @@ from kg.remote import Change
 from kg.remote_runner import RemoteQueryRunner
 from kg.sandbox import QueryRunner
 from ontologies.vocab import ENGRAM_NS
+from reasoners.follow import apply_change
 from reasoners.memory import SceneMemory
 
 __all__ = ["OpenedStore", "open_archive", "open_store"]
@@ -46,8 +47,8 @@ class OpenedStore:
         )
 
     def watch(self, memory: SceneMemory) -> None:
-        """Rebuild ``memory``'s index when the store changes behind it: a change the follower
-        read from the journal, or the catch-up after a write that failed."""
+        """Bring ``memory``'s index up to date when the store changes behind it: the classes a
+        change the follower read from the journal names, or everything after a failed write."""
         if self.remote is None:
             return
 
@@ -56,8 +57,12 @@ class OpenedStore:
                 iri.value.startswith(ENGRAM_NS) for iri in change.touched
             ):
                 return  # nothing of the scene memory (episodes, references)
-            memory.reload()
-            log.info("scene memory reloaded at revision %d", change.revision)
+            piecewise = apply_change(memory, change.touched)
+            log.info(
+                "scene memory at revision %d (%s)",
+                change.revision,
+                "the changed classes reloaded" if piecewise else "rebuilt",
+            )
 
         self.remote.dataset.listen(changed)
 

@@ -11,8 +11,8 @@ PyPI) and stopped at the end.
 2. 1, 2 and 4 robots (processes) writing their own memories on the one server at once: scene
    updates per second, aggregate, and per robot (where it saturates).
 3. A follower seeing a class the writer learned: time from the writer's commit until the
-   follower (polling every 0.1 s) has rebuilt its scene memory's index and knows the class, on
-   the memory of part 1 when it ran; target under 1 s.
+   follower (polling every 0.1 s) has reloaded what the journal names into its scene memory's
+   index and knows the class, on a memory of ``--classes`` classes; target under 1 s.
 4. Upload of a ``--upload-mb`` file (1 GB by default) to the S3 server: MB/s including the
    SHA-256; target at least 100 MB/s.
 5. Replay start from storage: a recorded episode of ``--replay-mb`` of camera frames not in the
@@ -53,6 +53,7 @@ from episodes.streams.objects import ObjectStore
 from kg import Store
 from kg.fleet import open_remote
 from kg.remote import Change
+from reasoners.follow import apply_change
 from reasoners.memory import SceneMemory
 from reasoners.primitives import KINDS, Primitive
 
@@ -198,13 +199,15 @@ def follower(url: str, args: argparse.Namespace) -> None:
     name = "bench-scene" if "1" in args.only else "bench-follow"
     writer = open_remote(url, name)
     memory = SceneMemory(writer.store, clock=lambda: CLOCK)
+    if "1" not in args.only:  # part 1 left its memory at --classes; build one here
+        build(memory, args.classes, random.Random(SEED))
     reader = open_remote(url, name, follow=True, poll_s=0.1)
     mirror = SceneMemory(reader.store, clock=lambda: CLOCK)
     seen: dict[int, float] = {}
     arrived = threading.Event()
 
     def changed(change: Change) -> None:
-        mirror.reload()  # what the app's follower does (api.backend.OpenedStore.watch)
+        apply_change(mirror, change.touched)  # as the app's follower does (api.backend)
         seen[change.revision] = time.perf_counter()
         arrived.set()
 
@@ -226,7 +229,7 @@ def follower(url: str, args: argparse.Namespace) -> None:
     writer.close()
     print(f"3. follower latency over {args.follows} updates, {classes:,} classes (poll 0.1 s)")
     print(
-        f"   commit -> follower's scene memory rebuilt: median "
+        f"   commit -> follower's scene memory up to date: median "
         f"{statistics.median(delays) * 1e3:.0f} ms, max {max(delays) * 1e3:.0f} ms "
         f"(target < 1 s: {'met' if max(delays) < 1 else 'NOT met'})"
     )
