@@ -80,14 +80,12 @@ def _apply(memory: SceneMemory, touched: set[NamedNode]) -> None:
         # experience-N-k: a primitive of a stored scene, read with the scene if at all
         if subject in m.trashed_classes or subject in m.trashed_items:
             raise _Rebuild(f"{subject.value} came back from the trash")
-    rows = {}
+    rows = persist._rows_by_subject(
+        store.select_each("memory_load_classes", "class", classes, g=MEMORY), "class"
+    )
     for cls in classes:
-        found = persist._rows_by_subject(
-            store.select("memory_load_classes", g=MEMORY, **{"class": cls}), "class"
-        )
-        if cls not in found:
+        if cls not in rows:
             raise _Rebuild(f"{cls.value} left the memory graph")
-        rows[cls] = found[cls]
     # existing classes first, then new ones simplest first (a parent before its children)
     fresh = sorted((c for c in rows if c not in m.classes), key=persist._number)
     for cls in [c for c in rows if c in m.classes]:
@@ -114,10 +112,10 @@ def _apply(memory: SceneMemory, touched: set[NamedNode]) -> None:
         _annotations(record, values)
         m.add_class(record)
         m.next_class = max(m.next_class, persist._number(cls) + 1)
+    found = persist._rows_by_subject(
+        store.select_each("memory_load_items", "item", items, g=EPISODIC), "item"
+    )
     for item in items:
-        found = persist._rows_by_subject(
-            store.select("memory_load_items", g=EPISODIC, item=item), "item"
-        )
         if item not in found:
             raise _Rebuild(f"{item.value} left the episodic graph")
         values = found[item]
