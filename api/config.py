@@ -7,6 +7,7 @@
 import os
 from functools import lru_cache
 from pathlib import Path
+from typing import Literal
 
 from pydantic import Field, SecretStr
 from pydantic_settings import BaseSettings, SettingsConfigDict
@@ -79,6 +80,36 @@ class Settings(BaseSettings):
         False,
         description="Let the MEMORY CLOCK SET / ADVANCE directives set the scene memory's clock "
         "(simulated days for tests and demos); never on a robot's real memory.",
+    )
+    store_url: str | None = Field(
+        None,
+        pattern=r"^https?://\S+$",
+        description="A SPARQL server holding the memory (unset: the embedded store in data_dir).",
+    )
+    store_profile: Literal["oxigraph", "fuseki"] = Field(
+        "oxigraph", description="The engine at store_url: where its endpoints are."
+    )
+    memory: str = Field(
+        "default",
+        pattern=r"^[A-Za-z0-9][A-Za-z0-9_-]{0,63}$",
+        description="This robot's memory (its graph namespace) on the SPARQL server.",
+    )
+    follow: bool = Field(
+        False, description="Open the memory on the server read-only and follow its writer."
+    )
+    lease_s: float = Field(
+        15.0, gt=0, le=3600, description="Term of the writer's lease on the server, in seconds."
+    )
+
+    streams_url: str | None = Field(
+        None,
+        pattern=r"^s3://[a-z0-9][a-z0-9.-]{1,61}[a-z0-9](/\S*)?$",
+        description="s3://bucket/prefix where ended episodes' recordings go (unset: kept local).",
+    )
+    streams_endpoint: str | None = Field(
+        None,
+        pattern=r"^https?://\S+$",
+        description="URL of the S3-compatible service of streams_url (unset: AWS's own).",
     )
 
     @property

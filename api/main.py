@@ -12,6 +12,7 @@ from starlette.concurrency import run_in_threadpool
 from api import fast_armor
 from api.armor import ArmorEngine
 from api.armor.memory import sleep_if_due
+from api.backend import open_archive, open_store
 from api.config import Settings, get_settings
 from api.errors import install_error_handlers
 from api.finite_json import FiniteJsonBodies
@@ -20,8 +21,7 @@ from api.openapi_errors import install_error_docs
 from api.routes import admin, armor, ask, episodes, export, health, sparql, streams, views
 from episodes import EpisodeMemory
 from episodes.streams import RecordingRegistry
-from kg import Store, ensure_ontology
-from kg.sandbox import QueryRunner
+from kg import ensure_ontology
 from reasoners.check import open_scene_memory
 from reasoners.clock import SettableClock
 from reasoners.memory import SceneMemory
@@ -59,21 +59,11 @@ def create_app(settings: Settings | None = None) -> FastAPI:
 
     @asynccontextmanager
     async def lifespan(app: FastAPI) -> AsyncIterator[None]:
-        store = Store(settings.store_dir)
+        opened = open_store(settings)  # embedded, or a memory on a SPARQL server (issue 19)
+        store = opened.store
         status = ensure_ontology(store)
-        log.info(
-            "store %s: ontology %s %s", settings.store_dir, status.version.value, status.action
-        )
-        runner = QueryRunner(
-            store,
-            snapshot_dir=settings.snapshot_dir,
-            workers=settings.sparql_workers,
-            timeout_s=settings.sparql_timeout_s,
-            max_result_bytes=settings.sparql_max_result_bytes,
-            max_query_chars=settings.sparql_max_query_bytes,
-            max_depth=settings.sparql_max_nesting,
-            snapshot_max_age_s=settings.sparql_snapshot_max_age_s,
-        )
+        log.info("store %s: ontology %s %s", opened.where, status.version.value, status.action)
+        runner = opened.runner(settings)
         recordings = RecordingRegistry()
         state = app.state
         state.settings, state.store, state.runner = settings, store, runner
@@ -81,6 +71,7 @@ def create_app(settings: Settings | None = None) -> FastAPI:
         clock = SettableClock() if settings.clock_settable else _utc_now
         # names any damage instead of the loader's traceback
         state.scene_memory = scene_memory = open_scene_memory(store, clock=clock)
+        opened.watch(scene_memory)
         state.armor = ArmorEngine(
             store,
             scene_memory=scene_memory,
@@ -92,6 +83,7 @@ def create_app(settings: Settings | None = None) -> FastAPI:
             data_dir=settings.data_dir,
             recordings=recordings,
             memory_state=live_memory_state(scene_memory),
+            archive=open_archive(settings),
         )
         sleeper = asyncio.create_task(_sleep_when_due(scene_memory, settings.sleep_check_s))
         try:
@@ -101,6 +93,7 @@ def create_app(settings: Settings | None = None) -> FastAPI:
             recordings.close_all()  # a recording still open at shutdown ends as a complete file
             runner.close()
             store.flush()
+            opened.close()
             # release the store's directory lock
             state.store = state.runner = state.armor = state.episodes = state.scene_memory = None
 

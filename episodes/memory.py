@@ -30,6 +30,7 @@ from typing import Literal as Which
 from pyoxigraph import Literal
 
 from episodes import arguments, augmentation, cues, feedback, lifecycle, transfer
+from episodes.archive import StreamArchive
 from episodes.augmentation import DerivedSpec
 from episodes.cues import Cue
 from episodes.errors import (
@@ -58,7 +59,14 @@ from episodes.queue import AugmentationQueue
 from episodes.scene_channel import write_episode_scenes
 from episodes.snapshot import MemoryState, read_memory_state
 from episodes.streamlink import descriptors_from_recording, descriptors_from_stats
-from episodes.streams import Recorder, RecordingRegistry, Replayer, export_bag, import_bag
+from episodes.streams import (
+    Recorder,
+    RecordingRegistry,
+    Replayer,
+    StreamError,
+    export_bag,
+    import_bag,
+)
 from episodes.streams.merge import derived_frames, export_merged, merged_frames, run_prefix
 from episodes.streams.replay import Frame
 from episodes.terms import ArgumentKind, check_id, episode_iri, new_id
@@ -90,8 +98,11 @@ class EpisodeMemory:
         clock: Clock = system_clock,
         recordings: Any = None,
         memory_state: MemoryState = read_memory_state,
+        archive: StreamArchive | None = None,
     ) -> None:
         self.store = store
+        self.archive = archive
+        """Where ended episodes' recordings go (object storage), if anywhere."""
         self.memory_state = memory_state
         self.data_dir = data_dir
         self.clock = clock
@@ -203,7 +214,18 @@ class EpisodeMemory:
         )
         if self.data_dir is not None:  # its scenes, for Foxglove (episodes/scene_channel.py)
             write_episode_scenes(self.store, self.data_dir, episode_id)
+        if self.archive is not None:  # issue 19: the recording moves to object storage
+            try:
+                self.archive.archive(self.store, episode_id)
+            except StreamError as error:
+                log.warning("episode %s: recording kept local: %s", episode_id, error)
         return self.get(episode_id)
+
+    def local_streams(self, episode_id: str) -> Path:
+        """The episode's bag directory for reading: fetched from object storage if need be."""
+        if self.archive is not None:
+            return self.archive.local(self.store, check_id(episode_id, "episode"))
+        return self.streams_path(episode_id)
 
     def _close_streams(self, episode_id: str) -> list[StreamDescriptor]:
         """Close the episode's recording if it is open and describe what it holds."""
@@ -448,6 +470,7 @@ class EpisodeMemory:
             self._recordings.close(episode_id)
         for key in [k for k in self._run_writers if k[0] == episode_id]:
             self._run_writers.pop(key).close()
+        stored = self.archive.stored(self.store, episode_id) if self.archive else []
         moved: list[tuple[Path, Path]] = []
         if self.data_dir is not None:
             for path in (self.streams_path(episode_id), self._dir("augmentations") / episode_id):
@@ -464,6 +487,8 @@ class EpisodeMemory:
             raise
         for _, aside in moved:
             shutil.rmtree(aside, ignore_errors=True)
+        if self.archive is not None and stored:
+            self.archive.delete(stored)
         log.info("episode %s deleted", episode_id)
 
     def export_rdf(self, episode_id: str) -> bytes:
@@ -590,7 +615,7 @@ class EpisodeMemory:
         with self._lock:
             writer = self._run_writers.get(key)
             if writer is None:
-                source = self.streams_path(episode_id)
+                source = self.local_streams(episode_id)
                 times = (
                     {t.frame: t.time_ns for t in Replayer(source).ticks} if source.exists() else {}
                 )

@@ -16,7 +16,10 @@ decide its HTTP answer (``api/errors.py`` maps by kind, so a new error cannot be
     └── UnavailableError                   the service cannot answer now              503
         ├── StoreError                      the store cannot be opened, read or written
         │   ├── StoreLockedError            the directory is held by another process
-        │   └── TransactionError            a transaction was not applied; nothing written
+        │   ├── TransactionError            a transaction was not applied; nothing written
+        │   ├── StoreUnavailableError       the SPARQL server holding the memory is away
+        │   ├── LeaseHeldError              another Engram writes this memory on the server
+        │   └── ReadOnlyStoreError          this Engram follows the memory (answered 409)
         ├── QueryTimeoutError (TimeoutError) the query ran past its time limit
         └── QueryWorkerCrashedError          the query's worker died; it was replaced
 
@@ -27,6 +30,7 @@ __all__ = [
     "ConflictError",
     "EngramError",
     "InvalidInputError",
+    "LeaseHeldError",
     "NotFoundError",
     "QueryError",
     "QueryRefusedError",
@@ -35,9 +39,11 @@ __all__ = [
     "QueryTooDeepError",
     "QueryTooLongError",
     "QueryWorkerCrashedError",
+    "ReadOnlyStoreError",
     "ResultTooLargeError",
     "StoreError",
     "StoreLockedError",
+    "StoreUnavailableError",
     "TransactionError",
     "UnavailableError",
     "UnsupportedQueryError",
@@ -77,6 +83,18 @@ class StoreLockedError(StoreError):
 
 class TransactionError(StoreError):
     """A transaction could not be applied; the store is unchanged."""
+
+
+class StoreUnavailableError(StoreError):
+    """The SPARQL server holding the memory did not answer; retry when it is back."""
+
+
+class LeaseHeldError(StoreError):
+    """Another Engram holds the writer's lease of this memory on the shared server."""
+
+
+class ReadOnlyStoreError(StoreError):
+    """This Engram follows a memory on a shared server read-only and may not write it."""
 
 
 class QueryError(EngramError):

@@ -12,11 +12,11 @@ size so that the caches stay small).
 
 import functools
 import re
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 
 from pyoxigraph import Literal, NamedNode
 
-__all__ = ["bind_values", "disable_keyword", "mentions_keyword", "nesting_depth"]
+__all__ = ["bind_table", "bind_values", "disable_keyword", "mentions_keyword", "nesting_depth"]
 
 _NOT_CODE = re.compile(
     r'"""(?:[^"\\]|\\.|"(?!""))*"""'
@@ -145,14 +145,29 @@ def bind_values(text: str, bindings: Mapping[str, NamedNode | Literal]) -> str:
     """
     if not bindings:
         return text
-    for name, term in bindings.items():
+    return bind_table(text, list(bindings), [list(bindings.values())])
+
+
+def bind_table(
+    text: str, names: Sequence[str], rows: Sequence[Sequence[NamedNode | Literal]]
+) -> str:
+    """Like :func:`bind_values`, with several rows: the query answers for each row.
+
+    >>> bind_table("SELECT ?s WHERE { ?s ?p ?o }", ["s"], [[NamedNode("http://x/a")], [NamedNode("http://x/b")]])
+    'SELECT ?s WHERE { VALUES (?s) { (<http://x/a>) (<http://x/b>) } ?s ?p ?o }'
+    """
+    for name in names:
         if not name.isidentifier():
             raise ValueError(f"binding name: got {name!r}, expected a SPARQL variable name")
-        if not isinstance(term, NamedNode | Literal):
-            raise TypeError(f"binding {name}: got {term!r}, expected a NamedNode or a Literal")
+    for row in rows:
+        if len(row) != len(names):
+            raise ValueError(f"binding row: got {len(row)} terms, expected {len(names)}")
+        for name, term in zip(names, row, strict=True):
+            if not isinstance(term, NamedNode | Literal):
+                raise TypeError(f"binding {name}: got {term!r}, expected a NamedNode or a Literal")
     end = _cached_where_end(text) if len(text) <= CACHED_TEXT_LIMIT else _where_end(text)
     if end is None:
         raise ValueError("the query has no 'WHERE {' group to bind variables in")
-    names = " ".join(f"?{name}" for name in bindings)
-    values = " ".join(str(term) for term in bindings.values())
-    return f"{text[:end]} VALUES ({names}) {{ ({values}) }}{text[end:]}"
+    header = " ".join(f"?{name}" for name in names)
+    body = " ".join("(" + " ".join(str(term) for term in row) + ")" for row in rows)
+    return f"{text[:end]} VALUES ({header}) {{ {body} }}{text[end:]}"

@@ -17,7 +17,7 @@ from collections.abc import Callable, Iterator, Mapping, Sequence
 from concurrent.futures import ThreadPoolExecutor
 from contextlib import contextmanager
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import pyoxigraph
 from pyoxigraph import (
@@ -38,11 +38,14 @@ from kg.errors import (
     StoreLockedError,
     TransactionError,
 )
-from kg.sparql_text import bind_values, mentions_keyword
+from kg.sparql_text import bind_table, bind_values, mentions_keyword
 from kg.transaction import Transaction
 from ontologies.vocab import BULK_WRITES, RDF_TYPE, UNFINISHED_BULK_WRITE
 
-__all__ = ["Binding", "Store", "Tracer"]
+if TYPE_CHECKING:
+    from kg.remote import RemoteDataset
+
+__all__ = ["Binding", "Store", "Tracer", "update_text"]
 
 log = logging.getLogger(__name__)
 
@@ -60,14 +63,30 @@ class Store:
 
     Raises :class:`StoreLockedError` if another process holds the directory, and
     :class:`StoreError` if the directory holds something that is not a store.
+
+    ``backend`` is a memory on a shared SPARQL server instead (:func:`kg.fleet.open_remote`
+    builds one): the same calls, over HTTP.
     """
 
-    def __init__(self, path: str | os.PathLike[str] | None = None, *, tracer: Tracer | None = None):
-        self.path = Path(path) if path is not None else None
+    def __init__(
+        self,
+        path: str | os.PathLike[str] | None = None,
+        *,
+        tracer: Tracer | None = None,
+        backend: "RemoteDataset | None" = None,
+    ):
+        self.path = Path(path) if path is not None and backend is None else None
+        self.remote = backend
         try:
             if self.path is not None:
                 self.path.mkdir(parents=True, exist_ok=True)
-            self._store = pyoxigraph.Store(str(self.path)) if self.path else pyoxigraph.Store()
+            self._store: pyoxigraph.Store | RemoteDataset = (
+                backend
+                if backend is not None
+                else pyoxigraph.Store(str(self.path))
+                if self.path
+                else pyoxigraph.Store()
+            )
         except OSError as error:
             if "lock" in str(error).lower():
                 raise StoreLockedError(
@@ -79,7 +98,7 @@ class Store:
         self._tracers: list[Tracer] = [tracer] if tracer else []
         self._generation = 0
         self._committer: ThreadPoolExecutor | None = None
-        if self.path is not None:
+        if self.path is not None or (backend is not None and not backend.read_only):
             self.recover_bulk_writes()
 
     @property
@@ -110,6 +129,18 @@ class Store:
         Each row maps variable names to terms; unbound variables are absent from the row.
         """
         return self._select(sparql.load(name), bindings, name)
+
+    def select_each(
+        self, name: str, column: str, terms: Sequence[Binding], **bindings: Binding
+    ) -> list[dict[str, Binding]]:
+        """Run ``sparql/<name>.rq`` once for all ``terms`` bound to ``column`` (one ``VALUES``
+        row each, with ``bindings`` in every row): one round trip instead of one per term."""
+        if not terms:
+            return []
+        names = [column, *bindings]
+        rows = [[term, *bindings.values()] for term in terms]
+        text = bind_table(sparql.load(name), names, rows)
+        return self._select(text, {}, name)
 
     def _select(
         self, text: str, bindings: Mapping[str, Binding], name: str = "query"
@@ -222,6 +253,8 @@ class Store:
         but does not feed it, such as in-memory bookkeeping. Its exceptions propagate once the
         write has finished, and they do not undo the write.
         """
+        if self.remote is not None:
+            self.remote.settle()  # before the lock: its listeners may take their own locks
         with self._write_lock:
             tx = Transaction()
             yield tx
@@ -257,11 +290,16 @@ class Store:
                     pattern.subject, pattern.predicate, pattern.object, pattern.graph
                 )
             )
-        if not (deletes or tx.cleared):
+        if self.remote is not None:
+            self._trace("update", f"REMOTE {len(deletes)} deletions, {len(tx.inserts)} inserts", {})
+            apply: Callable[[], None] = functools.partial(
+                self.remote.commit, tx.cleared, deletes, tx.inserts
+            )
+        elif not (deletes or tx.cleared):
             self._trace("extend", f"INSERT {len(tx.inserts)} quads", {})
-            apply: Callable[[], None] = functools.partial(self._store.extend, tx.inserts)
+            apply = functools.partial(self._store.extend, tx.inserts)
         else:
-            text = _update_text(tx.cleared, deletes, tx.inserts)
+            text = update_text(tx.cleared, deletes, tx.inserts)
             self._trace("update", text, {})
             apply = functools.partial(self._store.update, text)
 
@@ -375,6 +413,8 @@ class Store:
         On the same file system the copy is made of hard links and is cheap. Raises
         ``FileExistsError`` if ``target`` exists and ``StoreError`` for an in-memory store.
         """
+        if self.remote is not None:
+            self.remote.backup(str(target))
         if self.path is None:
             raise StoreError("an in-memory store cannot be backed up; open one on disk")
         target = Path(target)
@@ -392,7 +432,7 @@ class Store:
         return len(self._store)
 
 
-def _update_text(cleared: list[NamedNode], deletes: list[Quad], inserts: list[Quad]) -> str:
+def update_text(cleared: list[NamedNode], deletes: list[Quad], inserts: list[Quad]) -> str:
     """One SPARQL update; terms are written by pyoxigraph's own serialisation, never by hand."""
     operations = [f"CLEAR SILENT GRAPH {graph}" for graph in cleared]
     if deletes:

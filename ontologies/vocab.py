@@ -318,3 +318,27 @@ BULK_WRITES = NamedNode(GRAPH_NS + "bulk-writes")
 """Markers of bulk writes in progress: a graph named here may be half-written (see
 ``kg.Store.fill_graph``); opening the store clears it (``kg.Store.recover_bulk_writes``)."""
 UNFINISHED_BULK_WRITE = engram("UnfinishedBulkWrite")
+
+# --- A memory on a shared SPARQL server (kg.remote, issue 19) --------------------------------
+MEMORY_NS = BASE + "memory/"
+"""Each robot's memory on a shared server lives under ``MEMORY_NS + <name> + "/"``: its graphs
+under ``.../graph/``, its revision, journal and writer's lease in ``.../control``."""
+REVISION = engram("revision")
+"""On a memory node: how many transactions have been committed to it; on a journal entry: the
+revision that transaction made."""
+JOURNAL_ENTRY = engram("JournalEntry")
+TOUCHED = engram("touched")
+"""On a journal entry: a subject whose triples the transaction changed."""
+TOUCHED_EVERYTHING = engram("touchedEverything")
+"""On a journal entry: the transaction changed too much to list (a cleared graph, a sleep pass):
+followers rebuild everything."""
+COMMITTED_AT = engram("committedAt")
+LEASE_HOLDER = engram("leaseHolder")
+LEASE_EXPIRES = engram("leaseExpires")
+
+# --- Recordings on object storage (episodes.archive, issue 19) -------------------------------
+STREAM_OBJECT = engram("streamObject")
+"""On an episode and on its stream descriptors: an ``s3://`` object holding its recording."""
+BYTE_SIZE = engram("byteSize")
+SHA256 = engram("sha256")
+"""On a stored object: the hex SHA-256 of its bytes."""

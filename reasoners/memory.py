@@ -158,6 +158,12 @@ class SceneMemory:
         """The clock the memory reads (a :class:`~reasoners.clock.SettableClock` can be set)."""
         return self._clock
 
+    def reload(self) -> None:
+        """Rebuild the in-memory index from the store: after another Engram changed it (a
+        follower of a shared memory) or a failed write left the index unsure (kg.remote)."""
+        with self._lock:
+            self._model = persist.load_model(self.store, self._weights())
+
     # Helpers -----------------------------------------------------------------------------------
 
     def _weights(self) -> tuple[float, float, float, float]:

@@ -126,7 +126,7 @@ def open_recording(
 
 @router.get("", summary="Recording state, or what a finished recording holds")
 def recording_status(
-    episode_id: str, registry: RecordingsDep, settings: SettingsDep
+    episode_id: str, registry: RecordingsDep, episodes: EpisodesDep
 ) -> dict[str, Any]:
     if episode_id in registry:
         recorder = registry.get(episode_id)
@@ -136,7 +136,7 @@ def recording_status(
             "queued_bytes": recorder.queued_bytes,
             "channels": [s.as_dict() for s in recorder.stats()],
         }
-    replayer = Replayer(bag_path(streams_root(settings.data_dir), _episode(episode_id)))
+    replayer = Replayer(episodes.local_streams(_episode(episode_id)))
     return {
         "episode": episode_id,
         "recording": False,
@@ -299,7 +299,7 @@ async def close_recording(episode_id: str, registry: RecordingsDep) -> dict[str,
 def replay(
     episode_id: str,
     registry: RecordingsDep,
-    settings: SettingsDep,
+    episodes: EpisodesDep,
     mode: Annotated[Literal["frames", "realtime"], Query()] = "frames",
     speed: Annotated[float, Query(gt=0, le=1000)] = 1.0,
     channels: Annotated[list[str] | None, Query()] = None,
@@ -309,7 +309,7 @@ def replay(
 ) -> StreamingResponse:
     if episode_id in registry:
         raise RecordingStateError(f"episode_id: {episode_id!r} is still recording")
-    replayer = Replayer(bag_path(streams_root(settings.data_dir), _episode(episode_id)))
+    replayer = Replayer(episodes.local_streams(_episode(episode_id)))
     if start_ns is not None and start_frame is not None:
         raise InvalidSampleError("start_frame", start_frame, "either start_ns or start_frame")
     if start_ns is not None:
@@ -332,7 +332,6 @@ def replay(
 def export(
     episode_id: str,
     registry: RecordingsDep,
-    settings: SettingsDep,
     memory: EpisodesDep,
     with_runs: Annotated[
         bool,
@@ -344,7 +343,7 @@ def export(
 ) -> Response:
     if episode_id in registry:
         raise RecordingStateError(f"episode_id: {episode_id!r} is still recording")
-    source = bag_path(streams_root(settings.data_dir), _episode(episode_id))
+    source = memory.local_streams(_episode(episode_id))
     work = Path(tempfile.mkdtemp(prefix="engram-export-"))
     try:
         if with_runs:

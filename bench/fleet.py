@@ -1,0 +1,327 @@
+"""Engram beyond one machine: a memory on an Oxigraph server, several robots, a follower, and
+recordings on S3-compatible storage, each against a baseline measured in the same run.
+
+Servers are started here on loopback (``oxigraph serve`` and moto's ``moto_server``, both from
+PyPI) and stopped at the end.
+
+1. Scene update at ``--classes`` learned classes (10,000 by default): median latency of one
+   committed ``store_scene`` (``--updates`` novel scenes, each learning a class, and as many
+   repeats of a known one) on the remote store against the embedded on-disk store; target: the
+   remote median under 3x the embedded one.
+2. 1, 2 and 4 robots (processes) writing their own memories on the one server at once: scene
+   updates per second, aggregate, and per robot (where it saturates).
+3. A follower seeing a class the writer learned: time from the writer's commit until the
+   follower (polling every 0.1 s) has reloaded what the journal names into its scene memory's
+   index and knows the class, on a memory of ``--classes`` classes; target under 1 s.
+4. Upload of a ``--upload-mb`` file (1 GB by default) to the S3 server: MB/s including the
+   SHA-256; target at least 100 MB/s.
+5. Replay start from storage: a recorded episode of ``--replay-mb`` of camera frames not in the
+   local cache; time to fetch it (parallel ranged reads, digest checked), open it and read its
+   first frame; target under 1 s.
+
+Run from the repository root::
+
+    .venv/bin/python bench/fleet.py            # the figures
+    .venv/bin/python bench/fleet.py --quick    # small sizes, to exercise the script
+"""
+
+import argparse
+import datetime as dt
+import multiprocessing
+import os
+import random
+import shutil
+import signal
+import socket
+import statistics
+import subprocess
+import sys
+import tempfile
+import threading
+import time
+from pathlib import Path
+
+import boto3
+import httpx
+import numpy as np
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
+
+from episodes.archive import StreamArchive
+from episodes.streams import Recorder, Replayer
+from episodes.streams.objects import ObjectStore
+from kg import Store
+from kg.fleet import open_remote
+from kg.remote import Change
+from reasoners.follow import apply_change
+from reasoners.memory import SceneMemory
+from reasoners.primitives import KINDS, Primitive
+
+SEED = 20251123
+AXES = [(0.0, 0.0, 1.0), (1.0, 0.0, 0.0), (0.0, 1.0, 0.0), (0.6, 0.0, 0.8)]
+BIN = Path(sys.executable).parent
+CLOCK = dt.datetime(2026, 1, 1, tzinfo=dt.UTC)
+
+
+def random_scene(rng: random.Random, count: int) -> list[Primitive]:
+    scene = []
+    for k in range(count):
+        kind = rng.choice(KINDS)
+        centre = (rng.uniform(0, 1), rng.uniform(0, 1), rng.uniform(0, 0.5))
+        if kind == "Sphere":
+            scene.append(Primitive(f"o{k}", kind, centre=centre, radius=0.04))
+        else:
+            scene.append(Primitive(f"o{k}", kind, centre=centre, axis=rng.choice(AXES)))
+    return scene
+
+
+def free_port() -> int:
+    with socket.socket() as probe:
+        probe.bind(("127.0.0.1", 0))
+        port: int = probe.getsockname()[1]
+        return port
+
+
+def start(command: list[str], probe: str) -> subprocess.Popen[bytes]:
+    process = subprocess.Popen(command, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    deadline = time.monotonic() + 30
+    while True:
+        try:
+            httpx.get(probe, timeout=1)
+            return process
+        except httpx.TransportError:
+            if process.poll() is not None or time.monotonic() > deadline:
+                raise RuntimeError(f"{command[0]} did not start") from None
+            time.sleep(0.05)
+
+
+def stop(process: subprocess.Popen[bytes]) -> None:
+    if process.poll() is None:
+        process.send_signal(signal.SIGTERM)
+        try:
+            process.wait(timeout=10)
+        except subprocess.TimeoutExpired:
+            process.kill()
+
+
+def build(memory: SceneMemory, size: int, rng: random.Random) -> None:
+    learned = 0
+    while learned < size:
+        batch = []
+        while len(batch) < min(500, size - learned):
+            signature = memory.encoder.signature(random_scene(rng, rng.randint(2, 5)))
+            if signature:
+                batch.append(signature)
+        learned += len(memory.learn_classes(batch))
+
+
+def update_latencies(memory: SceneMemory, updates: int, seed: int) -> list[float]:
+    rng = random.Random(seed)
+    novel = [random_scene(rng, 10) for _ in range(updates)]
+    known = random_scene(rng, 10)
+    memory.store_scene(known)
+    times = []
+    for scene in [*novel, *([known] * updates)]:
+        began = time.perf_counter()
+        memory.store_scene(scene)
+        times.append(time.perf_counter() - began)
+    return times
+
+
+def scene_update(url: str, workdir: Path, args: argparse.Namespace) -> None:
+    embedded_store = Store(workdir / "embedded")
+    embedded = SceneMemory(embedded_store, clock=lambda: CLOCK)
+    began = time.perf_counter()
+    build(embedded, args.classes, random.Random(SEED))
+    embedded_build = time.perf_counter() - began
+    embedded_store.flush()
+    local = update_latencies(embedded, args.updates, SEED + 1)
+
+    remote_memory = open_remote(url, "bench-scene")
+    remote = SceneMemory(remote_memory.store, clock=lambda: CLOCK)
+    began = time.perf_counter()
+    build(remote, args.classes, random.Random(SEED))
+    remote_build = time.perf_counter() - began
+    far = update_latencies(remote, args.updates, SEED + 1)
+    remote_memory.close()
+
+    median_local, median_far = statistics.median(local), statistics.median(far)
+    print(f"1. scene update at {args.classes:,} classes ({2 * args.updates} updates each)")
+    print(f"   build: embedded {embedded_build:.1f} s, remote {remote_build:.1f} s")
+    print(f"   median: embedded {median_local * 1e3:.2f} ms, remote {median_far * 1e3:.2f} ms")
+    print(
+        f"   p90:    embedded {sorted(local)[int(0.9 * len(local))] * 1e3:.2f} ms, "
+        f"remote {sorted(far)[int(0.9 * len(far))] * 1e3:.2f} ms"
+    )
+    ratio = median_far / median_local
+    print(f"   remote / embedded = {ratio:.2f}x (target < 3x: {'met' if ratio < 3 else 'NOT met'})")
+
+
+def _robot(url: str, name: str, updates: int, barrier: object, out: object) -> None:
+    memory = open_remote(url, name)
+    scenes = SceneMemory(memory.store, clock=lambda: CLOCK)
+    rng = random.Random(hash(name) & 0xFFFF)
+    work = [random_scene(rng, 6) for _ in range(updates)]
+    barrier.wait()  # type: ignore[attr-defined]
+    began = time.perf_counter()
+    for scene in work:
+        scenes.store_scene(scene)
+    out.put(time.perf_counter() - began)  # type: ignore[attr-defined]
+    memory.close()
+
+
+def robots(url: str, args: argparse.Namespace) -> None:
+    print(f"2. robots writing their own memories at once ({args.robot_updates} updates each)")
+    context = multiprocessing.get_context("spawn")
+    base = None
+    for count in (1, 2, 4):
+        barrier, out = context.Barrier(count), context.Queue()
+        names = [f"bench-robot-{count}-{i}" for i in range(count)]
+        processes = [
+            context.Process(target=_robot, args=(url, n, args.robot_updates, barrier, out))
+            for n in names
+        ]
+        for process in processes:
+            process.start()
+        durations = [out.get(timeout=600) for _ in processes]
+        for process in processes:
+            process.join()
+        aggregate = count * args.robot_updates / max(durations)
+        base = base or aggregate
+        print(
+            f"   {count} robot(s): {aggregate:.0f} updates/s aggregate, "
+            f"{aggregate / count:.0f} per robot, {aggregate / base:.2f}x one robot"
+        )
+    print(f"   (this machine has {os.cpu_count()} cores, shared by the server and the robots)")
+
+
+def follower(url: str, args: argparse.Namespace) -> None:
+    name = "bench-scene" if "1" in args.only else "bench-follow"
+    writer = open_remote(url, name)
+    memory = SceneMemory(writer.store, clock=lambda: CLOCK)
+    if "1" not in args.only:  # part 1 left its memory at --classes; build one here
+        build(memory, args.classes, random.Random(SEED))
+    reader = open_remote(url, name, follow=True, poll_s=0.1)
+    mirror = SceneMemory(reader.store, clock=lambda: CLOCK)
+    seen: dict[int, float] = {}
+    arrived = threading.Event()
+
+    def changed(change: Change) -> None:
+        apply_change(mirror, change.touched)  # as the app's follower does (api.backend)
+        seen[change.revision] = time.perf_counter()
+        arrived.set()
+
+    reader.dataset.listen(changed)
+    rng = random.Random(SEED + 7)
+    delays = []
+    for _ in range(args.follows):
+        arrived.clear()
+        result = memory.store_scene(random_scene(rng, 6))
+        committed = time.perf_counter()
+        revision = writer.dataset.revision
+        while revision not in seen:
+            arrived.wait(5)
+            arrived.clear()
+        mirror.item_scores(result.stored_as)  # the follower's index knows the class
+        delays.append(seen[revision] - committed)
+    classes = len(mirror.classes())
+    reader.close()
+    writer.close()
+    print(f"3. follower latency over {args.follows} updates, {classes:,} classes (poll 0.1 s)")
+    print(
+        f"   commit -> follower's scene memory up to date: median "
+        f"{statistics.median(delays) * 1e3:.0f} ms, max {max(delays) * 1e3:.0f} ms "
+        f"(target < 1 s: {'met' if max(delays) < 1 else 'NOT met'})"
+    )
+
+
+def streams(workdir: Path, args: argparse.Namespace) -> None:
+    port = free_port()
+    endpoint = f"http://127.0.0.1:{port}"
+    os.environ.setdefault("AWS_ACCESS_KEY_ID", "bench")
+    os.environ.setdefault("AWS_SECRET_ACCESS_KEY", "bench")
+    os.environ.setdefault("AWS_DEFAULT_REGION", "us-east-1")
+    moto = start([str(BIN / "moto_server"), "-H", "127.0.0.1", "-p", str(port)], endpoint)
+    try:
+        boto3.client("s3", endpoint_url=endpoint).create_bucket(Bucket="engram-bench")
+        objects = ObjectStore("s3://engram-bench/fleet", endpoint_url=endpoint)
+        big = workdir / "episode.mcap"
+        block = np.random.default_rng(SEED).integers(0, 256, 16 << 20, dtype=np.uint8).tobytes()
+        with big.open("wb") as file:
+            for _ in range(args.upload_mb // 16):
+                file.write(block)
+        size = big.stat().st_size
+        began = time.perf_counter()
+        objects.upload(big, "big/episode.mcap")
+        upload_s = time.perf_counter() - began
+        big.unlink()
+        rate = size / upload_s / 1e6
+        print(f"4. upload of {size / 1e6:,.0f} MB to the S3 server on loopback (sha256 included)")
+        print(
+            f"   {upload_s:.2f} s, {rate:.0f} MB/s (target >= 100 MB/s: "
+            f"{'met' if rate >= 100 else 'NOT met'})"
+        )
+
+        root = workdir / "streams"
+        recorder = Recorder(root / "ep-replay", episode_id="ep-replay")
+        recorder.add_provider("cam", "image", encoding="rgb8")
+        frame = np.random.default_rng(1).integers(0, 256, (480, 640, 3), dtype=np.uint8)
+        frames = max(1, args.replay_mb * 1_000_000 // frame.nbytes)
+        for i in range(frames):
+            recorder.tick({"cam": frame}, time_ns=(i + 1) * 33_000_000)
+        recorder.close()
+        stored = objects.upload_directory(root / "ep-replay", "ep-replay")
+        mcap = sum(s.size for s in stored if s.name.endswith(".mcap"))
+        shutil.rmtree(root / "ep-replay")
+        archive = StreamArchive(objects, root)
+        began = time.perf_counter()
+        objects.fetch_all(stored, root / "ep-replay")
+        replayer = Replayer(archive.streams_root / "ep-replay")
+        next(iter(replayer.frames()))
+        start_s = time.perf_counter() - began
+        print(f"5. replay start from storage, {mcap / 1e6:,.0f} MB MCAP ({frames} camera frames)")
+        print(
+            f"   fetch + open + first frame {start_s * 1e3:.0f} ms "
+            f"(target < 1 s: {'met' if start_s < 1 else 'NOT met'})"
+        )
+    finally:
+        stop(moto)
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--classes", type=int, default=10_000)
+    parser.add_argument("--updates", type=int, default=30)
+    parser.add_argument("--robot-updates", type=int, default=60)
+    parser.add_argument("--follows", type=int, default=20)
+    parser.add_argument("--upload-mb", type=int, default=1024)
+    parser.add_argument("--replay-mb", type=int, default=100)
+    parser.add_argument("--quick", action="store_true", help="small sizes")
+    parser.add_argument("--only", default="12345", help="which parts to run, e.g. 45")
+    args = parser.parse_args()
+    if args.quick:
+        args.classes, args.updates, args.robot_updates = 300, 5, 10
+        args.follows, args.upload_mb, args.replay_mb = 5, 64, 10
+    workdir = Path(tempfile.mkdtemp(prefix="engram-fleet-bench-"))
+    port = free_port()
+    url = f"http://127.0.0.1:{port}"
+    command = [str(BIN / "oxigraph"), "serve", "--bind", f"127.0.0.1:{port}"]
+    oxigraph = start(
+        [*command, "--location", str(workdir / "oxigraph")], url + "/query?query=ASK%7B%7D"
+    )
+    try:
+        if "1" in args.only:
+            scene_update(url, workdir, args)
+        if "2" in args.only:
+            robots(url, args)
+        if "3" in args.only:
+            follower(url, args)
+        if "4" in args.only or "5" in args.only:
+            streams(workdir, args)
+    finally:
+        stop(oxigraph)
+        shutil.rmtree(workdir, ignore_errors=True)
+
+
+if __name__ == "__main__":
+    main()

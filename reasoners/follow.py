@@ -1,0 +1,157 @@
+"""Keeping a follower's scene memory in step with the writer, one change at a time.
+
+A follower (:mod:`kg.follow`) learns which subjects each of the writer's transactions touched.
+:func:`apply_change` reloads only those into the follower's in-memory index: a class whose
+counters or times moved, a class just learned (linked into the graph from its signature, as the
+writer linked it), an experienced scene just stored, the memory's state. Anything else (a class
+or scene that left the memory graph, a change too large to list) rebuilds the whole index, as
+does a change that touched "everything".
+
+>>> apply_change.__name__
+'apply_change'
+"""
+
+import logging
+from collections.abc import Iterable
+
+from pyoxigraph import NamedNode
+
+from ontologies.vocab import (
+    CLASS_SIGNATURE,
+    COMPLEXITY,
+    CONSECUTIVE_WEAK_COUNT,
+    CREATED,
+    ENGRAM_NS,
+    EPISODIC,
+    LAST_ACCESSED,
+    LAST_SLEEP_AT,
+    LEVEL,
+    MEMORY,
+    MEMORY_STATE_INDIVIDUAL,
+    PINNED,
+    RDF_TYPE,
+    RETRIEVE_COUNT,
+    SCORE,
+    SLEEP_PASS_COUNT,
+    STORE_COUNT,
+    UPDATES_SINCE_SLEEP,
+)
+from reasoners import persist
+from reasoners.memory import SceneMemory
+from reasoners.model import ClassRecord, ItemRecord
+from reasoners.persist import Term
+from reasoners.signature import Signature
+
+__all__ = ["apply_change"]
+
+log = logging.getLogger(__name__)
+
+
+class _Rebuild(Exception):
+    """The change cannot be applied piecewise."""
+
+
+def apply_change(memory: SceneMemory, touched: Iterable[NamedNode] | None) -> bool:
+    """Bring ``memory``'s index up to date with a change that touched ``touched`` (None:
+    everything). Returns True if it was applied piecewise, False if the index was rebuilt."""
+    if touched is not None:
+        with memory._lock:
+            try:
+                _apply(memory, set(touched))
+                return True
+            except _Rebuild as reason:
+                log.info("rebuilding the scene memory index: %s", reason)
+    memory.reload()
+    return False
+
+
+def _apply(memory: SceneMemory, touched: set[NamedNode]) -> None:
+    store, m = memory.store, memory._model
+    classes, items, state = [], [], False
+    for subject in touched:
+        if subject == MEMORY_STATE_INDIVIDUAL:
+            state = True
+        elif not subject.value.startswith(ENGRAM_NS):
+            continue  # restriction and definition nodes, episodes, references
+        elif (name := subject.value[len(ENGRAM_NS) :]).startswith("Scene-"):
+            classes.append(subject)
+        elif name.startswith("experience-") and name.count("-") == 1:
+            items.append(subject)
+        # experience-N-k: a primitive of a stored scene, read with the scene if at all
+        if subject in m.trashed_classes or subject in m.trashed_items:
+            raise _Rebuild(f"{subject.value} came back from the trash")
+    rows = persist._rows_by_subject(
+        store.select_each("memory_load_classes", "class", classes, g=MEMORY), "class"
+    )
+    for cls in classes:
+        if cls not in rows:
+            raise _Rebuild(f"{cls.value} left the memory graph")
+    # existing classes first, then new ones simplest first (a parent before its children)
+    fresh = sorted((c for c in rows if c not in m.classes), key=persist._number)
+    for cls in [c for c in rows if c in m.classes]:
+        values, record = rows[cls], m.classes[cls]
+        m.set_counts(
+            record,
+            store=persist._int(values, STORE_COUNT),
+            retrieve=persist._int(values, RETRIEVE_COUNT),
+        )
+        _annotations(record, values)
+    for cls in fresh:
+        values = rows[cls]
+        if CLASS_SIGNATURE not in values:
+            raise _Rebuild(f"{cls.value} has no engram:signature")
+        record = ClassRecord(
+            iri=cls,
+            signature=Signature.from_json(persist._one(values, CLASS_SIGNATURE).value),
+            store_count=persist._int(values, STORE_COUNT),
+            retrieve_count=persist._int(values, RETRIEVE_COUNT),
+            score=float(persist._one(values, SCORE).value),
+            created=persist.parse_time(persist._one(values, CREATED)),
+            last_accessed=persist.parse_time(persist._one(values, LAST_ACCESSED)),
+        )
+        _annotations(record, values)
+        m.add_class(record)
+        m.next_class = max(m.next_class, persist._number(cls) + 1)
+    found = persist._rows_by_subject(
+        store.select_each("memory_load_items", "item", items, g=EPISODIC), "item"
+    )
+    for item in items:
+        if item not in found:
+            raise _Rebuild(f"{item.value} left the episodic graph")
+        values = found[item]
+        owner = next((t for t in values[RDF_TYPE] if t in m.classes), None)
+        if not isinstance(owner, NamedNode):
+            raise _Rebuild(f"{item.value} belongs to no live class")
+        scene = ItemRecord(
+            iri=item,
+            cls=owner,
+            complexity=persist._int(values, COMPLEXITY),
+            created=persist.parse_time(persist._one(values, CREATED)),
+            last_accessed=persist.parse_time(persist._one(values, LAST_ACCESSED)),
+            weak_count=persist._int(values, CONSECUTIVE_WEAK_COUNT),
+            pinned=persist._bool(values, PINNED),
+            level=values[LEVEL][0].value if LEVEL in values else None,
+        )
+        if item in m.items:
+            m.remove_item(item)
+        m.add_item(scene)
+        m.next_item = max(m.next_item, persist._number(item) + 1)
+    if state:
+        quads = store.quads(MEMORY_STATE_INDIVIDUAL, None, None, MEMORY)
+        now: dict[NamedNode, list[Term]] = {}
+        for quad in quads:
+            now.setdefault(quad.predicate, []).append(quad.object)  # type: ignore[arg-type]
+        m.has_state = bool(now)
+        if LAST_SLEEP_AT in now:
+            m.last_sleep_at = persist.parse_time(now[LAST_SLEEP_AT][0])
+        m.updates_since_sleep = persist._int(now, UPDATES_SINCE_SLEEP)
+        m.sleep_passes = persist._int(now, SLEEP_PASS_COUNT)
+    m.refresh()
+
+
+def _annotations(record: ClassRecord, values: dict[NamedNode, list[Term]]) -> None:
+    record.score = float(persist._one(values, SCORE).value)
+    record.last_accessed = persist.parse_time(persist._one(values, LAST_ACCESSED))
+    record.weak_count = persist._int(values, CONSECUTIVE_WEAK_COUNT)
+    record.pinned = persist._bool(values, PINNED)
+    record.level = values[LEVEL][0].value if LEVEL in values else None
