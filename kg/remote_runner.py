@@ -83,13 +83,16 @@ class RemoteQueryRunner(QueryRunner):
             return checked
         name = RESULT_FORMATS[checked.form][checked.media_type]
         try:
-            if default_graphs is None and named_graphs is None:
+            if default_graphs is None:
                 result = self.dataset.query(text, use_default_graph_as_union=True)
-            else:
+            else:  # no named-graph-uri: GRAPH reaches every graph of the memory, as embedded
+                named = (
+                    self.dataset.named_graphs()
+                    if named_graphs is None
+                    else [NamedNode(g) for g in named_graphs]
+                )
                 result = self.dataset.query(
-                    text,
-                    default_graph=[NamedNode(g) for g in default_graphs or ()],
-                    named_graphs=[NamedNode(g) for g in named_graphs or ()],
+                    text, default_graph=[NamedNode(g) for g in default_graphs], named_graphs=named
                 )
         except StoreError as error:
             if isinstance(error.__cause__, httpx.TimeoutException):

@@ -210,6 +210,14 @@ class Store:
         """The stored quads matching a pattern (``None`` matches anything)."""
         return self._store.quads_for_pattern(subject, predicate, obj, graph)
 
+    def settle(self) -> None:
+        """On a SPARQL server, after a failed write: read the revision back and let the
+        listeners rebuild what they hold (:meth:`kg.remote.RemoteDataset.settle`) before anything
+        is computed on it; a no-op otherwise. Call it before taking locks the listeners take.
+        Raises :class:`StoreUnavailableError` while the server is still away."""
+        if self.remote is not None:
+            self.remote.settle()
+
     def named_graphs(self) -> list[NamedNode]:
         """The named graphs that hold at least one triple."""
         return [g for g in self._store.named_graphs() if isinstance(g, NamedNode)]
@@ -253,8 +261,7 @@ class Store:
         but does not feed it, such as in-memory bookkeeping. Its exceptions propagate once the
         write has finished, and they do not undo the write.
         """
-        if self.remote is not None:
-            self.remote.settle()  # before the lock: its listeners may take their own locks
+        self.settle()
         with self._write_lock:
             tx = Transaction()
             yield tx

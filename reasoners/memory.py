@@ -248,6 +248,8 @@ class SceneMemory:
         the block raises (an operation failed, or the commit did), the model is rebuilt from the
         store, which the failed commit left as it was.
         """
+        # a shared store catches up after a failed write now, not at this batch's commit
+        self.store.settle()
         with self._lock:
             if self._batch is not None:
                 raise RuntimeError("batch: a batch is already open on this memory")
