@@ -29,6 +29,7 @@ from kg.errors import (
     ResultTooLargeError,
     StoreError,
 )
+from reasoners.errors import MemoryLoadingError
 
 __all__ = ["install_error_handlers"]
 
@@ -49,6 +50,7 @@ _STATUS: list[tuple[type[Exception], int]] = [
     (RecordingStateError, 409),
     (CorruptRecordingError, 409),
     (StreamError, 400),
+    (MemoryLoadingError, 503),
     (EngramError, 400),
 ]
 

@@ -283,3 +283,10 @@ BULK_WRITES = NamedNode(GRAPH_NS + "bulk-writes")
 """Markers of bulk writes in progress: a graph named here may be half-written (see
 ``kg.Store.fill_graph``); opening the store clears it (``kg.Store.recover_bulk_writes``)."""
 UNFINISHED_BULK_WRITE = engram("UnfinishedBulkWrite")
+
+# --- Scene memory revision (reasoners.index_file, issue 15 opening fast) ---------------------
+MEMORY_REVISION_GRAPH = NamedNode(GRAPH_NS + "memory-revision")
+"""Holds one triple, ``engram:memoryState engram:revision "<token>"``, replaced by every committed
+scene-memory transaction: the index file saved beside the store names the revision it mirrors.
+Not exported (not part of the ontology)."""
+MEMORY_REVISION = engram("revision")
