@@ -29,7 +29,7 @@ from kg.errors import (
     UnavailableError,
     UnsupportedQueryError,
 )
-from reasoners.errors import UnknownItemError
+from reasoners.errors import MemoryLoadingError, UnknownItemError
 
 __all__ = ["install_error_handlers"]
 
@@ -53,6 +53,7 @@ _STATUS: list[tuple[type[Exception], int]] = [
     (StreamError, 400),
     (UnknownItemError, 404),
     (SpeechUnavailableError, 503),
+    (MemoryLoadingError, 503),
     (EngramError, 400),
 ]
 

@@ -3,6 +3,7 @@
 import asyncio
 import datetime as dt
 import logging
+import time
 from collections.abc import AsyncIterator
 from contextlib import asynccontextmanager
 
@@ -22,7 +23,6 @@ from api.routes import admin, armor, ask, episodes, export, health, sparql, stre
 from episodes import EpisodeMemory
 from episodes.streams import RecordingRegistry
 from kg import ensure_ontology
-from reasoners.check import open_scene_memory
 from reasoners.clock import SettableClock
 from reasoners.memory import SceneMemory
 
@@ -41,12 +41,31 @@ async def _sleep_when_due(memory: SceneMemory, period_s: float) -> None:
     """
     store = memory.store
     flushed = store.generation
+    saved_at = time.monotonic()
     while True:
         await asyncio.sleep(period_s)
+        if not memory.ready:  # still opening in the background
+            continue
         await run_in_threadpool(sleep_if_due, memory)
         if store.generation != flushed:
             flushed = store.generation
             await run_in_threadpool(store.flush)
+        if time.monotonic() - saved_at >= INDEX_SAVE_INTERVAL_S:
+            saved_at = time.monotonic()
+            await run_in_threadpool(_save_index, memory)
+
+
+INDEX_SAVE_INTERVAL_S = 300.0
+"""How often the scene memory's index file is brought up to date (if the memory changed), so
+that a restart after a crash reads a recent one; a clean shutdown saves it too."""
+
+
+def _save_index(memory: SceneMemory) -> None:
+    """Save the memory's index file; a failure costs the next start a rebuild, nothing else."""
+    try:
+        memory.save_index()
+    except Exception:
+        log.exception("the scene memory's index file could not be saved")
 
 
 def _utc_now() -> dt.datetime:
@@ -68,9 +87,11 @@ def create_app(settings: Settings | None = None) -> FastAPI:
         state = app.state
         state.settings, state.store, state.runner = settings, store, runner
         state.recordings = recordings
+        # Opened in the background (reading its index file, or rebuilding it from the store):
+        # /health and SPARQL answer meanwhile, memory directives answer "loading".
         clock = SettableClock() if settings.clock_settable else _utc_now
-        # names any damage instead of the loader's traceback
-        state.scene_memory = scene_memory = open_scene_memory(store, clock=clock)
+        # `engram serve` refuses a damaged store before this (reasoners.check)
+        state.scene_memory = scene_memory = SceneMemory(store, clock=clock, background=True)
         opened.watch(scene_memory)
         state.armor = ArmorEngine(
             store,
@@ -92,6 +113,8 @@ def create_app(settings: Settings | None = None) -> FastAPI:
             sleeper.cancel()
             recordings.close_all()  # a recording still open at shutdown ends as a complete file
             runner.close()
+            if scene_memory.wait_ready(timeout_s=0):
+                await run_in_threadpool(_save_index, scene_memory)
             store.flush()
             opened.close()
             # release the store's directory lock

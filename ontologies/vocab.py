@@ -342,3 +342,10 @@ STREAM_OBJECT = engram("streamObject")
 BYTE_SIZE = engram("byteSize")
 SHA256 = engram("sha256")
 """On a stored object: the hex SHA-256 of its bytes."""
+
+# --- Scene memory revision (reasoners.index_file, issue 15 opening fast) ---------------------
+MEMORY_REVISION_GRAPH = NamedNode(GRAPH_NS + "memory-revision")
+"""Holds one triple, ``engram:memoryState engram:revision "<token>"``, replaced by every committed
+scene-memory transaction: the index file saved beside the store names the revision it mirrors.
+Not exported (not part of the ontology)."""
+MEMORY_REVISION = REVISION

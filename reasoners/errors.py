@@ -4,6 +4,7 @@ EngramError (kg), each error also of one of kg.errors' kinds
 └── MemoryReasonerError
     ├── InvalidPrimitiveError   a primitive's field is missing or out of range (ValueError)
     ├── InvalidSceneError       the primitives cannot form a scene, or a bad cue (ValueError)
+    ├── MemoryLoadingError      the memory is still being opened (or opening it failed)
     ├── PolicyError             the memory policy in the store lacks a value or holds a bad one
     ├── UnknownItemError        no live class or experienced scene has this IRI (KeyError)
     │   └── NotInTrashError     restore was asked for an IRI that is not in the trash
@@ -15,6 +16,7 @@ from kg.errors import ConflictError, EngramError, InvalidInputError, NotFoundErr
 __all__ = [
     "InvalidPrimitiveError",
     "InvalidSceneError",
+    "MemoryLoadingError",
     "MemoryReasonerError",
     "NotInTrashError",
     "PolicyError",
@@ -33,6 +35,10 @@ class InvalidPrimitiveError(MemoryReasonerError, InvalidInputError):
 
 class InvalidSceneError(MemoryReasonerError, InvalidInputError):
     """The primitives cannot form a scene (duplicate ids, no relation), or a cue is malformed."""
+
+
+class MemoryLoadingError(MemoryReasonerError):
+    """The scene memory is still being opened in the background (or opening it failed)."""
 
 
 class PolicyError(MemoryReasonerError):

@@ -72,12 +72,13 @@ from ontologies.vocab import (
     TRASH_CLASS,
     UPDATES_SINCE_SLEEP,
 )
-from reasoners import persist
+from reasoners import index_file, persist
 from reasoners.batch import PendingWrites, QuadReader
 from reasoners.clock import SettableClock
 from reasoners.encode import Encoder, Relation
 from reasoners.errors import (
     InvalidSceneError,
+    MemoryLoadingError,
     NotInTrashError,
     RestoreConflictError,
     UnknownItemError,
@@ -99,7 +100,7 @@ from reasoners.results import (
 from reasoners.scoring import WEAK, episodic_score, level_of, log_ratio
 from reasoners.signature import Signature
 
-__all__ = ["Clock", "Cue", "SceneMemory"]
+__all__ = ["LOADING_WAIT_S", "Clock", "Cue", "SceneMemory"]
 
 log = logging.getLogger(__name__)
 
@@ -108,6 +109,10 @@ Cue = Signature | Sequence[Primitive] | Sequence[tuple[str, str, str]]
 """A partial scene: primitives, relation triples between object types such as
 ``("Sphere", "isAboveOf", "Plane")``, or a signature."""
 
+
+LOADING_WAIT_S = 1.0
+"""How long a call made while the memory opens in the background waits for it before answering
+:class:`MemoryLoadingError`."""
 
 _RECOGNITION_ORDER = (
     (attrgetter("iri.value"), False),
@@ -134,6 +139,7 @@ class SceneMemory:
         *,
         clock: Clock = _utc_now,
         policy: NamedNode = DEFAULT_POLICY,
+        background: bool = False,
     ) -> None:
         ensure_ontology(store)
         self.store = store
@@ -145,12 +151,49 @@ class SceneMemory:
         self.policy: Policy = load_policy(store, policy)
         self.encoder = Encoder.from_store(store, self.policy)
         self._policy_iri = policy
-        self._model: MemoryModel = persist.load_model(store, self._weights())
-        self._repair_view()
+        self._loaded: MemoryModel | None = None
+        self._revision: str | None = None
+        self._saved_revision: str | None = None
+        self._loading_error: BaseException | None = None
+        self.loaded_from = ""
+        """Where the model came from: "index file", "store", or "" while it loads."""
+        self._ready = threading.Event()
+        if background:
+            threading.Thread(
+                target=self._open,
+                kwargs={"background": True},
+                name="engram-memory-open",
+                daemon=True,
+            ).start()
+        else:
+            self._open()
+
+    def _open(self, *, background: bool = False) -> None:
+        """Read the model from the index file beside the store, or rebuild it from the store."""
+        began = time.perf_counter()
+        try:
+            model, revision, source = index_file.open_model(
+                self.store, self._weights(), lambda: persist.load_model(self.store, self._weights())
+            )
+            # Not under the lock: a caller holding it may be waiting for this (see _model).
+            self._revision, self.loaded_from = revision, source
+            self._saved_revision = revision if source == "index file" else None
+            self._loaded = model
+            self._repair_view()
+        except Exception as error:
+            self._loaded, self._loading_error = None, error
+            self._ready.set()
+            if not background:
+                raise
+            log.exception("scene memory could not be opened")
+            return
+        self._ready.set()
         log.info(
-            "scene memory opened: %d classes, %d experienced scenes",
-            len(self._model.classes),
-            len(self._model.items),
+            "scene memory opened from the %s in %.2f s: %d classes, %d experienced scenes",
+            source,
+            time.perf_counter() - began,
+            len(model.classes),
+            len(model.items),
         )
 
     @property
@@ -163,6 +206,55 @@ class SceneMemory:
         follower of a shared memory) or a failed write left the index unsure (kg.remote)."""
         with self._lock:
             self._model = persist.load_model(self.store, self._weights())
+            self._revision = index_file.stored_revision(self.store)
+
+    @property
+    def _model(self) -> MemoryModel:
+        """The in-memory model; :class:`MemoryLoadingError` while it is still being read."""
+        model = self._loaded
+        if model is None:
+            self._ready.wait(LOADING_WAIT_S)  # a small memory is ready before the caller knows
+            model = self._loaded
+        if model is None:
+            if self._loading_error is not None:
+                raise MemoryLoadingError(
+                    f"scene memory unavailable: opening it failed: {self._loading_error}"
+                )
+            raise MemoryLoadingError("scene memory unavailable: still loading, retry shortly")
+        return model
+
+    @_model.setter
+    def _model(self, model: MemoryModel) -> None:
+        self._loaded = model
+
+    @property
+    def ready(self) -> bool:
+        """True once the model is loaded (False while loading or after a failed load)."""
+        return self._loaded is not None
+
+    def wait_ready(self, timeout_s: float | None = None) -> bool:
+        """Wait until loading has finished (or failed); True if the memory is ready."""
+        self._ready.wait(timeout_s)
+        return self.ready
+
+    def save_index(self) -> bool:
+        """Save the model beside the store (see :mod:`reasoners.index_file`) if the store
+        changed since the last save; True if a file was written. The store is flushed first,
+        so that the file never names a revision the store could lose."""
+        path = index_file.index_path(self.store)
+        if path is None or not self.ready:
+            return False
+        with self._lock:
+            revision = self._revision
+            if revision is None or revision == self._saved_revision:
+                return False
+            self.store.flush()
+            values = index_file.snapshot(self._model, revision, self._weights())
+        index_file.write_snapshot(path, values)
+        with self._lock:
+            self._saved_revision = revision
+        log.info("scene memory index saved at revision %s", revision)
+        return True
 
     # Helpers -----------------------------------------------------------------------------------
 
@@ -222,15 +314,22 @@ class SceneMemory:
                 persist.write_view(self._batch, self._model, self._policy_iri)
                 return
             alongside = self._model.refresh if refresh_alongside else None
+            revision = index_file.new_revision()
             try:
                 with self.store.transaction(alongside=alongside) as tx:
                     writes = PendingWrites()
                     self._reader = writes.view(self.store)
                     yield writes
                     persist.write_view(writes, self._model, self._policy_iri)
+                    if not writes.is_empty:  # the index file names the revision it mirrors
+                        index_file.record_revision(writes, self._revision, revision)
                     writes.copy_into(tx)
+                if not writes.is_empty:
+                    self._revision = revision
             except BaseException:
-                self._model = persist.load_model(self.store, self._weights())
+                if self._loaded is not None:  # not while it loads: the loader will set it
+                    self._model = persist.load_model(self.store, self._weights())
+                    self._revision = index_file.stored_revision(self.store)
                 raise
             finally:
                 self._reader = self.store
@@ -254,13 +353,18 @@ class SceneMemory:
             if self._batch is not None:
                 raise RuntimeError("batch: a batch is already open on this memory")
             writes = PendingWrites()
+            # the index file names the revision it mirrors: the batch's commit makes a new one
+            revision = index_file.new_revision()
+            index_file.record_revision(writes, self._revision, revision)
             self._batch, self._reader = writes, writes.view(self.store)
             clock = self._clock
             saved = clock.snapshot() if isinstance(clock, SettableClock) else None
             try:
                 yield writes
+                self._revision = revision
             except BaseException:
                 self._model = persist.load_model(self.store, self._weights())
+                self._revision = index_file.stored_revision(self.store)
                 if isinstance(clock, SettableClock):
                     clock.restore(saved)
                 raise

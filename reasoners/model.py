@@ -362,9 +362,12 @@ class MemoryModel:
 
     # Classes and edges -------------------------------------------------------------------------
 
-    def _register(self, record: ClassRecord) -> None:
+    def _register(self, record: ClassRecord, *, indexed: bool = False) -> None:
+        """Add a class to the maps and counters (and to the index unless ``indexed``); its Z
+        is zero until refreshed."""
         cls = record.iri
-        self.index.add(cls, record.signature)
+        if not indexed:
+            self.index.add(cls, record.signature)
         self.classes[cls] = record
         self.parents.setdefault(cls, set())
         self.children.setdefault(cls, set())
@@ -374,23 +377,40 @@ class MemoryModel:
         self.retrieve_counts[record.retrieve_count] += 1
         self.restrictions.update(record.signature.items())
         record.z, record.sums, record.up, record.fan_in = (0, 0, 0), [0, 0, 0], [], 0
-        self._set_row(cls, record.z)
+        if not indexed:
+            self._set_row(cls, record.z)
 
     def load(
         self, records: Iterable[ClassRecord], edges: Iterable[tuple[NamedNode, NamedNode]]
     ) -> None:
-        """Bulk-load classes and their stored (child, parent) edges; Z is derived from scratch."""
+        """Bulk-load classes and their stored (child, parent) edges; Z is derived from scratch.
+
+        Indexes the classes in one pass (:meth:`SignatureIndex.add_all`) and fills the score
+        rows at once: opening a memory of 100,000 classes takes seconds, not minutes.
+        """
+        records = list(records)
+        self.index.add_all((r.iri, r.signature) for r in records)
         for record in records:
-            self._register(record)
+            self._register(record, indexed=True)
+        classes, parents, children = self.classes, self.parents, self.children
         for child, parent in edges:
-            if child in self.classes and parent in self.classes:
-                self._connect(child, parent)
-        for record in sorted(self.classes.values(), key=lambda r: -r.signature.complexity):
-            record.sums = [
-                sum(self.classes[c].z[x] for c in self.children[record.iri]) for x in range(3)
-            ]
-            record.z = self._own(record)
-            self._set_row(record.iri, record.z)
+            below, above = classes.get(child), classes.get(parent)
+            if below is None or above is None or parent in parents[child]:
+                continue
+            parents[child].add(parent)
+            children[parent].add(child)
+            below.up.append(above)
+            above.fan_in += 1
+        ordered = sorted(classes.values(), key=lambda r: -r.signature.complexity)
+        own = self._own
+        for record in ordered:  # children (more complex) before parents
+            record.z = z = own(record)
+            for above in record.up:
+                sums = above.sums
+                sums[0] += z[0]
+                sums[1] += z[1]
+                sums[2] += z[2]
+        self._set_rows(ordered)
         self._dirty.clear()
         self._dirty_top = 0
         self.unwritten = {r.iri for r in self.classes.values() if r.written_z != r.z}

@@ -117,6 +117,20 @@ class Signature(Mapping[Key, int]):
         return json.dumps([[p.value, t.value, n] for (p, t), n in self._counts.items()])
 
     @classmethod
+    def trusted(cls, counts: dict[Key, int]) -> "Signature":
+        """A signature that takes ``counts`` as they are (not copied), already in signature
+        order (as :meth:`items` gives them), such as a saved index file holds; the counts are
+        still checked."""
+        if not all(type(n) is int and n > 0 for n in counts.values()):
+            signature = cls.__new__(cls)
+            signature._set(counts, ordered=True)  # raises, naming the bad count
+        signature = cls.__new__(cls)
+        signature._counts = counts
+        signature._hash = hash(frozenset(counts.items()))
+        signature.complexity = sum(counts.values())
+        return signature
+
+    @classmethod
     def from_json(cls, text: str) -> "Signature":
         """The signature written by :meth:`to_json`; ``InvalidSceneError`` if malformed."""
         try:

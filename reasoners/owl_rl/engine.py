@@ -237,6 +237,13 @@ class Engine:
 
     def run(self) -> None:
         """Derive every consequence of the facts recorded so far."""
+        for _ in self.run_stepwise(None):
+            pass
+
+    def run_stepwise(self, every: int | None) -> Iterator[None]:
+        """Derive every consequence, as :meth:`run`, pausing (yielding) after each ``every``
+        processed instance facts, so that a caller can write what was derived so far (the
+        log) while the rest is derived; ``None`` never pauses."""
         while self._schema_queue or self.queue:
             while self._schema_queue:
                 process_schema(self, *self._schema_queue.pop())
@@ -252,9 +259,18 @@ class Engine:
             type_info = self.property_cache.get(TYPE) or property_info(self, TYPE)
             self._quiet = not (self.fact_hooks or type_info.active or self.sp.get(SAME_AS))
             queue, schema_queue, process = self.queue, self._schema_queue, self._process
-            while queue and not schema_queue:
-                s, p, o = queue.pop()
-                process(s, p, o)
+            if every is None:
+                while queue and not schema_queue:
+                    s, p, o = queue.pop()
+                    process(s, p, o)
+            else:
+                while queue and not schema_queue:
+                    for _ in range(min(every, len(queue))):
+                        s, p, o = queue.pop()
+                        process(s, p, o)
+                        if schema_queue:
+                            break
+                    yield
             self.instances_processed = True
 
     # Schema rules -----------------------------------------------------------------------------

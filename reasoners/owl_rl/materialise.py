@@ -42,6 +42,7 @@ changes it otherwise must call :func:`forget` so that the next call starts afres
 """
 
 import gc
+import itertools
 import logging
 import threading
 import time
@@ -149,6 +150,10 @@ _INCREMENTAL_LIMIT = 0.25
 """Above this share of new asserted triples (and 1,000) a recomputation costs no more."""
 _BULK_MIN = 5_000
 """From this many triples, a closure written into an empty inferred graph is bulk loaded."""
+_STREAM_MIN = 5_000
+"""From this many asserted triples, the first REASON writes its closure while deriving it."""
+_STREAM_STEP = 20_000
+"""Instance facts the engine processes between two pieces handed to the bulk loader."""
 
 
 def _slot(store: Store, asserted: NamedNode, inferred: NamedNode) -> _Slot:
@@ -191,13 +196,19 @@ def _facts(data: bytes) -> list[Fact]:
     return facts
 
 
-def _closure(facts: list[Fact]) -> Engine:
+def _engine(facts: list[Fact]) -> Engine:
+    """An engine holding ``facts``, the axioms and the SWRL rules among the facts, not yet run."""
     engine = Engine()
     engine.add_all(facts)
     engine.add_all(AXIOMS)
     rules = parse_rules(engine)
     if rules:
         engine.fact_hooks.append(SwrlRunner(rules))
+    return engine
+
+
+def _closure(facts: list[Fact]) -> Engine:
+    engine = _engine(facts)
     engine.run()
     engine.take_log()
     return engine
@@ -312,18 +323,24 @@ def _materialise(
         data = store.graph_ntriples(asserted)
     facts = _facts(data)
     asserted_facts = set(facts)
-    engine = _closure(facts)
-    current = set(_facts(store.graph_ntriples(inferred)))
     terms: dict[str, NamedNode | Literal] = {}
     to_remove: set[Fact] | list[Fact] = []
-    if current:
-        wanted = _outputs(engine, asserted_facts)
-        to_remove = current - wanted
-        added, committed = _write(store, inferred, wanted - current, to_remove, terms)
-        count = len(wanted)
-    else:  # the usual first REASON: the closure goes out as text, no set of it
-        added, committed = _fill(store, inferred, engine, asserted_facts, terms)
+    streamed = len(facts) >= _STREAM_MIN and not any(store.quads(graph=inferred))
+    if streamed:  # the first REASON of a large reference: the closure written as derived
+        engine = _engine(facts)
+        added, committed = _fill_while_reasoning(store, inferred, engine, asserted_facts)
         count = added
+    else:
+        engine = _closure(facts)
+        current = set(_facts(store.graph_ntriples(inferred)))
+        if current:
+            wanted = _outputs(engine, asserted_facts)
+            to_remove = current - wanted
+            added, committed = _write(store, inferred, wanted - current, to_remove, terms)
+            count = len(wanted)
+        else:  # a small first REASON: the closure goes out as text, no set of it
+            added, committed = _fill(store, inferred, engine, asserted_facts, terms)
+            count = added
     state = _State(
         engine,
         asserted_facts,
@@ -443,6 +460,31 @@ def _fill(
         return _write(store, graph, facts, [], terms)
     store.fill_graph(graph, "".join([f"{s} {p} {o} .\n" for s, p, o in facts]).encode())
     return len(facts), True
+
+
+def _fill_while_reasoning(
+    store: Store, graph: NamedNode, engine: Engine, asserted: set[Fact]
+) -> tuple[int, bool]:
+    """Run ``engine`` to its closure while its new facts are bulk loaded into the empty
+    ``graph`` (:meth:`kg.Store.fill_graph` with pieces): Oxigraph parses, sorts and writes one
+    piece in its own thread while the engine derives the next, so the write costs little more
+    than the reasoning. All or nothing, as :func:`_fill`. Returns (triples added, True)."""
+    added = 0
+
+    def pieces() -> Iterator[bytes]:
+        nonlocal added
+        for _ in itertools.chain(engine.run_stepwise(_STREAM_STEP), [None]):
+            lines = [
+                f"{s} {p} {o} .\n"
+                for s, p, o in engine.take_log()
+                if s[0] != '"' and (s, p, o) not in asserted
+            ]
+            added += len(lines)
+            if lines:
+                yield "".join(lines).encode()
+
+    store.fill_graph(graph, pieces())
+    return added, True
 
 
 def _write(

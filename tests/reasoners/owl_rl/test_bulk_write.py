@@ -139,3 +139,58 @@ def test_a_process_killed_during_a_full_reason_reopens_without_a_partial_closure
     assert len(graph_triples(store, ASSERTED)) > 0, "the committed assertions are kept"
     materialise(store, asserted=ASSERTED, inferred=INFERRED)
     assert graph_triples(store) == _transactional_closure(store, monkeypatch)
+
+
+def test_a_closure_written_while_derived_equals_owlrl(
+    load: Loader, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    monkeypatch.setattr(materialise_module, "_STREAM_MIN", 1)
+    monkeypatch.setattr(materialise_module, "_STREAM_STEP", 500)  # several pieces
+    store = load("\n".join(scene_ontology(1_500, seed=3)).encode(), RdfFormat.N_TRIPLES)
+    loads: list[str] = []
+    with store.tracing(lambda kind, text, _: loads.append(text)):
+        report = materialise(store, asserted=ASSERTED, inferred=INFERRED)
+    assert f"BULK LOAD INTO {INFERRED} (streamed)" in loads
+    inferred = graph_triples(store)
+    assert inferred == owlrl_inferences(store)
+    assert report.added == report.inferred_total == len(inferred)
+    assert list(store.quads(graph=BULK_WRITES)) == []
+
+
+def test_a_reasoner_failing_while_its_closure_streams_leaves_the_graph_empty(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    monkeypatch.setattr(materialise_module, "_STREAM_MIN", 1)
+    monkeypatch.setattr(materialise_module, "_STREAM_STEP", 200)
+    store = _on_disk(tmp_path / "store")
+    engine_class = materialise_module.Engine
+    real = engine_class.take_log
+    calls: list[int] = []
+
+    def failing(self: object) -> list[tuple[str, str, str]]:
+        calls.append(1)
+        if len(calls) == 3:  # two pieces are loaded by then
+            raise RuntimeError("the reasoner broke")
+        return real(self)  # type: ignore[arg-type]
+
+    monkeypatch.setattr(engine_class, "take_log", failing)
+    with pytest.raises(RuntimeError, match="the reasoner broke"):
+        materialise(store, asserted=ASSERTED, inferred=INFERRED)
+    assert graph_triples(store) == set()
+    assert list(store.quads(graph=BULK_WRITES)) == []
+    monkeypatch.setattr(engine_class, "take_log", real)
+    report = materialise(store, asserted=ASSERTED, inferred=INFERRED)
+    assert graph_triples(store) == _transactional_closure(store, monkeypatch)
+    assert report.added == len(graph_triples(store))
+
+
+def test_streamed_pieces_that_do_not_parse_leave_the_graph_empty(tmp_path: Path) -> None:
+    store = Store(tmp_path / "store")
+    good = b"<http://ex.org/a> <http://ex.org/p> <http://ex.org/b> .\n" * 50_000
+    pieces = iter([good, b"<http://ex.org/a> not N-Triples\n", good, good])
+    with pytest.raises(TransactionError, match="graph left empty"):
+        store.fill_graph(INFERRED, pieces)
+    assert graph_triples(store) == set()
+    assert list(store.quads(graph=BULK_WRITES)) == []
+    store.fill_graph(INFERRED, iter([b"<http://ex.org/a> <http://ex.org/p> <http://ex.org/c> .\n"]))
+    assert len(graph_triples(store)) == 1
