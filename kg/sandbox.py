@@ -104,7 +104,10 @@ class _Worker:
     def stop(self) -> None:
         if self.process.poll() is None:
             self.process.kill()
-        self.process.wait(timeout=5)
+        try:
+            self.process.wait(timeout=5)
+        except subprocess.TimeoutExpired:  # killed but not yet reaped (a loaded machine)
+            log.warning("query worker %d not reaped 5 s after SIGKILL", self.process.pid)
         self.connection.close()
 
 

@@ -69,7 +69,7 @@ def test_damage_that_cannot_be_mended_says_how_to_repair() -> None:
     quad = _remove(store, SCORE)
     [damage] = check_memory(store)
     assert damage.node == quad.subject.value
-    assert "no https://w3id.org/engram/ontology#score" in damage.problem
+    assert f"no {SCORE.value}" in damage.problem
     assert "backup" in damage.repair
     assert not damage.fixable
 

@@ -144,8 +144,11 @@ def test_replay_in_real_time_subset_and_seek(recorded_over_http: tuple[Any, list
     )
     assert answer.status_code == 200, answer.text
     frames = _lines(answer.text)
-    # 40 ms of recording at 4x: too short to fall behind on loopback, so nothing is skipped
-    assert [f["frame"] for f in frames] == [15, 16, 17, 18, 19, 20]
+    numbers = [f["frame"] for f in frames]
+    # Real time skips frames already late (a loaded machine can fall behind even over 40 ms
+    # at 4x): from the seek on, in order, none repeated, and the last frame always sent.
+    assert numbers[-1] == 20 and numbers == sorted(set(numbers)), numbers
+    assert set(numbers) <= set(range(15, 21)), numbers
     assert all([s["provider"] for s in f["samples"]] == ["icub/cam/right"] for f in frames)
     status = server.client.get(BASE).json()
     assert (status["recording"], status["frames"], status["complete"]) == (False, 21, True)
