@@ -47,6 +47,7 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
+from bench.scene_memory import random_scene
 from episodes.archive import StreamArchive
 from episodes.streams import Recorder, Replayer
 from episodes.streams.objects import ObjectStore
@@ -55,24 +56,10 @@ from kg.fleet import open_remote
 from kg.remote import Change
 from reasoners.follow import apply_change
 from reasoners.memory import SceneMemory
-from reasoners.primitives import KINDS, Primitive
 
 SEED = 20251123
-AXES = [(0.0, 0.0, 1.0), (1.0, 0.0, 0.0), (0.0, 1.0, 0.0), (0.6, 0.0, 0.8)]
 BIN = Path(sys.executable).parent
 CLOCK = dt.datetime(2026, 1, 1, tzinfo=dt.UTC)
-
-
-def random_scene(rng: random.Random, count: int) -> list[Primitive]:
-    scene = []
-    for k in range(count):
-        kind = rng.choice(KINDS)
-        centre = (rng.uniform(0, 1), rng.uniform(0, 1), rng.uniform(0, 0.5))
-        if kind == "Sphere":
-            scene.append(Primitive(f"o{k}", kind, centre=centre, radius=0.04))
-        else:
-            scene.append(Primitive(f"o{k}", kind, centre=centre, axis=rng.choice(AXES)))
-    return scene
 
 
 def free_port() -> int:

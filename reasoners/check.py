@@ -31,7 +31,7 @@ from ontologies.vocab import (
     SCORE,
 )
 from reasoners.errors import InvalidSceneError
-from reasoners.memory import Clock, SceneMemory
+from reasoners.memory import SceneMemory
 from reasoners.persist import is_restriction, restriction_iri
 from reasoners.signature import Key, Signature
 
@@ -257,12 +257,11 @@ def describe(damages: list[Damage]) -> str:
     return "\n".join(lines)
 
 
-def open_scene_memory(store: Store, *, clock: Clock | None = None) -> SceneMemory:
-    """The scene memory over ``store`` (on ``clock``, else the system's); if it cannot load,
-    :class:`DamagedMemoryError` naming the damaged nodes and their repairs instead of the
-    loader's own exception."""
+def open_scene_memory(store: Store) -> SceneMemory:
+    """The scene memory over ``store``; if it cannot load, :class:`DamagedMemoryError` naming
+    the damaged nodes and their repairs instead of the loader's own exception."""
     try:
-        return SceneMemory(store) if clock is None else SceneMemory(store, clock=clock)
+        return SceneMemory(store)
     except Exception as error:
         damages = check_memory(store)
         if not damages:

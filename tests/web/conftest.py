@@ -44,32 +44,24 @@ def _table() -> Primitive:
     return Primitive("table", "Plane", centre=(0.0, 0.0, 0.0), axis=(0, 0, 1), colour=GREY)
 
 
+_BREAKFAST = [
+    _table(),
+    Primitive("ball", "Sphere", centre=(-0.18, 0.0, 0.04), radius=0.04, colour=YELLOW),
+    Primitive(
+        "can",
+        "Cylinder",
+        centre=(0.12, 0.0, 0.07),
+        axis=(0, 0, 1),
+        radius=0.04,
+        height=0.14,
+        colour=BLUE,
+    ),
+]
+
 SCENES: dict[str, list[Primitive]] = {
-    "breakfast": [
-        _table(),
-        Primitive("ball", "Sphere", centre=(-0.18, 0.0, 0.04), radius=0.04, colour=YELLOW),
-        Primitive(
-            "can",
-            "Cylinder",
-            centre=(0.12, 0.0, 0.07),
-            axis=(0, 0, 1),
-            radius=0.04,
-            height=0.14,
-            colour=BLUE,
-        ),
-    ],
+    "breakfast": _BREAKFAST,
     "funnel": [
-        _table(),
-        Primitive("ball", "Sphere", centre=(-0.18, 0.0, 0.04), radius=0.04, colour=YELLOW),
-        Primitive(
-            "can",
-            "Cylinder",
-            centre=(0.12, 0.0, 0.07),
-            axis=(0, 0, 1),
-            radius=0.04,
-            height=0.14,
-            colour=BLUE,
-        ),
+        *_BREAKFAST,
         Primitive(
             "funnel",
             "Cone",
