@@ -12,7 +12,11 @@ Steps (PITT's, with its quirks fixed; see ``shared/reference/pitt-perception.md`
 3. planes: RANSAC (numpy, seeded) finds up to ``max_planes`` planes one after another, each
    holding at least ``min_support_fraction`` of the voxels and spanning at least
    ``min_plane_extent_m`` (a smaller one is the face of an object, and the search stops).
-   Threshold 1 cm, not PITT's 2 cm, which ate the bottom of every object;
+   Threshold 1 cm, not PITT's 2 cm, which ate the bottom of every object. A plane whose
+   voxels all lie above a horizontal one, less than ``max_height_m`` over it, in pieces none of
+   which spans ``min_plane_extent_m``, is the fronts of objects standing in a row or the tops
+   of objects of one height (seen on clean scans), not a wall or a shelf: its voxels stay free
+   (``_faces_on``);
 4. **the support rule**: a support is a *horizontal* plane (normal within
    ``max_support_tilt_deg`` of world z, i.e. of gravity) *with objects on it*. Every voxel that
    belongs to no plane and lies between ``above_margin`` and ``max_height_m`` above a horizontal
@@ -44,6 +48,9 @@ from dataclasses import dataclass
 import numpy as np
 import numpy.typing as npt
 import open3d as o3d
+from scipy.sparse import coo_matrix
+from scipy.sparse.csgraph import connected_components
+from scipy.spatial import cKDTree
 
 from shapes.artefacts import depth_noise_1m, flying_pixels, sparse_points, sparse_voxels
 from shapes.frame import Frame
@@ -237,6 +244,35 @@ def find_planes(
     return planes
 
 
+_FACES_LINK_M = 0.025
+"""Voxels of a plane closer than this are one piece of it (see _faces_on)."""
+
+
+def _faces_on(inliers: FloatArray, below: list[_Plane], params: SegmentationParams) -> bool:
+    """Whether a plane's voxels are the faces of objects standing on one of the ``below``
+    horizontal planes, rather than a table, wall or shelf of its own.
+
+    Objects standing in a row show fronts that line up into a plane wider than
+    ``min_plane_extent_m``, and objects of one height show tops in one horizontal plane. Such a
+    plane lies above a horizontal plane (all its voxels but 2 %), less than ``max_height_m``
+    over it, and falls apart into pieces (voxels ``_FACES_LINK_M`` apart) of which none spans
+    ``min_plane_extent_m``: a table or a wall is one piece that wide.
+    """
+    if not any(
+        np.percentile(inliers @ plane.normal + plane.offset, 2.0) > -params.support_threshold_m
+        and float((inliers @ plane.normal + plane.offset).max()) < params.max_height_m
+        for plane in below
+    ):
+        return False
+    pairs = cKDTree(inliers).query_pairs(_FACES_LINK_M, output_type="ndarray")
+    graph = coo_matrix((np.ones(len(pairs)), (pairs[:, 0], pairs[:, 1])), (len(inliers),) * 2)
+    _, piece = connected_components(graph, directed=False)
+    order = np.argsort(piece, kind="stable")
+    starts = np.flatnonzero(np.r_[True, np.diff(piece[order]) != 0])
+    span = np.maximum.reduceat(inliers[order], starts) - np.minimum.reduceat(inliers[order], starts)
+    return bool(span.max() < params.min_plane_extent_m)
+
+
 def _robust_sigma(values: FloatArray) -> float:
     if len(values) == 0:
         return 0.0
@@ -292,7 +328,13 @@ def segment(frame: Frame, params: SegmentationParams | None = None, seed: int = 
     voxel_depth = np.bincount(voxel_of, weights=depth, minlength=len(voxels)) / counts
     tolerance = np.maximum(params.support_threshold_m, 3 * sigma_1m * voxel_depth**2)
     planes = find_planes(voxels[alive], params, seed, tolerance[alive])
-    horizontal = [p for p in planes if p.horizontal]
+    level = [p for p in planes if p.horizontal]
+    faces = {
+        id(p)
+        for p in planes
+        if _faces_on(voxels[alive_idx[p.inliers]], [q for q in level if q is not p], params)
+    }
+    horizontal = [p for p in level if id(p) not in faces]
     if not horizontal:
         seen = "; ".join(p.describe() for p in planes) or "none"
         log.info("no horizontal support plane in %d voxels", len(voxels))
@@ -304,7 +346,8 @@ def segment(frame: Frame, params: SegmentationParams | None = None, seed: int = 
         )
     in_plane = np.zeros(len(voxels), dtype=bool)
     for p in planes:
-        in_plane[alive_idx[p.inliers]] = True
+        if id(p) not in faces:  # the fronts or tops of objects stay free
+            in_plane[alive_idx[p.inliers]] = True
     free = alive & ~in_plane
     # Stray returns and outliers: free voxels with fewer than two occupied neighbours.
     free_idx = np.flatnonzero(free)

@@ -7,7 +7,7 @@ import pytest
 
 from shapes import Perception, PerceptionParams, ShapeKind, segment
 from shapes.segment import SegmentationParams
-from shapes.sensor import DepthCamera, Room, resting
+from shapes.sensor import CLEAN, DepthCamera, Room, resting
 from shapes.synthetic import TabletopScene, TruthObject
 
 CAMERA = DepthCamera().scaled(0.5)
@@ -92,3 +92,21 @@ def test_an_empty_table_says_there_is_nothing_above_it():
     result = Perception().process(shoot())
     assert result.primitives == ()
     assert result.reason is not None and result.reason.startswith("no clusters above the support")
+
+
+def test_a_row_of_cans_of_one_height_is_not_taken_for_a_wall_and_a_shelf():
+    # Their fronts line up into a vertical plane and their tops into a horizontal one, each
+    # wider than a table's minimum extent: both are the objects' faces, which stay theirs.
+    row = [
+        TruthObject("Cylinder", (x, r, 0.0), radius=r, height=0.2)
+        for x, r in ((-0.24, 0.05), (-0.08, 0.06), (0.08, 0.05), (0.24, 0.06))
+    ]
+    frame = CAMERA.shoot(TabletopScene(tuple(row)), np.random.default_rng(0), CLEAN).frame
+    seg = segment(frame)
+    assert len(seg.supports) == 1 and seg.support is not None
+    assert seg.support.offset == pytest.approx(0.0, abs=0.01)
+    prims = sorted(Perception().process(frame).primitives, key=lambda p: p.centre[0])
+    assert [p.kind for p in prims] == [ShapeKind.CYLINDER] * 4
+    for prim, can in zip(prims, row, strict=True):
+        assert prim.height == pytest.approx(0.2, abs=0.01)
+        assert prim.radius == pytest.approx(can.radius, abs=0.005)
