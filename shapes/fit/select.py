@@ -26,11 +26,13 @@ if it lowers the cost and respects the limits.
 The lowest cost wins; candidates within ``tie_margin`` of it are resolved in the order sphere,
 cylinder, cone, plane (fewest parameters first). When the support is known, a cylinder or cone
 whose axis could not rest on it (neither standing nor lying, within ``resting_tolerance_deg``)
-pays ``oblique_penalty``: a tilted cylinder is what a partly hidden cone looks like, not a
-thing found on tables. Unlike an inlier count, the cost rewards a
-model for how *closely* the points fit, not just whether they fall within a loose band: a flat
-patch of a sphere or a band of a cone that lies within a few millimetres of a plane or a cylinder
-still costs more than the surface that explains every point at noise level.
+pays ``oblique_penalty`` against the other curved models: a tilted cylinder is what a partly
+hidden cone looks like, not a thing found on tables. The penalty never hands a cluster to the
+planes: the best curved model meets them on its own cost (a leaning cone stays a cone). Unlike
+an inlier count, the cost rewards a model for how *closely* the points fit, not just whether
+they fall within a loose band: a flat patch of a sphere or a band of a cone that lies within a
+few millimetres of a plane or a cylinder still costs more than the surface that explains every
+point at noise level.
 
 Heights are measured to the support: when a cylinder's or cone's axis is within
 ``upright_tolerance_deg`` of the support normal and its lowest points lie within
@@ -255,6 +257,30 @@ def _build_plane(params: FloatArray, points: FloatArray, inliers: FloatArray) ->
     )
 
 
+def _choose(
+    costs: dict[ShapeKind, float],
+    fitted: dict[ShapeKind, FloatArray],
+    support: SupportPlane | None,
+    fp: FitParams,
+) -> ShapeKind:
+    """The shape by the rule of the module docstring. The oblique penalty only ranks the curved
+    models among themselves (a tilted cylinder is what a partly hidden cone looks like); the
+    best curved model then meets the planes on its own cost, so a leaning cone that fits better
+    than the planes stays a cone."""
+    choice = {k: c for k, c in costs.items() if k is not ShapeKind.PLANE}
+    if support is not None:
+        for kind in (ShapeKind.CYLINDER, ShapeKind.CONE):
+            if kind in fitted and not _can_rest(kind, fitted[kind], support, fp):
+                choice[kind] += fp.oblique_penalty
+    candidates = {ShapeKind.PLANE: costs[ShapeKind.PLANE]} if ShapeKind.PLANE in costs else {}
+    if choice:
+        best = min(choice.values())
+        curved = next(k for k in ORDER if k in choice and choice[k] <= best + fp.tie_margin)
+        candidates[curved] = costs[curved]
+    best = min(candidates.values())
+    return next(k for k in ORDER if k in candidates and candidates[k] <= best + fp.tie_margin)
+
+
 def fit_cluster(
     points: FloatArray,
     *,
@@ -403,13 +429,7 @@ def fit_cluster(
         if costs[kind] <= best + fp.refine_margin:
             model, thr = models[kind]
             score(kind, refine_if_better(model, fitted[kind], sample, thr))
-    choice = dict(costs)
-    if support is not None:
-        for kind in (ShapeKind.CYLINDER, ShapeKind.CONE):
-            if kind in fitted and not _can_rest(kind, fitted[kind], support, fp):
-                choice[kind] += fp.oblique_penalty
-    best = min(choice.values())
-    kind = next(k for k in ORDER if k in choice and choice[k] <= best + fp.tie_margin)
+    kind = _choose(costs, fitted, support, fp)
     ratio = float((surface[kind] < t_sel).mean())
     if kind is ShapeKind.SPHERE:
         c = fitted[kind]

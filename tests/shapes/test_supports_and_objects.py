@@ -110,3 +110,15 @@ def test_a_row_of_cans_of_one_height_is_not_taken_for_a_wall_and_a_shelf():
     for prim, can in zip(prims, row, strict=True):
         assert prim.height == pytest.approx(0.2, abs=0.01)
         assert prim.radius == pytest.approx(can.radius, abs=0.005)
+
+
+@pytest.mark.parametrize("yaw", [0.79, 4.71])
+def test_a_leaning_cone_is_a_cone_not_its_flat_base(yaw):
+    # Leaning 30 degrees, the cone shows its base; its axis neither stands nor lies on the
+    # table, which may rank it below a cylinder but never hand it to the planes.
+    cone = resting(
+        TruthObject("Cone", (0.0, 0.05, 0.0), 0.06, 0.12, tilt=math.radians(30), yaw=yaw)
+    )
+    (prim,) = Perception().process(shoot(cone)).primitives
+    assert prim.kind is ShapeKind.CONE
+    assert prim.height == pytest.approx(0.12, abs=0.02)
