@@ -261,7 +261,8 @@ class CylinderModel:
 
 @dataclass(frozen=True)
 class ConeModel:
-    """Cone from 3 points with normals (PCL: apex where the 3 tangent planes meet)."""
+    """Cone from ``sample_size`` (>= 3) points with normals: the apex where their tangent planes
+    meet (least squares), the axis normal to the unit vectors from the apex to the points."""
 
     min_half_angle: float = np.radians(10.0)
     max_half_angle: float = np.radians(80.0)
@@ -270,28 +271,32 @@ class ConeModel:
     cap_band: float = 0.01
     name: str = "cone"
     sample_size: int = 3
+    """Points per hypothesis: 3 is the minimum; more average out the noise of the normals."""
 
     def hypotheses(
         self, points: FloatArray, normals: FloatArray, idx: Index
     ) -> tuple[FloatArray, Mask]:
-        p = [points[idx[:, i]] for i in range(3)]
-        n = [normals[idx[:, i]] for i in range(3)]
-        o12, o23, o31 = np.cross(n[0], n[1]), np.cross(n[1], n[2]), np.cross(n[2], n[0])
-        den = np.einsum("ij,ij->i", n[0], o23)
-        ok = np.abs(den) > 1e-6
-        dots = [np.einsum("ij,ij->i", p[i], n[i]) for i in range(3)]
-        apex = (
-            dots[0][:, None] * o23 + dots[1][:, None] * o31 + dots[2][:, None] * o12
-        ) / np.where(ok, den, 1.0)[:, None]
-        u = [_unit(p[i] - apex)[0] for i in range(3)]
-        axis, norm = _unit(np.cross(u[1] - u[0], u[2] - u[0]))
-        ok &= norm > 1e-9
-        cosines = np.stack([np.einsum("ij,ij->i", u[i], axis) for i in range(3)])
-        flip = cosines.mean(axis=0) < 0
-        axis[flip] *= -1
-        theta = np.arccos(np.clip(np.abs(cosines), -1, 1)).mean(axis=0)
+        p, n = points[idx], normals[idx]  # (H, s, 3)
+        # The apex lies on every tangent plane n . x = n . p: least squares over the sample
+        # (PCL's three-plane intersection when s = 3).
+        dots = np.einsum("hsi,hsi->hs", p, n)
+        ntn = np.einsum("hsi,hsj->hij", n, n)
+        ntd = np.einsum("hsi,hs->hi", n, dots)
+        ok = np.abs(np.linalg.det(ntn)) > 1e-9
+        apex = np.zeros((len(p), 3))
+        if ok.any():
+            apex[ok] = np.linalg.solve(ntn[ok], ntd[ok][..., None])[..., 0]
+        # The unit vectors from the apex to the points make one angle with the axis: they lie
+        # on a plane whose normal is the axis.
+        u = _unit(p - apex[:, None, :])[0]
+        centred = u - u.mean(axis=1, keepdims=True)
+        axis = np.linalg.eigh(np.einsum("hsi,hsj->hij", centred, centred))[1][:, :, 0]
+        cosines = np.einsum("hsi,hi->hs", u, axis)
+        axis[cosines.mean(axis=1) < 0] *= -1
+        theta = np.arccos(np.clip(np.abs(cosines), -1, 1)).mean(axis=1)
+        ok &= np.isfinite(axis).all(axis=1)
         ok &= (theta >= self.min_half_angle) & (theta <= self.max_half_angle)
-        ok &= np.linalg.norm(apex - p[0], axis=1) <= self.max_apex_distance
+        ok &= np.linalg.norm(apex - p[:, 0], axis=1) <= self.max_apex_distance
         return np.column_stack((apex, axis, theta)), ok
 
     def lateral_distances(self, params: FloatArray, points: FloatArray) -> FloatArray:

@@ -47,7 +47,7 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 import open3d as o3d
-from scipy.spatial import cKDTree
+from scipy.spatial import ConvexHull, QhullError, cKDTree
 
 from shapes.fit._ransac import Model, ransac, refine_if_better
 from shapes.fit.models import ConeModel, CylinderModel, PlaneModel, SphereModel
@@ -81,6 +81,7 @@ class FitParams:
     max_iterations: int = 1000
     min_iterations: int = 128
     preview_points: int = 100
+    cone_sample_points: int = 3
     max_fit_points: int = 300
     normal_neighbours: int = 30
     selection_threshold_m: float = 0.008
@@ -257,6 +258,47 @@ def _build_plane(params: FloatArray, points: FloatArray, inliers: FloatArray) ->
     )
 
 
+def _cone_on_base(plane: FloatArray, points: FloatArray, threshold: float) -> FloatArray | None:
+    """Cone parameters (apex, unit axis from the apex, half angle) for a cone whose flat base is
+    ``plane``: the axis is the plane's normal, turned away from the other points; the centre and
+    radius come from a circle through the outline (2-D convex hull) of the points on the plane,
+    which holds even when the disc is partly hidden (the cut is a chord of the same circle); the
+    height is the median over the other points of ``t / (1 - rho / R)`` (a point at height t
+    above the base, rho from the axis). None when the points do not make such a cone."""
+    n, offset = plane[:3], float(plane[3])
+    height = points @ n + offset
+    on = np.abs(height) < threshold / 2  # the noise is about a third of the threshold
+    if on.sum() < 10 or (~on).sum() < 10:
+        return None
+    up = n if float(np.median(height[~on])) > 0 else -n
+    helper = np.array([1.0, 0.0, 0.0]) if abs(up[0]) < 0.9 else np.array([0.0, 1.0, 0.0])
+    e1 = np.cross(up, helper)
+    e1 /= np.linalg.norm(e1)
+    e2 = np.cross(up, e1)
+    flat = np.column_stack((points[on] @ e1, points[on] @ e2))
+    try:
+        rim = flat[ConvexHull(flat).vertices]
+    except QhullError:
+        return None
+    if len(rim) < 4:
+        return None
+    a = np.column_stack((2 * rim, np.ones(len(rim))))
+    (cu, cv, c0), *_ = np.linalg.lstsq(a, (rim * rim).sum(axis=1), rcond=None)
+    radius = math.sqrt(max(c0 + cu * cu + cv * cv, 0.0))
+    base = cu * e1 + cv * e2 - offset * n * float(n @ n)
+    base = base - (base @ n + offset) * n  # on the plane
+    rel = points[~on] - base
+    t = rel @ up
+    rho = np.linalg.norm(rel - np.outer(t, up), axis=1)
+    ok = (t > threshold) & (rho < 0.95 * radius)
+    if radius <= 0 or ok.sum() < 5:
+        return None
+    h = float(np.median(t[ok] / (1 - rho[ok] / radius)))
+    if not math.isfinite(h) or h <= 0:
+        return None
+    return np.concatenate((base + h * up, -up, [math.atan2(radius, h)]))
+
+
 def _choose(
     costs: dict[ShapeKind, float],
     fitted: dict[ShapeKind, FloatArray],
@@ -319,7 +361,9 @@ def fit_cluster(
         ),
         ShapeKind.CONE: (
             ConeModel(
-                math.radians(fp.min_cone_half_angle_deg), math.radians(fp.max_cone_half_angle_deg)
+                math.radians(fp.min_cone_half_angle_deg),
+                math.radians(fp.max_cone_half_angle_deg),
+                sample_size=fp.cone_sample_points,
             ),
             fp.cone_threshold_m,
         ),
@@ -421,6 +465,15 @@ def fit_cluster(
                 d = model.distances(res.params[None, :], sample)[0]
                 if _cost(d, t_sel) < costs.get(ShapeKind.CONE, np.inf):
                     score(ShapeKind.CONE, res.params)
+    for plane, _ in planes[:2]:
+        # A cone showing its base: the base plane gives the axis, the rim of the disc its
+        # centre and radius, the lateral points the height (one direct hypothesis).
+        model = models[ShapeKind.CONE][0]
+        guess = _cone_on_base(plane, sample, fp.plane_threshold_m)
+        if guess is not None and model.within_limits(guess):
+            d = model.distances(guess[None, :], sample)[0]
+            if _cost(d, t_sel) < costs.get(ShapeKind.CONE, np.inf):
+                score(ShapeKind.CONE, guess)
     if not costs:
         return None
     # Least-squares refinement only for the curved candidates still in the running.

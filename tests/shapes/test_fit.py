@@ -196,3 +196,40 @@ def test_pitt_choice_reproduces_the_original_rule(counts, expected):
 
 def test_too_few_points_give_no_fit():
     assert fit_cluster(np.zeros((5, 3)), rng=np.random.default_rng(0)) is None
+
+
+def test_a_cone_is_found_from_its_base_disc_and_a_strip_of_its_side():
+    # A cone lying with its base toward the camera: a full disc of 6 cm and a narrow strip of
+    # the lateral surface, the apex 10 cm behind the base centre along -y.
+    rng = np.random.default_rng(3)
+    r, h = 0.06, 0.10
+    rho = r * np.sqrt(rng.uniform(0, 1, 900))
+    phi = rng.uniform(0, 2 * np.pi, 900)
+    disc = np.column_stack((rho * np.cos(phi), np.zeros(900), 0.1 + rho * np.sin(phi)))
+    t = rng.uniform(0, h, 300)  # from the base toward the apex
+    phi = rng.uniform(-0.6, 0.6, 300) - np.pi / 2  # the strip seen below the disc
+    ring = r * (1 - t / h)
+    side = np.column_stack((ring * np.cos(phi), t, 0.1 + ring * np.sin(phi)))
+    points = np.vstack((disc, side)) + rng.normal(0, 0.001, (1200, 3))
+    fit = fit_cluster(points, rng=np.random.default_rng(0))
+    assert fit is not None and fit.primitive.kind is ShapeKind.CONE
+    assert fit.primitive.height == pytest.approx(h, abs=0.01)
+    assert fit.primitive.radius == pytest.approx(r, abs=0.008)
+    apex = fit.primitive.apex
+    assert apex is not None and np.linalg.norm(np.asarray(apex) - (0, h, 0.1)) < 0.015
+
+
+def test_a_cone_from_more_than_three_points_per_hypothesis():
+    model = ConeModel(sample_size=5)
+    apex, axis, theta = np.array([0.0, 0.0, 0.3]), np.array([0.0, 0.0, -1.0]), 0.4
+    rng = np.random.default_rng(1)
+    k = rng.uniform(0.02, 0.2, 50)
+    phi = rng.uniform(0, 2 * np.pi, 50)
+    ring = np.column_stack((np.cos(phi), np.sin(phi), np.zeros(50)))
+    points = apex + np.outer(k, axis) + (k * np.tan(theta))[:, None] * ring
+    normals = np.cos(theta) * ring + np.sin(theta) * axis[None, :] * -1
+    params, ok = model.hypotheses(points, normals, np.arange(10).reshape(2, 5))
+    assert ok.all()
+    assert np.allclose(params[:, :3], apex, atol=1e-9)
+    assert np.allclose(params[:, 3:6], axis, atol=1e-9)
+    assert np.allclose(params[:, 6], theta, atol=1e-9)
