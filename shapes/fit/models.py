@@ -24,7 +24,7 @@ import numpy.typing as npt
 from shapes.fit._ransac import levenberg_marquardt
 from shapes.types import FloatArray
 
-__all__ = ["ConeModel", "CylinderModel", "PlaneModel", "SphereModel"]
+__all__ = ["ConeModel", "CylinderModel", "PlaneModel", "SphereModel", "UprightConeModel"]
 
 Mask = npt.NDArray[np.bool_]
 Index = npt.NDArray[np.intp]
@@ -350,3 +350,54 @@ class ConeModel:
         return bool(
             np.isfinite(params).all() and self.min_half_angle <= params[6] <= self.max_half_angle
         )
+
+
+@dataclass(frozen=True)
+class UprightConeModel:
+    """A cone standing on a support, apex up: its axis is the support normal ``up``, so two
+    points with normals fix it. The horizontal parts of their normals point away from the axis
+    (which crosses both lines, as for a cylinder), the vertical part is the sine of the half
+    angle, and each point's distance from the axis gives the apex height. Distances, limits and
+    refinement are the free cone's (:class:`ConeModel`), so the refinement may tilt the axis.
+    """
+
+    cone: ConeModel
+    up: tuple[float, float, float] = (0.0, 0.0, 1.0)
+    name: str = "upright cone"
+    sample_size: int = 2
+
+    def hypotheses(
+        self, points: FloatArray, normals: FloatArray, idx: Index
+    ) -> tuple[FloatArray, Mask]:
+        up = np.asarray(self.up, dtype=np.float64)
+        p, n = points[idx], normals[idx]  # (H, 2, 3)
+        n = n * np.where((n @ up) < 0, -1.0, 1.0)[..., None]  # the normals of a cone point up
+        sin_theta = (n @ up).mean(axis=1)
+        flat_p = p - (p @ up)[..., None] * up
+        flat_n = n - (n @ up)[..., None] * up
+        m1, m2, q1, q2 = flat_n[:, 0], flat_n[:, 1], flat_p[:, 0], flat_p[:, 1]
+        aa, bb, cc = (m1 * m1).sum(1), (m1 * m2).sum(1), (m2 * m2).sum(1)
+        w = q2 - q1
+        dd, ee = (m1 * w).sum(1), (m2 * w).sum(1)
+        den = aa * cc - bb * bb
+        ok = np.abs(den) > 1e-9
+        s = (dd * cc - ee * bb) / np.where(ok, den, 1.0)
+        centre = q1 + s[:, None] * m1
+        theta = np.arcsin(np.clip(sin_theta, 0.0, 1.0))
+        rho = np.linalg.norm(flat_p - centre[:, None, :], axis=2)
+        tan = np.tan(np.maximum(theta, 1e-6))
+        top = ((p @ up) + rho / tan[:, None]).mean(axis=1)
+        apex = centre + top[:, None] * up
+        ok &= (theta >= self.cone.min_half_angle) & (theta <= self.cone.max_half_angle)
+        ok &= np.isfinite(apex).all(axis=1)
+        axis = np.broadcast_to(-up, apex.shape)
+        return np.column_stack((apex, axis, theta)), ok
+
+    def distances(self, params: FloatArray, points: FloatArray) -> FloatArray:
+        return self.cone.distances(params, points)
+
+    def refine(self, params: FloatArray, points: FloatArray, threshold: float) -> FloatArray:
+        return self.cone.refine(params, points, threshold)
+
+    def within_limits(self, params: FloatArray) -> bool:
+        return self.cone.within_limits(params)

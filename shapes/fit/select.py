@@ -50,7 +50,7 @@ import open3d as o3d
 from scipy.spatial import ConvexHull, QhullError, cKDTree
 
 from shapes.fit._ransac import Model, ransac, refine_if_better
-from shapes.fit.models import ConeModel, CylinderModel, PlaneModel, SphereModel
+from shapes.fit.models import ConeModel, CylinderModel, PlaneModel, SphereModel, UprightConeModel
 from shapes.types import FloatArray, Primitive, ShapeKind, SupportPlane, vec3
 
 __all__ = [
@@ -82,6 +82,7 @@ class FitParams:
     min_iterations: int = 128
     preview_points: int = 100
     cone_sample_points: int = 3
+    upright_cone_iterations: int = 128
     max_fit_points: int = 300
     normal_neighbours: int = 30
     selection_threshold_m: float = 0.008
@@ -398,6 +399,25 @@ def fit_cluster(
             )
             counts[kind] = int((pitt_d < thr).sum())
             score(kind, res.params)
+    if support is not None and fp.upright_cone_iterations > 0:
+        # Standing cones: hypotheses with the support's normal for an axis need two points,
+        # and noisy normals spoil them far less than a free cone's three.
+        model = models[ShapeKind.CONE][0]
+        res = ransac(
+            UprightConeModel(model, support.normal),  # type: ignore[arg-type]
+            sample,
+            normals,
+            threshold=models[ShapeKind.CONE][1],
+            rng=rng,
+            max_iterations=fp.upright_cone_iterations,
+            refine=False,
+            min_iterations=fp.upright_cone_iterations // 2,
+            preview_points=fp.preview_points,
+        )
+        if res is not None:
+            d = model.distances(res.params[None, :], sample)[0]
+            if _cost(d, t_sel) < costs.get(ShapeKind.CONE, np.inf):
+                score(ShapeKind.CONE, res.params)
     # Planes, one after another on what the previous ones left.
     plane_model = PlaneModel()
     remaining = np.ones(len(sample), dtype=bool)

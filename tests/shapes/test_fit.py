@@ -233,3 +233,21 @@ def test_a_cone_from_more_than_three_points_per_hypothesis():
     assert np.allclose(params[:, :3], apex, atol=1e-9)
     assert np.allclose(params[:, 3:6], axis, atol=1e-9)
     assert np.allclose(params[:, 6], theta, atol=1e-9)
+
+
+def test_upright_cone_hypotheses_from_two_points_recover_the_cone():
+    from shapes.fit.models import UprightConeModel
+
+    model = UprightConeModel(ConeModel())
+    apex, theta = np.array([0.1, -0.2, 0.15]), 0.35
+    phi = np.array([0.3, 2.0, 4.0])
+    k = np.array([0.03, 0.08, 0.12])  # distance from the apex along the axis (down)
+    ring = np.column_stack((np.cos(phi), np.sin(phi), np.zeros(3)))
+    points = apex + np.outer(k, [0.0, 0.0, -1.0]) + (k * np.tan(theta))[:, None] * ring
+    normals = np.cos(theta) * ring + np.sin(theta) * np.array([0.0, 0.0, 1.0])
+    normals[1] *= -1  # unoriented normals are turned up
+    params, ok = model.hypotheses(points, normals, np.array([[0, 1], [1, 2]]))
+    assert ok.all()
+    assert np.allclose(params[:, :3], apex, atol=1e-9)
+    assert np.allclose(params[:, 3:6], [0.0, 0.0, -1.0])
+    assert np.allclose(params[:, 6], theta)
