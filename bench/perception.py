@@ -19,7 +19,8 @@ Conditions (each at least ``--scenes`` scenes, 4 objects a scene unless said):
 - ``5 % outliers``: upright, separated, 5 % of the pixels random depths in front;
 - ``floor+wall``: a smaller table with the floor 0.72 m below it and a wall behind;
 - ``sequence``: 30 frames of one scene; at frame 10 one object moves 25 cm (beyond the tracker's
-  20 cm gate), at frame 20 another
+  20 cm gate) to a free spot of the table (toward its middle, or turned from there until the
+  spot is 4 cm clear of the other objects), at frame 20 another
   is taken away. Counted: id switches (a true object seen under a second id), false scene
   changes (a change event other than the first appearance, the move and the removal), missed
   scene changes (the move or the removal without an event within 8 frames).
@@ -310,6 +311,27 @@ def run_condition(cond: Condition, scenes: int, seed: int) -> Row:
     return row
 
 
+def move_step(scene: TabletopScene, distance: float = 0.25) -> np.ndarray:
+    """The step that moves object 0 by ``distance`` (beyond the tracker's 20 cm gate): toward
+    the middle of the table, or turned from there by 30, 60, ... degrees until it lands inside
+    the region and 4 cm clear of every other object (objects do not pass through each other)."""
+    obj = scene.objects[0]
+    pos = np.asarray(obj.position[:2])
+    heading = math.atan2(-pos[1], -pos[0])
+    for turn in (0, 30, -30, 60, -60, 90, -90, 120, -120, 150, -150, 180):
+        angle = heading + math.radians(turn)
+        step = distance * np.array([math.cos(angle), math.sin(angle)])
+        x, y = pos + step
+        inside = REGION[0] <= x <= REGION[1] and REGION[2] <= y <= REGION[3]
+        clear = all(
+            math.dist((x, y), o.position[:2]) >= footprint(obj) + footprint(o) + 0.04
+            for o in scene.objects[1:]
+        )
+        if inside and clear:
+            return step
+    raise RuntimeError("no free spot to move the object to")
+
+
 def run_sequence(seed: int) -> tuple[int, int, int, float]:
     """30 frames: a move at frame 10, a removal at frame 20. Returns id switches, false and
     missed scene changes, and the median CPU ms per frame."""
@@ -322,9 +344,7 @@ def run_sequence(seed: int) -> tuple[int, int, int, float]:
     moved_scene = scene
     for f in range(30):
         if f == 10:
-            # 25 cm toward the middle of the table: beyond the tracker's 20 cm gate.
-            pos = np.asarray(scene.objects[0].position[:2])
-            step = -0.25 * pos / max(float(np.linalg.norm(pos)), 1e-9)
+            step = move_step(scene)
             moved_scene = scene.moved(0, float(step[0]), float(step[1]))
         current = moved_scene if f < 20 else moved_scene.without(1)
         present = list(range(len(scene.objects))) if f < 20 else [0, 2, 3]
