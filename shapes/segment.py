@@ -145,11 +145,17 @@ _CONFIDENCE = 1 - 1e-7
 """RANSAC stops once a better plane is this unlikely to be left among the unscored samples."""
 
 
+_SCORED_POINTS = 4000
+"""Planes are sampled and scored on this many random points (a plane holding 3 % of the voxels
+still has ~120 of them there); its inliers are then taken from all the points."""
+
+
 def ransac_plane(
     points: FloatArray, threshold: float, iterations: int, rng: np.random.Generator
 ) -> tuple[FloatArray, npt.NDArray[np.intp]] | None:
     """RANSAC: of up to ``iterations`` planes through three random points, the one with the
-    most points within ``threshold`` (the first on a tie). It stops early, as usual, once the
+    most points within ``threshold`` (the first on a tie), counted on ``_SCORED_POINTS`` random
+    points when there are more. It stops early, as usual, once the
     samples scored make a better plane unlikely (``_CONFIDENCE``, from the best inlier ratio so
     far). Returns the unit normal and the indices of its points, or None if no sample spans a
     plane.
@@ -160,6 +166,9 @@ def ransac_plane(
     """
     if len(points) < 3:
         return None
+    everything = points
+    if len(points) > _SCORED_POINTS:
+        points = points[np.sort(rng.choice(len(points), _SCORED_POINTS, replace=False))]
     samples = rng.integers(0, len(points), size=(iterations, 3))
     a, b, c = points[samples[:, 0]], points[samples[:, 1]], points[samples[:, 2]]
     normals = np.cross(b - a, c - a)
@@ -180,7 +189,7 @@ def ransac_plane(
         p_good = (best_count / len(points)) ** 3  # that a sample's three points are all inliers
         if p_good >= 1 or (p_good > 0 and stop >= math.log(1 - _CONFIDENCE) / math.log1p(-p_good)):
             break
-    inliers = np.flatnonzero(np.abs(points @ normals[best] + offsets[best]) <= threshold)
+    inliers = np.flatnonzero(np.abs(everything @ normals[best] + offsets[best]) <= threshold)
     return normals[best], inliers
 
 
@@ -500,13 +509,15 @@ def _clusters(
         labels = _split(labels, voxels[candidates], viewpoint, params, sigma_1m)
     voxel_label = np.full(len(voxels), -1, dtype=np.int64)
     voxel_label[candidates] = labels
-    point_label = voxel_label[voxel_of]
-    cut = np.maximum(params.above_margin_m, 2 * sigma_1m * depth**2)
-    point_label[support.signed_distance(points) <= np.minimum(cut, margin)] = -1
+    # Only the points of labelled voxels (a few percent of a frame) from here on.
+    member = np.flatnonzero(voxel_label[voxel_of] >= 0)
+    cut = np.maximum(params.above_margin_m, 2 * sigma_1m * depth[member] ** 2)
+    member = member[support.signed_distance(points[member]) > np.minimum(cut, margin)]
+    point_label = voxel_label[voxel_of[member]]
     clusters = []
     small = 0
-    order = np.argsort(point_label, kind="stable")
-    bounds = np.searchsorted(point_label[order], np.arange(labels.max(initial=-1) + 2))
+    order = member[np.argsort(point_label, kind="stable")]
+    bounds = np.searchsorted(np.sort(point_label), np.arange(labels.max(initial=-1) + 2))
     for label in range(labels.max(initial=-1) + 1):
         n_vox = int((labels == label).sum())
         idx = order[bounds[label] : bounds[label + 1]]
