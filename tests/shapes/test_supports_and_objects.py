@@ -144,3 +144,14 @@ def test_standing_cones_under_3_mm_depth_noise_are_cones():
         kinds += [p.kind for p in Perception(seed=seed).process(frame).primitives]
     assert len(kinds) == 20
     assert kinds.count(ShapeKind.CONE) >= 19
+
+
+def test_a_full_frame_is_segmented_on_one_pixel_in_four_with_the_same_objects():
+    frame = DepthCamera().shoot(TabletopScene((CAN, BALL)), np.random.default_rng(2)).frame
+    assert len(frame.points) > 120_000
+    every_pixel = segment(frame, SegmentationParams(target_points=0))
+    strided = segment(frame)
+    assert len(strided.clusters) == len(every_pixel.clusters) == 2
+    for fast, full in zip(strided.clusters, every_pixel.clusters, strict=True):
+        assert 0.2 < len(fast.points) / len(full.points) < 0.3
+        assert np.linalg.norm(fast.centroid - full.centroid) < 0.005
