@@ -83,16 +83,17 @@ class FitParams:
     preview_points: int = 100
     cone_sample_points: int = 3
     upright_cone_iterations: int = 128
+    min_base_share: float = 0.25
     max_fit_points: int = 300
     normal_neighbours: int = 30
     selection_threshold_m: float = 0.008
     max_planes: int = 3
     min_plane_share: float = 0.05
-    max_plane_iterations: int = 200
+    max_plane_iterations: int = 100
     tie_margin: float = 0.01
     resting_tolerance_deg: float = 10.0
     oblique_penalty: float = 0.03
-    refine_margin: float = 0.15
+    refine_margin: float = 0.05
     upright_tolerance_deg: float = 20.0
     snap_distance_m: float = 0.03
     noise_factor: float = 3.0
@@ -485,9 +486,12 @@ def fit_cluster(
                 d = model.distances(res.params[None, :], sample)[0]
                 if _cost(d, t_sel) < costs.get(ShapeKind.CONE, np.inf):
                     score(ShapeKind.CONE, res.params)
-    for plane, _ in planes[:2]:
+    for plane, inliers in planes[:2]:
         # A cone showing its base: the base plane gives the axis, the rim of the disc its
-        # centre and radius, the lateral points the height (one direct hypothesis).
+        # centre and radius, the lateral points the height (one direct hypothesis). A base
+        # seen at all holds a good share of the points.
+        if len(inliers) < fp.min_base_share * len(sample):
+            continue
         model = models[ShapeKind.CONE][0]
         guess = _cone_on_base(plane, sample, fp.plane_threshold_m)
         if guess is not None and model.within_limits(guess):
