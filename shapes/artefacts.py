@@ -44,6 +44,9 @@ __all__ = ["depth_noise_1m", "flying_pixels", "sparse_points", "sparse_voxels"]
 BoolArray = npt.NDArray[np.bool_]
 
 
+_NOISE_ROW_STRIDE = 3
+
+
 def depth_noise_1m(depth: FloatArray) -> float:
     """Robust depth noise of an image at 1 m, assuming ``sigma(z) = sigma_1m * z²``.
 
@@ -55,6 +58,8 @@ def depth_noise_1m(depth: FloatArray) -> float:
     0.002
     """
     d = np.asarray(depth, dtype=np.float64)
+    if len(d) >= 100 * _NOISE_ROW_STRIDE:  # a median over every third row is as good
+        d = d[::_NOISE_ROW_STRIDE]
     second = d[:, :-2] - 2 * d[:, 1:-1] + d[:, 2:]
     z = d[:, 1:-1]
     ok = np.isfinite(second) & (z > 0)
