@@ -301,7 +301,10 @@ class ConeModel:
 
     def lateral_distances(self, params: FloatArray, points: FloatArray) -> FloatArray:
         """Distances to the lateral surface only (PITT's cone)."""
-        k, rho, sq = _axial(params[:, :3], params[:, 3:6], points)
+        return self._lateral(params, *_axial(params[:, :3], params[:, 3:6], points))
+
+    @staticmethod
+    def _lateral(params: FloatArray, k: FloatArray, rho: FloatArray, sq: FloatArray) -> FloatArray:
         c, s = np.cos(params[:, 6:7]), np.sin(params[:, 6:7])
         along = k * c + rho * s
         d = np.where(along >= 0, np.abs(rho * c - k * s), np.sqrt(sq))
@@ -315,10 +318,10 @@ class ConeModel:
         A cone lying on its side shows its flat base to the camera; without the disc, that
         face hands the cluster to "plane".
         """
-        lateral = self.lateral_distances(params, points)
+        k, rho, sq = _axial(params[:, :3], params[:, 3:6], points)
+        lateral = self._lateral(params, k, rho, sq)
         if not self.with_base:
             return lateral
-        k, rho, _ = _axial(params[:, :3], params[:, 3:6], points)
         n = k.shape[1]
         top = max(1, n // 100)
         end = np.partition(k, n - 1 - top, axis=1)[:, n - 1 - top][:, None]
