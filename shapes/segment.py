@@ -6,9 +6,9 @@ Steps (PITT's, with its quirks fixed; see ``shared/reference/pitt-perception.md`
    noise is measured from the image and flying pixels and veils are dropped
    (:mod:`shapes.artefacts`), at full resolution; then only every k-th pixel of every k-th row
    is kept, k chosen to leave about ``target_points`` points (:func:`pixel_stride`; a 640 x 480
-   frame keeps one pixel in four, still 6 to 25 per 1 cm voxel at 0.8 to 1.5 m, and a cluster
-   its hundreds of points), and the points go to the world frame (z up, the gravity
-   direction);
+   frame keeps one pixel in four, still about 4 to 13 per 1 cm voxel of a surface facing the
+   camera at 1.5 to 0.8 m, and a cluster its hundreds of points), and the points go to the
+   world frame (z up, the gravity direction);
 2. voxel grid (``voxel_m``): each occupied voxel becomes the mean of its points, computed in
    numpy so that every full-resolution point keeps the index of its voxel. Voxels with fewer
    than two occupied neighbours (stray returns, outliers) are set aside;
@@ -318,7 +318,7 @@ def _artefact_mask(
 
 def pixel_stride(points: int, params: SegmentationParams) -> int:
     """The pixel stride that brings an organised frame of ``points`` valid points near
-    ``target_points`` (1: every pixel; 0 for ``target_points`` keeps every pixel).
+    ``target_points`` (1: every pixel, as with ``target_points <= 0``).
 
     >>> [pixel_stride(n, SegmentationParams()) for n in (40_000, 145_000, 307_200, 1_000_000)]
     [1, 2, 2, 4]

@@ -18,7 +18,11 @@ The same surfaces drive the search: cylinder hypotheses are scored with their en
 dominant flat top cannot pull RANSAC to a wide cylinder lying on its side; sphere and cylinder
 radii are bounded by ``max_radius_per_extent`` times the cluster's size (a larger radius only
 imitates a slightly bent flat face); cylinders and cones get at least ``min_iterations``
-hypotheses, each batch ranked first on ``preview_points`` points. Only the curved candidates
+hypotheses, each batch ranked first on ``preview_points`` points. Cones get two more sources of
+hypotheses, as noisy normals spoil the free three-point ones: on a support, two-point
+hypotheses with the support normal for an axis (``upright_cone_iterations``, a standing cone);
+and for each of the first two planes holding ``min_base_share`` of the points, the cone whose
+base is that plane (a lying or leaning cone showing its base). Only the curved candidates
 within ``refine_margin`` of the best cost are refined by least squares (Levenberg-Marquardt on
 the inliers; a cylinder on its lateral band away from the discs), and a refinement is kept only
 if it lowers the cost and respects the limits.
@@ -287,8 +291,7 @@ def _cone_on_base(plane: FloatArray, points: FloatArray, threshold: float) -> Fl
     a = np.column_stack((2 * rim, np.ones(len(rim))))
     (cu, cv, c0), *_ = np.linalg.lstsq(a, (rim * rim).sum(axis=1), rcond=None)
     radius = math.sqrt(max(c0 + cu * cu + cv * cv, 0.0))
-    base = cu * e1 + cv * e2 - offset * n * float(n @ n)
-    base = base - (base @ n + offset) * n  # on the plane
+    base = cu * e1 + cv * e2 - offset * n  # the circle's centre, on the plane (n is unit)
     rel = points[~on] - base
     t = rel @ up
     rho = np.linalg.norm(rel - np.outer(t, up), axis=1)
