@@ -37,24 +37,30 @@ import subprocess
 import sys
 import tempfile
 import time
+from collections import Counter
 from collections.abc import Callable
 from pathlib import Path
 
-from pyoxigraph import BlankNode, NamedNode, RdfFormat, Triple, serialize
+from pyoxigraph import BlankNode, NamedNode, Quad, RdfFormat, Triple, serialize
 
 from kg import Store, export_triples
 from kg.transaction import Transaction
 from ontologies.vocab import (
     EPISODIC,
     EXPERIENCED_SCENE,
+    MAX_RAW_SCORE,
     MEMORY,
     MEMORY_REVISION_GRAPH,
+    MEMORY_STATE_INDIVIDUAL,
     OWL_NS,
     PREFIXES,
     RDF_FIRST,
     RDF_NIL,
     RDF_REST,
     RDF_TYPE,
+    RDFS_SUBCLASSOF,
+    SCORE_FACTORS,
+    SCORE_TERMS,
     engram,
 )
 from reasoners import index_file
@@ -170,23 +176,45 @@ def build(directory: Path, size: int, rng: random.Random) -> None:
     target.flush()
 
 
+PARTS = ("view", "edges", "class", "scene", "other")
+"""What a learn writes, by part: the score view (Z terms and memory state factors), the direct
+subclass edges between learned classes, the new class (definition, label, annotations,
+restriction nodes), the experienced scene (episodic graph), and the rest (counters, revision)."""
+
+
+def part_of(quad: Quad) -> str:
+    if quad.predicate == SCORE_TERMS or quad.predicate in (*SCORE_FACTORS, MAX_RAW_SCORE):
+        return "view"
+    if quad.graph_name == EPISODIC:
+        return "scene"
+    if quad.predicate == RDFS_SUBCLASSOF and quad.object.value.startswith(engram("Scene-").value):
+        return "edges"
+    if quad.graph_name == MEMORY and quad.subject != MEMORY_STATE_INDIVIDUAL:
+        return "class"
+    return "other"
+
+
 class WriteTimer:
     """Instrumentation: the time of each store write alone (Oxigraph applying the transaction)
-    and its number of quads, by wrapping the write ``Store`` prepares for each commit."""
+    and its number of quads, by part (:data:`PARTS`), by wrapping the write ``Store`` prepares
+    for each commit; the rest of an update's time is Engram's own work."""
 
     def __init__(self, store: Store) -> None:
         self.times: list[float] = []
         self.quads: list[int] = []
+        self.parts: list[Counter[str]] = []
         prepare = store._prepare
 
         def timed_prepare(tx: Transaction) -> Callable[[], None]:
             write, quads = prepare(tx), len(tx.inserts) + len(tx.deletes)
+            parts = Counter(part_of(q) for q in (*tx.inserts, *tx.deletes))
 
             def timed_write() -> None:
                 began = time.perf_counter()
                 write()
                 self.times.append(time.perf_counter() - began)
                 self.quads.append(quads)
+                self.parts.append(parts)
 
             return timed_write
 
@@ -212,6 +240,8 @@ def run(size: int, args: argparse.Namespace, rng: random.Random) -> dict[str, ob
         writes = WriteTimer(store)
         learn_times = [timed(memory.store_scene, scene) for scene in novel]
         repeat_times = [timed(memory.store_scene, known) for _ in range(args.updates)]
+        learns, repeats = slice(0, len(novel)), slice(len(novel), len(novel) + args.updates)
+        parts = {part: statistics.median(c[part] for c in writes.parts[learns]) for part in PARTS}
         cues = [random_scene(rng, 10)[:3] for _ in range(args.retrievals)]
         retrieve_times = [timed(memory.retrieve, cue) for cue in cues]
         recognise_times = [timed(memory.recognise, scene) for scene in novel]
@@ -243,8 +273,14 @@ def run(size: int, args: argparse.Namespace, rng: random.Random) -> dict[str, ob
             "classes": classes,
             "build_s": build_s,
             "learn": learn_times,
-            "learn_write": statistics.median(writes.times[: len(novel)]),
-            "learn_quads": statistics.median(writes.quads[: len(novel)]),
+            "learn_write": statistics.median(writes.times[learns]),
+            "learn_quads": statistics.median(writes.quads[learns]),
+            "learn_own": statistics.median(
+                t - w for t, w in zip(learn_times, writes.times[learns], strict=True)
+            ),
+            "repeat_write": statistics.median(writes.times[repeats]),
+            "repeat_quads": statistics.median(writes.quads[repeats]),
+            "parts": parts,
             "repeat": repeat_times,
             "retrieve": retrieve_times,
             "recognise": recognise_times,
@@ -288,6 +324,7 @@ def main() -> None:
     print(header.replace("classes", "size/cls"))
     print("-" * len(header))
     rng = random.Random(SEED)
+    breakdown: list[str] = []
     for size in sizes:
         r = run(size, args, rng)
         ms = {k: [1000 * t for t in r[k]] for k in ("learn", "repeat", "retrieve", "recognise")}  # type: ignore[attr-defined]
@@ -316,11 +353,30 @@ def main() -> None:
             f"{hermit_text:>9} {ratio_update:>9} {ratio_recog:>9}",
             flush=True,
         )
+        parts = r["parts"]
+        breakdown.append(
+            f"{r['size']:>8} {1000 * r['learn_write']:>9.2f} {1000 * r['learn_own']:>9.2f} "  # type: ignore[operator]
+            f"{1000 * r['repeat_write']:>9.2f} {r['repeat_quads']:>8.0f} "  # type: ignore[operator]
+            + " ".join(f"{parts[p]:>7.0f}" for p in PARTS)  # type: ignore[index]
+        )
+    print()
+    print("Where a committed update's time goes (medians; ms unless marked):")
+    print(
+        f"{'classes':>8} {'lrn write':>9} {'lrn own':>9} {'rnf write':>9} {'rnf quads':>8} "
+        + " ".join(f"{'q ' + p:>7}" for p in PARTS)
+    )
+    for line in breakdown:
+        print(line)
     print()
     print("learn = novel 10-object scene (learns a class), reinf = known scene (reinforces);")
     print("med/p99 over the timed calls; each update and retrieval is one committed transaction.")
     print("x update = HermiT time / median committed update; x recog = HermiT / median recognise.")
     print("lw = the store write alone of a learn (Oxigraph applying it) and the quads it writes.")
+    print("lrn own = a learn's time minus its store write: Engram's own work (encode, recognise,")
+    print("link, re-score, build the transaction); q <part> = a learn's quads by part: view (the")
+    print("Z terms of every class whose Z changed, the memory state's factors), edges (direct")
+    print("subclass edges), class (the new definition and annotations), scene (the experienced")
+    print("scene), other (counters, revision).")
     print("save = writing the index file after the sleep pass; open = reopening with it;")
     print("rebld = reopening without it (the model rebuilt from the store's triples).")
 
