@@ -775,10 +775,11 @@ class SceneMemory:
                 and not record.pinned
                 and cls not in protected
             ]
+            doomed = set(doomed_classes)
             doomed_items = [
                 iri
                 for iri, record in m.items.items()
-                if record.cls not in doomed_classes
+                if record.cls not in doomed
                 and item_weak[iri] >= k
                 and now - record.created >= grace
                 and not record.pinned
