@@ -28,6 +28,7 @@ reopened memory derives exactly the scores the running one had.
 
 import datetime as dt
 import functools
+import itertools
 import math
 from collections import Counter
 from collections.abc import Iterable
@@ -377,9 +378,9 @@ class MemoryModel:
         self.complexities[record.signature.complexity] += 1
         self.store_counts[record.store_count] += 1
         self.retrieve_counts[record.retrieve_count] += 1
-        self.restrictions.update(record.signature.items())
         record.z, record.sums, record.up, record.fan_in = (0, 0, 0), [0, 0, 0], [], 0
-        if not indexed:
+        if not indexed:  # a bulk load counts the restrictions of all its classes at once
+            self.restrictions.update(record.signature.items())
             self._set_row(cls, record.z)
 
     def load(
@@ -404,6 +405,9 @@ class MemoryModel:
             self.index.restore([(r.iri, r.signature) for r in records], at_least, by_complexity)
         for record in records:
             self._register(record, indexed=True)
+        self.restrictions.update(
+            itertools.chain.from_iterable(r.signature.items() for r in records)
+        )
         classes, parents, children = self.classes, self.parents, self.children
         for child, parent in edges:
             below, above = classes.get(child), classes.get(parent)
