@@ -378,10 +378,25 @@ class MemoryModel:
         self.complexities[record.signature.complexity] += 1
         self.store_counts[record.store_count] += 1
         self.retrieve_counts[record.retrieve_count] += 1
+        self.restrictions.update(record.signature.items())
         record.z, record.sums, record.up, record.fan_in = (0, 0, 0), [0, 0, 0], [], 0
-        if not indexed:  # a bulk load counts the restrictions of all its classes at once
-            self.restrictions.update(record.signature.items())
+        if not indexed:
             self._set_row(cls, record.z)
+
+    def _register_all(self, records: list[ClassRecord]) -> None:
+        """:meth:`_register` of many indexed classes, each table and counter filled at once."""
+        for record in records:
+            record.z, record.sums, record.up, record.fan_in = (0, 0, 0), [0, 0, 0], [], 0
+        self.classes.update((r.iri, r) for r in records)
+        for table in (self.parents, self.children, self.items_of):
+            for record in records:
+                table.setdefault(record.iri, set())
+        self.complexities.update(r.signature.complexity for r in records)
+        self.store_counts.update(r.store_count for r in records)
+        self.retrieve_counts.update(r.retrieve_count for r in records)
+        self.restrictions.update(
+            itertools.chain.from_iterable(r.signature.items() for r in records)
+        )
 
     def load(
         self,
@@ -403,11 +418,7 @@ class MemoryModel:
         else:
             at_least, by_complexity, _ = derived
             self.index.restore([(r.iri, r.signature) for r in records], at_least, by_complexity)
-        for record in records:
-            self._register(record, indexed=True)
-        self.restrictions.update(
-            itertools.chain.from_iterable(r.signature.items() for r in records)
-        )
+        self._register_all(records)
         classes, parents, children = self.classes, self.parents, self.children
         for child, parent in edges:
             below, above = classes.get(child), classes.get(parent)
