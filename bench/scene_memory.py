@@ -37,29 +37,36 @@ import subprocess
 import sys
 import tempfile
 import time
+from collections import Counter
 from collections.abc import Callable
 from pathlib import Path
 
-from pyoxigraph import BlankNode, NamedNode, RdfFormat, Triple, serialize
+from pyoxigraph import BlankNode, NamedNode, Quad, RdfFormat, Triple, serialize
 
 from kg import Store, export_triples
 from kg.transaction import Transaction
 from ontologies.vocab import (
     EPISODIC,
     EXPERIENCED_SCENE,
+    MAX_RAW_SCORE,
     MEMORY,
     MEMORY_REVISION_GRAPH,
+    MEMORY_STATE_INDIVIDUAL,
     OWL_NS,
     PREFIXES,
     RDF_FIRST,
     RDF_NIL,
     RDF_REST,
     RDF_TYPE,
+    RDFS_SUBCLASSOF,
+    SCORE_FACTORS,
+    SCORE_TERMS,
     engram,
 )
 from reasoners import index_file
 from reasoners.memory import SceneMemory
 from reasoners.primitives import KINDS, Primitive
+from reasoners.signature import Signature
 
 SEED = 20250301
 AXES = [(0.0, 0.0, 1.0), (1.0, 0.0, 0.0), (0.0, 1.0, 0.0), (0.6, 0.0, 0.8)]
@@ -82,9 +89,15 @@ def percentile(values: list[float], q: float) -> float:
     return ordered[min(len(ordered) - 1, round(q * (len(ordered) - 1)))]
 
 
+CPU: list[float] = []
+"""The CPU time (all threads of this process) of every :func:`timed` call, in order: on a
+shared machine under load, wall times mostly measure the wait for a core."""
+
+
 def timed(call: object, *args: object) -> float:
-    began = time.perf_counter()
+    began, cpu = time.perf_counter(), time.process_time()
     call(*args)  # type: ignore[operator]
+    CPU.append(time.process_time() - cpu)
     return time.perf_counter() - began
 
 
@@ -112,7 +125,7 @@ def hermit_seconds(
         Triple(axiom, NamedNode(OWL_NS + "distinctMembers"), head),
     ]
     path = workdir / "hermit.owl"
-    path.write_bytes(serialize(triples, format=RdfFormat.RDF_XML, prefixes=PREFIXES))
+    path.write_bytes(serialize(triples, format=RdfFormat.RDF_XML, prefixes=PREFIXES) or b"")
     code = (
         "import sys, owlready2\n"
         "owlready2.reasoning.JAVA_MEMORY = 8000  # MB; the default 2000 runs out at 10k classes\n"
@@ -158,7 +171,7 @@ def build(directory: Path, size: int, rng: random.Random) -> None:
     staging = SceneMemory(Store())
     learned = 0
     while learned < size:
-        batch = []
+        batch: list[Signature] = []
         while len(batch) < min(5_000, size - learned):
             signature = staging.encoder.signature(random_scene(rng, rng.randint(2, 5)))
             if signature:
@@ -170,23 +183,49 @@ def build(directory: Path, size: int, rng: random.Random) -> None:
     target.flush()
 
 
+PARTS = ("view", "edges", "class", "scene", "other")
+"""What a learn writes, by part: the score view (Z terms and memory state factors), the direct
+subclass edges between learned classes, the new class (definition, label, annotations,
+restriction nodes), the experienced scene (episodic graph), and the rest (counters, revision)."""
+
+
+SCENE_PREFIX = engram("Scene-").value
+
+
+def part_of(quad: Quad) -> str:
+    if quad.predicate == SCORE_TERMS or quad.predicate in (*SCORE_FACTORS, MAX_RAW_SCORE):
+        return "view"
+    if quad.graph_name == EPISODIC:
+        return "scene"
+    learned = isinstance(quad.object, NamedNode) and quad.object.value.startswith(SCENE_PREFIX)
+    if quad.predicate == RDFS_SUBCLASSOF and learned:
+        return "edges"
+    if quad.graph_name == MEMORY and quad.subject != MEMORY_STATE_INDIVIDUAL:
+        return "class"
+    return "other"
+
+
 class WriteTimer:
     """Instrumentation: the time of each store write alone (Oxigraph applying the transaction)
-    and its number of quads, by wrapping the write ``Store`` prepares for each commit."""
+    and its number of quads, by part (:data:`PARTS`), by wrapping the write ``Store`` prepares
+    for each commit; the rest of an update's time is Engram's own work."""
 
     def __init__(self, store: Store) -> None:
         self.times: list[float] = []
         self.quads: list[int] = []
+        self.parts: list[Counter[str]] = []
         prepare = store._prepare
 
         def timed_prepare(tx: Transaction) -> Callable[[], None]:
             write, quads = prepare(tx), len(tx.inserts) + len(tx.deletes)
+            parts = Counter(part_of(q) for q in (*tx.inserts, *tx.deletes))
 
             def timed_write() -> None:
                 began = time.perf_counter()
                 write()
                 self.times.append(time.perf_counter() - began)
                 self.quads.append(quads)
+                self.parts.append(parts)
 
             return timed_write
 
@@ -210,8 +249,12 @@ def run(size: int, args: argparse.Namespace, rng: random.Random) -> dict[str, ob
         memory.store_scene(known)
         gc.collect()
         writes = WriteTimer(store)
+        CPU.clear()
         learn_times = [timed(memory.store_scene, scene) for scene in novel]
         repeat_times = [timed(memory.store_scene, known) for _ in range(args.updates)]
+        learn_cpu, repeat_cpu = CPU[: len(novel)], CPU[len(novel) :]
+        learns, repeats = slice(0, len(novel)), slice(len(novel), len(novel) + args.updates)
+        parts = {part: statistics.median(c[part] for c in writes.parts[learns]) for part in PARTS}
         cues = [random_scene(rng, 10)[:3] for _ in range(args.retrievals)]
         retrieve_times = [timed(memory.retrieve, cue) for cue in cues]
         recognise_times = [timed(memory.recognise, scene) for scene in novel]
@@ -220,13 +263,17 @@ def run(size: int, args: argparse.Namespace, rng: random.Random) -> dict[str, ob
             scene = novel[0][: args.hermit_objects]
             hermit = hermit_seconds(memory, scene, workdir, args.hermit_timeout)
         sleep_s = timed(memory.sleep)
+        sleep_cpu = CPU[-1]
         classes = len(memory.classes())
         save_s = timed(memory.save_index)  # flushes the store first, as the server does
         del memory, store
         gc.collect()  # closes the store, which one process at a time may open
-        began = time.perf_counter()
-        reopened = SceneMemory(Store(workdir / "store"))
-        open_s = time.perf_counter() - began
+        began, cpu = time.perf_counter(), time.process_time()
+        reopened_store = Store(workdir / "store")
+        store_open_s = time.perf_counter() - began
+        reopened = SceneMemory(reopened_store)
+        open_s, open_cpu = time.perf_counter() - began, time.process_time() - cpu
+        del reopened_store
         assert reopened.loaded_from == "index file", reopened.loaded_from
         del reopened
         gc.collect()
@@ -243,14 +290,27 @@ def run(size: int, args: argparse.Namespace, rng: random.Random) -> dict[str, ob
             "classes": classes,
             "build_s": build_s,
             "learn": learn_times,
-            "learn_write": statistics.median(writes.times[: len(novel)]),
-            "learn_quads": statistics.median(writes.quads[: len(novel)]),
+            "learn_write": statistics.median(writes.times[learns]),
+            "learn_quads": statistics.median(writes.quads[learns]),
+            "learn_own": statistics.median(
+                t - w for t, w in zip(learn_times, writes.times[learns], strict=True)
+            ),
+            "repeat_write": statistics.median(writes.times[repeats]),
+            "repeat_quads": statistics.median(writes.quads[repeats]),
+            "parts": parts,
             "repeat": repeat_times,
             "retrieve": retrieve_times,
             "recognise": recognise_times,
             "sleep_s": sleep_s,
             "save_s": save_s,
             "open_s": open_s,
+            "store_open_s": store_open_s,
+            "cpu": (
+                statistics.median(learn_cpu),
+                statistics.median(repeat_cpu),
+                sleep_cpu,
+                open_cpu,
+            ),
             "rebuild_s": rebuild_s,
             "hermit_s": hermit,
         }
@@ -288,6 +348,7 @@ def main() -> None:
     print(header.replace("classes", "size/cls"))
     print("-" * len(header))
     rng = random.Random(SEED)
+    breakdown: list[str] = []
     for size in sizes:
         r = run(size, args, rng)
         ms = {k: [1000 * t for t in r[k]] for k in ("learn", "repeat", "retrieve", "recognise")}  # type: ignore[attr-defined]
@@ -316,11 +377,37 @@ def main() -> None:
             f"{hermit_text:>9} {ratio_update:>9} {ratio_recog:>9}",
             flush=True,
         )
+        parts = r["parts"]
+        breakdown.append(
+            f"{r['size']:>8} {1000 * r['learn_write']:>9.2f} {1000 * r['learn_own']:>9.2f} "  # type: ignore[operator]
+            f"{1000 * r['repeat_write']:>9.2f} {r['repeat_quads']:>8.0f} "  # type: ignore[operator]
+            + " ".join(f"{parts[p]:>7.0f}" for p in PARTS)  # type: ignore[index]
+            + f" {r['store_open_s']:>8.2f}"
+            + "".join(f" {1000 * t:>9.1f}" for t in r["cpu"])  # type: ignore[attr-defined]
+        )
+    print()
+    print("Where a committed update's time goes (medians; ms unless marked):")
+    print(
+        f"{'classes':>8} {'lrn write':>9} {'lrn own':>9} {'rnf write':>9} {'rnf quads':>8} "
+        + " ".join(f"{'q ' + p:>7}" for p in PARTS)
+        + f" {'db open':>8}"
+        + "".join(f" {c:>9}" for c in ("cpu learn", "cpu reinf", "cpu sleep", "cpu open"))
+    )
+    for line in breakdown:
+        print(line)
     print()
     print("learn = novel 10-object scene (learns a class), reinf = known scene (reinforces);")
     print("med/p99 over the timed calls; each update and retrieval is one committed transaction.")
     print("x update = HermiT time / median committed update; x recog = HermiT / median recognise.")
     print("lw = the store write alone of a learn (Oxigraph applying it) and the quads it writes.")
+    print("lrn own = a learn's time minus its store write: Engram's own work (encode, recognise,")
+    print("link, re-score, build the transaction); q <part> = a learn's quads by part: view (the")
+    print("Z terms of every class whose Z changed, the memory state's factors), edges (direct")
+    print("subclass edges), class (the new definition and annotations), scene (the experienced")
+    print("scene), other (counters, revision). db open = the part of open (seconds) spent")
+    print("opening the on-disk store itself, before the memory reads anything. cpu <x> = the")
+    print("CPU time (ms, every thread of the process) of a learn, a reinforce (medians), the sleep")
+    print("pass and the open with the index file: under load, steadier than wall times.")
     print("save = writing the index file after the sleep pass; open = reopening with it;")
     print("rebld = reopening without it (the model rebuilt from the store's triples).")
 

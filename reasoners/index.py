@@ -137,6 +137,33 @@ class SignatureIndex:
                 members[per_count[n - 1]] = True
                 levels[n] |= _pack(members)
 
+    def state(self) -> tuple[dict[Key, list[int]], dict[int, int]] | None:
+        """The bitsets (at least n per key, per complexity) when no class was removed (every
+        position live), for :meth:`restore`; None otherwise (the caller re-indexes)."""
+        if self._live != (1 << len(self._classes)) - 1:
+            return None
+        return {key: list(levels) for key, levels in self._at_least.items()}, dict(
+            self._by_complexity
+        )
+
+    def restore(
+        self,
+        entries: Sequence[tuple[NamedNode, Signature]],
+        at_least: dict[Key, list[int]],
+        by_complexity: dict[int, int],
+    ) -> None:
+        """Index ``entries`` at positions 0, 1, ... from bitsets :meth:`state` gave for the same
+        classes in the same order (an empty index only): no bitset is rebuilt."""
+        if self._classes:
+            raise ValueError("restore: the index is not empty")
+        self._classes = [cls for cls, _ in entries]
+        self._position = {cls: k for k, (cls, _) in enumerate(entries)}
+        self._signature = dict(entries)
+        self._by_signature = {signature: cls for cls, signature in entries}
+        self._by_complexity = defaultdict(int, by_complexity)
+        self._at_least = at_least
+        self._live = (1 << len(self._classes)) - 1
+
     def remove(self, cls: NamedNode) -> None:
         position = self._position.pop(cls)
         signature = self._signature.pop(cls)

@@ -52,7 +52,14 @@ from pyoxigraph import Literal, NamedNode
 from kg.store import Store
 from kg.transaction import Transaction
 from ontologies.vocab import MEMORY_REVISION, MEMORY_REVISION_GRAPH, MEMORY_STATE_INDIVIDUAL
-from reasoners.model import ClassRecord, ItemRecord, MemoryModel, TrashedClass, TrashedItem
+from reasoners.model import (
+    ClassRecord,
+    Derived,
+    ItemRecord,
+    MemoryModel,
+    TrashedClass,
+    TrashedItem,
+)
 from reasoners.signature import Key, Signature
 
 __all__ = [
@@ -70,8 +77,11 @@ __all__ = [
 
 log = logging.getLogger(__name__)
 
-FORMAT = 1
-"""Bumped whenever the payload's layout changes: a file of another format is rebuilt."""
+FORMAT = 2
+"""Bumped whenever the payload's layout changes: a file of another format is rebuilt.
+Format 2 adds what opening would otherwise derive or rewrite: the index's bitsets, each class's
+Z terms and child sums, and the score view the store holds (each class's written Z terms and
+the memory state's factors), so that opening neither re-derives nor rewrites them."""
 MAGIC = b"ENGRAM-MEMORY-INDEX\n"
 _HEADER = struct.Struct(f"<{len(MAGIC)}sIQ32s")  # magic, format, payload length, SHA-256
 SUFFIX = ".memory-index"
@@ -148,6 +158,7 @@ def snapshot(model: MemoryModel, revision: str, weights: Weights) -> dict[str, A
             time_texts.append(value.isoformat())
         return number
 
+    derived = model.derived()  # first: it brings every Z up to date
     numbers = {cls: k for k, cls in enumerate(model.classes)}
     classes = [
         (
@@ -186,6 +197,14 @@ def snapshot(model: MemoryModel, revision: str, weights: Weights) -> dict[str, A
         (t.iri.value, t.cls.value, stamp(t.forgotten_at)) for t in model.trashed_items.values()
     ]
     stored = [(keys.setdefault(key, len(keys)), n) for key, n in model.stored_restrictions]
+    index = None
+    if derived is not None:
+        at_least, by_complexity, scores = derived
+        index = (
+            [(keys.setdefault(key, len(keys)), levels) for key, levels in at_least.items()],
+            by_complexity,
+            scores,
+        )
     return {
         "revision": revision,
         "weights": tuple(weights),
@@ -197,6 +216,11 @@ def snapshot(model: MemoryModel, revision: str, weights: Weights) -> dict[str, A
         "trashed_classes": trashed_classes,
         "trashed_items": trashed_items,
         "stored_restrictions": stored,
+        "derived": index,
+        "view": (
+            [r.written_z for r in model.classes.values()],
+            model.written_factors,
+        ),
         "state": (
             model.next_class,
             model.next_item,
@@ -240,13 +264,25 @@ def rebuild(values: dict[str, Any], weights: Weights) -> MemoryModel:
         )
         for c in values["classes"]
     ]
+    written, factors = values["view"]
+    for record, z in zip(records, written, strict=True):
+        record.written_z = None if z is None else (z[0], z[1], z[2])
     model = MemoryModel(weights=weights)
     edges = [
         (records[child].iri, records[parent].iri)
         for child, parents in enumerate(values["parents"])
         for parent in parents
     ]
-    model.load(records, edges)
+    derived: Derived | None = None
+    if values["derived"] is not None:
+        at_least, by_complexity, scores = values["derived"]
+        derived = (
+            {keys[k]: levels for k, levels in at_least},
+            by_complexity,
+            [((z[0], z[1], z[2]), list(sums)) for z, sums in scores],
+        )
+    model.load(records, edges, derived=derived)
+    model.written_factors = None if factors is None else tuple(factors)
     for i in values["items"]:
         model.add_item(
             ItemRecord(

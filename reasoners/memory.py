@@ -277,8 +277,10 @@ class SceneMemory:
             for _ in self.store.quads(None, prop, None, graph)
         )
         factors_stale = bool(m.classes) and m.written_factors != (*m.coefficients(), m.max_score)
-        named = {q.subject for q in self.store.quads(None, SKOS_NOTATION, None, MEMORY)}
-        unlabelled = [record for cls, record in m.classes.items() if cls not in named]
+        unlabelled: list[ClassRecord] = []
+        if self.loaded_from != "index file":  # a file is saved only by a repaired memory
+            named = {q.subject for q in self.store.quads(None, SKOS_NOTATION, None, MEMORY)}
+            unlabelled = [record for cls, record in m.classes.items() if cls not in named]
         if not (legacy or m.unwritten or factors_stale or unlabelled):
             return
         with self._write() as tx:
@@ -773,10 +775,11 @@ class SceneMemory:
                 and not record.pinned
                 and cls not in protected
             ]
+            doomed = set(doomed_classes)
             doomed_items = [
                 iri
                 for iri, record in m.items.items()
-                if record.cls not in doomed_classes
+                if record.cls not in doomed
                 and item_weak[iri] >= k
                 and now - record.created >= grace
                 and not record.pinned

@@ -28,6 +28,7 @@ reopened memory derives exactly the scores the running one had.
 
 import datetime as dt
 import functools
+import itertools
 import math
 from collections import Counter
 from collections.abc import Iterable
@@ -47,6 +48,8 @@ SCALE = 1 << 40
 
 Restriction = tuple[Key, int]
 """One restriction ``≥n p.T`` as ((p, T), n)."""
+Derived = tuple[dict[Key, list[int]], dict[int, int], list[tuple[tuple[int, int, int], list[int]]]]
+"""The index's bitsets (at least n per key, per complexity) and each class's (Z, child sums)."""
 
 
 @dataclass
@@ -380,18 +383,42 @@ class MemoryModel:
         if not indexed:
             self._set_row(cls, record.z)
 
+    def _register_all(self, records: list[ClassRecord]) -> None:
+        """:meth:`_register` of many indexed classes, each table and counter filled at once."""
+        for record in records:
+            record.z, record.sums, record.up, record.fan_in = (0, 0, 0), [0, 0, 0], [], 0
+        self.classes.update((r.iri, r) for r in records)
+        for table in (self.parents, self.children, self.items_of):
+            for record in records:
+                table.setdefault(record.iri, set())
+        self.complexities.update(r.signature.complexity for r in records)
+        self.store_counts.update(r.store_count for r in records)
+        self.retrieve_counts.update(r.retrieve_count for r in records)
+        self.restrictions.update(
+            itertools.chain.from_iterable(r.signature.items() for r in records)
+        )
+
     def load(
-        self, records: Iterable[ClassRecord], edges: Iterable[tuple[NamedNode, NamedNode]]
+        self,
+        records: Iterable[ClassRecord],
+        edges: Iterable[tuple[NamedNode, NamedNode]],
+        *,
+        derived: "Derived | None" = None,
     ) -> None:
         """Bulk-load classes and their stored (child, parent) edges; Z is derived from scratch.
 
         Indexes the classes in one pass (:meth:`SignatureIndex.add_all`) and fills the score
-        rows at once: opening a memory of 100,000 classes takes seconds, not minutes.
+        rows at once: opening a memory of 100,000 classes takes seconds, not minutes. With
+        ``derived`` (what :meth:`derived` gave for the same records in the same order, as an
+        index file keeps it), the bitsets and the Z terms are taken as they are, not re-derived.
         """
         records = list(records)
-        self.index.add_all((r.iri, r.signature) for r in records)
-        for record in records:
-            self._register(record, indexed=True)
+        if derived is None:
+            self.index.add_all((r.iri, r.signature) for r in records)
+        else:
+            at_least, by_complexity, _ = derived
+            self.index.restore([(r.iri, r.signature) for r in records], at_least, by_complexity)
+        self._register_all(records)
         classes, parents, children = self.classes, self.parents, self.children
         for child, parent in edges:
             below, above = classes.get(child), classes.get(parent)
@@ -401,19 +428,35 @@ class MemoryModel:
             children[parent].add(child)
             below.up.append(above)
             above.fan_in += 1
-        ordered = sorted(classes.values(), key=lambda r: -r.signature.complexity)
-        own = self._own
-        for record in ordered:  # children (more complex) before parents
-            record.z = z = own(record)
-            for above in record.up:
-                sums = above.sums
-                sums[0] += z[0]
-                sums[1] += z[1]
-                sums[2] += z[2]
+        if derived is None:
+            ordered = sorted(classes.values(), key=lambda r: -r.signature.complexity)
+            own = self._own
+            for record in ordered:  # children (more complex) before parents
+                record.z = z = own(record)
+                for above in record.up:
+                    sums = above.sums
+                    sums[0] += z[0]
+                    sums[1] += z[1]
+                    sums[2] += z[2]
+        else:
+            ordered = records
+            for record, (z, sums) in zip(records, derived[2], strict=True):
+                record.z, record.sums = z, sums
         self._set_rows(ordered)
         self._dirty.clear()
         self._dirty_top = 0
         self.unwritten = {r.iri for r in self.classes.values() if r.written_z != r.z}
+
+    def derived(self) -> "Derived | None":
+        """What :meth:`load` would derive for :attr:`classes` (in their order): the index's
+        bitsets and each class's Z and child sums, all current; None when the index's positions
+        are not the classes' order (a class was removed), so that a load re-derives them."""
+        self.refresh()
+        state = self.index.state()
+        if state is None or self.index.classes() != list(self.classes):
+            return None
+        scores = [(r.z, list(r.sums)) for r in self.classes.values()]
+        return (state[0], state[1], scores)
 
     def add_class(
         self, record: ClassRecord, ancestors: Iterable[NamedNode] | None = None

@@ -26,6 +26,7 @@ Layout (DESIGN.md, "Store layout"):
 """
 
 import datetime as dt
+import functools
 import hashlib
 import re
 from collections import defaultdict
@@ -513,10 +514,12 @@ def write_state(tx: Transaction, model: MemoryModel, previous: MemoryModel | Non
         tx.insert(node, LAST_SLEEP_AT, time_literal(model.last_sleep_at), MEMORY)
 
 
+@functools.lru_cache(maxsize=1 << 15)
 def terms_literal(z: tuple[int, int, int]) -> Literal:
     """Z_d, Z_s, Z_r in fixed point as the view stores them: "Z_d Z_s Z_r", each the shortest
-    lexical form of its double (exact: SCALE is 2**40; SPARQL's xsd:double() reads it back)."""
-    return Literal(" ".join(repr(x / SCALE) for x in z))
+    lexical form of its double (exact: SCALE is 2**40; SPARQL's xsd:double() reads it back).
+    Cached: the literal an update deletes is the one an earlier update wrote."""
+    return Literal(f"{z[0] / SCALE!r} {z[1] / SCALE!r} {z[2] / SCALE!r}")
 
 
 def write_view(tx: Transaction, model: MemoryModel, policy: NamedNode) -> int:
@@ -530,8 +533,9 @@ def write_view(tx: Transaction, model: MemoryModel, policy: NamedNode) -> int:
     """
     model.refresh()
     rewritten = 0
-    for iri in sorted(model.unwritten, key=str):
-        record = model.classes.get(iri)
+    classes = model.classes
+    for iri in sorted(model.unwritten, key=_iri_text):
+        record = classes.get(iri)
         if record is None or record.written_z == record.z:
             continue
         old = record.written_z
@@ -557,6 +561,10 @@ def write_view(tx: Transaction, model: MemoryModel, policy: NamedNode) -> int:
                 set_value(tx, node, prop, Literal(old_factors[x]), Literal(factors[x]), MEMORY)
         model.written_factors = factors
     return rewritten
+
+
+def _iri_text(iri: NamedNode) -> str:
+    return iri.value
 
 
 VIEW_PREDICATES = frozenset({SCORE_TERMS})

@@ -21,3 +21,12 @@ def test_bench_quick_prints_a_row_per_size() -> None:
     )
     rows = [line for line in done.stdout.splitlines() if line.strip().startswith(("20/", "60/"))]
     assert len(rows) == 2, done.stdout
+    # and where a learn's time and quads go, per size: write vs own work, quads by part
+    breakdown = done.stdout.split("Where a committed update's time goes")[1].splitlines()
+    parts = [line.split() for line in breakdown if line.split()[:1] in (["20"], ["60"])]
+    assert len(parts) == 2, done.stdout
+    for row in parts:
+        write, own, _, _, *quads, db_open, cpu_learn, _, _, cpu_open = (float(x) for x in row[1:])
+        assert write > 0 and own > 0 and db_open > 0 and cpu_learn > 0 and cpu_open > 0
+        view, _edges, new_class, scene, _ = quads
+        assert new_class > 0 and scene > 0 and view > 0, row

@@ -259,3 +259,33 @@ def test_a_memory_that_fails_to_open_in_the_background_says_why(
     assert not opening.wait_ready(10)
     with pytest.raises(MemoryLoadingError, match="disk on fire"):
         opening.classes()
+
+
+def test_opening_from_the_index_file_writes_nothing_and_keeps_the_file_current(
+    saved_copy: Path, clock: FakeClock
+) -> None:
+    path = saved_copy.with_name(saved_copy.name + index_file.SUFFIX)
+    saved = index_file.read(path)["revision"]
+    opened = reopen(saved_copy, clock)
+    assert opened.loaded_from == "index file"
+    # the score view the file says the store holds is taken as written: no repair transaction
+    assert index_file.stored_revision(opened.store) == saved
+    assert not opened._model.unwritten
+    assert not opened.save_index()  # still current
+    del opened
+    assert reopen(saved_copy, clock).loaded_from == "index file"
+
+
+def test_an_index_file_after_a_forgotten_class_re_derives_the_index(
+    tmp_path: Path, clock: FakeClock
+) -> None:
+    memory = filled(tmp_path / "store", clock)
+    last = memory.classes()[-1].iri
+    with memory._write() as tx:  # a class leaves the index: its position becomes a hole
+        memory._forget(tx, [last], [], memory._now())
+    assert memory._model.derived() is None
+    assert memory.save_index()
+    del memory
+    opened = reopen(tmp_path / "store", clock)
+    assert opened.loaded_from == "index file"
+    assert_same_model(opened._model, persist.load_model(opened.store))
