@@ -2,11 +2,14 @@
 and ``/`` serving the pages themselves (``api/web/``). Read-only; pin and restore go through
 the directive API like any other write."""
 
+import asyncio
+import time
+from collections.abc import AsyncIterator
 from pathlib import Path
 from typing import Annotated
 
 from fastapi import APIRouter, FastAPI, HTTPException, Query, Request, Response, status
-from fastapi.responses import RedirectResponse
+from fastapi.responses import RedirectResponse, StreamingResponse
 from fastapi.staticfiles import StaticFiles
 from starlette.concurrency import run_in_threadpool
 
@@ -35,6 +38,13 @@ router = APIRouter(tags=["views"])
 _NOT_FOUND = error_responses(404)
 
 Offset = Annotated[int, Query(ge=0, description="Entries to skip.")]
+
+LIVE_CHECK_S = 0.2
+"""How often a live stream looks at the store's write counter (an integer read)."""
+LIVE_KEEPALIVE_S = 15.0
+LIVE_STREAM_S = 300.0
+"""A live stream ends after this long; the browser's EventSource reconnects by itself. So an
+open page never holds a stopping server for long."""
 
 
 def _memory(request: Request) -> SceneMemory:
@@ -108,11 +118,50 @@ async def scene_list(
 
 @router.get("/views/scenes/latest", summary="The scene stored last", responses=_NOT_FOUND)
 async def latest_scene(store: StoreDep) -> SceneDetail:
-    """For the live 3D view, which polls it; 404 while no scene is stored."""
+    """The scene stored last; 404 while no scene is stored (the live view follows
+    ``/views/scenes/live``)."""
     found = await run_in_threadpool(scenes.latest_scene, store)
     if found is None:
         raise HTTPException(status.HTTP_404_NOT_FOUND, "no scene is stored yet")
     return found
+
+
+async def _live_events(request: Request, store: StoreDep) -> AsyncIterator[str]:
+    """``scene`` events carrying the latest stored scene: one on connecting (when a scene is
+    stored) and one each time a write stores a newer one."""
+    yield "retry: 2000\n\n"  # ms before the browser reconnects
+    began = last_sent = time.monotonic()
+    generation, shown = -1, None
+    while time.monotonic() - began < LIVE_STREAM_S and not await request.is_disconnected():
+        if store.generation != generation:
+            generation = store.generation
+            found = await run_in_threadpool(scenes.latest_scene, store)
+            if found is not None and found.scene.iri != shown:
+                shown = found.scene.iri
+                last_sent = time.monotonic()
+                yield f"event: scene\nid: {generation}\ndata: {found.model_dump_json()}\n\n"
+        if time.monotonic() - last_sent >= LIVE_KEEPALIVE_S:
+            last_sent = time.monotonic()
+            yield ": keep-alive\n\n"
+        await asyncio.sleep(LIVE_CHECK_S)
+
+
+@router.get(
+    "/views/scenes/live",
+    summary="The latest stored scene, pushed as server-sent events",
+    response_class=StreamingResponse,
+    responses={200: {"content": {"text/event-stream": {}}}},
+)
+async def live_scenes(request: Request, store: StoreDep) -> StreamingResponse:
+    """A ``text/event-stream`` for the live 3D view (``engram perceive --server`` and any other
+    writer): each ``scene`` event's data is the scene as ``GET /views/scenes/{name}`` gives it.
+    Writes are noticed within ``LIVE_CHECK_S``; the stream ends after ``LIVE_STREAM_S`` and the
+    browser reconnects."""
+    return StreamingResponse(
+        _live_events(request, store),
+        media_type="text/event-stream",
+        headers={"Cache-Control": "no-cache", "X-Accel-Buffering": "no"},
+    )
 
 
 @router.get(
