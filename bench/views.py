@@ -76,7 +76,12 @@ def serve(settings: Settings) -> tuple[uvicorn.Server, threading.Thread, str]:
         if not thread.is_alive() or time.monotonic() > deadline:
             raise RuntimeError("the server did not start")
         time.sleep(0.1)
-    return server, thread, f"http://{settings.host}:{settings.port}"
+    url = f"http://{settings.host}:{settings.port}"
+    while httpx.get(f"{url}/health", timeout=60).json().get("status") == "loading":
+        if time.monotonic() > deadline:  # the memory opens in the background
+            raise RuntimeError("the memory did not finish loading")
+        time.sleep(0.2)
+    return server, thread, url
 
 
 def timed(client: httpx.Client, url: str, repeat: int) -> float:

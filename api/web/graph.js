@@ -1,6 +1,7 @@
 // The memory graph: classes as nodes sized by score and coloured by level, direct subclass
-// edges top-down by complexity; a class's detail with pin / restore.
+// edges top-down by complexity; a class's detail with its score history and pin / restore.
 import { directive, element, getJSON, showError } from "./app.js";
+import { historyPanel } from "./history.js";
 
 const COLOURS = { HIGH: "#2e7d32", LOW: "#f9a825", WEAK: "#c62828" };
 const DAGRE_LIMIT = 300; // above this many nodes, rows by complexity (dagre is too slow there)
@@ -214,19 +215,6 @@ function counters(node, detail) {
     rows.map(([k, v]) => element("tr", {}, element("th", {}, k), element("td", {}, v))));
 }
 
-function historyChart(detail) {
-  const box = element("div", { class: "history" });
-  const points = detail.history;
-  if (!points.length) return box;
-  const t = points.map((p) => Date.parse(p.time) / 1000);
-  const s = points.map((p) => p.score);
-  const opts = { width: 340, height: 140, title: "normalised score over time",
-    series: [{}, { label: "score", stroke: "#1565c0", points: { show: true, size: 6 } }],
-    scales: { y: { range: [0, 1] } } };
-  requestAnimationFrame(() => new uPlot(opts, [t, s], box));
-  return box;
-}
-
 async function select(name) {
   const panel = document.getElementById("class-detail");
   try {
@@ -248,7 +236,7 @@ async function select(name) {
     panel.replaceChildren(
       element("h2", {}, node.name, node.pinned ? " (pinned)" : "", node.forgotten ? " (forgotten)" : ""),
       element("p", { class: "words" }, detail.words),
-      counters(node, detail), historyChart(detail),
+      counters(node, detail), historyPanel(node),
       element("h3", {}, "Stored scenes"),
       element("ul", { class: "scenes" }, detail.scenes.length
         ? detail.scenes.map((s) => element("li", {},
