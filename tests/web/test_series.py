@@ -1,0 +1,81 @@
+"""A numeric channel read by one scan of its MCAP file gives exactly what replay gives, and
+channels the scan cannot slice (baseline-filtered) are still plotted, through replay."""
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from api.views import channels
+from api.views.series import scan_channel
+from episodes.streams import Recorder, Replayer
+from episodes.streams.recorder import mcap_file
+
+T0 = 1_770_000_000_000_000_000
+
+
+@pytest.fixture(scope="module")
+def recording(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    path = tmp_path_factory.mktemp("series") / "ep"
+    recorder = Recorder(path, episode_id="ep")
+    recorder.add_provider("f64", "float_array", dtype="float64", shape=[3])
+    recorder.add_provider("f32", "float_array", dtype="float32", shape=[2, 2])
+    recorder.add_provider("arm", "joint_state", names=["shoulder", "elbow", "wrist"])
+    recorder.add_provider("still", "float_array", dtype="float64", shape=[2], baseline=[0.0, 0.0])
+    recorder.add_provider("words", "string")
+    rng = np.random.default_rng(3)
+    for i in range(400):
+        samples: dict[str, object] = {"f64": rng.normal(size=3), "arm": rng.normal(size=3)}
+        if i % 3 == 0:  # a channel in some ticks only
+            samples["f32"] = rng.normal(size=(2, 2)).astype(np.float32)
+        samples["still"] = np.array([0.0, 0.0]) if i % 4 else np.array([1.0, float(i)])
+        if i == 7:
+            samples["f64"] = np.array([np.nan, np.inf, -0.0])
+            samples["words"] = "hello"
+        recorder.tick(samples, time_ns=T0 + i * 10_000_000)
+    recorder.close()
+    return path
+
+
+def _replayed(path: Path, channel: str) -> tuple[np.ndarray, np.ndarray]:
+    replayer = Replayer(path)
+    spec = replayer.providers[channel]
+    series = channels._read_series(replayer, channel, spec)
+    return series.time_ns, series.values
+
+
+@pytest.mark.parametrize("channel", ["f64", "f32", "arm"])
+def test_the_scan_reads_what_replay_reads(recording: Path, channel: str) -> None:
+    scan = scan_channel(mcap_file(recording), channel)
+    assert scan.values is not None and scan.time_ns is not None
+    times, values = _replayed(recording, channel)
+    np.testing.assert_array_equal(scan.time_ns, times)
+    np.testing.assert_array_equal(scan.values.T, values)
+    assert scan.start_ns == Replayer(recording).start_ns == T0
+    assert len(times) == (134 if channel == "f32" else 400)
+
+
+def test_a_baseline_filtered_channel_is_left_to_replay_and_still_plotted(
+    recording: Path,
+) -> None:
+    assert scan_channel(mcap_file(recording), "still").values is None
+    plot = channels.plot_data(recording, "still", points=2000)
+    assert plot.samples == 400
+    assert plot.values[0][:5] == [1.0, 0.0, 0.0, 0.0, 1.0]
+    assert plot.values[1][4] == 4.0
+
+
+def test_the_plot_decimates_the_scanned_series_and_keeps_the_errors(recording: Path) -> None:
+    channels._cache.clear()
+    plot = channels.plot_data(recording, "arm", points=100)
+    assert plot.series == ["shoulder position", "elbow position", "wrist position"]
+    assert plot.samples == 400 and len(plot.t) == 100
+    _, values = _replayed(recording, "arm")
+    assert max(plot.values[0]) == pytest.approx(values[0].max())
+    assert min(plot.values[2]) == pytest.approx(values[2].min())
+    nan_row = channels.plot_data(recording, "f64", points=2000).values[0]
+    assert nan_row[7] is None  # NaN goes out as null
+    with pytest.raises(channels.UnknownProviderError):
+        channels.plot_data(recording, "nothing", points=100)
+    with pytest.raises(channels.InvalidSampleError):
+        channels.plot_data(recording, "words", points=100)
