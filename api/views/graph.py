@@ -41,7 +41,13 @@ from reasoners.memory import SceneMemory
 from reasoners.results import ClassSummary
 from reasoners.signature import Signature
 
-__all__ = ["UnknownClassError", "class_detail", "class_list_json", "local_name"]
+__all__ = [
+    "UnknownClassError",
+    "class_detail",
+    "class_list_json",
+    "local_name",
+    "warm",
+]
 
 SCENES_SHOWN = 50
 """The stored scenes a class's detail lists, newest first."""
@@ -154,34 +160,56 @@ def _matches(node: dict[str, Any], query: str) -> bool:
 
 class _NodeCache:
     """The node list of the last memory state seen (the store's transaction count names it),
-    and its whole page as JSON: deriving 10,000 classes' scores takes seconds, serialising them
-    a third of one; serving them again must take neither."""
+    and its whole page as JSON, with and without the relations: deriving 10,000 classes' scores
+    takes seconds, serialising them a third of one; serving them again must take neither, and
+    the page's two forms share one derivation."""
 
     def __init__(self) -> None:
         self._lock = threading.Lock()
-        self._entries: dict[tuple[int, bool, bool], tuple[int, list[dict[str, Any]], bytes]] = {}
+        self._computing = threading.Lock()
+        self._entries: dict[tuple[int, bool], tuple[int, list[dict[str, Any]], dict[bool, bytes]]]
+        self._entries = {}
 
     def get(
         self, memory: SceneMemory, *, trash: bool, relations: bool
     ) -> tuple[list[dict[str, Any]], bytes]:
         """The nodes (with their relations), and the JSON of the page holding all of them
         (without the relations unless ``relations``)."""
-        key, generation = (id(memory), trash, relations), memory.store.generation
+        key, generation = (id(memory), trash), memory.store.generation
         with self._lock:
             cached = self._entries.get(key)
-        if cached is not None and cached[0] == generation:
-            return cached[1], cached[2]
+        if cached is None or cached[0] != generation:
+            with self._computing:  # a second request waits for the first's result
+                with self._lock:
+                    cached = self._entries.get(key)
+                if cached is None or cached[0] != generation:
+                    cached = self._derive(memory, trash, generation)
+        nodes, pages = cached[1], cached[2]
+        whole = pages.get(relations)
+        if whole is None:
+            shown = nodes if relations else [_without_relations(n) for n in nodes]
+            whole = pages[relations] = _page(shown, offset=0, limit=len(nodes))
+        return nodes, whole
+
+    def _derive(
+        self, memory: SceneMemory, trash: bool, generation: int
+    ) -> tuple[int, list[dict[str, Any]], dict[bool, bytes]]:
         summaries = memory.classes()
         nodes = [_live_fields(s) for s in summaries]
         if trash:
             top = max((s.scores.raw_score for s in summaries), default=0.0)
             nodes.extend(n.model_dump() for n in _forgotten_classes(memory, top))
-        shown = nodes if relations else [_without_relations(n) for n in nodes]
-        whole = _page(shown, offset=0, limit=len(nodes))
+        derived: tuple[int, list[dict[str, Any]], dict[bool, bytes]] = (generation, nodes, {})
         with self._lock:
             self._entries = {k: v for k, v in self._entries.items() if k[0] == id(memory)}
-            self._entries[key] = (generation, nodes, whole)
-        return nodes, whole
+            self._entries[(id(memory), trash)] = derived
+        return derived
+
+
+def warm(memory: SceneMemory) -> None:
+    """Derive the class list the graph page reads first, so that its first paint after the
+    server starts does not wait for it (called once the memory is loaded)."""
+    _cache.get(memory, trash=False, relations=False)
 
 
 _cache = _NodeCache()

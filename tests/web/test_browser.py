@@ -73,6 +73,16 @@ def test_large_memories_draw_an_overview_that_selects_classes(
     for point in positions:
         x, y = round(point["x"]), round(point["y"])
         assert np.abs(pixels[y, x] - [255, 255, 255]).sum() > 60, point
+    page.wait_for_selector("#graph-overview[data-edges-drawn]")  # edges follow the nodes
+    pixels = _pixels(canvas.screenshot())
+    at = {p["name"]: (p["x"], p["y"]) for p in positions}
+    classes = view_server.client.get("/views/classes").json()["classes"]
+    edges = [(at[p], at[c["name"]]) for c in classes for p in c["parents"] if p in at]
+    assert edges
+    for (x0, y0), (x1, y1) in edges:  # the line's middle is darker than the background
+        x, y = round((x0 + x1) / 2), round((y0 + y1) / 2)
+        patch = pixels[y - 1 : y + 2, x - 1 : x + 2].reshape(-1, 3)
+        assert (255 * 3 - patch.sum(axis=1)).max() > 45, (x, y)
     target = positions[-1]
     canvas.click(position={"x": target["x"], "y": target["y"]})
     page.wait_for_selector(f"#class-detail[data-selected='{target['name']}']")
