@@ -7,6 +7,7 @@ import numpy as np
 import pytest
 
 from api.views import channels
+from api.views.mcapindex import open_index
 from api.views.series import scan_channel
 from episodes.streams import Recorder, Replayer
 from episodes.streams.recorder import mcap_file
@@ -14,10 +15,10 @@ from episodes.streams.recorder import mcap_file
 T0 = 1_770_000_000_000_000_000
 
 
-@pytest.fixture(scope="module")
-def recording(tmp_path_factory: pytest.TempPathFactory) -> Path:
+@pytest.fixture(scope="module", params=[None, "zstd"], ids=["plain", "zstd chunks"])
+def recording(tmp_path_factory: pytest.TempPathFactory, request: pytest.FixtureRequest) -> Path:
     path = tmp_path_factory.mktemp("series") / "ep"
-    recorder = Recorder(path, episode_id="ep")
+    recorder = Recorder(path, episode_id="ep", compression=request.param, flush_interval_s=0.01)
     recorder.add_provider("f64", "float_array", dtype="float64", shape=[3])
     recorder.add_provider("f32", "float_array", dtype="float32", shape=[2, 2])
     recorder.add_provider("arm", "joint_state", names=["shoulder", "elbow", "wrist"])
@@ -46,6 +47,7 @@ def _replayed(path: Path, channel: str) -> tuple[np.ndarray, np.ndarray]:
 
 @pytest.mark.parametrize("channel", ["f64", "f32", "arm"])
 def test_the_scan_reads_what_replay_reads(recording: Path, channel: str) -> None:
+    assert open_index(mcap_file(recording)) is not None  # read through the file's indexes
     scan = scan_channel(mcap_file(recording), channel)
     assert scan.values is not None and scan.time_ns is not None
     times, values = _replayed(recording, channel)
@@ -79,3 +81,19 @@ def test_the_plot_decimates_the_scanned_series_and_keeps_the_errors(recording: P
         channels.plot_data(recording, "nothing", points=100)
     with pytest.raises(channels.InvalidSampleError):
         channels.plot_data(recording, "words", points=100)
+
+
+def test_a_file_cut_short_is_scanned_and_reads_what_replay_reads(
+    recording: Path, tmp_path: Path
+) -> None:
+    whole = mcap_file(recording).read_bytes()
+    cut = tmp_path / "cut.mcap"
+    cut.write_bytes(whole[: len(whole) * 2 // 3])  # as a crash leaves it: no summary
+    assert open_index(cut) is None
+    replayer = Replayer(cut)
+    assert not replayer.complete and 0 < replayer.frame_count < 400
+    scan = scan_channel(cut, "arm")
+    assert scan.values is not None and scan.time_ns is not None
+    series = channels._read_series(replayer, "arm", replayer.providers["arm"])
+    np.testing.assert_array_equal(scan.time_ns, series.time_ns)
+    np.testing.assert_array_equal(scan.values.T, series.values)
