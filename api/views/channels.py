@@ -86,19 +86,30 @@ def _file(path: Path) -> Path:
 
 
 def channel_list(episode_id: str, path: Path) -> ChannelList:
-    """The channels of the recording at ``path`` with their sample counts and coverage.
+    """The channels of the recording at ``path`` with their sample counts and coverage (from
+    the file's indexes when it has them, else by replaying its tick records).
 
     Raises ``RecordingNotFoundError`` when nothing was recorded."""
-    replayer = _replayer(path)
-    start, end = replayer.start_ns, replayer.end_ns
+    if not path.exists():
+        raise RecordingNotFoundError(f"episode: nothing was recorded at {path.name!r}")
+    indexed = _cached(_file(path), "times", lambda: series_scan.recording_times(_file(path)))
+    if indexed is not None:
+        ticks, providers, samples = indexed.ticks, indexed.providers, indexed.samples
+    else:
+        replayer = _replayer(path)
+        providers = replayer.providers
+        ticks = np.asarray([t.time_ns for t in replayer.ticks], dtype=np.int64)
+        times: dict[str, list[int]] = {name: [] for name in providers}
+        for tick in replayer.ticks:
+            for name in tick.providers:
+                times.setdefault(name, []).append(tick.time_ns)
+        samples = {name: np.asarray(t, dtype=np.int64) for name, t in times.items()}
+    start = int(ticks[0]) if len(ticks) else None
+    end = int(ticks[-1]) if len(ticks) else None
     span = (end - start) if start is not None and end is not None and end > start else 0
-    times: dict[str, list[int]] = {name: [] for name in replayer.providers}
-    for tick in replayer.ticks:
-        for name in tick.providers:
-            times.setdefault(name, []).append(tick.time_ns)
     channels = []
-    for name, spec in sorted(replayer.providers.items()):
-        stamps = np.asarray(times.get(name, []), dtype=np.int64)
+    for name, spec in sorted(providers.items()):
+        stamps = samples.get(name, np.zeros(0, np.int64))
         if len(stamps) and start is not None:
             bins = (
                 np.minimum((stamps - start) * COVERAGE_BINS // span, COVERAGE_BINS - 1)
@@ -122,11 +133,7 @@ def channel_list(episode_id: str, path: Path) -> ChannelList:
             )
         )
     return ChannelList(
-        episode=episode_id,
-        start_ns=start,
-        end_ns=end,
-        frames=replayer.frame_count,
-        channels=channels,
+        episode=episode_id, start_ns=start, end_ns=end, frames=len(ticks), channels=channels
     )
 
 

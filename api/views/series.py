@@ -28,7 +28,7 @@ from episodes.streams.mcapscan import McapScan
 from episodes.streams.messages import PROVIDER_TYPE, ProviderSpec
 from episodes.streams.recorder import PROVIDERS_TOPIC, TICKS_TOPIC
 
-__all__ = ["ChannelScan", "scan_channel"]
+__all__ = ["ChannelScan", "RecordingTimes", "recording_times", "scan_channel"]
 
 _U32 = struct.Struct("<I")
 _NUMERIC = (Kind.FLOAT_ARRAY, Kind.JOINT_STATE)
@@ -113,6 +113,37 @@ def _providers(bodies: list[Any]) -> dict[str, ProviderSpec]:
         p: Any = store.deserialize_cdr(data, PROVIDER_TYPE)
         providers[p.name] = ProviderSpec.from_config(json.loads(p.config_json), bytes(p.baseline))
     return providers
+
+
+@dataclass(frozen=True)
+class RecordingTimes:
+    """A closed recording's providers, its tick times and each provider's sample times."""
+
+    providers: dict[str, ProviderSpec]
+    ticks: NDArray[np.int64]
+    samples: dict[str, NDArray[np.int64]]
+
+
+def recording_times(file: Path) -> RecordingTimes | None:
+    """From the file's indexes alone (no chunk of samples decompressed); None for a file
+    without them, or with a baseline-filtered provider (whose restored samples only the tick
+    records list)."""
+    try:
+        index = open_index(file)
+        if index is None or PROVIDERS_TOPIC not in index.channels:
+            return None
+        providers = _providers([body for _, body in index.bodies(PROVIDERS_TOPIC)])
+        if any(spec.baseline is not None for spec in providers.values()):
+            return None
+        has = index.channels
+        ticks = index.times(TICKS_TOPIC) if TICKS_TOPIC in has else np.zeros(0, np.int64)
+        samples = {
+            name: index.times(spec.topic) if spec.topic in has else np.zeros(0, np.int64)
+            for name, spec in providers.items()
+        }
+    except (ValueError, IndexError, struct.error):
+        return None
+    return RecordingTimes(providers, ticks, samples)
 
 
 def _sliceable(spec: ProviderSpec | None) -> bool:

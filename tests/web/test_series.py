@@ -97,3 +97,41 @@ def test_a_file_cut_short_is_scanned_and_reads_what_replay_reads(
     series = channels._read_series(replayer, "arm", replayer.providers["arm"])
     np.testing.assert_array_equal(scan.time_ns, series.time_ns)
     np.testing.assert_array_equal(scan.values.T, series.values)
+
+
+def test_the_channel_list_from_the_indexes_is_the_one_replay_gives(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    path = tmp_path / "ep"
+    recorder = Recorder(path, episode_id="ep", flush_interval_s=0.01)
+    recorder.add_provider("f64", "float_array", dtype="float64", shape=[2])
+    recorder.add_provider("arm", "joint_state", names=["a"])
+    recorder.add_provider("words", "string")
+    recorder.add_provider("silent", "float_array", dtype="float64", shape=[1])
+    for i in range(250):
+        samples: dict[str, object] = {"f64": [i, -i]}
+        if i % 3 == 0:
+            samples["arm"] = [0.5]
+        if i in (10, 200):
+            samples["words"] = f"at {i}"
+        recorder.tick(samples, time_ns=T0 + i * 7_000_000)
+    recorder.close()
+    assert scan_channel(mcap_file(path), "silent").values is not None
+
+    channels._cache.clear()
+    indexed = channels.channel_list("ep", path)
+    channels._cache.clear()
+    monkeypatch.setattr(channels.series_scan, "recording_times", lambda _file: None)
+    replayed = channels.channel_list("ep", path)
+    assert indexed.model_dump() == replayed.model_dump()
+    counts = {c.name: c.samples for c in indexed.channels}
+    assert counts == {"f64": 250, "arm": 84, "words": 2, "silent": 0}
+    assert indexed.frames == 250 and indexed.start_ns == T0
+
+
+def test_a_baseline_filtered_recording_lists_its_channels_by_replay(recording: Path) -> None:
+    from api.views.series import recording_times
+
+    assert recording_times(mcap_file(recording)) is None
+    listed = {c.name: c.samples for c in channels.channel_list("ep", recording).channels}
+    assert listed["still"] == 400 and listed["f32"] == 134
