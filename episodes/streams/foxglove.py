@@ -36,6 +36,7 @@ from pathlib import Path
 from typing import Any
 
 from mcap.exceptions import McapError
+from mcap.reader import make_reader
 from mcap.records import Attachment, Channel, DataEnd, Header, Message, Metadata, Schema
 from mcap.stream_reader import StreamReader
 from mcap.writer import CompressionType, Writer
@@ -347,9 +348,7 @@ def _extend_bag(bag: Path, updates: list[tuple[int, bytes]]) -> Path:
     if len(files) != 1 or not str(files[0]).endswith(".mcap"):
         raise CorruptRecordingError(f"{str(bag)!r}: not a single-file MCAP bag ({files})")
     file = bag / str(files[0])
-    compression = (
-        CompressionType.ZSTD if info.get("compression_format") == "zstd" else CompressionType.NONE
-    )
+    compression = _chunk_compression(file)  # rosbags' metadata leaves chunk compression out
     _update_info(info, updates)
     serialized = StringIO()
     yaml.dump(info, serialized)
@@ -364,6 +363,21 @@ def _extend_bag(bag: Path, updates: list[tuple[int, bytes]]) -> Path:
     yaml.dump(document, text)
     _write_atomically(metadata_path, text.getvalue())
     return file
+
+
+def _chunk_compression(file: Path) -> CompressionType:
+    """The compression of the file's chunks (from its summary; none when it has no summary)."""
+    try:
+        with file.open("rb") as stream:
+            summary = make_reader(stream).get_summary()
+    except (McapError, OSError, ValueError, EOFError) as error:
+        raise CorruptRecordingError(f"{str(file)!r} cannot be read: {error}") from error
+    found = {c.compression for c in summary.chunk_indexes} if summary is not None else set()
+    return (
+        CompressionType.LZ4
+        if found == {"lz4"}
+        else (CompressionType.ZSTD if "zstd" in found else CompressionType.NONE)
+    )
 
 
 def _update_info(info: dict[str, Any], updates: list[tuple[int, bytes]]) -> None:

@@ -15,14 +15,22 @@ from rosbags.typesys import Stores, get_types_from_msg, get_typestore
 
 from episodes import EpisodeMemory
 from episodes.scene_channel import scene_bag_path
-from episodes.streams import Replayer
-from episodes.streams.foxglove import SCENE_TOPIC, SCENE_TYPE, _rotation_from_z
+from episodes.streams import Recorder, Replayer
+from episodes.streams.foxglove import (
+    SCENE_TOPIC,
+    SCENE_TYPE,
+    _rotation_from_z,
+    add_scene_channel,
+    scene_entity,
+    scene_message,
+)
 from episodes.streams.recorder import mcap_file
 from kg import Store
 from reasoners.memory import SceneMemory
 from reasoners.primitives import Primitive
 
 START = dt.datetime(2026, 1, 26, 8, 0, tzinfo=dt.UTC)
+T0 = int(START.timestamp() * 1e9)
 BALL = Primitive("ball", "Sphere", centre=(-0.2, 0.0, 0.05), radius=0.05, colour=(1, 0.8, 0))
 CAN = Primitive(
     "can", "Cylinder", centre=(0.1, 0.0, 0.07), axis=(0, 0, 1), radius=0.04, height=0.14
@@ -135,3 +143,26 @@ def test_an_episode_without_scenes_gets_no_scene_channel(tmp_path: Path) -> None
     episodes = EpisodeMemory(Store(), data_dir=tmp_path, clock=lambda: START)
     episodes.end(episodes.begin("babbling", episode_id="b-1").id)
     assert not scene_bag_path(tmp_path, "b-1").exists()
+
+
+def test_a_zstd_recording_keeps_its_compression_and_gains_the_channel(tmp_path: Path) -> None:
+    bag = tmp_path / "ep"
+    recorder = Recorder(bag, episode_id="ep", compression="zstd")
+    recorder.add_provider("head", "joint_state", names=["neck"])
+    for i in range(20):
+        recorder.tick({"head": [0.01 * i]}, time_ns=T0 + i * 10_000_000)
+    recorder.close()
+    ball = {"id": "ball", "kind": "Sphere", "centre": (0.0, 0.0, 0.05), "radius": 0.05}
+    update = scene_message(scene_entity("experience-1", [ball], time_ns=T0 + 5))
+    add_scene_channel(bag, [(T0 + 5, update)], episode_id="ep")
+
+    with mcap_file(bag).open("rb") as stream:
+        reader = make_reader(stream)
+        summary = reader.get_summary()
+        assert summary is not None
+        assert {c.compression for c in summary.chunk_indexes} == {"zstd"}
+        topics = [c.topic for _, c, _ in reader.iter_messages()]
+    assert topics.count(SCENE_TOPIC) == 1 and topics.count("/head") == 20
+    with AnyReader([bag]) as rosbag:
+        assert {c.topic for c in rosbag.connections} >= {SCENE_TOPIC, "/head"}
+    assert Replayer(bag).frame_count == 20
