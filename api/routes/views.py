@@ -45,9 +45,12 @@ Offset = Annotated[int, Query(ge=0, description="Entries to skip.")]
 LIVE_CHECK_S = 0.2
 """How often a live stream looks at the store's write counter (an integer read)."""
 LIVE_KEEPALIVE_S = 15.0
-LIVE_STREAM_S = 300.0
-"""A live stream ends after this long; the browser's EventSource reconnects by itself. So an
-open page never holds a stopping server for long."""
+LIVE_STREAM_S = 15.0
+"""A live stream ends after this long and the browser's EventSource reconnects by itself (and
+is sent the latest scene again). A stopping server waits for open responses to finish, so an
+open live view delays a stop by at most this."""
+LIVE_RETRY_MS = 500
+"""How long the browser waits before it reconnects."""
 
 
 def _memory(request: Request) -> SceneMemory:
@@ -132,7 +135,7 @@ async def latest_scene(store: StoreDep) -> SceneDetail:
 async def _live_events(request: Request, store: StoreDep) -> AsyncIterator[str]:
     """``scene`` events carrying the latest stored scene: one on connecting (when a scene is
     stored) and one each time a write stores a newer one."""
-    yield "retry: 2000\n\n"  # ms before the browser reconnects
+    yield f"retry: {LIVE_RETRY_MS}\n\n"
     began = last_sent = time.monotonic()
     generation, shown = -1, None
     while time.monotonic() - began < LIVE_STREAM_S and not await request.is_disconnected():
@@ -158,8 +161,8 @@ async def _live_events(request: Request, store: StoreDep) -> AsyncIterator[str]:
 async def live_scenes(request: Request, store: StoreDep) -> StreamingResponse:
     """A ``text/event-stream`` for the live 3D view (``engram perceive --server`` and any other
     writer): each ``scene`` event's data is the scene as ``GET /views/scenes/{name}`` gives it.
-    Writes are noticed within ``LIVE_CHECK_S``; the stream ends after ``LIVE_STREAM_S`` and the
-    browser reconnects."""
+    Writes are noticed within ``LIVE_CHECK_S``; the stream ends after ``LIVE_STREAM_S`` (15 s)
+    and the browser reconnects."""
     return StreamingResponse(
         _live_events(request, store),
         media_type="text/event-stream",

@@ -144,7 +144,7 @@ function setLive(on) {
     const latest = JSON.parse(event.data);
     if (!current || latest.scene.iri !== current.scene.iri) draw(latest);
   });
-  // the browser reconnects by itself (the server ends a stream after a few minutes)
+  // the browser reconnects by itself (the server ends each stream after 15 s)
   live.addEventListener("error", () => { canvas.dataset.live = "reconnecting"; });
 }
 
