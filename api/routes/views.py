@@ -44,7 +44,6 @@ Offset = Annotated[int, Query(ge=0, description="Entries to skip.")]
 
 LIVE_CHECK_S = 0.2
 """How often a live stream looks at the store's write counter (an integer read)."""
-LIVE_KEEPALIVE_S = 15.0
 LIVE_STREAM_S = 15.0
 """A live stream ends after this long and the browser's EventSource reconnects by itself (and
 is sent the latest scene again). A stopping server waits for open responses to finish, so an
@@ -132,24 +131,24 @@ async def latest_scene(store: StoreDep) -> SceneDetail:
     return found
 
 
-async def _live_events(request: Request, store: StoreDep) -> AsyncIterator[str]:
+async def _live_events(request: Request, store: StoreDep, *, follow: bool) -> AsyncIterator[str]:
     """``scene`` events carrying the latest stored scene: one on connecting (when a scene is
-    stored) and one each time a write stores a newer one."""
+    stored) and, when ``follow``, one each time a write stores a newer one."""
     yield f"retry: {LIVE_RETRY_MS}\n\n"
-    began = last_sent = time.monotonic()
+    began = time.monotonic()
     generation, shown = -1, None
-    while time.monotonic() - began < LIVE_STREAM_S and not await request.is_disconnected():
+    while True:
         if store.generation != generation:
             generation = store.generation
             found = await run_in_threadpool(scenes.latest_scene, store)
             if found is not None and found.scene.iri != shown:
                 shown = found.scene.iri
-                last_sent = time.monotonic()
                 yield f"event: scene\nid: {generation}\ndata: {found.model_dump_json()}\n\n"
-        if time.monotonic() - last_sent >= LIVE_KEEPALIVE_S:
-            last_sent = time.monotonic()
-            yield ": keep-alive\n\n"
+        if not follow or time.monotonic() - began >= LIVE_STREAM_S:
+            return
         await asyncio.sleep(LIVE_CHECK_S)
+        if await request.is_disconnected():
+            return
 
 
 @router.get(
@@ -162,9 +161,11 @@ async def live_scenes(request: Request, store: StoreDep) -> StreamingResponse:
     """A ``text/event-stream`` for the live 3D view (``engram perceive --server`` and any other
     writer): each ``scene`` event's data is the scene as ``GET /views/scenes/{name}`` gives it.
     Writes are noticed within ``LIVE_CHECK_S``; the stream ends after ``LIVE_STREAM_S`` (15 s)
-    and the browser reconnects."""
+    and the browser reconnects. A client whose ``Accept`` header does not ask for
+    ``text/event-stream`` (as every EventSource does) gets the current scene and the end."""
+    follow = "text/event-stream" in request.headers.get("accept", "")
     return StreamingResponse(
-        _live_events(request, store),
+        _live_events(request, store, follow=follow),
         media_type="text/event-stream",
         headers={"Cache-Control": "no-cache", "X-Accel-Buffering": "no"},
     )

@@ -42,6 +42,9 @@ TOWER = [
 ]
 
 
+FOLLOW = {"Accept": "text/event-stream"}  # as an EventSource asks
+
+
 def _store(view_server: ViewServer, primitives: list[ScenePrimitive]) -> str:
     with ArmorClient("camera", "engram", base_url=view_server.url) as client:
         client.memory.store_scene(primitives)
@@ -66,7 +69,7 @@ def test_the_stream_sends_the_latest_scene_then_each_newly_stored_one(
     view_server: ViewServer,
 ) -> None:
     before = view_server.client.get("/views/scenes/latest").json()["scene"]["name"]
-    http = httpx.Client(base_url=view_server.url, timeout=30)
+    http = httpx.Client(base_url=view_server.url, timeout=30, headers=FOLLOW)
     with http, http.stream("GET", "/views/scenes/live") as answer:
         assert answer.status_code == 200
         assert answer.headers["content-type"].startswith("text/event-stream")
@@ -80,6 +83,16 @@ def test_the_stream_sends_the_latest_scene_then_each_newly_stored_one(
         assert detail["scene"]["name"] == stored != before
         assert sorted(p["id"] for p in detail["primitives"]) == ["base", "side", "top"]
         assert int(pushed["id"]) > int(first["id"])
+
+
+def test_a_client_not_asking_for_a_stream_gets_the_current_scene_and_the_end(
+    view_server: ViewServer,
+) -> None:
+    latest = view_server.client.get("/views/scenes/latest").json()["scene"]["name"]
+    answer = view_server.client.get("/views/scenes/live", headers={"Accept": "*/*"})
+    assert answer.status_code == 200
+    events = list(_events(iter(answer.text.splitlines())))
+    assert [json.loads(e["data"])["scene"]["name"] for e in events] == [latest]
 
 
 @pytest.mark.slow
@@ -114,7 +127,7 @@ def test_an_open_stream_does_not_hold_a_stopping_server(
     opened = threading.Event()
 
     def listen() -> None:
-        http = httpx.Client(base_url=url, timeout=30)
+        http = httpx.Client(base_url=url, timeout=30, headers=FOLLOW)
         with http, http.stream("GET", "/views/scenes/live") as answer:
             opened.set()
             for _ in answer.iter_lines():
