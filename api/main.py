@@ -107,10 +107,12 @@ def create_app(settings: Settings | None = None) -> FastAPI:
             archive=open_archive(settings),
         )
         sleeper = asyncio.create_task(_sleep_when_due(scene_memory, settings.sleep_check_s))
+        warmer = asyncio.create_task(views.warm_up(scene_memory))  # the graph page's first list
         try:
             yield
         finally:
             sleeper.cancel()
+            warmer.cancel()
             recordings.close_all()  # a recording still open at shutdown ends as a complete file
             runner.close()
             if scene_memory.wait_ready(timeout_s=0):

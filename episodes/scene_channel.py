@@ -1,9 +1,10 @@
-"""An episode's stored scenes as a Foxglove ``SceneUpdate`` channel, one MCAP file per episode.
+"""An episode's stored scenes as a Foxglove ``SceneUpdate`` channel inside its own MCAP file.
 
 When an episode ends, the experienced scenes linked to it (``engram:happenedDuring``) are read
-from the episodic graph with their primitives and written to ``<data_dir>/scenes/<id>.mcap``
-(see :mod:`episodes.streams.foxglove` for the format and why it is a file of its own), one
-message per scene at the time it was stored.
+from the episodic graph with their primitives and written into the episode's rosbag2 recording
+``<data_dir>/streams/<id>/`` as the ``/engram/scenes`` channel (``foxglove_msgs/msg/SceneUpdate``,
+CDR; see :mod:`episodes.streams.foxglove`), one message per scene at the time it was stored. An
+episode that recorded no streams gets a recording holding only its scenes.
 """
 
 import datetime as dt
@@ -13,7 +14,9 @@ from typing import Any
 
 from pyoxigraph import Literal, NamedNode
 
-from episodes.streams.foxglove import scene_entity, scene_update, write_scene_mcap
+from episodes.streams.errors import CorruptRecordingError
+from episodes.streams.foxglove import add_scene_channel, scene_entity, scene_message
+from episodes.streams.registry import bag_path
 from episodes.terms import check_id, episode_iri
 from kg import Store
 from ontologies.vocab import (
@@ -31,15 +34,15 @@ from ontologies.vocab import (
     RDFS_LABEL,
 )
 
-__all__ = ["scene_mcap_path", "write_episode_scenes"]
+__all__ = ["scene_bag_path", "write_episode_scenes"]
 
 log = logging.getLogger(__name__)
 _KINDS = {ENGRAM_NS + k: k for k in ("Sphere", "Cylinder", "Cone", "Plane")}
 
 
-def scene_mcap_path(data_dir: Path, episode_id: str) -> Path:
-    """Where the scene channel of an episode is written."""
-    return data_dir / "scenes" / f"{check_id(episode_id, 'episode')}.mcap"
+def scene_bag_path(data_dir: Path, episode_id: str) -> Path:
+    """The rosbag2 directory that receives the episode's scene channel: its recording."""
+    return bag_path(data_dir / "streams", check_id(episode_id, "episode"))
 
 
 def _values(store: Store, subject: NamedNode) -> dict[str, Any]:
@@ -75,7 +78,9 @@ def _primitive(store: Store, iri: NamedNode) -> dict[str, Any] | None:
 
 
 def write_episode_scenes(store: Store, data_dir: Path, episode_id: str) -> Path | None:
-    """Write the episode's scenes as a ``foxglove.SceneUpdate`` channel; None when it has none."""
+    """Write the episode's scenes as a ``SceneUpdate`` channel into its recording's MCAP file
+    and return that file; None when it has no scenes, or when the recording cannot be read
+    (logged: the episode still ends, its recording untouched)."""
     episode = episode_iri(episode_id)
     updates = []
     for quad in store.quads(None, HAPPENED_DURING, episode, EPISODIC):
@@ -94,9 +99,15 @@ def write_episode_scenes(store: Store, data_dir: Path, episode_id: str) -> Path 
         members.sort(key=lambda m: (len(m.value), m.value))
         primitives = [p for m in members if (p := _primitive(store, m)) is not None]
         name = scene.value.rsplit("#", 1)[-1]
-        updates.append((time_ns, scene_update(scene_entity(name, primitives, time_ns=time_ns))))
+        updates.append((time_ns, scene_message(scene_entity(name, primitives, time_ns=time_ns))))
     if not updates:
         return None
-    path = write_scene_mcap(scene_mcap_path(data_dir, episode_id), updates)
+    try:
+        path = add_scene_channel(
+            scene_bag_path(data_dir, episode_id), updates, episode_id=episode_id
+        )
+    except CorruptRecordingError as error:
+        log.warning("episode %s: scenes not written into its recording: %s", episode_id, error)
+        return None
     log.info("episode %s: %d scenes written to %s", episode_id, len(updates), path)
     return path

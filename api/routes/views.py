@@ -2,11 +2,15 @@
 and ``/`` serving the pages themselves (``api/web/``). Read-only; pin and restore go through
 the directive API like any other write."""
 
+import asyncio
+import logging
+import time
+from collections.abc import AsyncIterator
 from pathlib import Path
 from typing import Annotated
 
 from fastapi import APIRouter, FastAPI, HTTPException, Query, Request, Response, status
-from fastapi.responses import RedirectResponse
+from fastapi.responses import RedirectResponse, StreamingResponse
 from fastapi.staticfiles import StaticFiles
 from starlette.concurrency import run_in_threadpool
 
@@ -26,7 +30,9 @@ from api.views.models import (
 from episodes.terms import check_id
 from reasoners.memory import SceneMemory
 
-__all__ = ["WEB_DIR", "install", "router"]
+__all__ = ["WEB_DIR", "install", "router", "warm_up"]
+
+log = logging.getLogger(__name__)
 
 WEB_DIR = Path(__file__).resolve().parent.parent / "web"
 """The static pages, scripts, styles and vendored libraries."""
@@ -35,6 +41,15 @@ router = APIRouter(tags=["views"])
 _NOT_FOUND = error_responses(404)
 
 Offset = Annotated[int, Query(ge=0, description="Entries to skip.")]
+
+LIVE_CHECK_S = 0.2
+"""How often a live stream looks at the store's write counter (an integer read)."""
+LIVE_STREAM_S = 15.0
+"""A live stream ends after this long and the browser's EventSource reconnects by itself (and
+is sent the latest scene again). A stopping server waits for open responses to finish, so an
+open live view delays a stop by at most this."""
+LIVE_RETRY_MS = 500
+"""How long the browser waits before it reconnects."""
 
 
 def _memory(request: Request) -> SceneMemory:
@@ -108,11 +123,52 @@ async def scene_list(
 
 @router.get("/views/scenes/latest", summary="The scene stored last", responses=_NOT_FOUND)
 async def latest_scene(store: StoreDep) -> SceneDetail:
-    """For the live 3D view, which polls it; 404 while no scene is stored."""
+    """The scene stored last; 404 while no scene is stored (the live view follows
+    ``/views/scenes/live``)."""
     found = await run_in_threadpool(scenes.latest_scene, store)
     if found is None:
         raise HTTPException(status.HTTP_404_NOT_FOUND, "no scene is stored yet")
     return found
+
+
+async def _live_events(request: Request, store: StoreDep, *, follow: bool) -> AsyncIterator[str]:
+    """``scene`` events carrying the latest stored scene: one on connecting (when a scene is
+    stored) and, when ``follow``, one each time a write stores a newer one."""
+    yield f"retry: {LIVE_RETRY_MS}\n\n"
+    began = time.monotonic()
+    generation, shown = -1, None
+    while True:
+        if store.generation != generation:
+            generation = store.generation
+            found = await run_in_threadpool(scenes.latest_scene, store)
+            if found is not None and found.scene.iri != shown:
+                shown = found.scene.iri
+                yield f"event: scene\nid: {generation}\ndata: {found.model_dump_json()}\n\n"
+        if not follow or time.monotonic() - began >= LIVE_STREAM_S:
+            return
+        await asyncio.sleep(LIVE_CHECK_S)
+        if await request.is_disconnected():
+            return
+
+
+@router.get(
+    "/views/scenes/live",
+    summary="The latest stored scene, pushed as server-sent events",
+    response_class=StreamingResponse,
+    responses={200: {"content": {"text/event-stream": {}}}},
+)
+async def live_scenes(request: Request, store: StoreDep) -> StreamingResponse:
+    """A ``text/event-stream`` for the live 3D view (``engram perceive --server`` and any other
+    writer): each ``scene`` event's data is the scene as ``GET /views/scenes/{name}`` gives it.
+    Writes are noticed within ``LIVE_CHECK_S``; the stream ends after ``LIVE_STREAM_S`` (15 s)
+    and the browser reconnects. A client whose ``Accept`` header does not ask for
+    ``text/event-stream`` (as every EventSource does) gets the current scene and the end."""
+    follow = "text/event-stream" in request.headers.get("accept", "")
+    return StreamingResponse(
+        _live_events(request, store, follow=follow),
+        media_type="text/event-stream",
+        headers={"Cache-Control": "no-cache", "X-Accel-Buffering": "no"},
+    )
 
 
 @router.get(
@@ -174,6 +230,18 @@ async def frames(
 ) -> FrameList:
     path = memory.streams_path(check_id(episode_id, "episode_id"))
     return await run_in_threadpool(channels.frame_list, path, channel, offset=offset, limit=limit)
+
+
+async def warm_up(memory: SceneMemory, *, poll_s: float = 0.5) -> None:
+    """Once the memory has loaded, derive the class list the graph page reads first (seconds for
+    10,000 classes), in a worker thread, so the first page load finds it ready. Run as a task by
+    the app's lifespan and cancelled with it."""
+    while not memory.wait_ready(timeout_s=0):
+        await asyncio.sleep(poll_s)
+    try:
+        await run_in_threadpool(graph.warm, memory)
+    except Exception:  # only the first page load is slower then
+        log.warning("the class list was not prepared ahead", exc_info=True)
 
 
 def install(app: FastAPI) -> None:

@@ -22,6 +22,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from api.views import series as series_scan
 from api.views.models import ChannelInfo, ChannelList, FrameList, PlotData
 from episodes.streams import (
     InvalidSampleError,
@@ -85,19 +86,30 @@ def _file(path: Path) -> Path:
 
 
 def channel_list(episode_id: str, path: Path) -> ChannelList:
-    """The channels of the recording at ``path`` with their sample counts and coverage.
+    """The channels of the recording at ``path`` with their sample counts and coverage (from
+    the file's indexes when it has them, else by replaying its tick records).
 
     Raises ``RecordingNotFoundError`` when nothing was recorded."""
-    replayer = _replayer(path)
-    start, end = replayer.start_ns, replayer.end_ns
+    if not path.exists():
+        raise RecordingNotFoundError(f"episode: nothing was recorded at {path.name!r}")
+    indexed = _cached(_file(path), "times", lambda: series_scan.recording_times(_file(path)))
+    if indexed is not None:
+        ticks, providers, samples = indexed.ticks, indexed.providers, indexed.samples
+    else:
+        replayer = _replayer(path)
+        providers = replayer.providers
+        ticks = np.asarray([t.time_ns for t in replayer.ticks], dtype=np.int64)
+        times: dict[str, list[int]] = {name: [] for name in providers}
+        for tick in replayer.ticks:
+            for name in tick.providers:
+                times.setdefault(name, []).append(tick.time_ns)
+        samples = {name: np.asarray(t, dtype=np.int64) for name, t in times.items()}
+    start = int(ticks[0]) if len(ticks) else None
+    end = int(ticks[-1]) if len(ticks) else None
     span = (end - start) if start is not None and end is not None and end > start else 0
-    times: dict[str, list[int]] = {name: [] for name in replayer.providers}
-    for tick in replayer.ticks:
-        for name in tick.providers:
-            times.setdefault(name, []).append(tick.time_ns)
     channels = []
-    for name, spec in sorted(replayer.providers.items()):
-        stamps = np.asarray(times.get(name, []), dtype=np.int64)
+    for name, spec in sorted(providers.items()):
+        stamps = samples.get(name, np.zeros(0, np.int64))
         if len(stamps) and start is not None:
             bins = (
                 np.minimum((stamps - start) * COVERAGE_BINS // span, COVERAGE_BINS - 1)
@@ -121,11 +133,7 @@ def channel_list(episode_id: str, path: Path) -> ChannelList:
             )
         )
     return ChannelList(
-        episode=episode_id,
-        start_ns=start,
-        end_ns=end,
-        frames=replayer.frame_count,
-        channels=channels,
+        episode=episode_id, start_ns=start, end_ns=end, frames=len(ticks), channels=channels
     )
 
 
@@ -185,19 +193,43 @@ def decimate(
     return x, ys
 
 
+def _names(channel: str, spec: Any, width: int) -> list[str]:
+    names = [f"{n} position" for n in spec.names[:width]] if spec.kind is Kind.JOINT_STATE else []
+    return names + [f"{channel}[{i}]" for i in range(len(names), width)]
+
+
+def _scanned_series(path: Path, key: str) -> tuple[Any, int | None, _Series | None]:
+    """The channel's spec, the first tick time and its series when one scan of the file gives
+    them (:mod:`api.views.series`); the series is None when only replay can read it."""
+    scan = series_scan.scan_channel(_file(path), key)
+    spec = scan.providers.get(key)
+    if spec is None or scan.time_ns is None or scan.values is None:
+        return spec, scan.start_ns, None
+    values = scan.values[:, :MAX_SERIES].T.copy()
+    return spec, scan.start_ns, _Series(_names(key, spec, values.shape[0]), scan.time_ns, values)
+
+
 def plot_data(path: Path, channel: str, *, points: int) -> PlotData:
     """The numeric channel ``channel`` decimated to at most ``points`` points.
 
     Raises ``UnknownProviderError`` for a channel the file lacks and ``InvalidSampleError`` for
     one that holds no numbers (images, audio, text)."""
-    replayer = _replayer(path)
-    key, spec = _spec(replayer, channel)
-    if spec.kind not in _NUMERIC:
-        raise InvalidSampleError(
-            "channel", channel, "a numeric channel (joint_state or float_array), not " + spec.kind
-        )
-    series: _Series = _cached(_file(path), key, lambda: _read_series(replayer, key, spec))
-    start = replayer.start_ns or 0
+    if not path.exists():
+        raise RecordingNotFoundError(f"episode: nothing was recorded at {path.name!r}")
+    key = channel.removeprefix("/")
+    spec, start, series = _cached(_file(path), "scan:" + key, lambda: _scanned_series(path, key))
+    if series is None:  # baseline-filtered or unusual: replay it (slower, read once and kept)
+        replayer = _replayer(path)
+        key, spec = _spec(replayer, channel)
+        if spec.kind not in _NUMERIC:
+            raise InvalidSampleError(
+                "channel",
+                channel,
+                "a numeric channel (joint_state or float_array), not " + spec.kind,
+            )
+        series = _cached(_file(path), key, lambda: _read_series(replayer, key, spec))
+        start = replayer.start_ns
+    start = start or 0
     t = (series.time_ns - start) / 1e9
     x, ys = decimate(t, series.values, points=points)
     return PlotData(

@@ -8,6 +8,7 @@ signature, counters and last score as they were when it was forgotten.
 import datetime as dt
 import json
 import threading
+from dataclasses import dataclass, field
 from functools import cache
 from typing import Any
 
@@ -41,7 +42,13 @@ from reasoners.memory import SceneMemory
 from reasoners.results import ClassSummary
 from reasoners.signature import Signature
 
-__all__ = ["UnknownClassError", "class_detail", "class_list_json", "local_name"]
+__all__ = [
+    "UnknownClassError",
+    "class_detail",
+    "class_list_json",
+    "local_name",
+    "warm",
+]
 
 SCENES_SHOWN = 50
 """The stored scenes a class's detail lists, newest first."""
@@ -74,6 +81,11 @@ def _relations(signature: Signature) -> list[str]:
 def _live_fields(summary: ClassSummary) -> dict[str, Any]:
     """A live class as :class:`ClassNode`'s fields (plain values, so a list of 10,000 serialises
     without a model per node)."""
+    return {**_node_fields(summary), "relations": _relations(summary.signature)}
+
+
+def _node_fields(summary: ClassSummary) -> dict[str, Any]:
+    """:func:`_live_fields` but the relations."""
     s = summary.scores
     return {
         "name": local_name(summary.iri),
@@ -87,7 +99,6 @@ def _live_fields(summary: ClassSummary) -> dict[str, Any]:
         "store_count": s.store_count,
         "retrieve_count": s.retrieve_count,
         "parents": [local_name(p) for p in summary.parents],
-        "relations": _relations(summary.signature),
     }
 
 
@@ -152,36 +163,77 @@ def _matches(node: dict[str, Any], query: str) -> bool:
     return q in node["name"].lower() or any(q in r.lower() for r in node["relations"])
 
 
+@dataclass
+class _Entry:
+    """One memory state's class list: nodes without their relations, the signatures (or, for
+    forgotten classes, the relations) to add them from, and the pages as JSON."""
+
+    generation: int
+    nodes: list[dict[str, Any]]
+    sources: list[Signature | list[str]]
+    pages: dict[bool, bytes] = field(default_factory=dict)
+    full: list[dict[str, Any]] | None = None
+
+    def with_relations(self) -> list[dict[str, Any]]:
+        """The nodes with their relations (derived once, when a search or a client asks)."""
+        if self.full is None:
+            self.full = [
+                {**node, "relations": s if isinstance(s, list) else _relations(s)}
+                for node, s in zip(self.nodes, self.sources, strict=True)
+            ]
+        return self.full
+
+    def page(self, relations: bool) -> bytes:
+        whole = self.pages.get(relations)
+        if whole is None:
+            shown = self.with_relations() if relations else self.nodes
+            whole = self.pages[relations] = _page(shown, offset=0, limit=len(shown))
+        return whole
+
+
 class _NodeCache:
-    """The node list of the last memory state seen (the store's transaction count names it),
-    and its whole page as JSON: deriving 10,000 classes' scores takes seconds, serialising them
-    a third of one; serving them again must take neither."""
+    """The class list of the last memory state seen (the store's transaction count names it):
+    deriving 10,000 classes' scores takes a second or two, serialising them a fifth of one;
+    serving them again must take neither. The graph page reads the list without relations, so
+    they are derived only when a search or a client needs them; a second request for a state
+    being derived waits for the first's result."""
 
     def __init__(self) -> None:
         self._lock = threading.Lock()
-        self._entries: dict[tuple[int, bool, bool], tuple[int, list[dict[str, Any]], bytes]] = {}
+        self._computing = threading.Lock()
+        self._entries: dict[tuple[int, bool], _Entry] = {}
 
-    def get(
-        self, memory: SceneMemory, *, trash: bool, relations: bool
-    ) -> tuple[list[dict[str, Any]], bytes]:
-        """The nodes (with their relations), and the JSON of the page holding all of them
-        (without the relations unless ``relations``)."""
-        key, generation = (id(memory), trash, relations), memory.store.generation
+    def get(self, memory: SceneMemory, *, trash: bool) -> _Entry:
+        key, generation = (id(memory), trash), memory.store.generation
         with self._lock:
             cached = self._entries.get(key)
-        if cached is not None and cached[0] == generation:
-            return cached[1], cached[2]
-        summaries = memory.classes()
-        nodes = [_live_fields(s) for s in summaries]
-        if trash:
-            top = max((s.scores.raw_score for s in summaries), default=0.0)
-            nodes.extend(n.model_dump() for n in _forgotten_classes(memory, top))
-        shown = nodes if relations else [_without_relations(n) for n in nodes]
-        whole = _page(shown, offset=0, limit=len(nodes))
-        with self._lock:
-            self._entries = {k: v for k, v in self._entries.items() if k[0] == id(memory)}
-            self._entries[key] = (generation, nodes, whole)
-        return nodes, whole
+        if cached is not None and cached.generation == generation:
+            return cached
+        with self._computing:
+            with self._lock:
+                cached = self._entries.get(key)
+            if cached is not None and cached.generation == generation:
+                return cached
+            summaries = memory.classes()
+            nodes = [_node_fields(s) for s in summaries]
+            sources: list[Signature | list[str]] = [s.signature for s in summaries]
+            if trash:
+                top = max((s.scores.raw_score for s in summaries), default=0.0)
+                for forgotten in _forgotten_classes(memory, top):
+                    fields = forgotten.model_dump()
+                    sources.append(fields.pop("relations"))
+                    nodes.append(fields)
+            entry = _Entry(generation, nodes, sources)
+            with self._lock:
+                self._entries = {k: v for k, v in self._entries.items() if k[0] == id(memory)}
+                self._entries[key] = entry
+            return entry
+
+
+def warm(memory: SceneMemory) -> None:
+    """Derive the class list the graph page reads first, so that its first paint after the
+    server starts does not wait for it (called once the memory is loaded)."""
+    _cache.get(memory, trash=False).page(relations=False)
 
 
 _cache = _NodeCache()
@@ -210,11 +262,14 @@ def class_list_json(
     simplest first, matching ``query`` (a part of the name or of a relation like
     "sphere isAboveOf plane") when given; without ``relations``, the nodes leave them out
     (a fifth of the bytes)."""
-    nodes, whole = _cache.get(memory, trash=trash, relations=relations)
-    if not query and offset == 0 and limit >= len(nodes):
-        if limit == len(nodes):
+    entry = _cache.get(memory, trash=trash)
+    total = len(entry.nodes)
+    if not query and offset == 0 and limit >= total:
+        whole = entry.page(relations)
+        if limit == total:
             return whole
-        return whole.replace(b'"limit":%d' % len(nodes), b'"limit":%d' % limit, 1)
+        return whole.replace(b'"limit":%d' % total, b'"limit":%d' % limit, 1)
+    nodes = entry.with_relations()
     if query:
         nodes = [n for n in nodes if _matches(n, query)]
     if not relations:

@@ -1,6 +1,7 @@
 // The memory graph: classes as nodes sized by score and coloured by level, direct subclass
-// edges top-down by complexity; a class's detail with pin / restore.
-import { directive, element, getJSON, showError } from "./app.js";
+// edges top-down by complexity; a class's detail with its score history and pin / restore.
+import { directive, element, getJSON, loadScript, showError } from "./app.js";
+import { historyPanel } from "./history.js";
 
 const COLOURS = { HIGH: "#2e7d32", LOW: "#f9a825", WEAK: "#c62828" };
 const DAGRE_LIMIT = 300; // above this many nodes, rows by complexity (dagre is too slow there)
@@ -62,36 +63,109 @@ function overviewLayout() {
   return { placed, width: widest, height: keys.length };
 }
 
-function drawOverview() {
+// Edges as one-pixel lines blended straight into the canvas's pixels: tens of thousands of
+// anti-aliased strokes cost the rasteriser most of a second, this a few tens of milliseconds.
+const EDGE = [120, 130, 140], EDGE_ALPHA = 0.22;
+const BLEND = EDGE.map((c) => Uint8Array.from({ length: 256 }, (_, v) => Math.round(v + (c - v) * EDGE_ALPHA)));
+
+function clip(x0, y0, x1, y1, w, h) { // Liang-Barsky against [0, w-1] x [0, h-1]
+  let t0 = 0, t1 = 1;
+  const dx = x1 - x0, dy = y1 - y0;
+  for (const [p, q] of [[-dx, x0], [dx, w - 1 - x0], [-dy, y0], [dy, h - 1 - y0]]) {
+    if (p === 0) { if (q < 0) return null; continue; }
+    const t = q / p;
+    if (p < 0) { if (t > t1) return null; if (t > t0) t0 = t; } else { if (t < t0) return null; if (t < t1) t1 = t; }
+  }
+  return [x0 + t0 * dx, y0 + t0 * dy, x0 + t1 * dx, y0 + t1 * dy];
+}
+
+function drawEdges(g, w, h, segments) { // onto a white canvas
+  const image = g.createImageData(w, h), px = image.data;
+  px.fill(255);
+  const [r, gr, b] = BLEND;
+  for (let i = 0; i < segments.length; i += 4) {
+    const c = clip(segments[i], segments[i + 1], segments[i + 2], segments[i + 3], w, h);
+    if (!c) continue;
+    let x = Math.round(c[0]), y = Math.round(c[1]);
+    const x1 = Math.round(c[2]), y1 = Math.round(c[3]);
+    const dx = Math.abs(x1 - x), dy = -Math.abs(y1 - y), stepX = x < x1 ? 1 : -1, stepY = y < y1 ? 1 : -1;
+    let error = dx + dy;
+    for (;;) { // Bresenham
+      const k = 4 * (y * w + x);
+      px[k] = r[px[k]]; px[k + 1] = gr[px[k + 1]]; px[k + 2] = b[px[k + 2]];
+      if (x === x1 && y === y1) break;
+      const e2 = 2 * error;
+      if (e2 >= dy) { error += dy; x += stepX; }
+      if (e2 <= dx) { error += dx; y += stepY; }
+    }
+  }
+  g.putImageData(image, 0, 0);
+}
+
+// Nodes are drawn at once; the edges (most of the drawing time at 10,000 classes) follow in a
+// later task, after a pause in zooming and panning, under the nodes again.
+let edgeTimer = null;
+
+function drawOverview(delay = 0) {
+  paintOverview(false);
+  clearTimeout(edgeTimer);
+  delete overview.canvas.dataset.edgesDrawn;
+  const edges = () => {
+    paintOverview(true);
+    performance.mark("graph-edges");
+    overview.canvas.dataset.edgesDrawn = "true";
+  };
+  // after the frame showing the nodes (a task queued from a frame callback runs after it)
+  requestAnimationFrame(() => { clearTimeout(edgeTimer); edgeTimer = setTimeout(edges, delay); });
+}
+
+function paintOverview(withEdges) {
   const { canvas, layout, view } = overview;
-  // A CPU-backed canvas: tens of thousands of lines rasterise faster there than through a
-  // software GPU (headless, or a machine without one).
+  // A CPU-backed canvas: its pixels are written directly (the edges), with no GPU round trip.
   const g = canvas.getContext("2d", { willReadFrequently: true });
   const w = canvas.width, h = canvas.height;
   g.fillStyle = "#ffffff"; g.fillRect(0, 0, w, h);
   const sx = (x) => view.x + x * view.scale * w / layout.width;
   const sy = (y) => view.y + y * view.scale * h / layout.height;
   const query = matching !== null;
-  g.strokeStyle = "rgba(120,130,140,0.18)"; g.lineWidth = 0.5; g.beginPath();
-  for (const { node, x, y } of layout.placed.values()) {
-    for (const parent of node.parents) {
-      const p = layout.placed.get(parent);
-      if (p) { g.moveTo(sx(p.x), sy(p.y)); g.lineTo(sx(x), sy(y)); }
+  if (withEdges) {
+    const segments = [];
+    for (const { node, x, y } of layout.placed.values()) {
+      for (const parent of node.parents) {
+        const p = layout.placed.get(parent);
+        if (p) segments.push(sx(p.x), sy(p.y), sx(x), sy(y));
+      }
     }
+    drawEdges(g, w, h, segments);
   }
-  g.stroke();
   const unit = Math.min(view.scale * w / layout.width, view.scale * h / layout.height);
+  // Nodes go into one path per colour and opacity (a few fills, not one per node); nodes a few
+  // pixels wide are squares, which rasterise far faster than circles and look the same.
   let matches = 0;
+  const groups = new Map(), outlined = [];
   for (const { node, x, y } of layout.placed.values()) {
     const hit = query && matching.has(node.name);
     if (hit) matches += 1;
-    g.globalAlpha = node.forgotten ? 0.45 : query && !hit ? 0.15 : 1;
+    const alpha = node.forgotten ? 0.45 : query && !hit ? 0.15 : 1;
+    const colour = COLOURS[node.level] || "#888";
+    const key = `${colour}|${alpha}`;
+    if (!groups.has(key)) groups.set(key, { colour, alpha, items: [] });
     const r = Math.max(1.5, unit * (0.15 + 0.3 * node.score));
-    g.fillStyle = COLOURS[node.level] || "#888";
-    g.beginPath(); g.arc(sx(x), sy(y), r, 0, 2 * Math.PI); g.fill();
-    if (node.pinned || hit || node.name === overview.selected) {
-      g.lineWidth = 2; g.strokeStyle = node.name === overview.selected ? "#000" : "#1565c0"; g.stroke();
+    groups.get(key).items.push(sx(x), sy(y), r);
+    if (node.pinned || hit || node.name === overview.selected) outlined.push([node, sx(x), sy(y), r]);
+  }
+  for (const { colour, alpha, items } of groups.values()) {
+    g.globalAlpha = alpha; g.fillStyle = colour; g.beginPath();
+    for (let i = 0; i < items.length; i += 3) {
+      const px = items[i], py = items[i + 1], r = items[i + 2];
+      if (r < 3) { g.rect(px - r, py - r, 2 * r, 2 * r); } else { g.moveTo(px + r, py); g.arc(px, py, r, 0, 2 * Math.PI); }
     }
+    g.fill();
+  }
+  g.globalAlpha = 1; g.lineWidth = 2;
+  for (const [node, px, py, r] of outlined) {
+    g.strokeStyle = node.name === overview.selected ? "#000" : "#1565c0";
+    g.beginPath(); g.arc(px, py, r, 0, 2 * Math.PI); g.stroke();
   }
   g.globalAlpha = 1;
   document.getElementById("graph-count").dataset.matches = String(matches);
@@ -113,7 +187,7 @@ function showOverview() {
       e.preventDefault();
       const f = e.deltaY < 0 ? 1.25 : 0.8, v = overview.view;
       v.x = e.offsetX - (e.offsetX - v.x) * f; v.y = e.offsetY - (e.offsetY - v.y) * f; v.scale *= f;
-      drawOverview();
+      drawOverview(150);
     }, { passive: false });
     let drag = null;
     canvas.addEventListener("mousedown", (e) => { drag = { x: e.offsetX, y: e.offsetY, moved: false }; });
@@ -121,7 +195,7 @@ function showOverview() {
       if (!drag) return;
       overview.view.x += e.offsetX - drag.x; overview.view.y += e.offsetY - drag.y;
       drag.moved = drag.moved || Math.abs(e.offsetX - drag.x) + Math.abs(e.offsetY - drag.y) > 2;
-      drag.x = e.offsetX; drag.y = e.offsetY; drawOverview();
+      drag.x = e.offsetX; drag.y = e.offsetY; drawOverview(150);
     });
     canvas.addEventListener("mouseup", (e) => {
       const moved = drag && drag.moved; drag = null;
@@ -151,12 +225,15 @@ async function load() {
   document.getElementById("graph-count").textContent =
     `${page.total} classes${trash ? " (with the trash)" : ""}`;
   if (nodes.length > OVERVIEW_LIMIT) {
-    cy.elements().remove();
+    if (cy) cy.elements().remove();
     showOverview();
+    performance.mark("graph-drawn");
+    requestAnimationFrame(() => performance.mark("graph-frame")); // the frame showing them
     document.getElementById("cy").dataset.nodes = String(nodes.length);
     document.getElementById("cy").dataset.edges = String(nodes.reduce((n, c) => n + c.parents.length, 0));
     return;
   }
+  await graph();
   if (overview) overview.canvas.hidden = true;
   const big = nodes.length > DAGRE_LIMIT;
   cy.startBatch();
@@ -166,7 +243,8 @@ async function load() {
   cy.endBatch();
   performance.mark("graph-added");
   cy.layout(layoutOptions(nodes.length)).run();
-  performance.mark("graph-laid-out");
+  performance.mark("graph-drawn");
+  requestAnimationFrame(() => performance.mark("graph-frame"));
   applySearch();
   document.getElementById("cy").dataset.nodes = String(cy.nodes().length);
   document.getElementById("cy").dataset.edges = String(cy.edges().length);
@@ -214,19 +292,6 @@ function counters(node, detail) {
     rows.map(([k, v]) => element("tr", {}, element("th", {}, k), element("td", {}, v))));
 }
 
-function historyChart(detail) {
-  const box = element("div", { class: "history" });
-  const points = detail.history;
-  if (!points.length) return box;
-  const t = points.map((p) => Date.parse(p.time) / 1000);
-  const s = points.map((p) => p.score);
-  const opts = { width: 340, height: 140, title: "normalised score over time",
-    series: [{}, { label: "score", stroke: "#1565c0", points: { show: true, size: 6 } }],
-    scales: { y: { range: [0, 1] } } };
-  requestAnimationFrame(() => new uPlot(opts, [t, s], box));
-  return box;
-}
-
 async function select(name) {
   const panel = document.getElementById("class-detail");
   try {
@@ -248,7 +313,7 @@ async function select(name) {
     panel.replaceChildren(
       element("h2", {}, node.name, node.pinned ? " (pinned)" : "", node.forgotten ? " (forgotten)" : ""),
       element("p", { class: "words" }, detail.words),
-      counters(node, detail), historyChart(detail),
+      counters(node, detail), historyPanel(node),
       element("h3", {}, "Stored scenes"),
       element("ul", { class: "scenes" }, detail.scenes.length
         ? detail.scenes.map((s) => element("li", {},
@@ -278,7 +343,12 @@ function styles(big) {
   ];
 }
 
-export async function start() {
+// cytoscape (and dagre) are loaded and started only for memories small enough to draw with
+// them: a memory of 10,000 classes paints its canvas overview without parsing them at all.
+async function graph() {
+  if (cy) return cy;
+  await loadScript("vendor/cytoscape.min.js");
+  await loadScript("vendor/cytoscape-dagre.min.js");
   cy = cytoscape({
     container: document.getElementById("cy"),
     hideEdgesOnViewport: true,
@@ -288,6 +358,10 @@ export async function start() {
   });
   window.engramGraph = cy; // for scripts and tests driving the page
   cy.on("tap", "node", (event) => select(event.target.id()));
+  return cy;
+}
+
+export async function start() {
   document.getElementById("graph-trash").addEventListener("change", () => load().then(search));
   document.getElementById("graph-search").addEventListener("input", () => {
     clearTimeout(searchTimer);
@@ -297,5 +371,5 @@ export async function start() {
 }
 
 export async function show() {
-  cy.resize();
+  if (cy) cy.resize();
 }

@@ -1,13 +1,13 @@
 // A stored scene in 3D: primitives as meshes at their stored centres, radii, axes and heights,
-// z up, orbit controls, relations as labelled arrows on demand; live mode polls the latest scene.
+// z up, orbit controls, relations as labelled arrows on demand; live mode follows the latest scene
+// stored, pushed by the server as server-sent events (/views/scenes/live).
 import * as THREE from "three";
 import { OrbitControls } from "./vendor/OrbitControls.js";
 import { element, getJSON, showError } from "./app.js";
 
 const FALLBACK = { Sphere: 0xf9a825, Cylinder: 0x1565c0, Cone: 0xc62828, Plane: 0x9e9e9e };
 const BACKGROUND = 0xeef1f5;
-const LIVE_POLL_MS = 1000;
-let renderer, camera, scene, controls, content, current = null, liveTimer = null;
+let renderer, camera, scene, controls, content, current = null, live = null;
 
 function colourOf(p) {
   if (!p.colour) return new THREE.Color(FALLBACK[p.kind]);
@@ -132,17 +132,20 @@ async function open(name) {
   } catch (error) { showError(document.getElementById("scene-detail"), error); }
 }
 
-async function poll() {
-  try {
-    const latest = await getJSON("/views/scenes/latest");
-    if (!current || latest.scene.name !== current.scene.name) draw(latest);
-  } catch (error) { if (error.status !== 404) console.warn(error); }
-}
-
 function setLive(on) {
-  clearInterval(liveTimer);
-  liveTimer = on ? setInterval(poll, LIVE_POLL_MS) : null;
-  if (on) poll();
+  const canvas = renderer.domElement;
+  if (live) live.close();
+  live = null;
+  delete canvas.dataset.live;
+  if (!on) return;
+  live = new EventSource("/views/scenes/live");
+  live.addEventListener("open", () => { canvas.dataset.live = "open"; });
+  live.addEventListener("scene", (event) => {
+    const latest = JSON.parse(event.data);
+    if (!current || latest.scene.iri !== current.scene.iri) draw(latest);
+  });
+  // the browser reconnects by itself (the server ends each stream after 15 s)
+  live.addEventListener("error", () => { canvas.dataset.live = "reconnecting"; });
 }
 
 export async function start() {

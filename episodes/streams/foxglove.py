@@ -1,15 +1,22 @@
-"""Stored scenes as Foxglove's ``foxglove.SceneUpdate`` messages, in an MCAP file of their own.
+"""Stored scenes as Foxglove ``SceneUpdate`` messages, inside an episode's rosbag2 recording.
 
 Each scene becomes one ``SceneEntity`` (id: the scene's name) whose primitives are Foxglove
 spheres, cylinders (a cone is a cylinder with ``top_scale`` 0) and cubes (a plane is a thin
 square across its normal), at the stored centres, sizes, axes and colours, with a text label per
-primitive; frame ``world``, x right, y behind, z up, metres. Messages use the ``json`` encoding
-with the ``jsonschema`` of ``foxglove.SceneUpdate`` (the fields written here, as Foxglove's
-schema defines them), so Foxglove and Lichtblick draw them in their 3D panel.
+primitive; frame ``world``, x right, y behind, z up, metres.
 
-The file is separate from the episode's rosbag2 recording on purpose: ``rosbags`` (and so
-``ros2 bag`` tooling and Engram's bag import) refuse a ``jsonschema`` schema inside a rosbag2
-MCAP. Pure files, no RDF: :mod:`episodes.scene_channel` reads the scenes from the graph.
+The channel ``/engram/scenes`` is written into the episode's own MCAP file as the ROS 2 type
+``foxglove_msgs/msg/SceneUpdate`` (CDR, its ``.msg`` definitions registered in the ``rosbags``
+type store and stored in the file as a ``ros2msg`` schema). So the bag stays a valid rosbag2
+recording that ``rosbags`` and ``ros2 bag`` read, the ``mcap`` library reads the scene channel,
+and Foxglove and Lichtblick draw it in their 3D panel (they decode ROS 2 messages by the
+schema the file carries). A ``jsonschema`` channel, Foxglove's other encoding, would make
+``rosbags`` refuse the file.
+
+:func:`add_scene_channel` adds the channel to a closed recording (copying its MCAP records and
+completing ``metadata.yaml``), or creates a recording holding only the scenes when the episode
+recorded no streams. Pure files, no RDF: :mod:`episodes.scene_channel` reads the scenes from
+the graph.
 
 >>> ball = {"id": "ball", "kind": "Sphere", "centre": (0.1, 0.0, 0.05), "radius": 0.05}
 >>> entity = scene_entity("experience-1", [ball], time_ns=1_500_000_000)
@@ -18,17 +25,42 @@ MCAP. Pure files, no RDF: :mod:`episodes.scene_channel` reads the scenes from th
 """
 
 import json
+import logging
 import math
 import os
+import shutil
 from collections.abc import Iterable, Mapping, Sequence
+from functools import lru_cache
+from io import StringIO
 from pathlib import Path
 from typing import Any
 
+from mcap.exceptions import McapError
+from mcap.reader import make_reader
+from mcap.records import Attachment, Channel, DataEnd, Header, Message, Metadata, Schema
+from mcap.stream_reader import StreamReader
 from mcap.writer import CompressionType, Writer
+from rosbags.rosbag2 import StoragePlugin
+from rosbags.rosbag2 import Writer as BagWriter
+from rosbags.typesys import Stores, get_types_from_msg, get_typestore
+from rosbags.typesys.store import Typestore
+from ruamel.yaml import YAML
 
-__all__ = ["SCENE_TOPIC", "SCHEMA_NAME", "scene_entity", "scene_update", "write_scene_mcap"]
+from episodes.streams.errors import CorruptRecordingError
+from episodes.streams.recorder import FORMAT_VERSION, RECORDING_TOPIC, mcap_file
 
-SCHEMA_NAME = "foxglove.SceneUpdate"
+__all__ = [
+    "SCENE_TOPIC",
+    "SCENE_TYPE",
+    "add_scene_channel",
+    "scene_entity",
+    "scene_message",
+    "scene_typestore",
+]
+
+log = logging.getLogger(__name__)
+
+SCENE_TYPE = "foxglove_msgs/msg/SceneUpdate"
 SCENE_TOPIC = "/engram/scenes"
 FRAME_ID = "world"
 PLANE_SIZE_M = 0.6
@@ -40,77 +72,61 @@ _DEFAULT_COLOURS = {
     "Plane": (0.62, 0.62, 0.62),
 }
 
-_VECTOR3 = {
-    "type": "object",
-    "properties": {k: {"type": "number"} for k in ("x", "y", "z")},
+_POSE = "geometry_msgs/Pose pose\n"
+_COLOR = "foxglove_msgs/Color color\n"
+FOXGLOVE_DEFINITIONS: dict[str, str] = {
+    "foxglove_msgs/msg/Color": "float64 r\nfloat64 g\nfloat64 b\nfloat64 a\n",
+    "foxglove_msgs/msg/KeyValuePair": "string key\nstring value\n",
+    "foxglove_msgs/msg/ArrowPrimitive": _POSE
+    + "float64 shaft_length\nfloat64 shaft_diameter\nfloat64 head_length\n"
+    + "float64 head_diameter\n"
+    + _COLOR,
+    "foxglove_msgs/msg/CubePrimitive": _POSE + "geometry_msgs/Vector3 size\n" + _COLOR,
+    "foxglove_msgs/msg/SpherePrimitive": _POSE + "geometry_msgs/Vector3 size\n" + _COLOR,
+    "foxglove_msgs/msg/CylinderPrimitive": _POSE
+    + "geometry_msgs/Vector3 size\nfloat64 bottom_scale\nfloat64 top_scale\n"
+    + _COLOR,
+    "foxglove_msgs/msg/LinePrimitive": "uint8 LINE_STRIP=0\nuint8 LINE_LOOP=1\nuint8 LINE_LIST=2\n"
+    + "uint8 type\n"
+    + _POSE
+    + "float64 thickness\nbool scale_invariant\ngeometry_msgs/Point[] points\n"
+    + _COLOR
+    + "foxglove_msgs/Color[] colors\nuint32[] indices\n",
+    "foxglove_msgs/msg/TriangleListPrimitive": _POSE
+    + "geometry_msgs/Point[] points\n"
+    + _COLOR
+    + "foxglove_msgs/Color[] colors\nuint32[] indices\n",
+    "foxglove_msgs/msg/TextPrimitive": _POSE
+    + "bool billboard\nfloat64 font_size\nbool scale_invariant\n"
+    + _COLOR
+    + "string text\n",
+    "foxglove_msgs/msg/ModelPrimitive": _POSE
+    + "geometry_msgs/Vector3 scale\n"
+    + _COLOR
+    + "bool override_color\nstring url\nstring media_type\nuint8[] data\n",
+    "foxglove_msgs/msg/SceneEntityDeletion": "uint8 MATCHING_ID=0\nuint8 ALL=1\n"
+    + "builtin_interfaces/Time timestamp\nuint8 type\nstring id\n",
+    "foxglove_msgs/msg/SceneEntity": "builtin_interfaces/Time timestamp\nstring frame_id\n"
+    + "string id\nbuiltin_interfaces/Duration lifetime\nbool frame_locked\n"
+    + "foxglove_msgs/KeyValuePair[] metadata\nfoxglove_msgs/ArrowPrimitive[] arrows\n"
+    + "foxglove_msgs/CubePrimitive[] cubes\nfoxglove_msgs/SpherePrimitive[] spheres\n"
+    + "foxglove_msgs/CylinderPrimitive[] cylinders\nfoxglove_msgs/LinePrimitive[] lines\n"
+    + "foxglove_msgs/TriangleListPrimitive[] triangles\n"
+    + "foxglove_msgs/TextPrimitive[] texts\nfoxglove_msgs/ModelPrimitive[] models\n",
+    SCENE_TYPE: "foxglove_msgs/SceneEntityDeletion[] deletions\n"
+    + "foxglove_msgs/SceneEntity[] entities\n",
 }
-_QUATERNION = {
-    "type": "object",
-    "properties": {k: {"type": "number"} for k in ("x", "y", "z", "w")},
-}
-_POSE = {"type": "object", "properties": {"position": _VECTOR3, "orientation": _QUATERNION}}
-_COLOR = {"type": "object", "properties": {k: {"type": "number"} for k in ("r", "g", "b", "a")}}
-_TIME = {
-    "type": "object",
-    "properties": {"sec": {"type": "integer"}, "nsec": {"type": "integer"}},
-}
-_SHAPE = {"type": "object", "properties": {"pose": _POSE, "size": _VECTOR3, "color": _COLOR}}
-_CYLINDER = {
-    "type": "object",
-    "properties": {
-        "pose": _POSE,
-        "size": _VECTOR3,
-        "bottom_scale": {"type": "number"},
-        "top_scale": {"type": "number"},
-        "color": _COLOR,
-    },
-}
-_TEXT = {
-    "type": "object",
-    "properties": {
-        "pose": _POSE,
-        "billboard": {"type": "boolean"},
-        "font_size": {"type": "number"},
-        "scale_invariant": {"type": "boolean"},
-        "color": _COLOR,
-        "text": {"type": "string"},
-    },
-}
-SCHEMA: dict[str, Any] = {
-    "title": SCHEMA_NAME,
-    "description": "An update to the entities displayed in a 3D scene",
-    "$comment": "The fields of Foxglove's foxglove.SceneUpdate schema that Engram writes",
-    "type": "object",
-    "properties": {
-        "deletions": {"type": "array", "items": {"type": "object"}},
-        "entities": {
-            "type": "array",
-            "items": {
-                "type": "object",
-                "properties": {
-                    "timestamp": _TIME,
-                    "frame_id": {"type": "string"},
-                    "id": {"type": "string"},
-                    "lifetime": {
-                        "type": "object",
-                        "properties": {"sec": {"type": "integer"}, "nsec": {"type": "integer"}},
-                    },
-                    "frame_locked": {"type": "boolean"},
-                    "metadata": {"type": "array", "items": {"type": "object"}},
-                    "arrows": {"type": "array", "items": {"type": "object"}},
-                    "cubes": {"type": "array", "items": _SHAPE},
-                    "spheres": {"type": "array", "items": _SHAPE},
-                    "cylinders": {"type": "array", "items": _CYLINDER},
-                    "lines": {"type": "array", "items": {"type": "object"}},
-                    "triangles": {"type": "array", "items": {"type": "object"}},
-                    "texts": {"type": "array", "items": _TEXT},
-                    "models": {"type": "array", "items": {"type": "object"}},
-                },
-            },
-        },
-    },
-}
-"""The JSON schema stored with the channel."""
+"""The ROS 2 message definitions of Foxglove's ``foxglove_msgs`` scene types (fields in
+Foxglove's order, so the CDR bytes match what Foxglove's own ROS 2 package writes)."""
+
+
+@lru_cache(maxsize=1)
+def scene_typestore() -> Typestore:
+    """The ROS 2 (Jazzy) type store with the ``foxglove_msgs`` scene types registered."""
+    store = get_typestore(Stores.ROS2_JAZZY)
+    for name, text in FOXGLOVE_DEFINITIONS.items():
+        store.register(get_types_from_msg(text, name))
+    return store
 
 
 def _vector(v: Sequence[float]) -> dict[str, float]:
@@ -198,28 +214,284 @@ def scene_entity(
     }
 
 
-def scene_update(entity: Mapping[str, Any]) -> bytes:
-    """A ``SceneUpdate`` replacing what was shown by ``entity`` (JSON, UTF-8)."""
-    return json.dumps({"deletions": [], "entities": [entity]}, separators=(",", ":")).encode()
+def scene_message(entity: Mapping[str, Any]) -> bytes:
+    """A ``SceneUpdate`` replacing what was shown by ``entity`` (a :func:`scene_entity`), CDR."""
+    store = scene_typestore()
+    types = store.types
 
+    def vector(v: Mapping[str, float], name: str = "Vector3") -> Any:
+        return types[f"geometry_msgs/msg/{name}"](x=v["x"], y=v["y"], z=v["z"])
 
-def write_scene_mcap(path: Path | str, updates: Iterable[tuple[int, bytes]]) -> Path:
-    """Write ``(time_ns, SceneUpdate JSON)`` pairs, oldest first, as the MCAP file ``path``
-    (one ``/engram/scenes`` channel), atomically: a reader sees the old file or the new one."""
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    partial = path.with_name(path.name + ".part")
-    with partial.open("wb") as stream:
-        writer = Writer(stream, compression=CompressionType.NONE)
-        writer.start(profile="", library="engram")
-        schema = writer.register_schema(
-            SCHEMA_NAME, "jsonschema", json.dumps(SCHEMA, separators=(",", ":")).encode()
+    def pose(p: Mapping[str, Any]) -> Any:
+        q = p["orientation"]
+        return types["geometry_msgs/msg/Pose"](
+            position=vector(p["position"], "Point"),
+            orientation=types["geometry_msgs/msg/Quaternion"](
+                x=q["x"], y=q["y"], z=q["z"], w=q["w"]
+            ),
         )
-        channel = writer.register_channel(SCENE_TOPIC, "json", schema)
-        for sequence, (time_ns, data) in enumerate(sorted(updates, key=lambda u: u[0])):
+
+    def colour(c: Mapping[str, float]) -> Any:
+        return types["foxglove_msgs/msg/Color"](r=c["r"], g=c["g"], b=c["b"], a=c["a"])
+
+    def shape(kind: str, s: Mapping[str, Any]) -> Any:
+        return types[f"foxglove_msgs/msg/{kind}Primitive"](
+            pose=pose(s["pose"]), size=vector(s["size"]), color=colour(s["color"])
+        )
+
+    cylinders = [
+        types["foxglove_msgs/msg/CylinderPrimitive"](
+            pose=pose(c["pose"]),
+            size=vector(c["size"]),
+            bottom_scale=c["bottom_scale"],
+            top_scale=c["top_scale"],
+            color=colour(c["color"]),
+        )
+        for c in entity["cylinders"]
+    ]
+    texts = [
+        types["foxglove_msgs/msg/TextPrimitive"](
+            pose=pose(t["pose"]),
+            billboard=t["billboard"],
+            font_size=t["font_size"],
+            scale_invariant=t["scale_invariant"],
+            color=colour(t["color"]),
+            text=t["text"],
+        )
+        for t in entity["texts"]
+    ]
+    time, lifetime = entity["timestamp"], entity["lifetime"]
+    msg = types["foxglove_msgs/msg/SceneEntity"](
+        timestamp=types["builtin_interfaces/msg/Time"](sec=time["sec"], nanosec=time["nsec"]),
+        frame_id=entity["frame_id"],
+        id=entity["id"],
+        lifetime=types["builtin_interfaces/msg/Duration"](
+            sec=lifetime["sec"], nanosec=lifetime["nsec"]
+        ),
+        frame_locked=entity["frame_locked"],
+        metadata=[
+            types["foxglove_msgs/msg/KeyValuePair"](key=m["key"], value=m["value"])
+            for m in entity["metadata"]
+        ],
+        arrows=[],
+        cubes=[shape("Cube", c) for c in entity["cubes"]],
+        spheres=[shape("Sphere", s) for s in entity["spheres"]],
+        cylinders=cylinders,
+        lines=[],
+        triangles=[],
+        texts=texts,
+        models=[],
+    )
+    update = types[SCENE_TYPE](deletions=[], entities=[msg])
+    return bytes(store.serialize_cdr(update, SCENE_TYPE))
+
+
+def add_scene_channel(
+    bag: Path | str, updates: Iterable[tuple[int, bytes]], *, episode_id: str
+) -> Path:
+    """Put ``(time_ns, SceneUpdate CDR)`` pairs into the rosbag2 directory ``bag`` as the
+    ``/engram/scenes`` channel (replacing one written before) and return the MCAP file.
+
+    A closed recording keeps every record it had (copied in file order, so replay reads it as
+    before) and gains the channel; ``metadata.yaml`` and the file's ``rosbag2`` metadata record
+    list it. Without a recording, a new bag holds the ``/engram/recording`` record and the
+    scenes. The MCAP file is replaced atomically (a reader sees the old file or the new one);
+    ``metadata.yaml`` follows it.
+
+    Raises:
+        CorruptRecordingError: the recording cannot be read (cut short, or not MCAP).
+    """
+    bag = Path(bag)
+    ordered = sorted(updates, key=lambda u: u[0])
+    if not ordered:
+        raise ValueError("updates: at least one scene")
+    if not (bag / "metadata.yaml").exists():
+        if bag.exists():
+            raise CorruptRecordingError(f"{str(bag)!r} has no metadata.yaml (not closed?)")
+        return _new_bag(bag, ordered, episode_id)
+    return _extend_bag(bag, ordered)
+
+
+def _new_bag(bag: Path, updates: list[tuple[int, bytes]], episode_id: str) -> Path:
+    store = scene_typestore()
+    staging = bag.parent / f".scenes-{bag.name}"
+    shutil.rmtree(staging, ignore_errors=True)
+    staging.mkdir(parents=True)
+    writer = BagWriter(staging / bag.name, version=9, storage_plugin=StoragePlugin.MCAP)
+    writer.set_custom_data("engram.episode", episode_id)
+    writer.set_custom_data("engram.format", str(FORMAT_VERSION))
+    writer.open()
+    record = json.dumps({"episode": episode_id, "format": FORMAT_VERSION})
+    recording = writer.add_connection(RECORDING_TOPIC, "std_msgs/msg/String", typestore=store)
+    scenes = writer.add_connection(SCENE_TOPIC, SCENE_TYPE, typestore=store)
+    text = store.types["std_msgs/msg/String"](data=record)
+    writer.write(recording, updates[0][0], store.serialize_cdr(text, "std_msgs/msg/String"))
+    for time_ns, data in updates:
+        writer.write(scenes, time_ns, data)
+    writer.close()
+    (staging / bag.name).rename(bag)
+    staging.rmdir()
+    return mcap_file(bag)
+
+
+def _extend_bag(bag: Path, updates: list[tuple[int, bytes]]) -> Path:
+    yaml = YAML(typ="safe")
+    yaml.default_flow_style = False
+    metadata_path = bag / "metadata.yaml"
+    document = yaml.load(metadata_path.read_text())
+    info = document["rosbag2_bagfile_information"]
+    if str(info.get("compression_mode") or "").lower() not in ("", "none", "storage"):
+        raise CorruptRecordingError(
+            f"{str(bag)!r}: compression mode {info['compression_mode']!r} is not supported"
+        )
+    files = info.get("relative_file_paths") or []
+    if len(files) != 1 or not str(files[0]).endswith(".mcap"):
+        raise CorruptRecordingError(f"{str(bag)!r}: not a single-file MCAP bag ({files})")
+    file = bag / str(files[0])
+    compression = _chunk_compression(file)  # rosbags' metadata leaves chunk compression out
+    _update_info(info, updates)
+    serialized = StringIO()
+    yaml.dump(info, serialized)
+    partial = file.with_name(file.name + ".part")
+    try:
+        _copy_with_scenes(file, partial, updates, compression, serialized.getvalue().strip())
+    except (McapError, EOFError, ValueError, KeyError) as error:
+        partial.unlink(missing_ok=True)
+        raise CorruptRecordingError(f"{str(file)!r} cannot be read: {error}") from error
+    partial.replace(file)
+    text = StringIO()
+    yaml.dump(document, text)
+    _write_atomically(metadata_path, text.getvalue())
+    return file
+
+
+def _chunk_compression(file: Path) -> CompressionType:
+    """The compression of the file's chunks (from its summary; none when it has no summary)."""
+    try:
+        with file.open("rb") as stream:
+            summary = make_reader(stream).get_summary()
+    except (McapError, OSError, ValueError, EOFError) as error:
+        raise CorruptRecordingError(f"{str(file)!r} cannot be read: {error}") from error
+    found = {c.compression for c in summary.chunk_indexes} if summary is not None else set()
+    return (
+        CompressionType.LZ4
+        if found == {"lz4"}
+        else (CompressionType.ZSTD if "zstd" in found else CompressionType.NONE)
+    )
+
+
+def _update_info(info: dict[str, Any], updates: list[tuple[int, bytes]]) -> None:
+    """Add the scene topic to rosbag2 metadata (counts, times) in place."""
+    store = scene_typestore()
+    topics = [
+        t
+        for t in info.get("topics_with_message_count") or []
+        if t["topic_metadata"]["name"] != SCENE_TOPIC
+    ]
+    topics.append(
+        {
+            "topic_metadata": {
+                "name": SCENE_TOPIC,
+                "type": SCENE_TYPE,
+                "serialization_format": "cdr",
+                "offered_qos_profiles": [] if int(info.get("version", 9)) >= 9 else "",
+                "type_description_hash": store.hash_rihs01(SCENE_TYPE),
+            },
+            "message_count": len(updates),
+        }
+    )
+    info["topics_with_message_count"] = topics
+    count = sum(int(t["message_count"]) for t in topics)
+    begin = int(info["starting_time"]["nanoseconds_since_epoch"])
+    end = begin + int(info["duration"]["nanoseconds"])
+    if int(info.get("message_count") or 0) == 0:
+        begin, end = updates[0][0], updates[-1][0]
+    begin, end = min(begin, updates[0][0]), max(end, updates[-1][0])
+    info["message_count"] = count
+    info["starting_time"] = {"nanoseconds_since_epoch": begin}
+    info["duration"] = {"nanoseconds": end - begin}
+    for entry in info.get("files") or []:
+        entry.update(message_count=count, starting_time=dict(info["starting_time"]))
+        entry["duration"] = dict(info["duration"])
+
+
+def _copy_with_scenes(
+    source: Path,
+    dest: Path,
+    updates: list[tuple[int, bytes]],
+    compression: CompressionType,
+    serialized_metadata: str,
+) -> None:
+    store = scene_typestore()
+    with source.open("rb") as stream, dest.open("wb") as out:
+        writer = Writer(out, compression=compression)
+        schemas: dict[int, int] = {0: 0}
+        channels: dict[int, int] = {}
+        dropped: set[int] = set()
+        metadata: dict[str, dict[str, str]] = {}
+        qos = "[]"
+        started = False
+        for record in StreamReader(stream, validate_crcs=True).records:
+            if isinstance(record, Header):
+                writer.start(profile=record.profile, library=record.library)
+                started = True
+            elif isinstance(record, Schema):
+                if record.id not in schemas:
+                    schemas[record.id] = writer.register_schema(
+                        record.name, record.encoding, record.data
+                    )
+            elif isinstance(record, Channel):
+                if record.id in channels or record.id in dropped:
+                    continue
+                if record.topic == SCENE_TOPIC:
+                    dropped.add(record.id)
+                    continue
+                qos = record.metadata.get("offered_qos_profiles", qos)
+                channels[record.id] = writer.register_channel(
+                    record.topic,
+                    record.message_encoding,
+                    schemas[record.schema_id],
+                    record.metadata,
+                )
+            elif isinstance(record, Message):
+                if record.channel_id not in dropped:
+                    writer.add_message(
+                        channels[record.channel_id],
+                        record.log_time,
+                        record.data,
+                        record.publish_time,
+                        record.sequence,
+                    )
+            elif isinstance(record, Metadata):
+                metadata[record.name] = dict(record.metadata)
+            elif isinstance(record, Attachment):
+                writer.add_attachment(
+                    record.create_time, record.log_time, record.name, record.media_type, record.data
+                )
+            elif isinstance(record, DataEnd):
+                break
+        else:
+            raise EOFError("the file ends before its data section does (cut short?)")
+        if not started:
+            raise ValueError("no MCAP header")
+        definition, _ = store.generate_msgdef(SCENE_TYPE, ros_version=2)
+        schema = writer.register_schema(SCENE_TYPE, "ros2msg", definition.encode())
+        channel = writer.register_channel(SCENE_TOPIC, "cdr", schema, {"offered_qos_profiles": qos})
+        for sequence, (time_ns, data) in enumerate(updates):
             writer.add_message(channel, time_ns, data, time_ns, sequence)
+        if "rosbag2" in metadata:
+            metadata["rosbag2"]["serialized_metadata"] = serialized_metadata
+        for name, values in metadata.items():
+            writer.add_metadata(name, values)
         writer.finish()  # type: ignore[no-untyped-call]
+        out.flush()
+        os.fsync(out.fileno())
+
+
+def _write_atomically(path: Path, text: str) -> None:
+    partial = path.with_name(path.name + ".part")
+    with partial.open("w") as stream:
+        stream.write(text)
         stream.flush()
         os.fsync(stream.fileno())
     partial.replace(path)
-    return path

@@ -1,7 +1,6 @@
 """The perception client and the demo: point clouds in, scenes in the memory, results out."""
 
 import gc
-import json
 from pathlib import Path
 
 import numpy as np
@@ -16,6 +15,7 @@ from api.client import ArmorClient
 from api.demo import SCENES
 from api.perceive import perceive
 from api.summary import memory_sizes
+from episodes.streams.foxglove import SCENE_TOPIC, SCENE_TYPE, scene_typestore
 from kg import Store
 from shapes import Frame
 from shapes.bags import write_bag
@@ -145,12 +145,13 @@ def test_demo_learns_recalls_forgets_and_exports(tmp_path: Path) -> None:
     assert "> Why did you not recognise the last scene?" in asked
     export = rdflib.Graph().parse(tmp_path / "engram.owl", format="xml")
     assert len(list(export.subjects(rdflib.RDF.type, rdflib.OWL.Ontology))) == 1
-    (scenes,) = (tmp_path / "scenes").glob("*.mcap")  # the demo episode, for Foxglove
+    (scenes,) = (tmp_path / "streams").glob("*/*.mcap")  # the demo episode's, for Foxglove
     with scenes.open("rb") as stream:
-        read = list(make_reader(stream).iter_messages())
-    assert read and {s.name for s, _, _ in read} == {"foxglove.SceneUpdate"}
-    entities = [json.loads(m.data)["entities"][0] for _, _, m in read]
-    assert all(len(e["spheres"]) + len(e["cylinders"]) >= 2 for e in entities)
+        read = [m for m in make_reader(stream).iter_messages() if m[1].topic == SCENE_TOPIC]
+    assert read and {s.name for s, _, _ in read} == {SCENE_TYPE}
+    decoded = [scene_typestore().deserialize_cdr(m.data, SCENE_TYPE) for _, _, m in read]
+    entities = [update.entities[0] for update in decoded]  # type: ignore[attr-defined]
+    assert all(len(e.spheres) + len(e.cylinders) >= 2 for e in entities)
     again = runner.invoke(app, ["demo", "--no-serve", "--data", str(tmp_path)])
     assert again.exit_code == 2
     assert "--reset" in again.output

@@ -10,8 +10,9 @@ rating.
 import datetime as dt
 import gc
 from collections.abc import Iterator
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
+from typing import Any
 
 import httpx
 import numpy as np
@@ -25,11 +26,13 @@ from kg import Store
 from reasoners.memory import SceneMemory
 from reasoners.primitives import Primitive
 from tests.conftest import free_port, serve
+from tests.web.browser import CHROMIUM_ARGS, chromium_path
 
 START = dt.datetime(2026, 1, 26, 8, 0, tzinfo=dt.UTC)
 T0_NS = int(START.timestamp() * 1e9)
 TICKS = 300
 TICK_NS = 10_000_000
+VIEWPORT = {"width": 1280, "height": 800}
 
 YELLOW, BLUE, RED, GREEN, GREY = (
     (0.95, 0.8, 0.1),
@@ -196,3 +199,62 @@ def view_server(tmp_path_factory: pytest.TempPathFactory) -> Iterator[ViewServer
         client.close()
         server.should_exit = True
         thread.join(timeout=30)
+
+
+@dataclass
+class Watched:
+    """A page and what it said and asked for."""
+
+    page: Any
+    errors: list[str] = field(default_factory=list)
+    foreign: list[str] = field(default_factory=list)
+    requests: list[str] = field(default_factory=list)
+
+
+@pytest.fixture(scope="module")
+def browser() -> Iterator[Any]:
+    """Debian's headless Chromium driven by Playwright (skips when either is missing)."""
+    playwright_api = pytest.importorskip("playwright.sync_api")
+    if chromium_path() is None:  # scripts/test installs it; say what is missing elsewhere
+        pytest.skip("Debian package chromium-headless-shell is not installed")
+    with playwright_api.sync_playwright() as p:
+        chromium = p.chromium.launch(executable_path=str(chromium_path()), args=CHROMIUM_ARGS)
+        yield chromium
+        chromium.close()
+
+
+HISTORY_ROUTE = "/memory/history"
+"""Another area's endpoint the class panel reads; until a server has it, it answers 404 and
+the page says so (Chromium logs the 404 of any fetch as a console error: not a page error)."""
+
+
+def _is_error(message: Any) -> bool:
+    if message.type != "error":
+        return False
+    resource = str((message.location or {}).get("url", ""))
+    return not (HISTORY_ROUTE in resource and "404" in message.text)
+
+
+@pytest.fixture
+def watched(browser: Any, view_server: ViewServer) -> Iterator[Watched]:
+    """A fresh page that records console errors and requests, and blocks any foreign host."""
+    context = browser.new_context(viewport=VIEWPORT, accept_downloads=True)
+    page = context.new_page()
+    seen = Watched(page)
+    page.on("console", lambda m: seen.errors.append(m.text) if _is_error(m) else None)
+    page.on("pageerror", lambda e: seen.errors.append(str(e)))
+
+    def guard(route: Any) -> None:
+        url = route.request.url
+        seen.requests.append(url)
+        if url.startswith(view_server.url + "/") or url.startswith("data:"):
+            route.continue_()
+        else:
+            seen.foreign.append(url)
+            route.abort()
+
+    page.route("**/*", guard)
+    yield seen
+    context.close()
+    assert seen.errors == [], seen.errors
+    assert seen.foreign == [], seen.foreign

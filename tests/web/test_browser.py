@@ -6,8 +6,6 @@ Each test saves a screenshot under ``docs/screenshots/`` (the README shows them)
 
 import io
 import json
-from collections.abc import Iterator
-from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
@@ -15,57 +13,14 @@ import numpy as np
 import pytest
 from PIL import Image
 
-from tests.web.browser import CHROMIUM_ARGS, chromium_path
-from tests.web.conftest import ViewServer
+from tests.web.browser import chromium_path
+from tests.web.conftest import ViewServer, Watched
 
 pytestmark = pytest.mark.slow
 
 playwright_api = pytest.importorskip("playwright.sync_api")
 if chromium_path() is None:  # scripts/test installs it; say what is missing elsewhere
     pytest.skip("Debian package chromium-headless-shell is not installed", allow_module_level=True)
-
-VIEWPORT = {"width": 1280, "height": 800}
-
-
-@dataclass
-class Watched:
-    """A page and what it said and asked for."""
-
-    page: Any
-    errors: list[str] = field(default_factory=list)
-    foreign: list[str] = field(default_factory=list)
-
-
-@pytest.fixture(scope="module")
-def browser() -> Iterator[Any]:
-    with playwright_api.sync_playwright() as p:
-        chromium = p.chromium.launch(executable_path=str(chromium_path()), args=CHROMIUM_ARGS)
-        yield chromium
-        chromium.close()
-
-
-@pytest.fixture
-def watched(browser: Any, view_server: ViewServer) -> Iterator[Watched]:
-    context = browser.new_context(viewport=VIEWPORT, accept_downloads=True)
-    page = context.new_page()
-    seen = Watched(page)
-    page.on("console", lambda m: seen.errors.append(m.text) if m.type == "error" else None)
-    page.on("pageerror", lambda e: seen.errors.append(str(e)))
-
-    def guard(route: Any) -> None:
-        if route.request.url.startswith(view_server.url + "/") or route.request.url.startswith(
-            "data:"
-        ):
-            route.continue_()
-        else:
-            seen.foreign.append(route.request.url)
-            route.abort()
-
-    page.route("**/*", guard)
-    yield seen
-    context.close()
-    assert seen.errors == [], seen.errors
-    assert seen.foreign == [], seen.foreign
 
 
 def _pixels(png: bytes) -> np.ndarray:
@@ -118,6 +73,16 @@ def test_large_memories_draw_an_overview_that_selects_classes(
     for point in positions:
         x, y = round(point["x"]), round(point["y"])
         assert np.abs(pixels[y, x] - [255, 255, 255]).sum() > 60, point
+    page.wait_for_selector("#graph-overview[data-edges-drawn]")  # edges follow the nodes
+    pixels = _pixels(canvas.screenshot())
+    at = {p["name"]: (p["x"], p["y"]) for p in positions}
+    classes = view_server.client.get("/views/classes").json()["classes"]
+    edges = [(at[p], at[c["name"]]) for c in classes for p in c["parents"] if p in at]
+    assert edges
+    for (x0, y0), (x1, y1) in edges:  # the line's middle is darker than the background
+        x, y = round((x0 + x1) / 2), round((y0 + y1) / 2)
+        patch = pixels[y - 1 : y + 2, x - 1 : x + 2].reshape(-1, 3)
+        assert (255 * 3 - patch.sum(axis=1)).max() > 45, (x, y)
     target = positions[-1]
     canvas.click(position={"x": target["x"], "y": target["y"]})
     page.wait_for_selector(f"#class-detail[data-selected='{target['name']}']")

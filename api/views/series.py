@@ -1,0 +1,215 @@
+"""A numeric channel's samples read straight from its MCAP file and sliced out with numpy.
+
+Replaying a channel decodes every tick record and every message one by one in Python (seconds
+for a 10-minute 100 Hz channel). For a plot only the channel's own messages and their log
+times (the tick times) are needed: a closed recording's summary and message indexes locate
+them (:mod:`api.views.mcapindex`), a recording cut short is scanned forward once. All messages
+of a provider without a baseline filter share one byte layout: a float array's elements are the
+message's last bytes, a joint state's positions sit at one offset (its names and frame never
+change). So the offset is computed once from the first message's CDR bytes and every value is
+sliced out at once; the first and last messages are checked against the full decoder. Anything
+else (a baseline-filtered channel, whose missing samples only the tick records restore;
+layouts that differ) is left to the replayer.
+"""
+
+import json
+import struct
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from api.views.mcapindex import open_index
+from episodes.streams import Kind
+from episodes.streams import messages as ros
+from episodes.streams.mcapscan import McapScan
+from episodes.streams.messages import PROVIDER_TYPE, ProviderSpec
+from episodes.streams.recorder import PROVIDERS_TOPIC, TICKS_TOPIC
+
+__all__ = ["ChannelScan", "RecordingTimes", "recording_times", "scan_channel"]
+
+_U32 = struct.Struct("<I")
+_NUMERIC = (Kind.FLOAT_ARRAY, Kind.JOINT_STATE)
+
+
+@dataclass(frozen=True)
+class ChannelScan:
+    """What one scan found: the providers, the first tick's time and, when the fast path
+    applies, the channel's tick times and values (samples by elements, float64)."""
+
+    providers: dict[str, ProviderSpec]
+    start_ns: int | None
+    time_ns: NDArray[np.int64] | None = None
+    values: NDArray[np.float64] | None = None
+
+
+def _aligned(pos: int, size: int) -> int:
+    # CDR aligns relative to the end of the 4-byte encapsulation header
+    return 4 + -(-(pos - 4) // size) * size
+
+
+def _joint_positions(data: bytes) -> tuple[int, int]:
+    """Offset and count of a ``sensor_msgs/JointState``'s positions in its CDR bytes."""
+    pos = 4 + 8  # header.stamp
+    (length,) = _U32.unpack_from(data, pos)
+    pos = _aligned(pos + 4 + length, 4)  # header.frame_id
+    (names,) = _U32.unpack_from(data, pos)
+    pos += 4
+    for _ in range(names):
+        pos = _aligned(pos, 4)
+        (length,) = _U32.unpack_from(data, pos)
+        pos += 4 + length
+    pos = _aligned(pos, 4)
+    (count,) = _U32.unpack_from(data, pos)
+    return _aligned(pos + 4, 8), count
+
+
+def _layout(spec: ProviderSpec, first: bytes) -> tuple[int, int, str] | None:
+    """(offset, elements, dtype) of the values in every message of the channel."""
+    if spec.kind is Kind.JOINT_STATE:
+        offset, count = _joint_positions(first)
+        return offset, count, "<f8"
+    dtype = "<f4" if spec.dtype == "float32" else "<f8"
+    count = int(np.prod(spec.shape)) if spec.shape else 0
+    if count <= 0:
+        return None
+    return len(first) - count * np.dtype(dtype).itemsize, count, dtype
+
+
+def _decoded(spec: ProviderSpec, data: bytes) -> NDArray[np.float64]:
+    value: Any = ros.decode(spec, ros.typestore().deserialize_cdr(data, spec.msgtype))
+    if spec.kind is Kind.JOINT_STATE:
+        value = value["position"]
+    return np.asarray(value, dtype=np.float64).reshape(-1)
+
+
+def _values(spec: ProviderSpec, rows: NDArray[np.uint8]) -> NDArray[np.float64] | None:
+    """The values sliced out of the messages' bodies (rows of one length), or None when the
+    layout is not the one expected."""
+    size = rows.shape[1]
+    first = rows[0].tobytes()
+    if first[1] != 1:  # little-endian CDR only
+        return None
+    layout = _layout(spec, first)
+    if layout is None:
+        return None
+    offset, count, dtype = layout
+    width = count * np.dtype(dtype).itemsize
+    if offset < 4 or offset + width > size:
+        return None
+    values = np.ascontiguousarray(rows[:, offset : offset + width]).view(dtype).astype(np.float64)
+    for index in (0, len(rows) - 1):  # the slices agree with the decoder
+        if not np.array_equal(values[index], _decoded(spec, rows[index].tobytes()), equal_nan=True):
+            return None
+    return values
+
+
+def _providers(bodies: list[Any]) -> dict[str, ProviderSpec]:
+    store = ros.typestore()
+    providers = {}
+    for data in bodies:
+        p: Any = store.deserialize_cdr(data, PROVIDER_TYPE)
+        providers[p.name] = ProviderSpec.from_config(json.loads(p.config_json), bytes(p.baseline))
+    return providers
+
+
+@dataclass(frozen=True)
+class RecordingTimes:
+    """A closed recording's providers, its tick times and each provider's sample times."""
+
+    providers: dict[str, ProviderSpec]
+    ticks: NDArray[np.int64]
+    samples: dict[str, NDArray[np.int64]]
+
+
+def recording_times(file: Path) -> RecordingTimes | None:
+    """From the file's indexes alone (no chunk of samples decompressed); None for a file
+    without them, or with a baseline-filtered provider (whose restored samples only the tick
+    records list)."""
+    try:
+        index = open_index(file)
+        if index is None or PROVIDERS_TOPIC not in index.channels:
+            return None
+        providers = _providers([body for _, body in index.bodies(PROVIDERS_TOPIC)])
+        if any(spec.baseline is not None for spec in providers.values()):
+            return None
+        has = index.channels
+        ticks = index.times(TICKS_TOPIC) if TICKS_TOPIC in has else np.zeros(0, np.int64)
+        samples = {
+            name: index.times(spec.topic) if spec.topic in has else np.zeros(0, np.int64)
+            for name, spec in providers.items()
+        }
+    except (ValueError, IndexError, struct.error):
+        return None
+    return RecordingTimes(providers, ticks, samples)
+
+
+def _sliceable(spec: ProviderSpec | None) -> bool:
+    return spec is not None and spec.baseline is None and spec.kind in _NUMERIC
+
+
+def _from_index(file: Path, channel: str) -> ChannelScan | None:
+    """Through the file's summary and message indexes (closed recordings)."""
+    try:
+        index = open_index(file)
+        if index is None or PROVIDERS_TOPIC not in index.channels:
+            return None
+        providers = _providers([body for _, body in index.bodies(PROVIDERS_TOPIC)])
+        ticks = index.times(TICKS_TOPIC) if TICKS_TOPIC in index.channels else None
+        start = int(ticks.min()) if ticks is not None and len(ticks) else None
+        spec, topic = providers.get(channel), "/" + channel
+        if spec is None or not _sliceable(spec):
+            return ChannelScan(providers, start)
+        if topic not in index.channels:
+            return ChannelScan(providers, start, np.zeros(0, np.int64), np.zeros((0, 0)))
+        found = index.messages(topic)
+    except (ValueError, IndexError, struct.error):  # an index that does not hold together
+        return None
+    if found is None:
+        return ChannelScan(providers, start)
+    if not len(found.time_ns):
+        return ChannelScan(providers, start, found.time_ns, np.zeros((0, 0)))
+    values = _values(spec, found.data)
+    if values is None:
+        return ChannelScan(providers, start)
+    return ChannelScan(providers, start, found.time_ns, values)
+
+
+def scan_channel(file: Path, channel: str) -> ChannelScan:
+    """The providers, the first tick time and ``channel``'s samples (``time_ns`` and
+    ``values`` stay None when they cannot be sliced out), through the file's indexes when it
+    has them, else by one forward scan."""
+    indexed = _from_index(file, channel)
+    if indexed is not None:
+        return indexed
+    start_ns: int | None = None
+    times: list[int] = []
+    raw: list[memoryview] = []
+    provider_bodies: list[memoryview] = []
+    topic = "/" + channel
+    for message in McapScan(file).messages({PROVIDERS_TOPIC, TICKS_TOPIC, topic}):
+        if message.topic == topic:
+            times.append(message.log_time)
+            raw.append(message.data)
+        elif message.topic == TICKS_TOPIC:
+            if start_ns is None or message.log_time < start_ns:
+                start_ns = message.log_time
+        else:
+            provider_bodies.append(message.data)
+    providers = _providers(provider_bodies)
+    spec = providers.get(channel)
+    found = ChannelScan(providers, start_ns)
+    if spec is None or not _sliceable(spec):
+        return found
+    if not raw:
+        return ChannelScan(providers, start_ns, np.zeros(0, np.int64), np.zeros((0, 0)))
+    size = len(raw[0])
+    if any(len(m) != size for m in raw):  # one layout
+        return found
+    rows = np.frombuffer(b"".join(raw), dtype=np.uint8).reshape(len(raw), size)
+    values = _values(spec, rows)
+    if values is None:
+        return found
+    return ChannelScan(providers, start_ns, np.asarray(times, dtype=np.int64), values)
