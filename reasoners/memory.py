@@ -454,16 +454,20 @@ class SceneMemory:
             persist.set_value(tx, record.iri, SCORE, Literal(record.score), Literal(new), MEMORY)
             record.score = new
 
-    def _class_scores(self, record: ClassRecord) -> ItemScores:
+    def _class_scores(
+        self, record: ClassRecord, live: tuple[float, float] | None = None
+    ) -> ItemScores:
+        """A class's scores; ``live`` is its (ζ, largest ζ) when the caller has them already."""
         m, p = self._model, self.policy
-        normalised = m.normalised(record)
+        zeta, top = live if live is not None else (m.zeta(record), m.max_score)
+        normalised = zeta / top if top > 0 else 0.0
         return ItemScores(
             iri=record.iri,
             kind="class",
             complexity=record.signature.complexity,
             store_count=record.store_count,
             retrieve_count=record.retrieve_count,
-            raw_score=m.zeta(record),
+            raw_score=zeta,
             normalised=normalised,
             level=level_of(normalised, high=p.highLevelThreshold, weak=p.weakLevelThreshold),
             stored_level=record.level,
@@ -1051,6 +1055,7 @@ class SceneMemory:
         """Every live learned class with its signature, direct edges and scores, simplest first."""
         with self._lock:
             m = self._model
+            zetas, top = m.zetas(), m.max_score
             return [
                 ClassSummary(
                     iri=record.iri,
@@ -1058,7 +1063,7 @@ class SceneMemory:
                     parents=tuple(sorted(m.parents[record.iri], key=str)),
                     children=tuple(sorted(m.children[record.iri], key=str)),
                     items=len(m.items_of.get(record.iri, ())),
-                    scores=self._class_scores(record),
+                    scores=self._class_scores(record, (zetas[record.iri], top)),
                 )
                 for record in sorted(
                     m.classes.values(), key=lambda r: (r.signature.complexity, r.iri.value)
