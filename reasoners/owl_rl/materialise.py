@@ -305,11 +305,16 @@ def _materialise(
     if state is not None and state.generation == generation and not state.journal:
         return _report(state, 0, 0, start, incremental=True)
     data: bytes | None = None
+    given: list[AddedTriple] | None = None  # the caller's complete list of changed triples
     if state is not None:
         new_facts: list[Fact] | None
         journal, state.journal = state.journal, []
+        if changes is not None:
+            given = [*journal, *changes.added, *changes.removed]
         if changes is not None and not changes.removed:
             new_facts = _added_facts(store, asserted, state, [*journal, *changes.added])
+        elif changes is not None:
+            new_facts = None  # a retraction: recomputed below from the caller's list
         else:
             data = store.graph_ntriples(asserted)
             new_facts = _new_facts(state, data)
@@ -318,21 +323,33 @@ def _materialise(
             if not _touches_swrl(new_facts) and len(new_facts) <= limit:
                 state.asserted_dump = data
                 return _incremental(store, inferred, state, new_facts, generation, start)
+    previous = state if state is not None and not state.pending else None
     slot.state = None
-    if data is None:
-        data = store.graph_ntriples(asserted)
-    facts = _facts(data)
+    if data is None and previous is not None and given is not None:
+        # the asserted graph is the one reasoned last time, with the caller's changes applied:
+        # no need to read all of it again
+        facts = list(_asserted_after(store, asserted, previous, given))
+    else:
+        if data is None:
+            data = store.graph_ntriples(asserted)
+        facts = _facts(data)
     asserted_facts = set(facts)
-    terms: dict[str, NamedNode | Literal] = {}
+    terms: dict[str, NamedNode | Literal] = previous.terms if previous is not None else {}
     to_remove: set[Fact] | list[Fact] = []
-    streamed = len(facts) >= _STREAM_MIN and not any(store.quads(graph=inferred))
+    streamed = (
+        previous is None and len(facts) >= _STREAM_MIN and not any(store.quads(graph=inferred))
+    )
     if streamed:  # the first REASON of a large reference: the closure written as derived
         engine = _engine(facts)
         added, committed = _fill_while_reasoning(store, inferred, engine, asserted_facts)
         count = added
     else:
         engine = _closure(facts)
-        current = set(_facts(store.graph_ntriples(inferred)))
+        if previous is not None:  # what the inferred graph holds: the last closure's output
+            current = _outputs(previous.engine, previous.asserted)
+            previous = None  # its engine can go
+        else:
+            current = set(_facts(store.graph_ntriples(inferred)))
         if current:
             wanted = _outputs(engine, asserted_facts)
             to_remove = current - wanted
@@ -392,6 +409,24 @@ def _added_facts(
             if fact not in state.asserted:
                 new_facts.add(fact)
     return list(new_facts)
+
+
+def _asserted_after(
+    store: Store, asserted: NamedNode, state: _State, changed: Iterable[AddedTriple]
+) -> set[Fact]:
+    """The asserted graph as ``state`` saw it, with the stored values of every subject and
+    predicate in ``changed`` read again (what was retracted goes, what was added comes)."""
+    facts = set(state.asserted)
+    engine = state.engine
+    for subject, predicate in {(s, p) for s, p, _ in changed}:
+        _check_graph("changes subject", subject)
+        _check_graph("changes predicate", predicate)
+        s, p = str(subject), str(predicate)
+        for o in engine.objects(s, p):
+            facts.discard((s, p, o))
+        for quad in store.quads(subject, predicate, None, asserted):
+            facts.add((s, p, str(quad.object)))
+    return facts
 
 
 def _generation_after(store: Store, before: int, committed: bool) -> int:

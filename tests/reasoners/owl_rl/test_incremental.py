@@ -5,7 +5,7 @@ from hypothesis import strategies as st
 from pyoxigraph import Literal, NamedNode
 
 from kg import Store
-from reasoners.owl_rl import AssertedChanges, materialise
+from reasoners.owl_rl import AssertedChanges, forget, materialise
 
 from .conftest import ASSERTED, INFERRED, graph_triples, owlrl_inferences
 
@@ -197,3 +197,41 @@ def test_listed_changes_use_the_stored_form_of_literals_and_removals_recompute()
     )
     assert not report.incremental and report.removed == 2
     assert not any(EX + "i0" in t for t in graph_triples(store))
+
+
+@settings(max_examples=40, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(triples=statements.filter(bool), data=st.data())
+def test_a_listed_retraction_recomputes_from_memory_and_equals_full(
+    triples: list[Triple], data: st.DataObject
+) -> None:
+    """The caller lists what it retracted and added: the recomputation reads neither graph
+    whole (the asserted graph is the last one with the listed changes, the inferred graph the
+    last closure) and writes only the difference."""
+    store = Store()
+    _insert(store, triples)
+    materialise(store, asserted=ASSERTED, inferred=INFERRED)
+    gone = data.draw(st.sampled_from(triples))
+    added = data.draw(st.lists(facts(), max_size=2).map(lambda g: [t for f in g for t in f]))
+    with store.transaction() as tx:
+        tx.delete(*_terms(gone), ASSERTED)
+        for triple in added:
+            tx.insert(*_terms(triple), ASSERTED)
+    reads: list[str] = []
+    changes = AssertedChanges(added=[_terms(t) for t in added], removed=[_terms(gone)])
+    with store.tracing(lambda kind, text, _: reads.append(text)):
+        report = materialise(store, asserted=ASSERTED, inferred=INFERRED, changes=changes)
+    assert not report.incremental
+    assert not [text for text in reads if text.startswith("DUMP GRAPH")]
+    remaining = [t for t in triples if t != gone or t in added]
+    assert graph_triples(store) == _full(remaining + added)
+    assert report.inferred_total == len(graph_triples(store))
+
+
+def test_a_recomputation_after_a_restart_writes_nothing_when_nothing_changed() -> None:
+    store = Store()
+    _insert(store, [("C0", RDFS + "subClassOf", "C1"), ("i0", RDF + "type", "C0")])
+    first = materialise(store, asserted=ASSERTED, inferred=INFERRED)
+    forget(store, asserted=ASSERTED, inferred=INFERRED)  # as after a restart
+    report = materialise(store, asserted=ASSERTED, inferred=INFERRED)
+    assert (report.incremental, report.added, report.removed) == (False, 0, 0)
+    assert report.inferred_total == first.inferred_total == len(graph_triples(store))
