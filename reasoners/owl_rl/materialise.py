@@ -345,12 +345,15 @@ def _materialise(
         count = added
     else:
         engine = _closure(facts)
-        if previous is not None:  # what the inferred graph holds: the last closure's output
-            current = _outputs(previous.engine, previous.asserted)
+        if previous is not None:  # the inferred graph holds the last closure's output
+            wanted = _outputs(engine, asserted_facts)
+            before, was_asserted = previous.engine, previous.asserted
+            to_remove = [f for f in _stream_outputs(before, was_asserted) if f not in wanted]
+            to_add = [f for f in wanted if f not in before or f in was_asserted]
             previous = None  # its engine can go
-        else:
-            current = set(_facts(store.graph_ntriples(inferred)))
-        if current:
+            added, committed = _write(store, inferred, to_add, to_remove, terms)
+            count = len(wanted)
+        elif current := set(_facts(store.graph_ntriples(inferred))):
             wanted = _outputs(engine, asserted_facts)
             to_remove = current - wanted
             added, committed = _write(store, inferred, wanted - current, to_remove, terms)
