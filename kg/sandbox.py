@@ -310,6 +310,8 @@ class QueryRunner:
             and now - worker.caught_up_at <= self.snapshot_max_age_s
         ):
             wanted = worker.generation  # stale by choice
+        else:
+            worker.caught_up_at = now
         commits = None
         if worker.copy is not None and worker.generation >= 0:
             commits = self._commits.since(worker.generation, wanted)
@@ -327,8 +329,6 @@ class QueryRunner:
         job["path"] = str(worker.copy)
         job["replay"] = [(c.inserts, c.update) for c in commits]
         job["generation"] = max(wanted, worker.generation)
-        if wanted > worker.generation or "retire" in job:
-            worker.caught_up_at = now
 
 
 _FAILURES: dict[str, type[QueryError]] = {
