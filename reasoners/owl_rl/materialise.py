@@ -8,16 +8,21 @@ comparing it with what it saw (a scan, about 60 ms at 50k triples), and
 
 - if triples were only added (and no SWRL rule changed), feeds the new ones to the engine, which
   derives only their consequences (semi-naive), and writes only the new inferred triples;
-- otherwise (a retraction, a changed SWRL rule, or no state yet) recomputes the closure from
-  scratch, then writes only the difference with what the inferred graph holds.
+- if instance triples were retracted and the caller listed them (``changes=``, or
+  :func:`record`), re-derives only the region of the closure they touch (:mod:`.retract`: the
+  individuals linked to them) and writes the difference;
+- otherwise (a retraction of schema or SWRL triples, one found by reading the graph, equality
+  in the closure, a changed SWRL rule, or no state yet) recomputes the closure from scratch,
+  then writes only the difference with what the inferred graph holds.
 
 Every write is all or nothing. A small one is a transaction; a closure of thousands of triples
 written into an empty inferred graph (the first REASON of a reference: about 100k triples at
 50k asserted) goes through :meth:`kg.Store.fill_graph`, Oxigraph's bulk loader behind a crash
 marker, which on disk takes about half a transaction's time (0.9 s against 1.8 s at 50k).
 
-OWL 2 RL has no cheap retraction (a triple may be derived several ways), hence the recomputation;
-it costs what the first REASON costs. The inferred graph belongs to the reasoner: a writer that
+OWL 2 RL has no cheap retraction in general (a triple may be derived several ways, and the
+schema reaches everything), hence the recomputation when the region argument does not apply; it
+costs what the first REASON costs. The inferred graph belongs to the reasoner: a writer that
 changes it otherwise must call :func:`forget` so that the next call starts afresh.
 
 >>> from kg import Store
@@ -58,6 +63,7 @@ from reasoners.owl_rl._terms import SWRL, to_term
 from reasoners.owl_rl.consistency import Clash, clashes
 from reasoners.owl_rl.engine import AXIOMS, Engine, Fact
 from reasoners.owl_rl.errors import UnknownReasonerError
+from reasoners.owl_rl.retract import retract
 from reasoners.owl_rl.swrl import SwrlRunner, parse_rules
 
 __all__ = [
@@ -117,6 +123,8 @@ class ReasonReport:
     consistent: bool
     clashes: tuple[Clash, ...] = ()
     inferred_total: int = 0
+    scoped: bool = False
+    """A retraction re-derived within the part of the closure it touches (:mod:`.retract`)."""
 
 
 @dataclass
@@ -130,6 +138,8 @@ class _State:
     terms: dict[str, NamedNode | Literal]
     journal: list[AddedTriple] = field(default_factory=list)
     """Triples committed to the asserted graph without a REASON since (see :func:`record`)."""
+    journal_removed: list[AddedTriple] = field(default_factory=list)
+    """Triples retracted from the asserted graph without a REASON since (see :func:`record`)."""
     pending: bool = False
     """True while the state holds a writer's uncommitted changes (see :mod:`.pending`)."""
 
@@ -302,16 +312,21 @@ def _materialise(
         log.warning("REASON %s: dropping an uncommitted writer's reasoner state", asserted)
         state = slot.state = None
     generation = store.generation
-    if state is not None and state.generation == generation and not state.journal:
+    if (
+        state is not None
+        and state.generation == generation
+        and not (state.journal or state.journal_removed)
+    ):
         return _report(state, 0, 0, start, incremental=True)
     data: bytes | None = None
     given: list[AddedTriple] | None = None  # the caller's complete list of changed triples
     if state is not None:
         new_facts: list[Fact] | None
         journal, state.journal = state.journal, []
+        journal_removed, state.journal_removed = state.journal_removed, []
         if changes is not None:
-            given = [*journal, *changes.added, *changes.removed]
-        if changes is not None and not changes.removed:
+            given = [*journal, *journal_removed, *changes.added, *changes.removed]
+        if changes is not None and not (changes.removed or journal_removed):
             new_facts = _added_facts(store, asserted, state, [*journal, *changes.added])
         elif changes is not None:
             new_facts = None  # a retraction: recomputed below from the caller's list
@@ -323,6 +338,10 @@ def _materialise(
             if not _touches_swrl(new_facts) and len(new_facts) <= limit:
                 state.asserted_dump = data
                 return _incremental(store, inferred, state, new_facts, generation, start)
+    if state is not None and given is not None:  # a listed retraction
+        scoped = _retract_listed(store, asserted, inferred, state, given, generation, start)
+        if scoped is not None:
+            return scoped
     previous = state if state is not None and not state.pending else None
     slot.state = None
     if data is None and previous is not None and given is not None:
@@ -432,6 +451,77 @@ def _asserted_after(
     return facts
 
 
+def _retract_listed(
+    store: Store,
+    asserted: NamedNode,
+    inferred: NamedNode,
+    state: _State,
+    given: list[AddedTriple],
+    generation: int,
+    start: float,
+) -> ReasonReport | None:
+    """Re-derive only the region of the closure that the listed retractions touch (see
+    :mod:`.retract`) and write the difference; None (the state untouched) if that does not
+    apply, and the caller recomputes the whole closure."""
+    removed, added = _listed_difference(store, asserted, state, given)
+    limit = int(max(_INCREMENTAL_LIMIT * len(state.asserted), 1_000))
+    if len(added) > limit:
+        return None
+    facts = state.asserted
+    facts.difference_update(removed)
+    facts.update(added)
+    change = retract(state.engine, facts, removed=list(removed), added=list(added), limit=limit)
+    if change is None:
+        facts.difference_update(added)
+        facts.update(removed)
+        return None
+
+    def was_asserted(fact: Fact) -> bool:
+        return fact in removed or (fact in facts and fact not in added)
+
+    engine = state.engine
+    to_remove = [f for f in change.removed if f[0][0] != '"' and not was_asserted(f)]
+    to_remove += [f for f in added if f in engine and f not in change.added]
+    to_add = [f for f in change.added if f[0][0] != '"' and f not in facts]
+    to_add += [f for f in removed if f in engine]
+    written, committed = _write(store, inferred, to_add, to_remove, state.terms)
+    state.inferred_count += written - len(to_remove)
+    state.asserted_dump = None
+    state.generation = _generation_after(store, generation, committed)
+    state.consistency = _report_consistency(engine)
+    report = _report(state, written, len(to_remove), start, incremental=False, scoped=True)
+    log.info(
+        "REASON %s: retraction re-derived in a region of %d terms, +%d -%d in %.4f s",
+        asserted,
+        change.region,
+        report.added,
+        report.removed,
+        report.duration_s,
+    )
+    return report
+
+
+def _listed_difference(
+    store: Store, asserted: NamedNode, state: _State, changed: Iterable[AddedTriple]
+) -> tuple[set[Fact], set[Fact]]:
+    """(retracted, added) asserted triples: the stored values of every subject and predicate
+    in ``changed`` against those ``state`` saw."""
+    removed: set[Fact] = set()
+    added: set[Fact] = set()
+    engine = state.engine
+    for subject, predicate in {(s, p) for s, p, _ in changed}:
+        _check_graph("changes subject", subject)
+        _check_graph("changes predicate", predicate)
+        s, p = str(subject), str(predicate)
+        before = {o for o in engine.objects(s, p) if (s, p, o) in state.asserted}
+        if (s, p, s) in state.asserted:  # x owl:sameAs x: asserted, never in the engine
+            before.add(s)
+        now = {str(quad.object) for quad in store.quads(subject, predicate, None, asserted)}
+        removed.update((s, p, o) for o in before - now)
+        added.update((s, p, o) for o in now - before)
+    return removed, added
+
+
 def _generation_after(store: Store, before: int, committed: bool) -> int:
     """The store generation the state matches, or -1 if another writer got in between."""
     expected = before + 1 if committed else before
@@ -439,7 +529,13 @@ def _generation_after(store: Store, before: int, committed: bool) -> int:
 
 
 def _report(
-    state: _State, added: int, removed: int, start: float, *, incremental: bool
+    state: _State,
+    added: int,
+    removed: int,
+    start: float,
+    *,
+    incremental: bool,
+    scoped: bool = False,
 ) -> ReasonReport:
     return ReasonReport(
         added=added,
@@ -449,6 +545,7 @@ def _report(
         consistent=state.consistency.consistent,
         clashes=state.consistency.clashes,
         inferred_total=state.inferred_count,
+        scoped=scoped,
     )
 
 
@@ -579,8 +676,9 @@ def record(
 
     The next call with ``changes=`` (:func:`materialise`, or :func:`~.pending.prepare`) then
     derives their consequences too, so that the caller needs to pass only what it wrote since.
-    A retraction, or more new triples than an incremental run is worth, drops the state: the
-    next REASON recomputes.
+    Retractions are kept too: the next call re-derives the part of the closure they touch
+    (:mod:`.retract`), or recomputes the closure from the kept state when that does not apply.
+    More changes than an incremental run is worth drop the state: the next REASON recomputes.
     """
     slot = _slot(store, asserted, inferred)
     with slot.lock:
@@ -588,8 +686,9 @@ def record(
         if state is None or not (changes.added or changes.removed):
             return
         state.journal.extend(changes.added)
+        state.journal_removed.extend(changes.removed)
         limit = max(_INCREMENTAL_LIMIT * len(state.asserted), 1_000)
-        if state.pending or changes.removed or len(state.journal) > limit:
+        if state.pending or len(state.journal) + len(state.journal_removed) > limit:
             slot.state = None
 
 
@@ -603,7 +702,7 @@ def is_consistent(store: Store, *, asserted: NamedNode, inferred: NamedNode) -> 
     if (
         state is not None
         and state.generation == store.generation
-        and not (state.pending or state.journal)
+        and not (state.pending or state.journal or state.journal_removed)
     ):
         return state.consistency
     engine = _closure(_facts(store.graph_ntriples(asserted)))

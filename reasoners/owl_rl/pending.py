@@ -208,6 +208,8 @@ def _prepare(
         state = None
     if recompute or changes.removed or (after is None and pending.cleared):
         state = None
+    if state is not None and after is None and state.journal_removed:
+        state = None  # retractions committed without a REASON: recomputed from the store
     if state is not None:
         journal: list[AddedTriple] = []
         if after is None:
