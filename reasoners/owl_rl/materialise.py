@@ -63,7 +63,7 @@ from reasoners.owl_rl._terms import SWRL, to_term
 from reasoners.owl_rl.consistency import Clash, clashes
 from reasoners.owl_rl.engine import AXIOMS, Engine, Fact
 from reasoners.owl_rl.errors import UnknownReasonerError
-from reasoners.owl_rl.retract import retract
+from reasoners.owl_rl.retract import inferred_delta, retract
 from reasoners.owl_rl.swrl import SwrlRunner, parse_rules
 
 __all__ = [
@@ -475,15 +475,8 @@ def _retract_listed(
         facts.difference_update(added)
         facts.update(removed)
         return None
-
-    def was_asserted(fact: Fact) -> bool:
-        return fact in removed or (fact in facts and fact not in added)
-
     engine = state.engine
-    to_remove = [f for f in change.removed if f[0][0] != '"' and not was_asserted(f)]
-    to_remove += [f for f in added if f in engine and f not in change.added]
-    to_add = [f for f in change.added if f[0][0] != '"' and f not in facts]
-    to_add += [f for f in removed if f in engine]
+    to_add, to_remove = inferred_delta(engine, facts, change, removed=removed, added=added)
     written, committed = _write(store, inferred, to_add, to_remove, state.terms)
     state.inferred_count += written - len(to_remove)
     state.asserted_dump = None

@@ -46,7 +46,7 @@ from reasoners.owl_rl._terms import DATATYPE_SUPERTYPES, RL_DATATYPES, SAME_AS, 
 from reasoners.owl_rl._terms import literal_datatype as _datatype
 from reasoners.owl_rl.engine import AXIOMS, SCHEMA_PREDICATES, SCHEMA_TYPES, Engine, Fact
 
-__all__ = ["Retraction", "retract"]
+__all__ = ["Retraction", "inferred_delta", "retract"]
 
 _AXIOM_TERMS = frozenset(term for fact in AXIOMS for term in fact)
 _SWRL_PREFIX = f"<{SWRL}"
@@ -101,6 +101,28 @@ def retract(
         added=[fact for fact in new if fact not in gone_set],
         region=len(region),
     )
+
+
+def inferred_delta(
+    engine: Engine,
+    asserted: set[Fact],
+    change: Retraction,
+    *,
+    removed: set[Fact],
+    added: set[Fact],
+) -> tuple[list[Fact], list[Fact]]:
+    """The inferred graph's (additions, deletions) after :func:`retract`: closure facts that
+    are not asserted, literal subjects left out. ``asserted`` is the new asserted set,
+    ``removed`` / ``added`` what it lost / gained."""
+
+    def was_asserted(fact: Fact) -> bool:
+        return fact in removed or (fact in asserted and fact not in added)
+
+    to_remove = [f for f in change.removed if f[0][0] != '"' and not was_asserted(f)]
+    to_remove += [f for f in added if f in engine and f not in change.added]  # now asserted
+    to_add = [f for f in change.added if f[0][0] != '"' and f not in asserted]
+    to_add += [f for f in removed if f in engine]  # no longer asserted, still entailed
+    return to_add, to_remove
 
 
 def _schema_or_swrl(fact: Fact) -> bool:
