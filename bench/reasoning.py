@@ -23,6 +23,11 @@ inverse / symmetric / transitive properties, data properties) of about 10k and 5
    (``changes=``, what the directive layer passes after its directives), then without them (the
    reasoner reads the asserted graph and compares). At the end the incremental result is
    compared with a full REASON of the same asserted graph on a fresh store.
+5. REASONs on the reasoned reference (``--recompute`` runs each): after 1 listed retraction of
+   a type triple (re-derived in its region, :mod:`reasoners.owl_rl.retract`), after 1 listed
+   retraction with the whole closure recomputed (the path schema retractions take), after a
+   restart (no state in memory), and a second REASON with nothing changed; at the end the
+   inferred graph is compared with a fresh full REASON's.
 
 Run from the repository root::
 

@@ -11,9 +11,12 @@ into its own transaction, then calls :meth:`Prepared.confirm` once that committe
 The work is the same as :func:`~reasoners.owl_rl.materialise`'s: after additions only, the kept
 engine derives just their consequences (time proportional to the change), and the delta is
 relative to the writer's view so far (``replaces=False``: the previous delta of the same writer
-plus this one); after a retraction, a changed SWRL rule, or with no kept state, the closure is
-recomputed from the committed graph plus the pending changes, and the delta is relative to the
-committed inferred graph (``replaces=True``: it replaces the writer's earlier delta).
+plus this one); after a retraction of instance triples, the kept engine re-derives the region of
+the closure they touch (:mod:`.retract`; the delta is again relative to the writer's view,
+``incremental=False``); after another retraction, a changed SWRL rule, or with no kept state,
+the closure is recomputed from the committed graph plus the pending changes, and the delta is
+relative to the committed inferred graph (``replaces=True``: it replaces the writer's earlier
+delta).
 
 Between ``prepare`` and ``confirm`` the reasoner's kept state is *tentative*: a concurrent
 :func:`~reasoners.owl_rl.materialise` of the same graphs drops it, ``discard`` drops it (the
