@@ -2,10 +2,11 @@
 
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
-from pyoxigraph import Literal, NamedNode
+from pyoxigraph import Literal, NamedNode, RdfFormat
 
 from kg import Store
 from reasoners.owl_rl import AssertedChanges, forget, materialise, record
+from reasoners.owl_rl.synthetic import scene_ontology
 
 from .conftest import ASSERTED, INFERRED, graph_triples, owlrl_inferences
 
@@ -310,3 +311,32 @@ def test_a_retracted_schema_triple_recomputes_the_closure() -> None:
     report = materialise(store, asserted=ASSERTED, inferred=INFERRED, changes=changes)
     assert not report.scoped and report.removed >= 1
     assert graph_triples(store) == _full([("i0", RDF + "type", "C0")])
+
+
+@settings(max_examples=25, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(data=st.data())
+def test_retractions_in_a_scene_ontology_equal_a_fresh_full_reason(data: st.DataObject) -> None:
+    """The synthetic scenes (restrictions, intersections, inverse, symmetric and transitive
+    properties, data values): random instance retractions, re-derived in their regions."""
+    lines = scene_ontology(1_000, seed=data.draw(st.integers(0, 3)))
+    store = Store()
+    with store.transaction() as tx:
+        tx.load(("\n".join(lines) + "\n").encode(), format=RdfFormat.N_TRIPLES, graph=ASSERTED)
+    materialise(store, asserted=ASSERTED, inferred=INFERRED)
+    instances = [q for q in store.quads(graph=ASSERTED) if "#scene" in str(q.subject)]
+    gone = data.draw(st.lists(st.sampled_from(instances), min_size=1, max_size=4, unique=True))
+    with store.transaction() as tx:
+        tx.deletes.extend(gone)
+    triples = [(q.subject, q.predicate, q.object) for q in gone]
+    report = materialise(
+        store,
+        asserted=ASSERTED,
+        inferred=INFERRED,
+        changes=AssertedChanges(removed=triples),  # type: ignore[arg-type]
+    )
+    assert report.scoped
+    fresh = Store()
+    with fresh.transaction() as tx:
+        tx.load(store.graph_ntriples(ASSERTED), format=RdfFormat.N_TRIPLES, graph=ASSERTED)
+    materialise(fresh, asserted=ASSERTED, inferred=INFERRED)
+    assert graph_triples(store) == graph_triples(fresh)
