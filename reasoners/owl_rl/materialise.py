@@ -8,12 +8,12 @@ comparing it with what it saw (a scan, about 60 ms at 50k triples), and
 
 - if triples were only added (and no SWRL rule changed), feeds the new ones to the engine, which
   derives only their consequences (semi-naive), and writes only the new inferred triples;
-- if instance triples were retracted and the caller listed them (``changes=``, or
-  :func:`record`), re-derives only the region of the closure they touch (:mod:`.retract`: the
-  individuals linked to them) and writes the difference;
-- otherwise (a retraction of schema or SWRL triples, one found by reading the graph, equality
-  in the closure, a changed SWRL rule, or no state yet) recomputes the closure from scratch,
-  then writes only the difference with what the inferred graph holds.
+- if instance triples were retracted (listed, recorded, or found by reading the graph),
+  re-derives only the region of the closure they touch (:mod:`.retract`: the individuals
+  linked to them) and writes the difference;
+- otherwise (a retraction of schema or SWRL triples, equality in the closure, a changed SWRL
+  rule, or no state yet) recomputes the closure from scratch, then writes only the difference
+  with what the inferred graph holds.
 
 Every write is all or nothing. A small one is a transaction; a closure of thousands of triples
 written into an empty inferred graph (the first REASON of a reference: about 100k triples at
@@ -333,6 +333,10 @@ def _materialise(
         else:
             data = store.graph_ntriples(asserted)
             new_facts = _new_facts(state, data)
+            if new_facts is None:  # a retraction found by reading: re-derived in its region?
+                scoped = _retract_read(store, asserted, inferred, state, data, generation, start)
+                if scoped is not None:
+                    return scoped
         if new_facts is not None:
             limit = max(_INCREMENTAL_LIMIT * len(state.asserted), 1_000)
             if not _touches_swrl(new_facts) and len(new_facts) <= limit:
@@ -464,6 +468,43 @@ def _retract_listed(
     :mod:`.retract`) and write the difference; None (the state untouched) if that does not
     apply, and the caller recomputes the whole closure."""
     removed, added = _listed_difference(store, asserted, state, given)
+    return _retract_facts(store, asserted, inferred, state, removed, added, generation, start)
+
+
+def _retract_read(
+    store: Store,
+    asserted: NamedNode,
+    inferred: NamedNode,
+    state: _State,
+    data: bytes,
+    generation: int,
+    start: float,
+) -> ReasonReport | None:
+    """As :func:`_retract_listed`, the changes found by comparing the asserted graph as read
+    (``data``) with what ``state`` saw."""
+    if state.asserted_dump is not None:
+        before, now = set(state.asserted_dump.split(b"\n")), set(data.split(b"\n"))
+        removed = set(_facts(b"\n".join(before - now)))
+        added = set(_facts(b"\n".join(now - before)))
+    else:
+        graph = set(_facts(data))
+        removed, added = state.asserted - graph, graph - state.asserted
+    report = _retract_facts(store, asserted, inferred, state, removed, added, generation, start)
+    if report is not None:
+        state.asserted_dump = data
+    return report
+
+
+def _retract_facts(
+    store: Store,
+    asserted: NamedNode,
+    inferred: NamedNode,
+    state: _State,
+    removed: set[Fact],
+    added: set[Fact],
+    generation: int,
+    start: float,
+) -> ReasonReport | None:
     limit = int(max(_INCREMENTAL_LIMIT * len(state.asserted), 1_000))
     if len(added) > limit:
         return None

@@ -239,13 +239,18 @@ def test_a_recomputation_after_a_restart_writes_nothing_when_nothing_changed() -
 
 
 @settings(max_examples=150, deadline=None, suppress_health_check=[HealthCheck.too_slow])
-@given(triples=statements.filter(bool), data=st.data(), recorded=st.booleans())
-def test_listed_retractions_and_additions_equal_a_fresh_full_reason(
-    triples: list[Triple], data: st.DataObject, recorded: bool
+@given(
+    triples=statements.filter(bool),
+    data=st.data(),
+    told=st.sampled_from(["listed", "recorded", "read"]),
+)
+def test_retractions_and_additions_equal_a_fresh_full_reason(
+    triples: list[Triple], data: st.DataObject, told: str
 ) -> None:
-    """Several rounds of random retractions and additions, listed by the caller (or recorded
-    as committed without a REASON): each REASON's inferred graph equals a fresh full REASON's,
-    whether the retraction was re-derived in its region or the closure recomputed."""
+    """Several rounds of random retractions and additions, listed by the caller, recorded as
+    committed without a REASON, or found by reading the graph: each REASON's inferred graph
+    equals a fresh full REASON's, whether the retraction was re-derived in its region or the
+    closure recomputed."""
     store = Store()
     _insert(store, triples)
     materialise(store, asserted=ASSERTED, inferred=INFERRED)
@@ -260,12 +265,15 @@ def test_listed_retractions_and_additions_equal_a_fresh_full_reason(
                 tx.insert(*_terms(triple), ASSERTED)
         # deletions first, then insertions, as the transaction applies them
         current = list(dict.fromkeys([t for t in current if t not in gone] + added))
-        changes = AssertedChanges(
+        changes: AssertedChanges | None = AssertedChanges(
             added=[_terms(t) for t in added], removed=[_terms(t) for t in gone]
         )
-        if recorded:
+        if told == "recorded":
+            assert changes is not None
             record(store, asserted=ASSERTED, inferred=INFERRED, changes=changes)
             changes = AssertedChanges()
+        elif told == "read":
+            changes = None
         report = materialise(store, asserted=ASSERTED, inferred=INFERRED, changes=changes)
         assert graph_triples(store) == _full(current)
         assert report.inferred_total == len(graph_triples(store))
@@ -298,6 +306,12 @@ def test_a_retracted_instance_triple_is_re_derived_in_its_region_only() -> None:
     assert (report.added, report.removed) == (0, 1)  # i0 a C1 goes; i0 a C2 (domain) stays
     assert not [text for text in reads if text.startswith("DUMP GRAPH")]
     assert f"<{EX}i2> <{RDF}type> <{EX}C1>" in graph_triples(store)
+    # unlisted: the reasoner reads the asserted graph, finds the retraction, and scopes it too
+    with store.transaction() as tx:
+        tx.delete(*_terms(("i2", RDF + "type", "C0")), ASSERTED)
+    report = materialise(store, asserted=ASSERTED, inferred=INFERRED)
+    assert report.scoped and (report.added, report.removed) == (0, 1)
+    assert not any(f"<{EX}i2>" in t for t in graph_triples(store))
 
 
 def test_a_retracted_schema_triple_recomputes_the_closure() -> None:
