@@ -86,6 +86,7 @@ def create_app(settings: Settings | None = None) -> FastAPI:
         recordings = RecordingRegistry()
         state = app.state
         state.settings, state.store, state.runner = settings, store, runner
+        state.ontology_version = status.version  # the TBOX changes only here while serving
         state.recordings = recordings
         # Opened in the background (reading its index file, or rebuilding it from the store):
         # /health and SPARQL answer meanwhile, memory directives answer "loading".

@@ -16,10 +16,17 @@ median and p99, the writers' median and their directives per second, and the rat
 loaded figures to the baseline. Targets (issue 15): point and join median < 50 ms, p99 <
 250 ms, ``/health`` < 20 ms with 8 writers and 8 readers.
 
+``--breakdown`` first prints, in this process on an on-disk store, what bringing a query's view
+of the store up to date costs each way (medians): a backup of the store and a fresh read-only
+open of it (what every query paid when writers had committed since the last snapshot, before
+the workers kept copies), against replaying 10 single-directive commits into a worker's copy
+(what a query pays now), each followed by the point query.
+
 Run from the repository root::
 
     .venv/bin/python bench/mixed_load.py
     .venv/bin/python bench/mixed_load.py --seconds 4 --writers 4 --readers 4
+    .venv/bin/python bench/mixed_load.py --breakdown
 """
 
 import argparse
@@ -238,6 +245,62 @@ def report(label: str, timings: Timings, seconds: float, baseline: Timings | Non
         print(line)
 
 
+def breakdown(runs: int = 20, commits: int = 10) -> None:
+    """Print the cost of a fresh snapshot (backup + open) against a replay, each + a query."""
+    import shutil
+    import uuid
+
+    import pyoxigraph
+
+    sys.path.insert(0, str(ROOT))
+    from kg import Store, ensure_ontology
+    from ontologies.vocab import RDF_TYPE, RDFS_LABEL, engram
+
+    def one_commit(store: Store, n: int) -> None:
+        with store.transaction() as tx:
+            tx.insert(engram(f"i{n}"), RDF_TYPE, engram(f"C{n % 7}"), engram("g"))
+            tx.insert(engram(f"i{n}"), RDFS_LABEL, pyoxigraph.Literal(f"i{n}"), engram("g"))
+
+    with tempfile.TemporaryDirectory() as data:
+        store = Store(Path(data) / "store")
+        ensure_ontology(store)
+        for n in range(2000):
+            one_commit(store, n)
+        log = store.commit_log()
+        fresh, replayed = [], []
+        copy = Path(data) / "copy"
+        store.backup(copy)
+        worker_copy = pyoxigraph.Store(str(copy))
+        for run in range(runs):
+            generation = store.generation
+            for n in range(commits):
+                one_commit(store, 10_000 + run * commits + n)
+            start = time.perf_counter()
+            path = Path(data) / uuid.uuid4().hex
+            store.backup(path)
+            snapshot = pyoxigraph.Store.read_only(str(path))
+            list(snapshot.query(POINT))
+            fresh.append(time.perf_counter() - start)
+            del snapshot
+            shutil.rmtree(path)
+            start = time.perf_counter()
+            for commit in log.since(generation, store.generation) or []:
+                if commit.inserts:
+                    worker_copy.extend(commit.inserts)
+                if commit.update:
+                    worker_copy.update(commit.update)
+            list(worker_copy.query(POINT))
+            replayed.append(time.perf_counter() - start)
+        one = os.getloadavg()[0]
+        fresh_ms = statistics.median(fresh) * 1000
+        replay_ms = statistics.median(replayed) * 1000
+        print(
+            f"breakdown ({len(store)} quads, load average {one:.2f}): backup + read-only open + "
+            f"point query {fresh_ms:.1f} ms; replay of {commits} commits + point query "
+            f"{replay_ms:.2f} ms ({fresh_ms / replay_ms:.0f} x less), medians of {runs}"
+        )
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("--seconds", type=float, default=8.0, help="length of each phase")
@@ -248,7 +311,12 @@ def main() -> None:
         default="0",
         help="ENGRAM_SPARQL_SNAPSHOT_MAX_AGE_S for the server (0: exact snapshots)",
     )
+    parser.add_argument(
+        "--breakdown", action="store_true", help="first time snapshot against replay in-process"
+    )
     options = parser.parse_args()
+    if options.breakdown:
+        breakdown()
     one, five, fifteen = os.getloadavg()
     print(
         f"mixed load, {options.readers} readers, {options.writers} writers, "

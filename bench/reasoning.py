@@ -23,6 +23,11 @@ inverse / symmetric / transitive properties, data properties) of about 10k and 5
    (``changes=``, what the directive layer passes after its directives), then without them (the
    reasoner reads the asserted graph and compares). At the end the incremental result is
    compared with a full REASON of the same asserted graph on a fresh store.
+5. REASONs on the reasoned reference (``--recompute`` runs each): after 1 listed retraction of
+   a type triple (re-derived in its region, :mod:`reasoners.owl_rl.retract`), after 1 listed
+   retraction with the whole closure recomputed (the path schema retractions take), after a
+   restart (no state in memory), and a second REASON with nothing changed; at the end the
+   inferred graph is compared with a fresh full REASON's.
 
 Run from the repository root::
 
@@ -42,6 +47,8 @@ import statistics
 import sys
 import tempfile
 import time
+from collections.abc import Iterator
+from contextlib import contextmanager
 
 import owlrl
 import rdflib
@@ -52,7 +59,7 @@ from rdflib.namespace import OWL, RDF, RDFS
 
 from kg import Store
 from ontologies.vocab import reference_graph
-from reasoners.owl_rl import AssertedChanges, ReasonReport, materialise
+from reasoners.owl_rl import AssertedChanges, ReasonReport, forget, materialise
 from reasoners.owl_rl.synthetic import EX, scene_ontology
 
 ASSERTED = reference_graph("bench")
@@ -130,6 +137,66 @@ def _new_object(store: Store, n: int) -> list[tuple[NamedNode, NamedNode, NamedN
     return triples
 
 
+def _recomputations(store: Store, runs: int) -> dict[str, list[float]]:
+    """Full REASONs (the whole closure computed again) on a reference already reasoned, as
+    served: ``runs`` times each of
+
+    - "retraction": one asserted triple retracted (a different one each time), the caller
+      listing it (``changes=``, as the directive layer does); the reasoner's state in memory;
+    - "restart": no state in memory (``forget``, as after a server restart), nothing changed:
+      both graphs are read;
+    - "unchanged": a second REASON with nothing changed (state in memory).
+    """
+    times: dict[str, list[float]] = {
+        "retraction": [],
+        "retraction_whole": [],
+        "restart": [],
+        "unchanged": [],
+    }
+    types = [q for q in store.quads(None, NamedNode(str(RDF.type)), None, ASSERTED)]
+    for n in range(runs):
+        quad = types[(n * 7919) % len(types)]
+        triple = (quad.subject, quad.predicate, quad.object)
+        with store.transaction() as tx:
+            tx.delete(*triple, ASSERTED)  # type: ignore[arg-type]
+        changes = AssertedChanges(removed=[triple])  # type: ignore[list-item]
+        start = time.perf_counter()
+        report = materialise(store, asserted=ASSERTED, inferred=INFERRED, changes=changes)
+        times["retraction"].append(time.perf_counter() - start)
+        assert report.scoped, "expected a retraction re-derived in its region"
+        quad = types[(n * 7919 + 1) % len(types)]
+        triple = (quad.subject, quad.predicate, quad.object)
+        with store.transaction() as tx:
+            tx.delete(*triple, ASSERTED)  # type: ignore[arg-type]
+        changes = AssertedChanges(removed=[triple])  # type: ignore[list-item]
+        with _whole_recomputation():
+            start = time.perf_counter()
+            report = materialise(store, asserted=ASSERTED, inferred=INFERRED, changes=changes)
+            times["retraction_whole"].append(time.perf_counter() - start)
+        assert not (report.incremental or report.scoped), "expected a whole recomputation"
+        forget(store, asserted=ASSERTED, inferred=INFERRED)
+        start = time.perf_counter()
+        report = materialise(store, asserted=ASSERTED, inferred=INFERRED)
+        times["restart"].append(time.perf_counter() - start)
+        assert (report.incremental, report.added, report.removed) == (False, 0, 0)
+        start = time.perf_counter()
+        report = materialise(store, asserted=ASSERTED, inferred=INFERRED)
+        times["unchanged"].append(time.perf_counter() - start)
+    return times
+
+
+@contextmanager
+def _whole_recomputation() -> Iterator[None]:
+    """Make a listed retraction recompute the whole closure (the path before regions)."""
+    module = sys.modules[materialise.__module__]
+    scoped = module._retract_listed
+    module._retract_listed = lambda *args: None  # type: ignore[attr-defined]
+    try:
+        yield
+    finally:
+        module._retract_listed = scoped  # type: ignore[attr-defined]
+
+
 def _incremental(store: Store, runs: int, *, with_list: bool) -> None:
     times, added = [], []
     for n in range(runs):
@@ -150,6 +217,30 @@ def _incremental(store: Store, runs: int, *, with_list: bool) -> None:
     )
 
 
+def _print_recomputations(store: Store, runs: int, baseline: float | None) -> None:
+    labels = {
+        "retraction": (
+            "REASON after 1 retraction (changes= listed, state in memory; re-derives the"
+            " retracted triple's region, see reasoners/owl_rl/retract.py)"
+        ),
+        "retraction_whole": (
+            "full REASON after 1 retraction, whole closure recomputed (changes= listed, state"
+            " in memory; the path for schema retractions)"
+        ),
+        "restart": "full REASON after a restart (no state; reads both graphs, writes nothing)",
+        "unchanged": "second REASON, nothing changed",
+    }
+    for kind, times in _recomputations(store, runs).items():
+        median = statistics.median(times)
+        line = f"  {labels[kind]}: median {median * 1000:.1f} ms of {len(times)}"
+        if baseline is not None and median > 0:
+            line += f" | owlrl ÷ it: {baseline / median:.0f}"
+        print(line, flush=True)
+    _, _, fresh = _full(store.graph_ntriples(ASSERTED))
+    same = _inferred(store) == _inferred(fresh)
+    print(f"  after them, the inferred graph equals a fresh full REASON's: {same}", flush=True)
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("--repeats", type=int, default=3, help="rounds of full REASON per size")
@@ -158,6 +249,12 @@ def main() -> None:
     parser.add_argument("--incremental", type=int, default=20, help="incremental REASONs at 50k")
     parser.add_argument("--sizes", default="10000,50000", help="ontology sizes in triples")
     parser.add_argument("--disk", action="store_true", help="on-disk stores (as served)")
+    parser.add_argument(
+        "--recompute",
+        type=int,
+        default=3,
+        help="full REASONs on a reasoned reference per kind (retraction, restart, unchanged)",
+    )
     parser.add_argument(
         "--compare-unstreamed",
         action="store_true",
@@ -178,7 +275,7 @@ def main() -> None:
         triples = _store(document).graph_ntriples(ASSERTED).count(b"\n")
         with_owlrl = size <= 10_000 or args.owlrl_50k
         print(f"\n## {triples} asserted triples")
-        ours, ratios, store = [], [], None
+        ours, ratios, store, baseline = [], [], None, 0.0
         for round_ in range(args.repeats):
             owlrl_round = with_owlrl and round_ < args.owlrl_runs
             runs = []
@@ -205,6 +302,8 @@ def main() -> None:
                 line += f" | identical: {same}"
                 line += f" | REASON runs around it: {', '.join(f'{r:.3f}' for r in runs)}"
             print(line, flush=True)
+            if args.recompute and store is not None and round_ == 0:
+                _print_recomputations(store, args.recompute, baseline if owlrl_round else None)
         print(f"REASON median {statistics.median(ours):.3f} s over {len(ours)} rounds", end="")
         print(
             f"; owlrl ÷ REASON per round: {', '.join(f'{r:.0f}' for r in ratios)}"

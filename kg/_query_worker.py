@@ -8,17 +8,22 @@ evaluation and serialisation. A query that crashes the parser kills only this pr
 Before the first job the process forbids itself Internet sockets (:mod:`kg._no_network`), so a
 query that escaped the checks still cannot make the server fetch anything.
 
-A job is a dict: ``text``; the data, either ``path`` (a read-only snapshot directory) or
-``graph_data`` (named graph IRI -> N-Triples bytes, loaded into memory); ``default_graphs`` and
+A job is a dict: ``text``; the data, either ``path`` (this worker's own copy of the store, a
+backup directory it opens read-write) with ``replay`` (the commits to apply to it first, in
+order: (inserted quads, or None and a SPARQL update text)) and optionally ``retire`` (its
+previous copy, to close and remove), or ``graph_data`` (named graph IRI -> N-Triples bytes,
+loaded into memory); ``default_graphs`` and
 ``named_graphs`` (IRIs, or None); ``formats`` (query form -> result format name, for the forms
 the caller accepts); ``limit`` (bytes of result); ``max_depth`` (nesting levels). The answer is
 a tuple ``(status, form, payload)``, ``status`` being one of ``ok`` (payload: the result),
-``not_acceptable``, ``too_large``, ``too_deep``, ``syntax``, ``refused``, ``unsupported`` or
+``not_acceptable``, ``too_large``, ``too_deep``, ``syntax``, ``refused``, ``unsupported``,
+``replay_failed`` (the copy could not be brought up to date: the server sends a new one) or
 ``error`` (payload: a message).
 """
 
 import io
 import logging
+import shutil
 import sys
 from multiprocessing.connection import Connection
 from typing import Any
@@ -116,9 +121,27 @@ def _open(job: dict[str, Any], opened: dict[str, pyoxigraph.Store]) -> pyoxigrap
         return store
     path = job["path"]
     if path not in opened:
-        opened.clear()  # close the old snapshot before opening the new one
-        opened[path] = pyoxigraph.Store.read_only(path)
+        opened.clear()  # close the old copy before opening the new one
+        opened[path] = pyoxigraph.Store(path)
+    retired = job.get("retire")
+    if retired:
+        shutil.rmtree(retired, ignore_errors=True)
     return opened[path]
+
+
+class ReplayError(Exception):
+    """The worker's copy of the store could not take the commits it was sent."""
+
+
+def _replay(store: pyoxigraph.Store, job: dict[str, Any]) -> None:
+    try:
+        for inserts, update in job.get("replay") or ():
+            if inserts:
+                store.extend(inserts)
+            if update:
+                store.update(update)
+    except (OSError, SyntaxError, ValueError) as error:
+        raise ReplayError(str(error)) from error
 
 
 def answer(store: pyoxigraph.Store, job: dict[str, Any]) -> Answer:
@@ -146,10 +169,16 @@ def answer(store: pyoxigraph.Store, job: dict[str, Any]) -> Answer:
 def handle(job: dict[str, Any], opened: dict[str, pyoxigraph.Store]) -> Answer:
     """Check, then run, one job; errors become answers."""
     try:
+        store = _open(job, opened)
+        if job.get("graph_data") is None:
+            _replay(store, job)  # also for a refused query: the server counts it done
         refusal = check(job["text"], job)
         if refusal is not None:
             return refusal
-        return answer(_open(job, opened), job)
+        return answer(store, job)
+    except ReplayError as error:
+        opened.clear()
+        return ("replay_failed", None, str(error))
     except RuntimeError as error:  # Oxigraph's word for an unknown function and the like
         return ("unsupported", None, f"the query cannot be evaluated: {error}")
     except ValueError as error:  # a malformed graph IRI

@@ -34,6 +34,7 @@ from pyoxigraph import (
 )
 
 import sparql
+from kg.commit_log import CommitLog
 from kg.errors import (
     QueryRefusedError,
     QuerySyntaxError,
@@ -101,6 +102,7 @@ class Store:
         self._tracers: list[Tracer] = [tracer] if tracer else []
         self._generation = 0
         self._committer: ThreadPoolExecutor | None = None
+        self._commit_log: CommitLog | None = None
         if self.path is not None or (backend is not None and not backend.read_only):
             self.recover_bulk_writes()
 
@@ -108,6 +110,21 @@ class Store:
     def generation(self) -> int:
         """How many transactions this object has committed; a cheap "has anything changed" test."""
         return self._generation
+
+    def commit_log(self) -> CommitLog:
+        """The log of this store's commits from now on (:mod:`kg.commit_log`), started by the
+        first call: the SPARQL workers' copies of the store catch up from it."""
+        with self._write_lock:
+            if self._commit_log is None:
+                self._commit_log = CommitLog()
+                self._commit_log.unrecorded(self._generation)
+            return self._commit_log
+
+    def _unrecorded_write(self) -> None:
+        """Count a write the commit log cannot replay (a bulk load, a recovery)."""
+        self._generation += 1
+        if self._commit_log is not None:
+            self._commit_log.unrecorded(self._generation)
 
     # Tracing -----------------------------------------------------------------------------------
 
@@ -300,6 +317,7 @@ class Store:
                     pattern.subject, pattern.predicate, pattern.object, pattern.graph
                 )
             )
+        text: str | None = None
         if self.remote is not None:
             self._trace("update", f"REMOTE {len(deletes)} deletions, {len(tx.inserts)} inserts", {})
             apply: Callable[[], None] = functools.partial(
@@ -320,6 +338,13 @@ class Store:
                 raise TransactionError(
                     f"transaction not applied, store unchanged: {error}"
                 ) from error
+            if self._commit_log is not None:  # recorded before the generation says it is there
+                if self.remote is not None:
+                    self._commit_log.unrecorded(self._generation + 1)
+                elif text is None:
+                    self._commit_log.record(self._generation + 1, inserts=tx.inserts)
+                else:
+                    self._commit_log.record(self._generation + 1, update=text)
             self._generation += 1
             log.debug("committed %d deletions, %d insertions", len(deletes), len(tx.inserts))
 
@@ -390,7 +415,7 @@ class Store:
                     ) from error
                 raise
             finally:
-                self._generation += 1
+                self._unrecorded_write()
         log.debug("bulk loaded N-Triples into %s", graph)
 
     def _bulk_load_streamed(self, graph: NamedNode, pieces: Iterable[bytes]) -> None:
@@ -465,7 +490,7 @@ class Store:
                 else:
                     self._store.remove(marker)
             if markers:
-                self._generation += 1
+                self._unrecorded_write()
         return cleared
 
     # Maintenance -------------------------------------------------------------------------------

@@ -10,7 +10,8 @@ reasoner never re-reads a whole graph to find them:
   state), puts it into its own changes, and commits it with them; then :func:`confirm`, or on
   failure :func:`discard`, which makes the next REASON recompute;
 - a list that commits writes without reasoning (a buffered reasoner) hands them to
-  :func:`record`, so that the next REASON derives their consequences only;
+  :func:`record`, retractions included, so that the next REASON derives their consequences
+  only (for a retraction: re-derives the region of the closure it touches);
 - a REASON with nothing pending in its list runs on the store (:func:`reason_committed`).
 """
 
@@ -107,16 +108,20 @@ def prepare(
     return prepared
 
 
-def record_committed(store: Store, reference: Reference, *, added: Sequence[Quad]) -> None:
-    """Tell the reasoner about assertions a list committed without reasoning over them."""
+def record_committed(
+    store: Store, reference: Reference, *, added: Sequence[Quad], removed: Sequence[Quad] = ()
+) -> None:
+    """Tell the reasoner what a list asserted and retracted without reasoning over it: the next
+    REASON derives the consequences of the additions and re-derives the part of the closure
+    that the retractions touch, instead of recomputing it all."""
     record(
         store,
         asserted=reference.asserted,
         inferred=reference.inferred,
-        changes=AssertedChanges(added=_triples(added)),
+        changes=AssertedChanges(added=_triples(added), removed=_triples(removed)),
     )
 
 
 def forget_state(store: Store, reference: Reference) -> None:
-    """Make the next REASON of ``reference`` recompute (a retraction, a DROP, a direct write)."""
+    """Make the next REASON of ``reference`` recompute (a DROP, a direct write)."""
     forget(store, asserted=reference.asserted, inferred=reference.inferred)

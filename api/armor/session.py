@@ -407,10 +407,12 @@ class Session:
                     prepared.confirm(self.store)
                 if todo is None:
                     continue
-                if todo.cleared or todo.removed or todo.inferred_written:
+                if todo.cleared or todo.inferred_written:
                     reasoning.forget_state(self.store, reference)
-                elif todo.added:
-                    reasoning.record_committed(self.store, reference, added=todo.added)
+                elif todo.added or todo.removed:  # the next REASON derives from the list
+                    reasoning.record_committed(
+                        self.store, reference, added=todo.added, removed=todo.removed
+                    )
             except Exception:  # never leave a state that may not match the store
                 log.exception("the reasoner's state of reference %s is dropped", name)
                 reasoning.forget_state(self.store, reference)

@@ -5,17 +5,21 @@ from typing import Any
 from fastapi import APIRouter, Request
 
 from api.deps import StoreDep
-from kg import stored_version
 
 router = APIRouter(tags=["health"])
 
 
 @router.get("/health", summary="Liveness, ontology version and the scene memory's state")
-def health(store: StoreDep, request: Request) -> dict[str, Any]:
+async def health(store: StoreDep, request: Request) -> dict[str, Any]:
     """``status`` is "ok", or "loading" while the scene memory opens in the background (SPARQL
     answers meanwhile; memory directives answer exit code 212, "still loading"), or "degraded"
-    if opening it failed; ``memory`` says which, and where the memory was read from."""
-    version = stored_version(store)
+    if opening it failed; ``memory`` says which, and where the memory was read from.
+
+    Answered on the event loop from what the server holds in memory (the ontology version that
+    opening the store ensured, the store's transaction count, the memory's state), never from
+    the store: beside 8 writers and 8 SPARQL readers, a store query and a hop through the thread
+    pool made it 30 ms (median) instead of a few."""
+    version = request.app.state.ontology_version
     memory = request.app.state.scene_memory
     if memory.ready:
         state = "ready"

@@ -2,12 +2,14 @@
 
 :func:`materialise` writes the closure of a reference's asserted graph into its inferred graph
 (one transaction; incremental after additions, fastest when the caller passes
-``changes=AssertedChanges(added=[...])``; a retraction recomputes), :func:`is_consistent` checks
-the OWL 2 RL inconsistency rules and names the clashes, :func:`forget` drops the reasoner's
-memory of a reference (call it after writing its inferred graph by other means), :func:`record`
-notes assertions committed without a REASON, and :func:`prepare` computes the inferred graph's
-delta for a writer's uncommitted changes without writing it (the writer commits it with its own
-transaction; :mod:`reasoners.owl_rl.pending`). ARMOR's reasoner names (``PELLET``,
+``changes=AssertedChanges(added=[...])``; a listed retraction of instance triples re-derives
+only the region of the closure it touches, :mod:`reasoners.owl_rl.retract`; other retractions
+recompute), :func:`is_consistent` checks the OWL 2 RL inconsistency rules and names the
+clashes, :func:`forget` drops the reasoner's memory of a reference (call it after writing its
+inferred graph by other means), :func:`record` notes assertions and retractions committed
+without a REASON, and :func:`prepare` computes the inferred graph's delta for a writer's
+uncommitted changes without writing it (the writer commits it with its own transaction;
+:mod:`reasoners.owl_rl.pending`). ARMOR's reasoner names (``PELLET``,
 ``HERMIT``, ``FACT``, ``SNOROCKET``, any case, and ``OWL2RL``) are aliases of this one engine.
 
 What is inferred: the rules of the OWL 2 RL/RDF profile (W3C OWL 2 Profiles, section 4.3):

@@ -233,6 +233,11 @@ class Engine:
             for parent in DATATYPE_SUPERTYPES.get(datatype, ()):
                 self.add(literal, TYPE, parent)
 
+    def untype_literals(self, literals: Iterable[str]) -> None:
+        """Forget that ``literals`` were typed (their type facts were taken out): the next
+        fact that uses one types it again."""
+        self._typed_literals.difference_update(literals)
+
     # Running ----------------------------------------------------------------------------------
 
     def run(self) -> None:

@@ -8,16 +8,21 @@ comparing it with what it saw (a scan, about 60 ms at 50k triples), and
 
 - if triples were only added (and no SWRL rule changed), feeds the new ones to the engine, which
   derives only their consequences (semi-naive), and writes only the new inferred triples;
-- otherwise (a retraction, a changed SWRL rule, or no state yet) recomputes the closure from
-  scratch, then writes only the difference with what the inferred graph holds.
+- if instance triples were retracted (listed, recorded, or found by reading the graph),
+  re-derives only the region of the closure they touch (:mod:`.retract`: the individuals
+  linked to them) and writes the difference;
+- otherwise (a retraction of schema or SWRL triples, equality in the closure, a changed SWRL
+  rule, or no state yet) recomputes the closure from scratch, then writes only the difference
+  with what the inferred graph holds.
 
 Every write is all or nothing. A small one is a transaction; a closure of thousands of triples
 written into an empty inferred graph (the first REASON of a reference: about 100k triples at
 50k asserted) goes through :meth:`kg.Store.fill_graph`, Oxigraph's bulk loader behind a crash
 marker, which on disk takes about half a transaction's time (0.9 s against 1.8 s at 50k).
 
-OWL 2 RL has no cheap retraction (a triple may be derived several ways), hence the recomputation;
-it costs what the first REASON costs. The inferred graph belongs to the reasoner: a writer that
+OWL 2 RL has no cheap retraction in general (a triple may be derived several ways, and the
+schema reaches everything), hence the recomputation when the region argument does not apply; it
+costs what the first REASON costs. The inferred graph belongs to the reasoner: a writer that
 changes it otherwise must call :func:`forget` so that the next call starts afresh.
 
 >>> from kg import Store
@@ -58,6 +63,7 @@ from reasoners.owl_rl._terms import SWRL, to_term
 from reasoners.owl_rl.consistency import Clash, clashes
 from reasoners.owl_rl.engine import AXIOMS, Engine, Fact
 from reasoners.owl_rl.errors import UnknownReasonerError
+from reasoners.owl_rl.retract import inferred_delta, retract
 from reasoners.owl_rl.swrl import SwrlRunner, parse_rules
 
 __all__ = [
@@ -117,6 +123,8 @@ class ReasonReport:
     consistent: bool
     clashes: tuple[Clash, ...] = ()
     inferred_total: int = 0
+    scoped: bool = False
+    """A retraction re-derived within the part of the closure it touches (:mod:`.retract`)."""
 
 
 @dataclass
@@ -130,6 +138,8 @@ class _State:
     terms: dict[str, NamedNode | Literal]
     journal: list[AddedTriple] = field(default_factory=list)
     """Triples committed to the asserted graph without a REASON since (see :func:`record`)."""
+    journal_removed: list[AddedTriple] = field(default_factory=list)
+    """Triples retracted from the asserted graph without a REASON since (see :func:`record`)."""
     pending: bool = False
     """True while the state holds a writer's uncommitted changes (see :mod:`.pending`)."""
 
@@ -302,38 +312,71 @@ def _materialise(
         log.warning("REASON %s: dropping an uncommitted writer's reasoner state", asserted)
         state = slot.state = None
     generation = store.generation
-    if state is not None and state.generation == generation and not state.journal:
+    if (
+        state is not None
+        and state.generation == generation
+        and not (state.journal or state.journal_removed)
+    ):
         return _report(state, 0, 0, start, incremental=True)
     data: bytes | None = None
+    given: list[AddedTriple] | None = None  # the caller's complete list of changed triples
     if state is not None:
         new_facts: list[Fact] | None
         journal, state.journal = state.journal, []
-        if changes is not None and not changes.removed:
+        journal_removed, state.journal_removed = state.journal_removed, []
+        if changes is not None:
+            given = [*journal, *journal_removed, *changes.added, *changes.removed]
+        if changes is not None and not (changes.removed or journal_removed):
             new_facts = _added_facts(store, asserted, state, [*journal, *changes.added])
+        elif changes is not None:
+            new_facts = None  # a retraction: recomputed below from the caller's list
         else:
             data = store.graph_ntriples(asserted)
             new_facts = _new_facts(state, data)
+            if new_facts is None:  # a retraction found by reading: re-derived in its region?
+                scoped = _retract_read(store, asserted, inferred, state, data, generation, start)
+                if scoped is not None:
+                    return scoped
         if new_facts is not None:
             limit = max(_INCREMENTAL_LIMIT * len(state.asserted), 1_000)
             if not _touches_swrl(new_facts) and len(new_facts) <= limit:
                 state.asserted_dump = data
                 return _incremental(store, inferred, state, new_facts, generation, start)
+    if state is not None and given is not None:  # a listed retraction
+        scoped = _retract_listed(store, asserted, inferred, state, given, generation, start)
+        if scoped is not None:
+            return scoped
+    previous = state if state is not None and not state.pending else None
     slot.state = None
-    if data is None:
-        data = store.graph_ntriples(asserted)
-    facts = _facts(data)
+    if data is None and previous is not None and given is not None:
+        # the asserted graph is the one reasoned last time, with the caller's changes applied:
+        # no need to read all of it again
+        facts = list(_asserted_after(store, asserted, previous, given))
+    else:
+        if data is None:
+            data = store.graph_ntriples(asserted)
+        facts = _facts(data)
     asserted_facts = set(facts)
-    terms: dict[str, NamedNode | Literal] = {}
+    terms: dict[str, NamedNode | Literal] = previous.terms if previous is not None else {}
     to_remove: set[Fact] | list[Fact] = []
-    streamed = len(facts) >= _STREAM_MIN and not any(store.quads(graph=inferred))
+    streamed = (
+        previous is None and len(facts) >= _STREAM_MIN and not any(store.quads(graph=inferred))
+    )
     if streamed:  # the first REASON of a large reference: the closure written as derived
         engine = _engine(facts)
         added, committed = _fill_while_reasoning(store, inferred, engine, asserted_facts)
         count = added
     else:
         engine = _closure(facts)
-        current = set(_facts(store.graph_ntriples(inferred)))
-        if current:
+        if previous is not None:  # the inferred graph holds the last closure's output
+            wanted = _outputs(engine, asserted_facts)
+            before, was_asserted = previous.engine, previous.asserted
+            to_remove = [f for f in _stream_outputs(before, was_asserted) if f not in wanted]
+            to_add = [f for f in wanted if f not in before or f in was_asserted]
+            previous = None  # its engine can go
+            added, committed = _write(store, inferred, to_add, to_remove, terms)
+            count = len(wanted)
+        elif current := set(_facts(store.graph_ntriples(inferred))):
             wanted = _outputs(engine, asserted_facts)
             to_remove = current - wanted
             added, committed = _write(store, inferred, wanted - current, to_remove, terms)
@@ -394,6 +437,125 @@ def _added_facts(
     return list(new_facts)
 
 
+def _asserted_after(
+    store: Store, asserted: NamedNode, state: _State, changed: Iterable[AddedTriple]
+) -> set[Fact]:
+    """The asserted graph as ``state`` saw it, with the stored values of every subject and
+    predicate in ``changed`` read again (what was retracted goes, what was added comes)."""
+    facts = set(state.asserted)
+    engine = state.engine
+    for subject, predicate in {(s, p) for s, p, _ in changed}:
+        _check_graph("changes subject", subject)
+        _check_graph("changes predicate", predicate)
+        s, p = str(subject), str(predicate)
+        for o in engine.objects(s, p):
+            facts.discard((s, p, o))
+        for quad in store.quads(subject, predicate, None, asserted):
+            facts.add((s, p, str(quad.object)))
+    return facts
+
+
+def _retract_listed(
+    store: Store,
+    asserted: NamedNode,
+    inferred: NamedNode,
+    state: _State,
+    given: list[AddedTriple],
+    generation: int,
+    start: float,
+) -> ReasonReport | None:
+    """Re-derive only the region of the closure that the listed retractions touch (see
+    :mod:`.retract`) and write the difference; None (the state untouched) if that does not
+    apply, and the caller recomputes the whole closure."""
+    removed, added = _listed_difference(store, asserted, state, given)
+    return _retract_facts(store, asserted, inferred, state, removed, added, generation, start)
+
+
+def _retract_read(
+    store: Store,
+    asserted: NamedNode,
+    inferred: NamedNode,
+    state: _State,
+    data: bytes,
+    generation: int,
+    start: float,
+) -> ReasonReport | None:
+    """As :func:`_retract_listed`, the changes found by comparing the asserted graph as read
+    (``data``) with what ``state`` saw."""
+    if state.asserted_dump is not None:
+        before, now = set(state.asserted_dump.split(b"\n")), set(data.split(b"\n"))
+        removed = set(_facts(b"\n".join(before - now)))
+        added = set(_facts(b"\n".join(now - before)))
+    else:
+        graph = set(_facts(data))
+        removed, added = state.asserted - graph, graph - state.asserted
+    report = _retract_facts(store, asserted, inferred, state, removed, added, generation, start)
+    if report is not None:
+        state.asserted_dump = data
+    return report
+
+
+def _retract_facts(
+    store: Store,
+    asserted: NamedNode,
+    inferred: NamedNode,
+    state: _State,
+    removed: set[Fact],
+    added: set[Fact],
+    generation: int,
+    start: float,
+) -> ReasonReport | None:
+    limit = int(max(_INCREMENTAL_LIMIT * len(state.asserted), 1_000))
+    if len(added) > limit:
+        return None
+    facts = state.asserted
+    facts.difference_update(removed)
+    facts.update(added)
+    change = retract(state.engine, facts, removed=list(removed), added=list(added), limit=limit)
+    if change is None:
+        facts.difference_update(added)
+        facts.update(removed)
+        return None
+    engine = state.engine
+    to_add, to_remove = inferred_delta(engine, facts, change, removed=removed, added=added)
+    written, committed = _write(store, inferred, to_add, to_remove, state.terms)
+    state.inferred_count += written - len(to_remove)
+    state.asserted_dump = None
+    state.generation = _generation_after(store, generation, committed)
+    state.consistency = _report_consistency(engine)
+    report = _report(state, written, len(to_remove), start, incremental=False, scoped=True)
+    log.info(
+        "REASON %s: retraction re-derived in a region of %d terms, +%d -%d in %.4f s",
+        asserted,
+        change.region,
+        report.added,
+        report.removed,
+        report.duration_s,
+    )
+    return report
+
+
+def _listed_difference(
+    store: Store, asserted: NamedNode, state: _State, changed: Iterable[AddedTriple]
+) -> tuple[set[Fact], set[Fact]]:
+    """(retracted, added) asserted triples: the stored values of every subject and predicate
+    in ``changed`` against those ``state`` saw."""
+    removed: set[Fact] = set()
+    added: set[Fact] = set()
+    engine = state.engine
+    for subject, predicate in {(s, p) for s, p, _ in changed}:
+        _check_graph("changes subject", subject)
+        _check_graph("changes predicate", predicate)
+        s, p = str(subject), str(predicate)
+        before = {o for o in engine.objects(s, p) if (s, p, o) in state.asserted}
+        if (s, p, s) in state.asserted:  # x owl:sameAs x: asserted, never in the engine
+            before.add(s)
+        now = {str(quad.object) for quad in store.quads(subject, predicate, None, asserted)}
+        removed.update((s, p, o) for o in before - now)
+        added.update((s, p, o) for o in now - before)
+    return removed, added
+
+
 def _generation_after(store: Store, before: int, committed: bool) -> int:
     """The store generation the state matches, or -1 if another writer got in between."""
     expected = before + 1 if committed else before
@@ -401,7 +563,13 @@ def _generation_after(store: Store, before: int, committed: bool) -> int:
 
 
 def _report(
-    state: _State, added: int, removed: int, start: float, *, incremental: bool
+    state: _State,
+    added: int,
+    removed: int,
+    start: float,
+    *,
+    incremental: bool,
+    scoped: bool = False,
 ) -> ReasonReport:
     return ReasonReport(
         added=added,
@@ -411,6 +579,7 @@ def _report(
         consistent=state.consistency.consistent,
         clashes=state.consistency.clashes,
         inferred_total=state.inferred_count,
+        scoped=scoped,
     )
 
 
@@ -541,8 +710,9 @@ def record(
 
     The next call with ``changes=`` (:func:`materialise`, or :func:`~.pending.prepare`) then
     derives their consequences too, so that the caller needs to pass only what it wrote since.
-    A retraction, or more new triples than an incremental run is worth, drops the state: the
-    next REASON recomputes.
+    Retractions are kept too: the next call re-derives the part of the closure they touch
+    (:mod:`.retract`), or recomputes the closure from the kept state when that does not apply.
+    More changes than an incremental run is worth drop the state: the next REASON recomputes.
     """
     slot = _slot(store, asserted, inferred)
     with slot.lock:
@@ -550,8 +720,9 @@ def record(
         if state is None or not (changes.added or changes.removed):
             return
         state.journal.extend(changes.added)
+        state.journal_removed.extend(changes.removed)
         limit = max(_INCREMENTAL_LIMIT * len(state.asserted), 1_000)
-        if state.pending or changes.removed or len(state.journal) > limit:
+        if state.pending or len(state.journal) + len(state.journal_removed) > limit:
             slot.state = None
 
 
@@ -565,7 +736,7 @@ def is_consistent(store: Store, *, asserted: NamedNode, inferred: NamedNode) -> 
     if (
         state is not None
         and state.generation == store.generation
-        and not (state.pending or state.journal)
+        and not (state.pending or state.journal or state.journal_removed)
     ):
         return state.consistency
     engine = _closure(_facts(store.graph_ntriples(asserted)))

@@ -11,9 +11,12 @@ into its own transaction, then calls :meth:`Prepared.confirm` once that committe
 The work is the same as :func:`~reasoners.owl_rl.materialise`'s: after additions only, the kept
 engine derives just their consequences (time proportional to the change), and the delta is
 relative to the writer's view so far (``replaces=False``: the previous delta of the same writer
-plus this one); after a retraction, a changed SWRL rule, or with no kept state, the closure is
-recomputed from the committed graph plus the pending changes, and the delta is relative to the
-committed inferred graph (``replaces=True``: it replaces the writer's earlier delta).
+plus this one); after a retraction of instance triples, the kept engine re-derives the region of
+the closure they touch (:mod:`.retract`; the delta is again relative to the writer's view,
+``incremental=False``); after another retraction, a changed SWRL rule, or with no kept state,
+the closure is recomputed from the committed graph plus the pending changes, and the delta is
+relative to the committed inferred graph (``replaces=True``: it replaces the writer's earlier
+delta).
 
 Between ``prepare`` and ``confirm`` the reasoner's kept state is *tentative*: a concurrent
 :func:`~reasoners.owl_rl.materialise` of the same graphs drops it, ``discard`` drops it (the
@@ -70,6 +73,7 @@ from reasoners.owl_rl.materialise import (
     _State,
     _touches_swrl,
 )
+from reasoners.owl_rl.retract import inferred_delta, retract
 
 __all__ = ["PendingChanges", "Prepared", "prepare"]
 
@@ -206,12 +210,19 @@ def _prepare(
     elif after is None and state is not None and state.pending:
         log.warning("REASON %s: dropping another writer's uncommitted reasoner state", asserted)
         state = None
-    if recompute or changes.removed or (after is None and pending.cleared):
+    if recompute or (after is None and pending.cleared):
         state = None
+    if state is not None and after is None and state.journal_removed:
+        state = None  # retractions committed without a REASON: recomputed from the store
     if state is not None:
         journal: list[AddedTriple] = []
         if after is None:
             journal, state.journal = state.journal, []
+        if changes.removed:
+            scoped = _retract(store, asserted, inferred, slot, state, changes, pending, journal)
+            if scoped is not None:
+                return scoped
+            return _recompute(store, asserted, inferred, slot, pending, start)
         new_facts = set(_added_facts(store, asserted, state, journal))
         new_facts.update(f for f in canonical(changes.added) if f not in state.asserted)
         limit = max(_INCREMENTAL_LIMIT * len(state.asserted), 1_000)
@@ -219,6 +230,92 @@ def _prepare(
         if not _touches_swrl(facts) and len(facts) <= limit:
             return _incremental(slot, state, inferred, facts, start)
     return _recompute(store, asserted, inferred, slot, pending, start)
+
+
+def _retract(
+    store: Store,
+    asserted: NamedNode,
+    inferred: NamedNode,
+    slot: _Slot,
+    state: _State,
+    changes: AssertedChanges,
+    pending: PendingChanges,
+    journal: list[AddedTriple],
+) -> Prepared | None:
+    """A retraction re-derived in its region of the closure (:mod:`.retract`), the delta
+    relative to the writer's view so far; None (the state untouched) if that does not apply."""
+    start = time.perf_counter()
+    removed, added = _view_difference(store, asserted, state, pending, changes, journal)
+    limit = int(max(_INCREMENTAL_LIMIT * len(state.asserted), 1_000))
+    if len(added) > limit:
+        return None
+    facts = state.asserted
+    facts.difference_update(removed)
+    facts.update(added)
+    change = retract(state.engine, facts, removed=list(removed), added=list(added), limit=limit)
+    if change is None:
+        facts.difference_update(added)
+        facts.update(removed)
+        return None
+    state.pending, state.generation, state.asserted_dump = True, -1, None
+    to_add, to_remove = inferred_delta(state.engine, facts, change, removed=removed, added=added)
+    state.inferred_count += len(to_add) - len(to_remove)
+    state.consistency = _report_consistency(state.engine)
+    prepared = Prepared(
+        slot,
+        state,
+        added=_quads(to_add, inferred, state.terms),
+        removed=_quads(to_remove, inferred, state.terms),
+        replaces=False,
+        incremental=False,
+        duration_s=time.perf_counter() - start,
+    )
+    log.info(
+        "REASON %s (pending): retraction re-derived in a region of %d terms, +%d -%d in %.4f s",
+        asserted,
+        change.region,
+        len(prepared.added),
+        len(prepared.removed),
+        prepared.duration_s,
+    )
+    return prepared
+
+
+def _view_difference(
+    store: Store,
+    asserted: NamedNode,
+    state: _State,
+    pending: PendingChanges,
+    changes: AssertedChanges,
+    journal: list[AddedTriple],
+) -> tuple[set[Fact], set[Fact]]:
+    """(retracted, added) triples of the writer's view of ``asserted`` (the committed graph with
+    ``pending`` applied) against ``state``'s, for every subject and predicate that changed."""
+    pending_added: dict[tuple[str, str], set[str]] = {}
+    for s, p, o in canonical(pending.added):
+        pending_added.setdefault((s, p), set()).add(o)
+    pending_removed: dict[tuple[str, str], set[str]] = {}
+    for s, p, o in canonical(pending.removed):
+        pending_removed.setdefault((s, p), set()).add(o)
+    removed: set[Fact] = set()
+    added: set[Fact] = set()
+    engine = state.engine
+    changed = [*journal, *changes.added, *changes.removed]
+    for subject, predicate in {(s, p) for s, p, _ in changed}:
+        _check_graph("changes subject", subject)
+        _check_graph("changes predicate", predicate)
+        s, p = str(subject), str(predicate)
+        before = {o for o in engine.objects(s, p) if (s, p, o) in state.asserted}
+        if (s, p, s) in state.asserted:  # x owl:sameAs x: asserted, never in the engine
+            before.add(s)
+        now: set[str] = set()
+        if not pending.cleared:
+            now = {str(q.object) for q in store.quads(subject, predicate, None, asserted)}
+            now -= pending_removed.get((s, p), set())
+        now |= pending_added.get((s, p), set())
+        removed.update((s, p, o) for o in before - now)
+        added.update((s, p, o) for o in now - before)
+    return removed, added
 
 
 def _incremental(

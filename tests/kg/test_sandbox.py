@@ -129,3 +129,42 @@ def test_a_query_sees_every_earlier_commit_unless_staleness_is_allowed(
         assert _count_labels(running) == seen_after_commit
     finally:
         running.close()
+
+
+def test_each_query_sees_deletions_bulk_loads_and_many_commits_made_before_it(
+    tmp_path: Path,
+) -> None:
+    store = Store(tmp_path / "store")
+    running = QueryRunner(store, snapshot_dir=tmp_path / "snapshots", workers=2)
+    try:
+        assert _count_labels(running) == 0
+        for n in range(30):  # inserts only: replayed as quads
+            _label(store, f"a{n}")
+            assert _count_labels(running) == n + 1
+        with store.transaction() as tx:  # a deletion: replayed as an update
+            tx.delete(engram("a0"), RDFS_LABEL, Literal("x"), MEMORY)
+            tx.insert(engram("b"), RDFS_LABEL, Literal("x"), MEMORY)
+        assert [_count_labels(running) for _ in range(3)] == [30, 30, 30]
+        store.fill_graph(  # a bulk load, which the commit log does not hold: a new copy
+            engram("bulk"), b'<http://x/s> <http://www.w3.org/2000/01/rdf-schema#label> "x" .\n'
+        )
+        _label(store, "c")
+        assert [_count_labels(running) for _ in range(3)] == [32, 32, 32]
+    finally:
+        running.close()
+    assert not (tmp_path / "snapshots").exists()
+
+
+def test_a_copy_that_cannot_take_the_commits_is_taken_afresh(tmp_path: Path) -> None:
+    store = Store(tmp_path / "store")
+    running = QueryRunner(store, snapshot_dir=tmp_path / "snapshots", workers=1)
+    try:
+        assert _count_labels(running) == 0
+        _label(store, "a")
+        store.commit_log().record(store.generation + 1, update="NOT AN UPDATE")
+        store._generation += 1  # a commit the worker's copy cannot replay
+        assert _count_labels(running) == 1
+        _label(store, "b")
+        assert _count_labels(running) == 2
+    finally:
+        running.close()

@@ -169,6 +169,60 @@ def test_buffered_reasoner_catches_up_incrementally_on_reason(
     assert ntriples(engine.store, inferred) == full_reason(engine, "r", tmp_path)
 
 
+def test_buffered_reasoner_re_derives_only_the_region_of_retractions_on_reason(
+    engine: ArmorEngine, spy: Spy, tmp_path: Path
+) -> None:
+    """REMOVE directives committed without reasoning are handed to the reasoner (not dropped
+    with its state): the next REASON re-derives the part of the closure they touch."""
+    scene(engine, tmp_path, buffered_reasoner=True)
+    run(engine, d("REASON"))
+    inferred = reference_graph("r", inferred=True)
+    spy.clear()
+    run(engine, d("REMOVE", "OBJECTPROP", "IND", "inScene", "scene2_obj1", "scene2"))
+    run(engine, d("REMOVE", "IND", "", "scene3_obj0"))
+    run(
+        engine,
+        d("ADD", "IND", "CLASS", "b1", "Bottle"),
+        d("REMOVE", "IND", "CLASS", "b1", "Bottle"),
+    )
+    assert not spy.prepared and not spy.reports
+    run(engine, d("REASON"))
+    assert [(r.scoped, r.incremental) for r in spy.reports] == [(True, False)]
+    assert spy.reports[0].removed > 0
+    assert ntriples(engine.store, inferred) == full_reason(engine, "r", tmp_path)
+    spy.clear()
+    run(engine, d("REASON"))  # nothing changed since
+    assert [(r.added, r.removed, r.incremental) for r in spy.reports] == [(0, 0, True)]
+
+
+def test_an_unbuffered_reasoner_re_derives_only_the_region_of_a_lists_retractions(
+    engine: ArmorEngine, spy: Spy, tmp_path: Path
+) -> None:
+    """REMOVE directives in a list: the delta committed with them comes from their region of
+    the closure (neither graph re-read), and the kept state serves the next list."""
+    scene(engine, tmp_path, buffered_reasoner=False)
+    inferred = reference_graph("r", inferred=True)
+    spy.clear()
+    reads: list[str] = []
+    with engine.store.tracing(lambda kind, text, _: reads.append(text)):
+        run(
+            engine,
+            d("REMOVE", "IND", "CLASS", "scene2_obj1", "Cone"),
+            d("QUERY", "IND", "", "scene2_obj1"),
+            d("REMOVE", "OBJECTPROP", "IND", "inScene", "scene3_obj0", "scene3"),
+            d("ADD", "IND", "CLASS", "scene3_obj0", "Sphere"),
+        )
+    # the QUERY's reasoning re-derived a region; nothing replaced the list's delta
+    assert not spy.prepared[0].incremental
+    assert spy.prepared and not any(p.replaces for p in spy.prepared)
+    assert not [text for text in reads if text.startswith("DUMP GRAPH")]
+    assert ntriples(engine.store, inferred) == full_reason(engine, "r", tmp_path)
+    spy.clear()
+    run(engine, d("REMOVE", "IND", "", "scene4_obj2"))
+    assert [p.replaces for p in spy.prepared] == [False]
+    assert ntriples(engine.store, inferred) == full_reason(engine, "r", tmp_path)
+
+
 def test_retractions_renames_and_reloads_in_a_list_equal_a_full_reason(
     engine: ArmorEngine, spy: Spy, tmp_path: Path
 ) -> None:
