@@ -100,6 +100,13 @@ class Settings(BaseSettings):
     lease_s: float = Field(
         15.0, gt=0, le=3600, description="Term of the writer's lease on the server, in seconds."
     )
+    fleet: str = Field(
+        "",
+        pattern=r"^([A-Za-z0-9][A-Za-z0-9_-]{0,63}(,[A-Za-z0-9][A-Za-z0-9_-]{0,63})*)?$",
+        description="Other robots' memories on the SPARQL server to follow read-only, comma "
+        "separated: /sparql then also sees each under its server graph names "
+        "(https://w3id.org/engram/memory/<name>/graph/<g>). Needs store_url.",
+    )
 
     streams_url: str | None = Field(
         None,
@@ -111,6 +118,10 @@ class Settings(BaseSettings):
         pattern=r"^https?://\S+$",
         description="URL of the S3-compatible service of streams_url (unset: AWS's own).",
     )
+
+    @property
+    def fleet_memories(self) -> list[str]:
+        return [name for name in self.fleet.split(",") if name]
 
     @property
     def store_dir(self) -> Path:

@@ -152,11 +152,14 @@ class RemoteDataset:
         use_default_graph_as_union: bool = False,
         default_graph: Sequence[NamedNode] | None = None,
         named_graphs: Sequence[NamedNode] | None = None,
+        also: Sequence[str] = (),
     ) -> QuerySolutions | QueryBoolean | QueryTriples:
         """Run ``text`` over the memory's graphs (``use_default_graph_as_union``) or the chosen
-        ones; answers come back with Engram's own graph names."""
+        ones; answers come back with Engram's own graph names. ``also`` adds other graphs of the
+        server (by their server names: other robots' memories a fleet view follows) to the
+        union."""
         if use_default_graph_as_union or default_graph is None:
-            default = named = self.graphs()
+            default = named = [*self.graphs(), *also]
         else:
             default = [self.namespace.remote_graph(g).value for g in default_graph]
             named = [self.namespace.remote_graph(g).value for g in named_graphs or ()]
