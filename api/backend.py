@@ -106,4 +106,6 @@ def open_archive(settings: Settings) -> StreamArchive | None:
     if settings.streams_url is None:
         return None
     objects = ObjectStore(settings.streams_url, endpoint_url=settings.streams_endpoint)
-    return StreamArchive(objects, settings.data_dir / "streams")
+    return StreamArchive(
+        objects, settings.data_dir / "streams", cache_bytes=settings.streams_cache_bytes
+    )

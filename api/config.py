@@ -118,6 +118,13 @@ class Settings(BaseSettings):
         pattern=r"^https?://\S+$",
         description="URL of the S3-compatible service of streams_url (unset: AWS's own).",
     )
+    streams_cache_bytes: int = Field(
+        10 * 1024**3,
+        ge=0,
+        description="Most bytes of recordings fetched back from streams_url (for export) kept "
+        "in data_dir/streams; the least recently used go first. Replay reads by ranges and "
+        "fetches nothing; recordings made here are never evicted.",
+    )
 
     @property
     def fleet_memories(self) -> list[str]:
