@@ -211,9 +211,13 @@ def follower(url: str, args: argparse.Namespace) -> None:
     seen: dict[int, float] = {}
     arrived = threading.Event()
 
+    how: dict[int, str] = {}
+
     def changed(change: Change) -> None:
-        apply_change(mirror, change.touched)  # as the app's follower does (api.backend)
+        piecewise = apply_change(mirror, change.touched)  # as the app's follower does
         seen[change.revision] = time.perf_counter()
+        touched = "everything" if change.touched is None else len(change.touched)
+        how[change.revision] = f"{'piecewise' if piecewise else 'rebuilt'}, touched {touched}"
         arrived.set()
 
     reader.dataset.listen(changed)
@@ -229,6 +233,8 @@ def follower(url: str, args: argparse.Namespace) -> None:
             arrived.clear()
         mirror.item_scores(result.stored_as)  # the follower's index knows the class
         delays.append(seen[revision] - committed)
+        if delays[-1] > 1:
+            print(f"   slow: revision {revision}, {delays[-1] * 1e3:.0f} ms ({how[revision]})")
     classes = len(mirror.classes())
     reader.close()
     writer.close()
