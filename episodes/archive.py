@@ -10,7 +10,8 @@ Replay opens a stored recording in place (:meth:`StreamArchive.replayer`): range
 MCAP file's summary and index, then of the chunks it replays (:mod:`episodes.streams.ranged`),
 never the whole file first. The messages a replayer reads when it opens (the recording record,
 providers and ticks, a few bytes in every chunk) are uploaded beside the MCAP file as a small
-``<episode>.replay-messages`` object, read whole and digest checked. Export, and recordings
+``<episode>.replay-messages`` object with the end of the MCAP file (its summary), read whole and
+digest checked: opening then reads nothing of the recording itself. Export, and recordings
 without a summary, call :meth:`StreamArchive.local`, which fetches the objects back (digest
 checked) into the streams directory, the local cache. Fetched recordings are marked as such and
 evicted least recently used first once they hold more than ``cache_bytes``; recordings made
@@ -33,9 +34,9 @@ from pathlib import Path
 from pyoxigraph import Literal, NamedNode
 
 from episodes.streams.errors import CorruptRecordingError, StreamError
-from episodes.streams.mcapscan import McapScan, RawMessage
+from episodes.streams.mcapscan import McapScan
 from episodes.streams.objects import ObjectStore, StoredObject
-from episodes.streams.ranged import RangedMcap, read_messages, write_messages
+from episodes.streams.ranged import RangedMcap, SavedMessages, read_messages, write_messages
 from episodes.streams.recorder import PROVIDERS_TOPIC, RECORDING_TOPIC, TICKS_TOPIC, mcap_file
 from episodes.streams.registry import bag_path
 from episodes.streams.replay import Replayer
@@ -123,14 +124,15 @@ class StreamArchive:
             read = functools.partial(self.objects.read_range, mcap[0].uri)
             try:
                 saved = [s for s in stored if s.name.endswith(REPLAY_MESSAGES_SUFFIX)]
-                preloaded = self._saved_messages(saved[0]) if saved else []
+                found = self._saved_messages(saved[0]) if saved else None
                 scan = RangedMcap(
                     read,
                     mcap[0].size,
                     name=mcap[0].uri,
                     workers=self.objects.workers,
-                    preloaded=preloaded,
-                    preloaded_topics=REPLAY_TOPICS if saved else (),
+                    preloaded=found.messages if found else (),
+                    preloaded_topics=REPLAY_TOPICS if found else (),
+                    tail=found.tail if found else None,
                 )
             except CorruptRecordingError as error:
                 log.info("episode %s: fetching the whole recording: %s", episode_id, error)
@@ -138,7 +140,7 @@ class StreamArchive:
                 return Replayer(mcap[0].uri, scan=scan)
         return Replayer(self.local(store, episode_id))
 
-    def _saved_messages(self, saved: StoredObject) -> list[RawMessage]:
+    def _saved_messages(self, saved: StoredObject) -> SavedMessages:
         data = self.objects.read_range(saved.uri, 0, saved.size) if saved.size else b""
         if len(data) != saved.size or hashlib.sha256(data).hexdigest() != saved.sha256:
             raise CorruptRecordingError(f"{saved.uri} does not match its recorded sha256")
@@ -201,10 +203,16 @@ def _save_replay_messages(bag: Path) -> None:
     if not mcap.is_file() or target.exists():
         return
     try:
-        scan = McapScan(mcap)
-        write_messages(scan, REPLAY_TOPICS, target)
-        if not scan.complete:
-            target.unlink()  # a crashed recording is read whole anyway
+        with mcap.open("rb") as file:
+
+            def read(start: int, length: int) -> bytes:
+                file.seek(start)
+                return file.read(length)
+
+            tail = RangedMcap(read, mcap.stat().st_size, name=str(mcap)).tail
+        write_messages(McapScan(mcap), REPLAY_TOPICS, target, tail)
+    except CorruptRecordingError:
+        target.unlink(missing_ok=True)  # no summary (a crashed recording): read whole anyway
     except (OSError, StreamError) as error:
         target.unlink(missing_ok=True)
         log.warning("%s: replay messages not saved: %s", bag.name, error)

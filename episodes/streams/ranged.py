@@ -17,7 +17,9 @@ only read by ranges (``read(start, length)``: an S3 ranged GET):
 Every chunk of a recording holds a few of the replayer's ticks, which it reads whole when it
 opens; to open with a handful of reads instead of a few per chunk, the messages of some topics
 (the ticks) can be saved beside the file when it is stored (:func:`write_messages`, a small
-object fetched whole and given as ``preloaded``): those topics are then answered from it.
+object fetched whole and given as ``preloaded``): those topics are then answered from it. The
+same object holds the end of the file from its summary on (``tail``), so opening reads nothing
+of the recording itself.
 Ranged reads pay off only where a read's cost does not grow with the object (on S3 it does
 not; on moto's test server it does, about 0.8 ms per MB of object: see ``bench/fleet.py``), so
 the chunks are read ahead starting with one and doubling up to ``window``.
@@ -45,7 +47,7 @@ try:
 except ImportError:  # Python < 3.14, as rosbags does
     from backports import zstd  # type: ignore[import-not-found,unused-ignore,no-redef]
 
-__all__ = ["RangedMcap", "read_messages", "write_messages"]
+__all__ = ["RangedMcap", "SavedMessages", "read_messages", "write_messages"]
 
 _MAGIC = b"\x89MCAP0\r\n"
 _FOOTER = struct.Struct("<BQQQI")  # opcode, length, summary start, summary offset start, crc
@@ -101,6 +103,7 @@ class RangedMcap(McapScan):
         gap: int = 32 * 1024,
         preloaded: Collection[RawMessage] = (),
         preloaded_topics: Collection[str] = (),
+        tail: tuple[int, bytes] | None = None,
     ) -> None:
         self.path = Path(name)
         self.complete, self.truncated_at = True, None
@@ -111,18 +114,28 @@ class RangedMcap(McapScan):
         """Ranged reads made so far, and the bytes they read."""
         if size < 8 + _FOOTER.size + 8:
             raise CorruptRecordingError(f"{name}: too short for an MCAP file with a summary")
-        tail_start = max(0, size - TAIL_BYTES)
-        tail = self._get(tail_start, size - tail_start)
-        if tail[-8:] != _MAGIC:
+        if tail is not None and tail[0] + len(tail[1]) == size and len(tail[1]) >= 45:
+            start, data = tail  # saved beside the file: no read
+        else:
+            start = max(0, size - TAIL_BYTES)
+            data = self._get(start, size - start)
+        if data[-8:] != _MAGIC:
             raise CorruptRecordingError(f"{name}: no MCAP footer (a recording cut short?)")
-        op, _length, summary_start, _offsets, _crc = _FOOTER.unpack_from(tail, len(tail) - 37)
+        op, _length, summary_start, _offsets, _crc = _FOOTER.unpack_from(data, len(data) - 37)
         if op != 0x02 or summary_start == 0:
             raise CorruptRecordingError(f"{name}: the MCAP file has no summary section")
         summary_end = size - 37
-        if summary_start >= tail_start:
-            summary = tail[summary_start - tail_start : summary_end - tail_start]
+        if summary_start >= start:
+            summary = data[summary_start - start : summary_end - start]
         else:
             summary = self._get(summary_start, summary_end - summary_start)
+        self.tail = (
+            summary_start,
+            data[summary_start - start :]
+            if summary_start >= start
+            else summary + data[len(data) - 37 :],
+        )
+        """The end of the file from its summary on, as (offset, bytes)."""
         self._channels: dict[int, tuple[str, str]] = {}
         self._chunks: list[_Chunk] = []
         self._parse_summary(memoryview(summary))
@@ -176,7 +189,8 @@ class RangedMcap(McapScan):
             if wanted & chunk.index_offsets.keys()
             and (start_ns is None or chunk.end_ns >= start_ns)
         ]
-        with ThreadPoolExecutor(self.workers) as pool:
+        pool = ThreadPoolExecutor(self.workers)
+        try:
             ahead: list[Future[list[RawMessage]]] = []
             window = 1  # the first chunk alone, then more ahead as the reader keeps reading
             for chunk in chunks:
@@ -186,6 +200,8 @@ class RangedMcap(McapScan):
                     window = min(2 * window, self.window)
             while ahead:
                 yield from _after(ahead.pop(0).result(), start_ns)
+        finally:  # a reader that stops early does not wait for the reads ahead
+            pool.shutdown(wait=False, cancel_futures=True)
 
     def _chunk_messages(self, chunk: _Chunk, wanted: set[int]) -> list[RawMessage]:
         if chunk.compression or chunk.index_offsets.keys() <= wanted:
@@ -296,16 +312,31 @@ def _chunk_records(body: memoryview) -> memoryview:
     return records
 
 
-_MESSAGES_MAGIC = b"ENGRAM-MESSAGES-1\n"
+_MESSAGES_MAGIC = b"ENGRAM-MESSAGES-2\n"
+_TAIL = struct.Struct("<QQ")  # where the saved end of the MCAP file starts, its length
 _SAVED = struct.Struct("<HHQI")  # topic length, type length, log time, data length
 
 
-def write_messages(scan: McapScan, topics: Collection[str], target: Path) -> int:
-    """Save ``scan``'s messages of ``topics`` to the file ``target`` (see the module); returns
-    how many. :func:`read_messages` reads them back."""
+@dataclass(frozen=True)
+class SavedMessages:
+    """What :func:`write_messages` saved: messages, and the end of the MCAP file (from its
+    summary on) as ``(offset, bytes)``, the ``tail`` of a :class:`RangedMcap`."""
+
+    messages: list[RawMessage]
+    tail: tuple[int, bytes]
+
+
+def write_messages(
+    scan: McapScan, topics: Collection[str], target: Path, tail: tuple[int, bytes]
+) -> int:
+    """Save ``scan``'s messages of ``topics`` and ``tail`` (the end of the MCAP file, from its
+    summary on) to the file ``target`` (see the module); returns how many messages.
+    :func:`read_messages` reads them back."""
     count = 0
     with target.open("wb") as file:
         file.write(_MESSAGES_MAGIC)
+        file.write(_TAIL.pack(tail[0], len(tail[1])))
+        file.write(tail[1])
         for message in scan.messages(topics):
             topic, msgtype = message.topic.encode(), message.msgtype.encode()
             file.write(_SAVED.pack(len(topic), len(msgtype), message.log_time, len(message.data)))
@@ -315,11 +346,15 @@ def write_messages(scan: McapScan, topics: Collection[str], target: Path) -> int
     return count
 
 
-def read_messages(data: bytes) -> list[RawMessage]:
-    """The messages :func:`write_messages` saved. Raises :class:`CorruptRecordingError`."""
-    if not data.startswith(_MESSAGES_MAGIC):
+def read_messages(data: bytes) -> SavedMessages:
+    """What :func:`write_messages` saved. Raises :class:`CorruptRecordingError`."""
+    if not data.startswith(_MESSAGES_MAGIC) or len(data) < len(_MESSAGES_MAGIC) + _TAIL.size:
         raise CorruptRecordingError("not a file of saved messages (bad magic bytes)")
     view, pos, found = memoryview(data), len(_MESSAGES_MAGIC), []
+    tail_offset, tail_length = _TAIL.unpack_from(view, pos)
+    pos += _TAIL.size
+    tail = bytes(view[pos : pos + tail_length])
+    pos += tail_length
     while pos < len(view):
         if pos + _SAVED.size > len(view):
             raise CorruptRecordingError("saved messages: the file ends inside a message")
@@ -332,4 +367,4 @@ def read_messages(data: bytes) -> list[RawMessage]:
         msgtype = bytes(view[pos + topic_length : pos + topic_length + type_length]).decode()
         found.append(RawMessage(topic, msgtype, log_time, view[end - data_length : end]))
         pos = end
-    return found
+    return SavedMessages(found, (tail_offset, tail))
