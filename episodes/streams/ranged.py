@@ -20,6 +20,7 @@ opens; to open with a handful of reads instead of a few per chunk, the messages 
 object fetched whole and given as ``preloaded``): those topics are then answered from it. The
 same object holds the end of the file from its summary on (``tail``), so opening reads nothing
 of the recording itself.
+
 Ranged reads pay off only where a read's cost does not grow with the object (on S3 it does
 not; on moto's test server it does, about 0.8 ms per MB of object: see ``bench/fleet.py``), so
 the chunks are read ahead starting with one and doubling up to ``window``.
@@ -33,6 +34,7 @@ A file without a summary (a recording cut short by a crash) raises
 
 from __future__ import annotations
 
+import bisect
 import struct
 from collections.abc import Callable, Collection, Iterator
 from concurrent.futures import Future, ThreadPoolExecutor
@@ -211,7 +213,9 @@ class RangedMcap(McapScan):
         records_length = chunk.offset + chunk.length - chunk.records_offset
         bounds = sorted({offset for _, offset in offsets} | {records_length})
         ranges = sorted(
-            (offset, bounds[bounds.index(offset) + 1]) for cid, offset in offsets if cid in wanted
+            (offset, bounds[bisect.bisect_right(bounds, offset)])
+            for cid, offset in offsets
+            if cid in wanted
         )
         joined = _joined(ranges, self.gap)
         if sum(end - start for start, end in joined) > records_length // 4:

@@ -17,7 +17,7 @@ import numpy as np
 import pytest
 
 from episodes.archive import FETCHED_MARK, StreamArchive
-from episodes.streams import Recorder, Replayer
+from episodes.streams import CorruptRecordingError, Recorder, Replayer
 from episodes.streams.objects import ObjectStorageError, ObjectStore, StoredObject
 from episodes.streams.ranged import RangedMcap
 from episodes.streams.wire import BATCH_MEDIA_TYPE, encode_batch
@@ -239,3 +239,11 @@ def test_an_archived_recording_opens_for_replay_with_a_few_reads(
     assert objects.reads <= 3  # the saved messages and summary, the first chunks
     assert (replayer.ticks, _samples(replayer)) == expected
     assert not (root / "ep-few").exists()  # read in place
+
+
+def test_a_recording_cut_short_is_not_read_by_ranges(tmp_path: Path) -> None:
+    _camera_recording(tmp_path / "ep-cut", 10, None)
+    data = next((tmp_path / "ep-cut").glob("*.mcap")).read_bytes()
+    cut = data[: len(data) // 2]  # a crash: no summary, no footer
+    with pytest.raises(CorruptRecordingError, match="footer"):
+        RangedMcap(lambda start, n: cut[start : start + n], len(cut), name="cut.mcap")
