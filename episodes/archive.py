@@ -133,6 +133,7 @@ class StreamArchive:
                     preloaded=found.messages if found else (),
                     preloaded_topics=REPLAY_TOPICS if found else (),
                     tail=found.tail if found else None,
+                    small_topics=REPLAY_TOPICS,
                 )
             except CorruptRecordingError as error:
                 log.info("episode %s: fetching the whole recording: %s", episode_id, error)

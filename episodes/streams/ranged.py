@@ -9,10 +9,11 @@ only read by ranges (``read(start, length)``: an S3 ranged GET):
 2. For each chunk that holds a wanted channel at or after the wanted time, in file order, read
    ahead ``window`` chunks at a time on a thread pool:
 
-   * a chunk whose messages are mostly wanted is read whole;
-   * otherwise (the replayer's ticks and provider records, a few bytes between camera frames)
-     its message index is read first, and then only the wanted messages' byte ranges, ranges
-     closer than ``gap`` bytes joined into one read. Compressed chunks are always read whole.
+   * when only ``small_topics`` are wanted (the replayer's ticks and provider records, a few
+     bytes between camera frames) and the chunk holds other channels too, its message index is
+     read first, and then only the wanted messages' byte ranges, ranges closer than ``gap``
+     bytes joined into one read (the whole chunk if they would cover a quarter of it);
+   * otherwise, and when the chunk is compressed, the chunk is read whole.
 
 Every chunk of a recording holds a few of the replayer's ticks, which it reads whole when it
 opens; to open with a handful of reads instead of a few per chunk, the messages of some topics
@@ -106,12 +107,14 @@ class RangedMcap(McapScan):
         preloaded: Collection[RawMessage] = (),
         preloaded_topics: Collection[str] = (),
         tail: tuple[int, bytes] | None = None,
+        small_topics: Collection[str] = (),
     ) -> None:
         self.path = Path(name)
         self.complete, self.truncated_at = True, None
         self._read, self._size = read, size
         self.workers, self.window, self.gap = workers, window, gap
         self._preloaded, self._preloaded_topics = list(preloaded), set(preloaded_topics)
+        self._small_topics = set(small_topics)
         self.requests = self.bytes_read = 0
         """Ranged reads made so far, and the bytes they read."""
         if size < 8 + _FOOTER.size + 8:
@@ -191,12 +194,14 @@ class RangedMcap(McapScan):
             if wanted & chunk.index_offsets.keys()
             and (start_ns is None or chunk.end_ns >= start_ns)
         ]
+        small = {cid for cid, (topic, _) in self._channels.items() if topic in self._small_topics}
+        by_index = bool(wanted) and wanted <= small
         pool = ThreadPoolExecutor(self.workers)
         try:
             ahead: list[Future[list[RawMessage]]] = []
             window = 1  # the first chunk alone, then more ahead as the reader keeps reading
             for chunk in chunks:
-                ahead.append(pool.submit(self._chunk_messages, chunk, wanted))
+                ahead.append(pool.submit(self._chunk_messages, chunk, wanted, by_index))
                 if len(ahead) >= window:
                     yield from _after(ahead.pop(0).result(), start_ns)
                     window = min(2 * window, self.window)
@@ -205,8 +210,8 @@ class RangedMcap(McapScan):
         finally:  # a reader that stops early does not wait for the reads ahead
             pool.shutdown(wait=False, cancel_futures=True)
 
-    def _chunk_messages(self, chunk: _Chunk, wanted: set[int]) -> list[RawMessage]:
-        if chunk.compression or chunk.index_offsets.keys() <= wanted:
+    def _chunk_messages(self, chunk: _Chunk, wanted: set[int], by_index: bool) -> list[RawMessage]:
+        if not by_index or chunk.compression or chunk.index_offsets.keys() <= wanted:
             return self._whole_chunk(chunk, wanted)
         index = memoryview(self._get(chunk.offset + chunk.length, chunk.index_length))
         offsets = _message_offsets(index)
