@@ -41,6 +41,7 @@ class OpenedStore:
                 max_result_bytes=settings.sparql_max_result_bytes,
                 max_query_chars=settings.sparql_max_query_bytes,
                 max_depth=settings.sparql_max_nesting,
+                fleet=self.remote.fleet_graphs,
             )
         return QueryRunner(
             self.store,
@@ -81,6 +82,8 @@ class OpenedStore:
 def open_store(settings: Settings) -> OpenedStore:
     """Open the store ``settings`` name (see the module's summary)."""
     if settings.store_url is None:
+        if settings.fleet_memories:
+            raise ValueError("fleet: following other memories needs store_url")
         return OpenedStore(Store(settings.store_dir), str(settings.store_dir))
     remote = open_remote(
         settings.store_url,
@@ -88,10 +91,12 @@ def open_store(settings: Settings) -> OpenedStore:
         profile=settings.store_profile,
         follow=settings.follow,
         lease_s=settings.lease_s,
+        fleet=settings.fleet_memories,
     )
     role = "following" if settings.follow else "writing"
+    fleet = f", following {settings.fleet}" if settings.fleet_memories else ""
     return OpenedStore(
-        remote.store, f"memory {settings.memory} at {settings.store_url} ({role})", remote
+        remote.store, f"memory {settings.memory} at {settings.store_url} ({role}{fleet})", remote
     )
 
 
@@ -101,4 +106,6 @@ def open_archive(settings: Settings) -> StreamArchive | None:
     if settings.streams_url is None:
         return None
     objects = ObjectStore(settings.streams_url, endpoint_url=settings.streams_endpoint)
-    return StreamArchive(objects, settings.data_dir / "streams")
+    return StreamArchive(
+        objects, settings.data_dir / "streams", cache_bytes=settings.streams_cache_bytes
+    )

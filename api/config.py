@@ -100,6 +100,13 @@ class Settings(BaseSettings):
     lease_s: float = Field(
         15.0, gt=0, le=3600, description="Term of the writer's lease on the server, in seconds."
     )
+    fleet: str = Field(
+        "",
+        pattern=r"^([A-Za-z0-9][A-Za-z0-9_-]{0,63}(,[A-Za-z0-9][A-Za-z0-9_-]{0,63})*)?$",
+        description="Other robots' memories on the SPARQL server to follow read-only, comma "
+        "separated: /sparql then also sees each under its server graph names "
+        "(https://w3id.org/engram/memory/<name>/graph/<g>). Needs store_url.",
+    )
 
     streams_url: str | None = Field(
         None,
@@ -111,6 +118,17 @@ class Settings(BaseSettings):
         pattern=r"^https?://\S+$",
         description="URL of the S3-compatible service of streams_url (unset: AWS's own).",
     )
+    streams_cache_bytes: int = Field(
+        10 * 1024**3,
+        ge=0,
+        description="Most bytes of recordings fetched back from streams_url (for export) kept "
+        "in data_dir/streams; the least recently used go first. Replay reads by ranges and "
+        "fetches nothing; recordings made here are never evicted.",
+    )
+
+    @property
+    def fleet_memories(self) -> list[str]:
+        return [name for name in self.fleet.split(",") if name]
 
     @property
     def store_dir(self) -> Path:

@@ -227,6 +227,12 @@ class EpisodeMemory:
             return self.archive.local(self.store, check_id(episode_id, "episode"))
         return self.streams_path(episode_id)
 
+    def replayer(self, episode_id: str) -> Replayer:
+        """A replayer of the episode's recording; one in object storage is read by ranges."""
+        if self.archive is not None:
+            return self.archive.replayer(self.store, check_id(episode_id, "episode"))
+        return Replayer(self.streams_path(episode_id))
+
     def _close_streams(self, episode_id: str) -> list[StreamDescriptor]:
         """Close the episode's recording if it is open and describe what it holds."""
         if self.data_dir is None and self._recordings is None:

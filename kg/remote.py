@@ -47,6 +47,7 @@ from ontologies.vocab import (
     JOURNAL_ENTRY,
     RDF_TYPE,
     REVISION,
+    SKOLEM_PREFIX,
     TOUCHED,
     TOUCHED_EVERYTHING,
 )
@@ -57,8 +58,12 @@ log = logging.getLogger(__name__)
 
 JOURNAL_LENGTH = 1000
 """Journal entries kept; a follower further behind than this rebuilds everything."""
-TOUCHED_LIMIT = 500
-"""A transaction touching more subjects than this is journaled as touching everything."""
+TOUCHED_LIMIT = 5000
+"""A transaction touching more subjects than this is journaled as touching everything. Listing
+them costs the writer one journal triple per subject, no more than the transaction changed
+itself; a follower reloads a listed subject by one index lookup, while "everything" makes it
+rebuild its whole scene memory index (seconds at 10,000 classes). A new class linked above
+hundreds of existing ones touches them all."""
 XSD_INTEGER = NamedNode("http://www.w3.org/2001/XMLSchema#integer")
 XSD_BOOLEAN = NamedNode("http://www.w3.org/2001/XMLSchema#boolean")
 
@@ -152,11 +157,14 @@ class RemoteDataset:
         use_default_graph_as_union: bool = False,
         default_graph: Sequence[NamedNode] | None = None,
         named_graphs: Sequence[NamedNode] | None = None,
+        also: Sequence[str] = (),
     ) -> QuerySolutions | QueryBoolean | QueryTriples:
         """Run ``text`` over the memory's graphs (``use_default_graph_as_union``) or the chosen
-        ones; answers come back with Engram's own graph names."""
+        ones; answers come back with Engram's own graph names. ``also`` adds other graphs of the
+        server (by their server names: other robots' memories a fleet view follows) to the
+        union."""
         if use_default_graph_as_union or default_graph is None:
-            default = named = self.graphs()
+            default = named = [*self.graphs(), *also]
         else:
             default = [self.namespace.remote_graph(g).value for g in default_graph]
             named = [self.namespace.remote_graph(g).value for g in named_graphs or ()]
@@ -379,10 +387,16 @@ def _touched(
 ) -> frozenset[NamedNode] | None:
     if cleared:
         return None
-    subjects = {q.subject for q in deletes} | {q.subject for q in inserts}
+    # a skolem node (a class's definition, a list cell) is written with the resource that links
+    # to it, which the journal names: listing it too would only lengthen the journal
+    subjects = {
+        q.subject
+        for q in (*deletes, *inserts)
+        if isinstance(q.subject, NamedNode) and not q.subject.value.startswith(SKOLEM_PREFIX)
+    }
     if len(subjects) > TOUCHED_LIMIT:
         return None
-    return frozenset(s for s in subjects if isinstance(s, NamedNode))
+    return frozenset(subjects)
 
 
 def _as_query_triples(ntriples: str) -> QueryTriples:

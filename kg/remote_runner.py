@@ -4,7 +4,9 @@ A :class:`RemoteQueryRunner` is a :class:`kg.sandbox.QueryRunner` over an empty 
 worker processes check every caller's text first (nesting depth, syntax, updates, ``SERVICE``,
 as Oxigraph's parser reads them, never in the server process) by running it over no data; a
 query that passes is then answered by the memory's SPARQL server over the memory's own graphs
-(or the graphs the request names). Queries given their data (``graph_data``, ARMOR's view of a
+(or the graphs the request names), and over the graphs of the other robots' memories it follows
+(``fleet``: a callable listing their server graph names, which change as they learn). Queries
+given their data (``graph_data``, ARMOR's view of a
 reference inside a directive list) run in the workers as before. The time limit is the HTTP
 request's; start the server with its own (``oxigraph serve --timeout-s``) so it stops too.
 
@@ -12,7 +14,7 @@ request's; start the server with its own (``oxigraph serve --timeout-s``) so it 
 'RemoteQueryRunner'
 """
 
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
 from pathlib import Path
 
 import httpx
@@ -43,11 +45,13 @@ class RemoteQueryRunner(QueryRunner):
         max_result_bytes: int = 64 * 1024 * 1024,
         max_query_chars: int = 1024 * 1024,
         max_depth: int = 128,
+        fleet: Callable[[], list[str]] = list,
     ) -> None:
         if store.remote is None:
             raise StoreError("a RemoteQueryRunner needs a store on a SPARQL server")
         self.dataset: RemoteDataset = store.remote
         self.remote_store = store
+        self.fleet = fleet
         check_dir.mkdir(parents=True, exist_ok=True)
         super().__init__(
             Store(check_dir / "store"),
@@ -84,10 +88,12 @@ class RemoteQueryRunner(QueryRunner):
         name = RESULT_FORMATS[checked.form][checked.media_type]
         try:
             if default_graphs is None:
-                result = self.dataset.query(text, use_default_graph_as_union=True)
+                result = self.dataset.query(
+                    text, use_default_graph_as_union=True, also=self.fleet()
+                )
             else:  # no named-graph-uri: GRAPH reaches every graph of the memory, as embedded
                 named = (
-                    self.dataset.named_graphs()
+                    [*self.dataset.named_graphs(), *map(NamedNode, self.fleet())]
                     if named_graphs is None
                     else [NamedNode(g) for g in named_graphs]
                 )

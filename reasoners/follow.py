@@ -12,10 +12,12 @@ does a change that touched "everything".
 """
 
 import logging
+from collections import defaultdict
 from collections.abc import Iterable
 
 from pyoxigraph import NamedNode
 
+from kg import Store
 from ontologies.vocab import (
     CLASS_SIGNATURE,
     COMPLEXITY,
@@ -23,6 +25,7 @@ from ontologies.vocab import (
     CREATED,
     ENGRAM_NS,
     EPISODIC,
+    EXPERIENCED_SCENE,
     LAST_ACCESSED,
     LAST_SLEEP_AT,
     LEVEL,
@@ -30,7 +33,9 @@ from ontologies.vocab import (
     MEMORY_STATE_INDIVIDUAL,
     PINNED,
     RDF_TYPE,
+    RDFS_SUBCLASSOF,
     RETRIEVE_COUNT,
+    SCENE,
     SCORE,
     SLEEP_PASS_COUNT,
     STORE_COUNT,
@@ -38,7 +43,7 @@ from ontologies.vocab import (
 )
 from reasoners import persist
 from reasoners.memory import SceneMemory
-from reasoners.model import ClassRecord, ItemRecord
+from reasoners.model import ClassRecord, ItemRecord, MemoryModel
 from reasoners.persist import Term
 from reasoners.signature import Signature
 
@@ -55,18 +60,30 @@ def apply_change(memory: SceneMemory, touched: Iterable[NamedNode] | None) -> bo
     """Bring ``memory``'s index up to date with a change that touched ``touched`` (None:
     everything). Returns True if it was applied piecewise, False if the index was rebuilt."""
     if touched is not None:
-        with memory._lock:
-            try:
-                _apply(memory, set(touched))
-                return True
-            except _Rebuild as reason:
-                log.info("rebuilding the scene memory index: %s", reason)
+        subjects = set(touched)
+        try:
+            memory.update_model(lambda model: _apply(memory.store, model, subjects))
+            return True
+        except _Rebuild as reason:
+            log.info("rebuilding the scene memory index: %s", reason)
     memory.reload()
     return False
 
 
-def _apply(memory: SceneMemory, touched: set[NamedNode]) -> None:
-    store, m = memory.store, memory._model
+def _triples(
+    store: Store, subjects: list[NamedNode], graph: NamedNode
+) -> dict[NamedNode, dict[NamedNode, list[Term]]]:
+    """The values of each of ``subjects`` in ``graph``, per property, in one query that looks
+    each subject up (the loaders' queries read every class of the memory)."""
+    out: dict[NamedNode, dict[NamedNode, list[Term]]] = {}
+    for row in store.select_each("follow_subjects", "s", subjects, g=graph):
+        values = out.setdefault(row["s"], defaultdict(list))  # type: ignore[arg-type]
+        if (term := row["o"]) not in (seen := values[row["p"]]):  # type: ignore[index]
+            seen.append(term)
+    return out
+
+
+def _apply(store: Store, m: MemoryModel, touched: set[NamedNode]) -> None:
     classes, items, state = [], [], False
     for subject in touched:
         if subject == MEMORY_STATE_INDIVIDUAL:
@@ -80,11 +97,9 @@ def _apply(memory: SceneMemory, touched: set[NamedNode]) -> None:
         # experience-N-k: a primitive of a stored scene, read with the scene if at all
         if subject in m.trashed_classes or subject in m.trashed_items:
             raise _Rebuild(f"{subject.value} came back from the trash")
-    rows = persist._rows_by_subject(
-        store.select_each("memory_load_classes", "class", classes, g=MEMORY), "class"
-    )
+    rows = _triples(store, classes, MEMORY)
     for cls in classes:
-        if cls not in rows:
+        if SCENE not in rows.get(cls, {}).get(RDFS_SUBCLASSOF, ()):
             raise _Rebuild(f"{cls.value} left the memory graph")
     # existing classes first, then new ones simplest first (a parent before its children)
     fresh = sorted((c for c in rows if c not in m.classes), key=persist._number)
@@ -112,11 +127,9 @@ def _apply(memory: SceneMemory, touched: set[NamedNode]) -> None:
         _annotations(record, values)
         m.add_class(record)
         m.next_class = max(m.next_class, persist._number(cls) + 1)
-    found = persist._rows_by_subject(
-        store.select_each("memory_load_items", "item", items, g=EPISODIC), "item"
-    )
+    found = _triples(store, items, EPISODIC)
     for item in items:
-        if item not in found:
+        if EXPERIENCED_SCENE not in found.get(item, {}).get(RDF_TYPE, ()):
             raise _Rebuild(f"{item.value} left the episodic graph")
         values = found[item]
         owner = next((t for t in values[RDF_TYPE] if t in m.classes), None)

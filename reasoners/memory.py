@@ -208,6 +208,13 @@ class SceneMemory:
             self._model = persist.load_model(self.store, self._weights())
             self._revision = index_file.stored_revision(self.store)
 
+    def update_model(self, change: Callable[[MemoryModel], None]) -> None:
+        """Run ``change`` on the in-memory index under the memory's lock: a follower of a shared
+        memory applying what the writer changed (reasoners.follow). If ``change`` raises, the
+        index may be half changed: :meth:`reload` it."""
+        with self._lock:
+            change(self._model)
+
     @property
     def _model(self) -> MemoryModel:
         """The in-memory model; :class:`MemoryLoadingError` while it is still being read."""

@@ -30,7 +30,6 @@ from episodes.streams import (
     Kind,
     Recorder,
     RecordingStateError,
-    Replayer,
     TickResult,
     UnknownProviderError,
     bag_path,
@@ -136,7 +135,7 @@ def recording_status(
             "queued_bytes": recorder.queued_bytes,
             "channels": [s.as_dict() for s in recorder.stats()],
         }
-    replayer = Replayer(episodes.local_streams(_episode(episode_id)))
+    replayer = episodes.replayer(_episode(episode_id))
     return {
         "episode": episode_id,
         "recording": False,
@@ -309,7 +308,7 @@ def replay(
 ) -> StreamingResponse:
     if episode_id in registry:
         raise RecordingStateError(f"episode_id: {episode_id!r} is still recording")
-    replayer = Replayer(episodes.local_streams(_episode(episode_id)))
+    replayer = episodes.replayer(_episode(episode_id))
     if start_ns is not None and start_frame is not None:
         raise InvalidSampleError("start_frame", start_frame, "either start_ns or start_frame")
     if start_ns is not None:

@@ -84,6 +84,8 @@ class Replayer:
     Args:
         path: the bag directory or its ``.mcap`` file.
         clock: seconds, monotonic; with ``sleep`` injectable for tests of :meth:`play`.
+        scan: read the recording through this scan instead (``path`` then only names it): a
+            recording in object storage read by ranges (:mod:`episodes.streams.ranged`).
 
     Raises:
         RecordingNotFoundError: nothing at ``path``.
@@ -96,9 +98,12 @@ class Replayer:
         *,
         clock: Callable[[], float] = time.monotonic,
         sleep: Callable[[float], None] = time.sleep,
+        scan: McapScan | None = None,
     ) -> None:
         path = Path(path)
-        if path.is_dir():
+        if scan is not None:
+            file = path
+        elif path.is_dir():
             file = mcap_file(path)
             if not file.exists():
                 found = sorted(path.glob("*.mcap"))
@@ -108,7 +113,7 @@ class Replayer:
         else:
             file = path
         self.path = file
-        self._scan = McapScan(file)
+        self._scan = scan if scan is not None else McapScan(file)
         self._clock, self._sleep = clock, sleep
         self._ts = messages.typestore()
         self.episode_id = ""

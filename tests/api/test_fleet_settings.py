@@ -22,6 +22,9 @@ def test_unset_means_the_embedded_store_and_local_recordings() -> None:
         ("streams_url", "https://bucket/prefix"),
         ("streams_url", "s3://B/prefix"),
         ("streams_endpoint", "localhost:5000"),
+        ("fleet", "robot-b,"),
+        ("fleet", "robot b"),
+        ("streams_cache_bytes", -1),
     ],
 )
 def test_a_bad_value_is_refused_naming_the_field(field: str, value: object) -> None:
@@ -37,5 +40,8 @@ def test_good_values_are_kept() -> None:
         follow=True,
         streams_url="s3://engram-fleet/robots/a",
         streams_endpoint="http://127.0.0.1:5000",
+        fleet="robot-b,robot-c",
+        streams_cache_bytes=0,
     )
     assert (settings.memory, settings.streams_url) == ("robot-a", "s3://engram-fleet/robots/a")
+    assert (settings.fleet_memories, settings.streams_cache_bytes) == (["robot-b", "robot-c"], 0)

@@ -1,5 +1,6 @@
 """A fleet on one Oxigraph server: two Engram servers each write their robot's memory, a third
-follows robot A's, and fleet queries run across both memories on the server's own endpoint."""
+follows both (robot A's as its own memory, robot B's as a fleet memory), and fleet queries run
+across both memories on the server's own endpoint and on the follower's ``/sparql``."""
 
 import re
 import time
@@ -10,6 +11,7 @@ import httpx
 import pytest
 
 from api.client import ArmorClient, ScenePrimitive
+from kg.fleet import open_remote
 from tests.backends.servers import OxigraphServer
 from tests.conftest import LiveServer
 
@@ -56,9 +58,11 @@ LAST_CONE_BEHIND_SPHERE = re.findall(
 """The README's fleet query (the first of its section "A fleet"), as the README shows it."""
 
 
-def _fleet_query(server: OxigraphServer, query: str) -> list[dict[str, str]]:
+def _fleet_query(where: OxigraphServer | LiveServer, query: str) -> list[dict[str, str]]:
+    """Rows of ``query`` on the SPARQL server's endpoint or on an Engram's ``/sparql``."""
+    endpoint = f"{where.url}/query" if isinstance(where, OxigraphServer) else f"{where.url}/sparql"
     answer = httpx.post(
-        f"{server.url}/query",
+        endpoint,
         data={"query": query},
         headers={"Accept": "application/sparql-results+json"},
     )
@@ -80,7 +84,7 @@ def test_two_writers_and_a_follower_share_one_server_and_answer_fleet_queries(
     url = fleet_server.url
     robot_a = start_server(store_url=url, memory="robot-a")
     robot_b = start_server(store_url=url, memory="robot-b")
-    follower = start_server(store_url=url, memory="robot-a", follow=True)
+    follower = start_server(store_url=url, memory="robot-a", follow=True, fleet="robot-b")
 
     with ArmorClient("camera", "engram", base_url=robot_a.url) as client:
         learned = client.memory.store_scene([BALL, TABLE])
@@ -115,14 +119,36 @@ def test_two_writers_and_a_follower_share_one_server_and_answer_fleet_queries(
     last = _fleet_query(fleet_server, LAST_CONE_BEHIND_SPHERE)
     assert [r["graph"] for r in last] == ["https://w3id.org/engram/memory/robot-a/graph/episodic"]
 
+    # the follower's /sparql sees both robots: A's as its own memory (Engram's graph names, and
+    # its server names), B's under its server names
+    assert _fleet_query(follower, CLASSES_BOTH_HOLD) == both
+    last_seen = _fleet_query(follower, LAST_CONE_BEHIND_SPHERE)
+    assert [r["graph"] for r in last_seen] == ["https://w3id.org/engram/graph/episodic"]
+    assert [r["time"] for r in last_seen] == [r["time"] for r in last]
+    count_b = (
+        "SELECT (COUNT(*) AS ?n) WHERE { GRAPH <https://w3id.org/engram/memory/robot-b/graph/"
+        "memory> { ?c <http://www.w3.org/2000/01/rdf-schema#subClassOf>"
+        " <https://w3id.org/engram/ontology#Scene> } }"
+    )
+    assert _fleet_query(follower, count_b) == [{"n": "1"}]
+    with ArmorClient("camera", "engram", base_url=robot_b.url) as client:
+        client.memory.store_scene([CONE, SPHERE])  # robot B learns a second class
+    assert _fleet_query(follower, count_b) == [{"n": "2"}]
+
     # each robot's own /sparql sees its memory only
     count = (
         "SELECT (COUNT(*) AS ?n) WHERE { GRAPH <https://w3id.org/engram/graph/memory> {"
         " ?c <http://www.w3.org/2000/01/rdf-schema#subClassOf>"
         " <https://w3id.org/engram/ontology#Scene> } }"
     )
-    for robot, classes in ((robot_a, "2"), (robot_b, "1"), (follower, "2")):
+    for robot, classes in ((robot_a, "2"), (robot_b, "2"), (follower, "2")):
         answer = robot.client.get(
             "/sparql", params={"query": count}, headers={"Accept": "text/csv"}
         )
         assert answer.text.split() == ["n", classes]
+
+
+@pytest.mark.parametrize("fleet", [["robot-a"], ["robot-b", "robot-b"], ["no spaces"]])
+def test_a_fleet_names_other_memories_each_once(fleet: list[str]) -> None:
+    with pytest.raises(ValueError, match=r"memory|fleet"):
+        open_remote("http://127.0.0.1:9", "robot-a", follow=True, fleet=fleet)

@@ -66,6 +66,13 @@ def test_piecewise_updates_match_a_rebuild(
         assert outcomes and all(outcomes)  # every one of these applied piecewise
         rebuilt = SceneMemory(reader.store, clock=lambda: CLOCK)
         assert _view(mirror) == _view(rebuilt) == _view(memory)
+        # one transaction learning 600 classes: listed in the journal, applied piecewise
+        outcomes.clear()
+        batch = [memory.encoder.signature(_scene(rng, rng.randint(2, 5))) for _ in range(700)]
+        learned = memory.learn_classes([s for s in batch if s][:600])
+        follower.catch_up()
+        assert len(learned) > 500 and outcomes == [True]
+        assert _view(mirror) == _view(memory)
         memory.sleep()
         follower.catch_up()
         assert _view(mirror) == _view(memory)
