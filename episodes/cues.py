@@ -11,6 +11,7 @@ from urllib.parse import unquote
 from pyoxigraph import Literal, NamedNode
 
 from episodes import _rdf
+from episodes.cue_index import cue_key
 from episodes.errors import InvalidInputError, NotFoundError
 from episodes.model import EpisodeSummary, Recollection
 from episodes.terms import check_name, episode_id_of, participant_iri, role_iri
@@ -79,14 +80,14 @@ class Cue:
 
     def query(self, kind: str = "list") -> tuple[str, dict[str, NamedNode | Literal]]:
         """The name of the ``sparql/`` query of ``kind`` (``list``, ``first``, ``last`` or
-        ``count``) for this cue, and its bindings."""
-        bound: dict[str, NamedNode | Literal] = {"activity": Literal(self.activity)}
+        ``count``) for this cue, and its bindings: the activity, or one cue index key per role
+        constraint (see :mod:`episodes.cue_index`)."""
         pairs = self.constraints()
-        for i, (role, who) in enumerate(pairs, start=1):
-            if role is not None:
-                bound[f"role{i}"] = role
-            if who is not None:
-                bound[f"who{i}"] = who
+        bound: dict[str, NamedNode | Literal] = (
+            {f"key{i}": cue_key(self.activity, role, who) for i, (role, who) in enumerate(pairs, 1)}
+            if pairs
+            else {"activity": Literal(self.activity)}
+        )
         if kind not in ("list", "first", "last", "count"):
             raise InvalidInputError("kind", kind, "'list', 'first', 'last' or 'count'")
         return f"episodes_cue_{kind}_{len(pairs)}", bound

@@ -12,6 +12,7 @@ from dataclasses import dataclass
 from pyoxigraph import Literal, NamedNode
 
 from episodes import _rdf
+from episodes.cue_index import write_keys
 from episodes.errors import EpisodeNotFoundError, EpisodeStateError, InvalidInputError
 from episodes.model import Annotation, Argument, Episode, MemorySnapshot, StreamDescriptor
 from episodes.snapshot import MemoryState, load_snapshot, read_memory_state, write_snapshot
@@ -184,6 +185,7 @@ def begin_episode(
                 tx.insert(link, RDF_TYPE, PROV_USAGE, EPISODES)
                 tx.insert(link, PROV_ENTITY_PROPERTY, what, EPISODES)
             tx.insert(link, PROV_HAD_ROLE, role_node, EPISODES)
+            write_keys(tx, link, activity, role_node, participant_iri(value))
         if snapshot is not None:
             state = part_iri(episode, "state", "begin")
             tx.insert(episode, STATE_AT_BEGIN, state, EPISODES)

@@ -29,7 +29,7 @@ from typing import Literal as Which
 
 from pyoxigraph import Literal
 
-from episodes import arguments, augmentation, cues, feedback, lifecycle, transfer
+from episodes import arguments, augmentation, cue_index, cues, feedback, lifecycle, transfer
 from episodes.archive import StreamArchive
 from episodes.augmentation import DerivedSpec
 from episodes.cues import Cue
@@ -111,6 +111,8 @@ class EpisodeMemory:
         self._queue: AugmentationQueue | None = None
         self._frame_cache: dict[str, tuple[tuple[object, ...], dict[int, frozenset[str]]]] = {}
         self._lock = threading.Lock()
+        if store.remote is None or not store.remote.read_only:
+            cue_index.backfill(store)  # arguments stored before the cue index existed
 
     # Paths and the stream side ---------------------------------------------------------------
 
@@ -497,7 +499,9 @@ class EpisodeMemory:
 
     def import_rdf(self, data: bytes) -> Episode:
         """Load an episode exported by :meth:`export_rdf` into this memory."""
-        return self.get(transfer.import_episode(self.store, data))
+        episode_id = transfer.import_episode(self.store, data)
+        cue_index.backfill(self.store)  # an export made before the cue index existed
+        return self.get(episode_id)
 
     # Queries by cue --------------------------------------------------------------------------
 
