@@ -117,7 +117,7 @@ def test_bad_recall_arguments_name_the_field(
 def test_all_episodes_of_an_activity_oldest_first_in_two_queries(history: EpisodeMemory) -> None:
     found, queries = queries_run(history, lambda: history.all(Cue("babbling", agent="HyungJin")))
     assert [r.episode.id for r in found] == ["b1", "b3", "b4"]
-    assert queries == 2  # the activity's episodes with participants, and the role matches
+    assert queries == 2  # the role matches, then all their summaries at once
 
 
 def test_how_many_times_in_one_query(history: EpisodeMemory) -> None:
@@ -134,7 +134,7 @@ def test_what_happened_between_two_times(history: EpisodeMemory) -> None:
     )
     # b3 runs until 15:40; p1 began 15:35 and has not ended
     assert [r.episode.id for r in found] == ["b3", "p1"]
-    assert queries == 1
+    assert queries == 2  # the window's episodes, then all their summaries at once
     assert history.between("2026-01-01T00:00:00+00:00", "2026-01-02T00:00:00+00:00") == []
 
 
@@ -168,3 +168,30 @@ def test_knowledge_consolidated_from_the_episodes(history: EpisodeMemory) -> Non
         ("object", "left hand", 3),
     ]
     assert [k.activity for k in history.knowledge()] == ["babbling", "point"]
+
+
+def test_arguments_stored_before_the_cue_index_are_found_once_a_memory_opens(
+    history: EpisodeMemory,
+) -> None:
+    """A store written before cue keys existed: the keys are added when a memory opens it."""
+    from episodes.cue_index import CUE_KEY
+    from ontologies.vocab import EPISODES
+
+    store = history.store
+    with store.transaction() as tx:
+        for quad in list(store.quads(predicate=CUE_KEY)):
+            tx.delete(quad.subject, CUE_KEY, quad.object, EPISODES)  # type: ignore[arg-type]
+    assert history.count(Cue("babbling", agent="HyungJin")) == 0  # the index is empty
+    reopened = EpisodeMemory(store, clock=lambda: NOW)
+    assert reopened.count(Cue("babbling", agent="HyungJin")) == 3
+    assert reopened.recall(Cue("babbling", obj="right hand"), which="last").episode.id == "b3"
+
+
+def test_a_retracted_argument_leaves_the_cue_index(history: EpisodeMemory) -> None:
+    history.remove_argument("b4", role="agent", value="HyungJin")
+    assert history.count(Cue("babbling", agent="HyungJin")) == 2
+    assert history.count(Cue("babbling", participant="HyungJin")) == 2
+    history.add_argument("b4", role="recipient", value="HyungJin")
+    assert history.count(Cue("babbling", agent="HyungJin")) == 2
+    assert history.count(Cue("babbling", participant="HyungJin")) == 3
+    assert history.count(Cue("babbling", role="recipient")) == 1
