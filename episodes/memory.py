@@ -29,7 +29,16 @@ from typing import Literal as Which
 
 from pyoxigraph import Literal
 
-from episodes import arguments, augmentation, cue_index, cues, feedback, lifecycle, transfer
+from episodes import (
+    arguments,
+    augmentation,
+    cue_index,
+    cues,
+    feedback,
+    lifecycle,
+    sessions,
+    transfer,
+)
 from episodes.archive import StreamArchive
 from episodes.augmentation import DerivedSpec
 from episodes.cues import Cue
@@ -765,9 +774,17 @@ class EpisodeMemory:
         sample: int | None = None,
         question: str | None = None,
         replace: bool = False,
+        session: str | None = None,
     ) -> Rating:
         """Store a person's 1-10 rating of a run (or of one of its derived samples), as the
-        answer to ``question``; a second answer needs ``replace`` (see ``feedback.rate``)."""
+        answer to ``question``; a second answer needs ``replace`` (see ``feedback.rate``).
+        With ``session``, the rating is given in that running feedback episode, whose agent
+        ``person`` must be (see :meth:`begin_feedback`)."""
+        given_in = (
+            sessions.check_session(self.store, check_id(session, "session"), person)
+            if session is not None
+            else None
+        )
         return feedback.rate(
             self.store,
             episode_id,
@@ -778,7 +795,33 @@ class EpisodeMemory:
             sample=sample,
             question=question,
             replace=replace,
+            session=given_in,
         )
+
+    def begin_feedback(
+        self,
+        person: str,
+        *,
+        rated: Sequence[str] = (),
+        begin: dt.datetime | str | None = None,
+        episode_id: str | None = None,
+    ) -> Episode:
+        """Begin a rating session as a feedback episode: ``person`` (its agent) rates the data
+        of the episodes ``rated``; ratings given with ``session=<its id>`` belong to it, and
+        :meth:`end` ends it. See :mod:`episodes.sessions`."""
+        session_id = sessions.begin_session(
+            self.store,
+            person=person,
+            rated=rated,
+            begin=self._time(begin, "begin"),
+            episode_id=check_id(episode_id, "id") if episode_id is not None else None,
+            memory_state=self.memory_state,
+        )
+        return self.get(session_id)
+
+    def session_ratings(self, session_id: str) -> list[Rating]:
+        """The ratings given in a feedback episode, in the order given."""
+        return sessions.session_ratings(self.store, check_id(session_id, "session"))
 
     def rank(
         self,
