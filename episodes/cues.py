@@ -83,11 +83,9 @@ class Cue:
         ``count``) for this cue, and its bindings: the activity, or one cue index key per role
         constraint (see :mod:`episodes.cue_index`)."""
         pairs = self.constraints()
-        bound: dict[str, NamedNode | Literal] = (
-            {f"key{i}": cue_key(self.activity, role, who) for i, (role, who) in enumerate(pairs, 1)}
-            if pairs
-            else {"activity": Literal(self.activity)}
-        )
+        bound: dict[str, NamedNode | Literal] = {"activity": Literal(self.activity)}
+        for i, (role, who) in enumerate(pairs, start=1):
+            bound[f"key{i}"] = cue_key(self.activity, role, who)
         if kind not in ("list", "first", "last", "count"):
             raise InvalidInputError("kind", kind, "'list', 'first', 'last' or 'count'")
         return f"episodes_cue_{kind}_{len(pairs)}", bound

@@ -109,7 +109,7 @@ class EpisodeMemory:
         self.clock = clock
         self._recordings = recordings
         self.paths = DataPaths(data_dir)
-        self.run_files = RunFiles(store, self.paths, self.local_streams)
+        self.run_files = RunFiles(store, self.paths, archive)
         """The augmentation runs' stream files (see :mod:`episodes.run_files`)."""
         self._queue: AugmentationQueue | None = None
         if store.remote is None or not store.remote.read_only:
@@ -219,9 +219,7 @@ class EpisodeMemory:
 
     def local_streams(self, episode_id: str) -> Path:
         """The episode's bag directory for reading: fetched from object storage if need be."""
-        if self.archive is not None:
-            return self.archive.local(self.store, check_id(episode_id, "episode"))
-        return self.streams_path(episode_id)
+        return self.run_files.source(episode_id)
 
     def _close_streams(self, episode_id: str) -> list[StreamDescriptor]:
         """Close the episode's recording if it is open and describe what it holds."""

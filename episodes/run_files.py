@@ -6,19 +6,21 @@ One rosbag2 directory per run, ``<data_dir>/augmentations/<episode>/<run>`` (see
 """
 
 import threading
-from collections.abc import Callable, Iterator, Mapping, Sequence
+from collections.abc import Iterator, Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
 from pyoxigraph import Literal
 
 from episodes import augmentation
+from episodes.archive import StreamArchive
 from episodes.augmentation import DerivedSpec
 from episodes.errors import EpisodeStateError, InvalidInputError, NotFoundError
 from episodes.paths import DataPaths
 from episodes.streams import Recorder, Replayer, export_bag
 from episodes.streams.merge import derived_frames, export_merged, merged_frames, run_prefix
 from episodes.streams.replay import Frame
+from episodes.terms import check_id
 from kg import Store
 from ontologies.vocab import EPISODES, STREAM_FILE
 
@@ -29,16 +31,22 @@ FrameChannels = dict[int, frozenset[str]]
 
 
 class RunFiles:
-    """The runs' stream files of one memory. ``source`` gives the local bag directory of an
-    episode's recording (fetched from object storage if need be)."""
+    """The runs' stream files of one memory; ``archive`` is where ended episodes' recordings
+    may have gone (object storage), if anywhere."""
 
-    def __init__(self, store: Store, paths: DataPaths, source: Callable[[str], Path]) -> None:
+    def __init__(self, store: Store, paths: DataPaths, archive: StreamArchive | None) -> None:
         self.store = store
         self.paths = paths
-        self.source = source
+        self.archive = archive
         self._writers: dict[tuple[str, str], _RunWriter] = {}
         self._frames: dict[str, tuple[tuple[object, ...], FrameChannels]] = {}
         self._lock = threading.Lock()
+
+    def source(self, episode_id: str) -> Path:
+        """The episode's bag directory for reading: fetched from object storage if need be."""
+        if self.archive is not None:
+            return self.archive.local(self.store, check_id(episode_id, "episode"))
+        return self.paths.streams(episode_id)
 
     def recorded_frames(self, episode_id: str) -> FrameChannels:
         """Frame number -> the providers and channels with a sample at that frame, as the
