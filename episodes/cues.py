@@ -86,7 +86,7 @@ class Cue:
         bound: dict[str, NamedNode | Literal] = {"activity": Literal(self.activity)}
         for i, (role, who) in enumerate(pairs, start=1):
             bound[f"key{i}"] = cue_key(self.activity, role, who)
-        if kind not in ("list", "first", "last", "count"):
+        if kind not in ("list", "first", "last", "count", *(f"head{n}" for n in HEADS)):
             raise InvalidInputError("kind", kind, "'list', 'first', 'last' or 'count'")
         return f"episodes_cue_{kind}_{len(pairs)}", bound
 
@@ -188,7 +188,7 @@ def recall(
         raise InvalidInputError("which", which, "'first', 'last' or 'nth'")
     if isinstance(n, bool) or not isinstance(n, int) or not 1 <= n <= MAX_N:
         raise InvalidInputError("n", n, f"an integer from 1 to {MAX_N}")
-    found = matching(store, cue, "list" if which == "nth" else which)
+    found = matching(store, cue, _kind(which, n))
     picked = found[n - 1 : n] if which == "nth" else found
     # then one point query for the answer's summary
     rows = [row for e in picked for row in store.select("episodes_summary", episode=e)]
@@ -203,6 +203,17 @@ def recall(
         rank=n if which == "nth" else None,
         said=said(cue, which, n, when),
     )
+
+
+HEADS = (10, 100, 1000)
+"""The n-th time reads the first 10, 100 or 1,000 matches (``episodes_cue_head<N>_*``), the
+smallest that holds it; beyond, all of them."""
+
+
+def _kind(which: str, n: int) -> str:
+    if which != "nth":
+        return which
+    return next((f"head{head}" for head in HEADS if n <= head), "list")
 
 
 def all_episodes(store: Store, cue: Cue, *, now: dt.datetime) -> list[Recollection]:

@@ -195,3 +195,29 @@ def test_a_retracted_argument_leaves_the_cue_index(history: EpisodeMemory) -> No
     assert history.count(Cue("babbling", agent="HyungJin")) == 2
     assert history.count(Cue("babbling", participant="HyungJin")) == 3
     assert history.count(Cue("babbling", role="recipient")) == 1
+
+
+def test_the_nth_time_reads_only_the_first_matches_it_needs(memory: EpisodeMemory) -> None:
+    from episodes.cues import _kind
+
+    for k in range(12):
+        memory.begin(
+            "waving",
+            arguments=[ArgumentSpec("agent", "Anna" if k % 2 else "Peter")],
+            begin=f"2026-01-{k + 1:02d}T10:00:00+00:00",
+            episode_id=f"w{k + 1}",
+        )
+    assert memory.recall(Cue("waving"), which="nth", n=10).episode.id == "w10"
+    assert memory.recall(Cue("waving"), which="nth", n=11).episode.id == "w11"
+    assert memory.recall(Cue("waving", agent="Anna"), which="nth", n=6).episode.id == "w12"
+    with pytest.raises(NotFoundError):
+        memory.recall(Cue("waving"), which="nth", n=13)
+    assert [_kind("nth", n) for n in (1, 10, 11, 100, 101, 1000, 1001)] == [
+        "head10",
+        "head10",
+        "head100",
+        "head100",
+        "head1000",
+        "head1000",
+        "list",
+    ]
