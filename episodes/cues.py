@@ -15,6 +15,7 @@ from episodes.cue_index import cue_key
 from episodes.errors import InvalidInputError, NotFoundError
 from episodes.model import EpisodeSummary, Recollection
 from episodes.terms import check_name, episode_id_of, participant_iri, role_iri
+from episodes.time_index import window_days
 from episodes.times import parse_time, say_when, to_literal
 from kg import Store
 
@@ -147,7 +148,11 @@ def matching(store: Store, cue: Cue, kind: str = "list") -> list[NamedNode]:
     """The episodes matching ``cue``, oldest first (one query); ``kind`` ``first`` or ``last``
     for only that one."""
     name, bound = cue.query(kind)
-    return [_rdf.iri(row, "episode") for row in store.select(name, **bound)]
+    rows = store.select(name, **bound)
+    if not rows and name in ("episodes_cue_first_0", "episodes_cue_last_0"):
+        # a store no writer has indexed yet (read-only): sort the activity's episodes
+        rows = store.select(f"episodes_activity_{kind}2", **bound)[:1]
+    return [_rdf.iri(row, "episode") for row in rows]
 
 
 SUMMARY_BATCH = 200
@@ -247,9 +252,12 @@ def happened_between(
         raise InvalidInputError(
             "end", window_end.isoformat(), f"a time not before start {window_start.isoformat()}"
         )
-    found = store.select(
-        "episodes_between", **{"from": to_literal(window_start), "to": to_literal(window_end)}
-    )
+    times = {"from": to_literal(window_start), "to": to_literal(window_end)}
+    days = window_days(window_start, window_end)
+    if days is None:  # a long window: filter every begin time
+        found = store.select("episodes_between", **times)
+    else:  # the episodes of the window's day buckets (episodes/time_index.py)
+        found = store.select_each("episodes_between_days", "day", days, **times)
     # prov:startedAtTime is also a run's: only episodes have a summary
     rows = _summaries(store, [_rdf.iri(r, "episode") for r in found])
     return [Recollection(episode=(s := _summary(r)), when=say_when(s.begin, now)) for r in rows]

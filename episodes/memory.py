@@ -32,6 +32,7 @@ from episodes import (
     feedback,
     lifecycle,
     sessions,
+    time_index,
     transfer,
 )
 from episodes.archive import StreamArchive
@@ -114,6 +115,7 @@ class EpisodeMemory:
         self._queue: AugmentationQueue | None = None
         if store.remote is None or not store.remote.read_only:
             cue_index.backfill(store)  # arguments stored before the cue index existed
+            time_index.backfill(store)  # episodes stored before the time index existed
 
     # Paths and the stream side ---------------------------------------------------------------
 
@@ -416,7 +418,11 @@ class EpisodeMemory:
         """Load an episode exported by :meth:`export_rdf` into this memory."""
         episode_id = transfer.import_episode(self.store, data)
         cue_index.backfill(self.store)  # an export made before the cue index existed
-        return self.get(episode_id)
+        time_index.backfill(self.store)
+        episode = self.get(episode_id)
+        # the export may carry its old first/last pointers, or none: recompute them
+        time_index.refresh_activity(self.store, episode.activity)
+        return episode
 
     # Queries by cue --------------------------------------------------------------------------
 
