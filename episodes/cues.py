@@ -14,6 +14,7 @@ from episodes import _rdf
 from episodes.cue_index import cue_key
 from episodes.errors import InvalidInputError, NotFoundError
 from episodes.model import EpisodeSummary, Recollection
+from episodes.summaries import read_summaries
 from episodes.terms import check_name, episode_id_of, participant_iri, role_iri
 from episodes.time_index import window_days
 from episodes.times import parse_time, say_when, to_literal
@@ -155,22 +156,6 @@ def matching(store: Store, cue: Cue, kind: str = "list") -> list[NamedNode]:
     return [_rdf.iri(row, "episode") for row in rows]
 
 
-SUMMARY_BATCH = 200
-"""Episodes per ``episodes_summary`` query: the VALUES table joins in linear time up to a few
-hundred rows and much worse beyond (1,600 rows: 1.1 s in one table, 0.16 s in batches of 200,
-at load ~8)."""
-
-
-def _summaries(store: Store, episodes: list[NamedNode]) -> list[_rdf.Row]:
-    """The summary rows of ``episodes`` in their order (those that are episodes), in batches."""
-    by_episode: dict[NamedNode, _rdf.Row] = {}
-    for i in range(0, len(episodes), SUMMARY_BATCH):
-        batch = episodes[i : i + SUMMARY_BATCH]
-        for row in store.select_each("episodes_summary", "episode", batch):
-            by_episode[_rdf.iri(row, "episode")] = row
-    return [by_episode[e] for e in episodes if e in by_episode]
-
-
 def _summary(row: _rdf.Row) -> EpisodeSummary:
     return EpisodeSummary(
         id=episode_id_of(_rdf.iri(row, "episode")),
@@ -196,12 +181,11 @@ def recall(
         raise InvalidInputError("n", n, f"an integer from 1 to {MAX_N}")
     found = matching(store, cue, _kind(which, n))
     picked = found[n - 1 : n] if which == "nth" else found
-    # then one point query for the answer's summary
-    rows = [row for e in picked for row in store.select("episodes_summary", episode=e)]
-    if not rows:
+    summaries = read_summaries(store, picked)  # then the answer's summary
+    if not summaries:
         ordinal = {"first": "a first", "last": "a last"}.get(which, f"a time number {n}")
         raise NotFoundError(f"cue: no episode matches {cue} ({ordinal} was asked for)")
-    summary = _summary(rows[0])
+    summary = summaries[0]
     when = say_when(summary.begin, now)
     return Recollection(
         episode=summary,
@@ -225,12 +209,13 @@ def _kind(which: str, n: int) -> str:
 def all_episodes(store: Store, cue: Cue, *, now: dt.datetime) -> list[Recollection]:
     """Every episode matching ``cue``, oldest first, each with when it was."""
     if cue.constraints():  # the matching episodes by the cue index, then their summaries
-        rows = _summaries(store, matching(store, cue))
+        summaries = read_summaries(store, matching(store, cue))
     else:
         rows = store.select("episodes_of_activity", activity=Literal(cue.activity))
+        summaries = [_summary(r) for r in rows]
     return [
-        Recollection(episode=(s := _summary(r)), when=say_when(s.begin, now), rank=i)
-        for i, r in enumerate(rows, start=1)
+        Recollection(episode=s, when=say_when(s.begin, now), rank=i)
+        for i, s in enumerate(summaries, start=1)
     ]
 
 
@@ -259,5 +244,5 @@ def happened_between(
     else:  # the episodes of the window's day buckets (episodes/time_index.py)
         found = store.select_each("episodes_between_days", "day", days, **times)
     # prov:startedAtTime is also a run's: only episodes have a summary
-    rows = _summaries(store, [_rdf.iri(r, "episode") for r in found])
-    return [Recollection(episode=(s := _summary(r)), when=say_when(s.begin, now)) for r in rows]
+    summaries = read_summaries(store, [_rdf.iri(r, "episode") for r in found])
+    return [Recollection(episode=s, when=say_when(s.begin, now)) for s in summaries]

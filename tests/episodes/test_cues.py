@@ -77,15 +77,16 @@ def queries_run(memory: EpisodeMemory, call: Callable[[], Any]) -> tuple[Any, in
         ("last", 1, None, "left hand", "b4"),
     ],
 )
-def test_recall_finds_the_first_last_and_nth_time_in_two_queries(
+def test_recall_finds_the_first_last_and_nth_time_in_one_query(
     history: EpisodeMemory, which: str, n: int, agent: str | None, obj: str | None, expected: str
 ) -> None:
     cue = Cue("babbling", agent=agent, obj=obj)
     found, queries = queries_run(history, lambda: history.recall(cue, which=which, n=n))  # type: ignore[arg-type]
     assert found.episode.id == expected
-    # the ordered ids of the matches, then one summary: gathering every match's participants
-    # in one query was linear in the matches, and SPARQL cannot bind OFFSET
-    assert queries == 2
+    # the ordered ids of the matches; the answer's summary is read from the store's indexes
+    # (episodes/summaries.py): gathering every match's participants in the query was linear
+    # in the matches, and SPARQL cannot bind OFFSET
+    assert queries == 1
 
 
 def test_recall_says_when_it_was(history: EpisodeMemory) -> None:
@@ -114,10 +115,10 @@ def test_bad_recall_arguments_name_the_field(
     assert caught.value.field == field
 
 
-def test_all_episodes_of_an_activity_oldest_first_in_two_queries(history: EpisodeMemory) -> None:
+def test_all_episodes_of_an_activity_oldest_first_in_one_query(history: EpisodeMemory) -> None:
     found, queries = queries_run(history, lambda: history.all(Cue("babbling", agent="HyungJin")))
     assert [r.episode.id for r in found] == ["b1", "b3", "b4"]
-    assert queries == 2  # the role matches, then all their summaries at once
+    assert queries == 1  # the role matches; their summaries come from pattern lookups
 
 
 def test_how_many_times_in_one_query(history: EpisodeMemory) -> None:
@@ -134,7 +135,7 @@ def test_what_happened_between_two_times(history: EpisodeMemory) -> None:
     )
     # b3 runs until 15:40; p1 began 15:35 and has not ended
     assert [r.episode.id for r in found] == ["b3", "p1"]
-    assert queries == 2  # the window's episodes, then all their summaries at once
+    assert queries == 1  # the window's episodes; their summaries come from pattern lookups
     assert history.between("2026-01-01T00:00:00+00:00", "2026-01-02T00:00:00+00:00") == []
 
 
