@@ -362,15 +362,46 @@ def rate(
     value: int,
     question: Annotated[str | None, typer.Option(help="The question answered.")] = None,
     replace: Annotated[bool, typer.Option(help="Revise this person's earlier answer.")] = False,
+    session: Annotated[
+        str | None, typer.Option(help="The feedback episode it is given in (see `feedback`).")
+    ] = None,
     data: DataOption = None,
 ) -> None:
     """Store a person's 1-10 rating of an augmentation run (one answer per question)."""
     with _memory(data) as memory:
         _print(
             memory.rate(
-                episode, run, person=person, value=value, question=question, replace=replace
+                episode,
+                run,
+                person=person,
+                value=value,
+                question=question,
+                replace=replace,
+                session=session,
             )
         )
+
+
+@app.command()
+def feedback(
+    person: Annotated[str, typer.Argument(help="Who rates (the feedback episode's agent).")],
+    rated: Annotated[
+        list[str] | None, typer.Option("--rated", help="An episode shown for rating; repeatable.")
+    ] = None,
+    at: Annotated[str | None, typer.Option(help="Begin time (ISO 8601); default now.")] = None,
+    id: Annotated[str | None, typer.Option(help="Episode id; default a new one.")] = None,
+    data: DataOption = None,
+) -> None:
+    """Begin a rating session, recorded as a feedback episode; end it with `end`."""
+    with _memory(data) as memory:
+        _print(memory.begin_feedback(person, rated=rated or [], begin=at, episode_id=id))
+
+
+@app.command("session-ratings")
+def session_ratings(session: str, data: DataOption = None) -> None:
+    """The ratings given in a feedback episode, in the order given."""
+    with _memory(data) as memory:
+        _print(memory.session_ratings(session))
 
 
 @app.command()

@@ -217,14 +217,14 @@ def ok(run: Run) -> bool:
     )
 
 
-def capacity(root: Path, seconds: float, max_robots: int) -> None:
+def capacity(root: Path, seconds: float, max_robots: int, counts: list[int] | None = None) -> None:
     print(f"\ncapacity: n iCubs recorded at once in one process, {seconds:g} s each run")
     print(
         f"{'n':>3} {'all stored':>10} {'dropped':>7} {'worst stored %':>14} "
         f"{'process CPU %':>13} {'MB/s':>7} {'max lag ms':>10}"
     )
     best = 0
-    for n in range(1, max_robots + 1):
+    for n in counts or range(1, max_robots + 1):
         runs: list[Run] = []
         lock = threading.Lock()
 
@@ -258,6 +258,8 @@ def capacity(root: Path, seconds: float, max_robots: int) -> None:
         for k in range(n):
             shutil.rmtree(root / f"icub-cap{k}", ignore_errors=True)
         if not good:
+            if counts:
+                continue
             break
         best = n
     print(
@@ -277,6 +279,13 @@ def main() -> None:
         help="duration of each capacity run (0: skip)",
     )
     parser.add_argument("--max-robots", type=int, default=6)
+    parser.add_argument(
+        "--counts",
+        type=int,
+        nargs="+",
+        default=None,
+        help="run exactly these numbers of iCubs (default: 1, 2, ... up to the first failure)",
+    )
     parser.add_argument("--dir", type=Path, default=None, help="where to write (default: tmp)")
     args = parser.parse_args()
 
@@ -288,7 +297,9 @@ def main() -> None:
             report(run)
             shutil.rmtree(root / f"{robot}-solo", ignore_errors=True)
         if args.capacity_seconds > 0:
-            capacity(root, args.capacity_seconds, args.max_robots)
+            capacity(root, args.capacity_seconds, args.max_robots, args.counts)
+        with open("/proc/loadavg") as load:
+            print(f"load average: {load.read().strip()}")
     finally:
         shutil.rmtree(root, ignore_errors=True)
 

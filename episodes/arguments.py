@@ -16,6 +16,7 @@ from dataclasses import dataclass
 from pyoxigraph import Literal, NamedNode
 
 from episodes import _rdf
+from episodes.cue_index import drop_keys, write_keys
 from episodes.errors import InvalidInputError, NotFoundError
 from episodes.lifecycle import participant, require_episode
 from episodes.model import Argument
@@ -107,6 +108,10 @@ def _current(store: Store, episode: NamedNode) -> list[_Current]:
     ]
 
 
+def _activity(store: Store, episode: NamedNode) -> str:
+    return _rdf.text(store.select("episodes_get", episode=episode)[0], "activity")
+
+
 def _matching(current: list[_Current], role: str, value: str | None, field: str) -> list[_Current]:
     who = participant_iri(value, field).value if value is not None else None
     return [
@@ -141,6 +146,7 @@ def add_argument(
     link_id = new_id()
     with store.transaction() as tx:
         episode, _, _ = require_episode(store, episode_id)
+        activity = _activity(store, episode)
         current = _current(store, episode)
         old = _matching(current, role, replaces, "replaces") if replace else []
         if replace and not old:
@@ -156,7 +162,7 @@ def add_argument(
             argument=Argument(role, value, kind, participant_iri(value, "value").value),
         )
         for gone in old:
-            _retract(tx, episode, gone, [*remaining, newcomer], assertion)
+            _retract(tx, episode, activity, gone, [*remaining, newcomer], assertion)
         link = part_iri(episode, "argument", link_id)
         role_node = role_iri(role)
         tx.insert(role_node, RDF_TYPE, PROV_ROLE, EPISODES)
@@ -174,6 +180,7 @@ def add_argument(
             tx.insert(link, RDF_TYPE, PROV_USAGE, EPISODES)
             tx.insert(link, PROV_ENTITY_PROPERTY, who, EPISODES)
         tx.insert(link, PROV_HAD_ROLE, role_node, EPISODES)
+        write_keys(tx, link, activity, role_node, who)
         tx.insert(link, PROV_GENERATED_AT_TIME, to_literal(assertion.time), EPISODES)
         if assertion.author is not None:
             author = participant(tx, assertion.author, PROV_AGENT, "author")
@@ -205,6 +212,7 @@ def remove_argument(
     assertion = assertion.checked()
     with store.transaction() as tx:
         episode, _, _ = require_episode(store, episode_id)
+        activity = _activity(store, episode)
         current = _current(store, episode)
         gone = _matching(current, role, value, "value")
         if not gone:
@@ -212,13 +220,14 @@ def remove_argument(
             raise NotFoundError(f"argument: episode {episode_id!r} has no {what}")
         remaining = [c for c in current if c not in gone]
         for old in gone:
-            _retract(tx, episode, old, remaining, assertion)
+            _retract(tx, episode, activity, old, remaining, assertion)
     return [g.argument for g in gone]
 
 
 def _retract(
     tx: Transaction,
     episode: NamedNode,
+    activity: str,
     gone: _Current,
     remaining: list[_Current],
     assertion: Assertion,
@@ -226,6 +235,7 @@ def _retract(
     """Mark an argument no longer valid; drop the episode's unqualified link to its participant
     unless another valid argument keeps the same participant in the same kind."""
     tx.insert(gone.link, PROV_INVALIDATED_AT_TIME, to_literal(assertion.time), EPISODES)
+    drop_keys(tx, gone.link, activity, role_iri(gone.argument.role), NamedNode(gone.argument.iri))
     if assertion.author is not None:
         author = participant(tx, assertion.author, PROV_AGENT, "author")
         tx.insert(gone.link, RETRACTED_BY, author, EPISODES)

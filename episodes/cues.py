@@ -11,9 +11,12 @@ from urllib.parse import unquote
 from pyoxigraph import Literal, NamedNode
 
 from episodes import _rdf
+from episodes.cue_index import cue_key
 from episodes.errors import InvalidInputError, NotFoundError
 from episodes.model import EpisodeSummary, Recollection
+from episodes.summaries import read_summaries
 from episodes.terms import check_name, episode_id_of, participant_iri, role_iri
+from episodes.time_index import window_days
 from episodes.times import parse_time, say_when, to_literal
 from kg import Store
 
@@ -79,15 +82,13 @@ class Cue:
 
     def query(self, kind: str = "list") -> tuple[str, dict[str, NamedNode | Literal]]:
         """The name of the ``sparql/`` query of ``kind`` (``list``, ``first``, ``last`` or
-        ``count``) for this cue, and its bindings."""
-        bound: dict[str, NamedNode | Literal] = {"activity": Literal(self.activity)}
+        ``count``) for this cue, and its bindings: the activity, or one cue index key per role
+        constraint (see :mod:`episodes.cue_index`)."""
         pairs = self.constraints()
+        bound: dict[str, NamedNode | Literal] = {"activity": Literal(self.activity)}
         for i, (role, who) in enumerate(pairs, start=1):
-            if role is not None:
-                bound[f"role{i}"] = role
-            if who is not None:
-                bound[f"who{i}"] = who
-        if kind not in ("list", "first", "last", "count"):
+            bound[f"key{i}"] = cue_key(self.activity, role, who)
+        if kind not in ("list", "first", "last", "count", *(f"head{n}" for n in HEADS)):
             raise InvalidInputError("kind", kind, "'list', 'first', 'last' or 'count'")
         return f"episodes_cue_{kind}_{len(pairs)}", bound
 
@@ -148,7 +149,11 @@ def matching(store: Store, cue: Cue, kind: str = "list") -> list[NamedNode]:
     """The episodes matching ``cue``, oldest first (one query); ``kind`` ``first`` or ``last``
     for only that one."""
     name, bound = cue.query(kind)
-    return [_rdf.iri(row, "episode") for row in store.select(name, **bound)]
+    rows = store.select(name, **bound)
+    if not rows and name in ("episodes_cue_first_0", "episodes_cue_last_0"):
+        # a store no writer has indexed yet (read-only): sort the activity's episodes
+        rows = store.select(f"episodes_activity_{kind}2", **bound)[:1]
+    return [_rdf.iri(row, "episode") for row in rows]
 
 
 def _summary(row: _rdf.Row) -> EpisodeSummary:
@@ -174,14 +179,13 @@ def recall(
         raise InvalidInputError("which", which, "'first', 'last' or 'nth'")
     if isinstance(n, bool) or not isinstance(n, int) or not 1 <= n <= MAX_N:
         raise InvalidInputError("n", n, f"an integer from 1 to {MAX_N}")
-    found = matching(store, cue, "list" if which == "nth" else which)
+    found = matching(store, cue, _kind(which, n))
     picked = found[n - 1 : n] if which == "nth" else found
-    # then one point query for the answer's summary
-    rows = [row for e in picked for row in store.select("episodes_summary", episode=e)]
-    if not rows:
+    summaries = read_summaries(store, picked)  # then the answer's summary
+    if not summaries:
         ordinal = {"first": "a first", "last": "a last"}.get(which, f"a time number {n}")
         raise NotFoundError(f"cue: no episode matches {cue} ({ordinal} was asked for)")
-    summary = _summary(rows[0])
+    summary = summaries[0]
     when = say_when(summary.begin, now)
     return Recollection(
         episode=summary,
@@ -191,15 +195,27 @@ def recall(
     )
 
 
+HEADS = (10, 100, 1000)
+"""The n-th time reads the first 10, 100 or 1,000 matches (``episodes_cue_head<N>_*``), the
+smallest that holds it; beyond, all of them."""
+
+
+def _kind(which: str, n: int) -> str:
+    if which != "nth":
+        return which
+    return next((f"head{head}" for head in HEADS if n <= head), "list")
+
+
 def all_episodes(store: Store, cue: Cue, *, now: dt.datetime) -> list[Recollection]:
     """Every episode matching ``cue``, oldest first, each with when it was."""
-    rows = store.select("episodes_of_activity", activity=Literal(cue.activity))
-    if cue.constraints():
-        kept = set(matching(store, cue))
-        rows = [r for r in rows if _rdf.iri(r, "episode") in kept]
+    if cue.constraints():  # the matching episodes by the cue index, then their summaries
+        summaries = read_summaries(store, matching(store, cue))
+    else:
+        rows = store.select("episodes_of_activity", activity=Literal(cue.activity))
+        summaries = [_summary(r) for r in rows]
     return [
-        Recollection(episode=(s := _summary(r)), when=say_when(s.begin, now), rank=i)
-        for i, r in enumerate(rows, start=1)
+        Recollection(episode=s, when=say_when(s.begin, now), rank=i)
+        for i, s in enumerate(summaries, start=1)
     ]
 
 
@@ -221,7 +237,12 @@ def happened_between(
         raise InvalidInputError(
             "end", window_end.isoformat(), f"a time not before start {window_start.isoformat()}"
         )
-    rows = store.select(
-        "episodes_between", **{"from": to_literal(window_start), "to": to_literal(window_end)}
-    )
-    return [Recollection(episode=(s := _summary(r)), when=say_when(s.begin, now)) for r in rows]
+    times = {"from": to_literal(window_start), "to": to_literal(window_end)}
+    days = window_days(window_start, window_end)
+    if days is None:  # a long window: filter every begin time
+        found = store.select("episodes_between", **times)
+    else:  # the episodes of the window's day buckets (episodes/time_index.py)
+        found = store.select_each("episodes_between_days", "day", days, **times)
+    # prov:startedAtTime is also a run's: only episodes have a summary
+    summaries = read_summaries(store, [_rdf.iri(r, "episode") for r in found])
+    return [Recollection(episode=s, when=say_when(s.begin, now)) for s in summaries]

@@ -12,6 +12,7 @@ from dataclasses import dataclass
 from pyoxigraph import Literal, NamedNode
 
 from episodes import _rdf
+from episodes.cue_index import write_keys
 from episodes.errors import EpisodeNotFoundError, EpisodeStateError, InvalidInputError
 from episodes.model import Annotation, Argument, Episode, MemorySnapshot, StreamDescriptor
 from episodes.snapshot import MemoryState, load_snapshot, read_memory_state, write_snapshot
@@ -26,6 +27,7 @@ from episodes.terms import (
     participant_iri,
     role_iri,
 )
+from episodes.time_index import drop_activity_ends, end_days, write_activity_ends, write_days
 from episodes.times import parse_time, to_literal
 from episodes.world import current_scene, write_world
 from kg import Store, Transaction
@@ -166,6 +168,8 @@ def begin_episode(
         if kind_name is not None:
             tx.insert(episode, ACTIVITY_TYPE, Literal(kind_name), EPISODES)
         tx.insert(episode, PROV_STARTED_AT_TIME, to_literal(started), EPISODES)
+        write_days(tx, episode, started, ended)
+        write_activity_ends(tx, store, episode, activity, started)
         for i, (role, value, kind) in enumerate(checked):
             link = part_iri(episode, "argument", str(i))
             role_node = role_iri(role)
@@ -184,6 +188,7 @@ def begin_episode(
                 tx.insert(link, RDF_TYPE, PROV_USAGE, EPISODES)
                 tx.insert(link, PROV_ENTITY_PROPERTY, what, EPISODES)
             tx.insert(link, PROV_HAD_ROLE, role_node, EPISODES)
+            write_keys(tx, link, activity, role_node, participant_iri(value))
         if snapshot is not None:
             state = part_iri(episode, "state", "begin")
             tx.insert(episode, STATE_AT_BEGIN, state, EPISODES)
@@ -246,6 +251,7 @@ def end_episode(
                 "end", ended.isoformat(), f"a time not before the begin {began.isoformat()}"
             )
         tx.insert(episode, PROV_ENDED_AT_TIME, to_literal(ended), EPISODES)
+        end_days(tx, episode, began, ended)
         state = part_iri(episode, "state", "end")
         tx.insert(episode, STATE_AT_END, state, EPISODES)
         write_snapshot(tx, state, snapshot)
@@ -412,6 +418,7 @@ def delete_episode_triples(tx: Transaction, store: Store, episode_id: str) -> No
     the participants only it used, and the scene links to it. Call inside the transaction
     block; raises :class:`EpisodeNotFoundError`."""
     episode, _, _ = require_episode(store, episode_id)
+    drop_activity_ends(tx, store, episode)
     for name in ("episodes_owned_nodes", "episodes_orphaned_participants"):
         for row in store.select(name, episode=episode):
             tx.delete_matching(_rdf.iri(row, "node"), graph=EPISODES)

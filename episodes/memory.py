@@ -16,28 +16,33 @@ one per augmentation run under ``<data_dir>/augmentations/<episode>``).
 """
 
 import datetime as dt
-import io
 import logging
 import shutil
-import tarfile
-import tempfile
-import threading
 from collections.abc import Iterator, Mapping, Sequence
 from pathlib import Path
 from typing import Any
 from typing import Literal as Which
 
-from pyoxigraph import Literal
-
-from episodes import arguments, augmentation, cues, feedback, lifecycle, transfer
+from episodes import (
+    arguments,
+    augmentation,
+    bag_import,
+    cue_index,
+    cues,
+    feedback,
+    lifecycle,
+    sessions,
+    time_index,
+    transfer,
+)
 from episodes.archive import StreamArchive
 from episodes.augmentation import DerivedSpec
+from episodes.bag_import import BagEpisode
 from episodes.cues import Cue
 from episodes.errors import (
     EpisodeNotFoundError,
     EpisodeStateError,
     InvalidInputError,
-    NotFoundError,
 )
 from episodes.feedback import Ranking
 from episodes.knowledge import ActivityKnowledge, activity_knowledge
@@ -52,28 +57,25 @@ from episodes.model import (
     ImportReport,
     Rating,
     Recollection,
-    SkippedTopic,
     StreamDescriptor,
 )
+from episodes.paths import DataPaths
 from episodes.queue import AugmentationQueue
+from episodes.run_files import RunFiles
 from episodes.scene_channel import write_episode_scenes
 from episodes.snapshot import MemoryState, read_memory_state
 from episodes.streamlink import descriptors_from_recording, descriptors_from_stats
 from episodes.streams import (
-    Recorder,
     RecordingRegistry,
     Replayer,
     StreamError,
-    export_bag,
-    import_bag,
 )
-from episodes.streams.merge import derived_frames, export_merged, merged_frames, run_prefix
 from episodes.streams.replay import Frame
 from episodes.terms import ArgumentKind, check_id, episode_iri, new_id
 from episodes.times import Clock, parse_time, system_clock
 from episodes.world import WorldChange, world_change
 from kg import Store
-from ontologies.vocab import EPISODES, STREAM_FILE
+from ontologies.vocab import EPISODES
 
 __all__ = ["EpisodeMemory"]
 
@@ -107,10 +109,13 @@ class EpisodeMemory:
         self.data_dir = data_dir
         self.clock = clock
         self._recordings = recordings
-        self._run_writers: dict[tuple[str, str], Any] = {}
+        self.paths = DataPaths(data_dir)
+        self.run_files = RunFiles(store, self.paths, archive)
+        """The augmentation runs' stream files (see :mod:`episodes.run_files`)."""
         self._queue: AugmentationQueue | None = None
-        self._frame_cache: dict[str, tuple[tuple[object, ...], dict[int, frozenset[str]]]] = {}
-        self._lock = threading.Lock()
+        if store.remote is None or not store.remote.read_only:
+            cue_index.backfill(store)  # arguments stored before the cue index existed
+            time_index.backfill(store)  # episodes stored before the time index existed
 
     # Paths and the stream side ---------------------------------------------------------------
 
@@ -121,20 +126,13 @@ class EpisodeMemory:
             self._recordings = RecordingRegistry()
         return self._recordings
 
-    def _dir(self, name: str) -> Path:
-        if self.data_dir is None:
-            raise EpisodeStateError("streams: this memory has no data directory for stream files")
-        return self.data_dir / name
-
     def streams_path(self, episode_id: str) -> Path:
         """The rosbag2 directory of an episode's streams."""
-        return self._dir("streams") / check_id(episode_id, "episode")
+        return self.paths.streams(episode_id)
 
     def run_path(self, episode_id: str, run_id: str) -> Path:
         """The rosbag2 directory of an augmentation run's derived samples."""
-        return (
-            self._dir("augmentations") / check_id(episode_id, "episode") / check_id(run_id, "run")
-        )
+        return self.paths.run(episode_id, run_id)
 
     def _now(self) -> dt.datetime:
         now = self.clock()
@@ -223,9 +221,7 @@ class EpisodeMemory:
 
     def local_streams(self, episode_id: str) -> Path:
         """The episode's bag directory for reading: fetched from object storage if need be."""
-        if self.archive is not None:
-            return self.archive.local(self.store, check_id(episode_id, "episode"))
-        return self.streams_path(episode_id)
+        return self.run_files.source(episode_id)
 
     def replayer(self, episode_id: str) -> Replayer:
         """A replayer of the episode's recording; one in object storage is read by ranges."""
@@ -238,10 +234,12 @@ class EpisodeMemory:
         if self.data_dir is None and self._recordings is None:
             return []
         if episode_id in self.recordings:
-            return descriptors_from_stats(self.recordings.close(episode_id), self._dir("streams"))
+            return descriptors_from_stats(
+                self.recordings.close(episode_id), self.paths.dir("streams")
+            )
         if self.data_dir is not None and self.streams_path(episode_id).exists():
             replayer = Replayer(self.streams_path(episode_id))
-            return descriptors_from_recording(replayer, self._dir("streams"))
+            return descriptors_from_recording(replayer, self.paths.dir("streams"))
         return []
 
     def import_bag(
@@ -276,68 +274,13 @@ class EpisodeMemory:
         episode_id: str | None = None,
     ) -> ImportReport:
         """:meth:`import_bag`, answering the episode and the topics skipped (type and count)."""
-
-        episode_id = check_id(episode_id, "id") if episode_id is not None else new_id()
-        if lifecycle.episode_times(self.store, episode_iri(episode_id)) is not None:
-            raise EpisodeStateError(f"id: an episode {episode_id!r} already exists")
-        dest = self.streams_path(episode_id)
-        result = import_bag(path, dest=dest, episode_id=episode_id)
-        skipped = tuple(
-            SkippedTopic(topic, str(info["message_type"]), int(info["count"]))
-            for topic, info in sorted(result.skipped.items())
-        )
-        try:
-            start = _from_ns(result.start_ns) or self._now()
-            lifecycle.begin_episode(
-                self.store,
-                activity=activity,
-                activity_type=activity_type,
-                arguments=arguments,
-                begin=start,
-                episode_id=episode_id,
-                end=_from_ns(result.end_ns) or start,
-                streams=descriptors_from_stats(result.channels, self._dir("streams")),
-                snapshots=False,
-            )
-        except BaseException:
-            shutil.rmtree(dest, ignore_errors=True)
-            raise
-        self.annotate(episode_id, key="imported_from", value=str(path), author="engram import")
-        for topic in skipped:
-            self.annotate(
-                episode_id,
-                key="skipped_topic",
-                value=f"{topic.topic} {topic.message_type} x{topic.count}",
-                author="engram import",
-            )
-        if skipped:
-            log.warning("import %s: skipped %s", episode_id, [t.topic for t in skipped])
-        return ImportReport(self.get(episode_id), skipped)
+        what = BagEpisode(activity, activity_type, arguments, episode_id)
+        return bag_import.import_report(self.store, self.paths, path, what, now=self._now())
 
     def import_source(self, path: str) -> Path:
-        """The bag at ``path`` inside the data directory (relative to it, or absolute inside it).
-
-        What an HTTP client may import: nothing outside the data directory. Raises
-        :class:`InvalidInputError` naming the path when it is empty, outside, missing, or
-        neither a ``.bag`` file nor a ROS 2 bag directory (one with ``metadata.yaml``).
-        """
-        root = self._dir(".").resolve()
-        expected = (
-            f"a ROS 1 .bag file or a ROS 2 bag directory (with metadata.yaml) inside the "
-            f"data directory {str(root)!r}, absolute or relative to it"
-        )
-        if not isinstance(path, str) or not path.strip() or "\x00" in path:
-            raise InvalidInputError("path", path, expected)
-        candidate = (root / path).resolve()
-        if not candidate.is_relative_to(root) or candidate == root:
-            raise InvalidInputError("path", path, expected)
-        if candidate.is_file() and candidate.suffix == ".bag":
-            return candidate
-        if candidate.is_dir() and (candidate / "metadata.yaml").is_file():
-            return candidate
-        if not candidate.exists():
-            raise NotFoundError(f"path: nothing at {path!r} in the data directory")
-        raise InvalidInputError("path", path, expected)
+        """The bag at ``path`` inside the data directory, for an HTTP client (see
+        :func:`episodes.bag_import.import_source`)."""
+        return bag_import.import_source(self.paths, path)
 
     def import_upload(
         self,
@@ -349,32 +292,9 @@ class EpisodeMemory:
         episode_id: str | None = None,
     ) -> ImportReport:
         """Import a bag sent as bytes: a ROS 1 ``.bag`` file, or a tar of a ROS 2 bag directory.
-
-        The upload is unpacked in a scratch directory under the data directory and removed
-        afterwards. Raises :class:`InvalidInputError` (field ``body``) for anything else.
-        """
-        expected = "a ROS 1 .bag file, or a tar archive of one ROS 2 bag directory"
-        if not data:
-            raise InvalidInputError("body", "0 bytes", expected)
-        scratch_root = self._dir("uploads")
-        scratch_root.mkdir(parents=True, exist_ok=True)
-        scratch = Path(tempfile.mkdtemp(prefix="upload-", dir=scratch_root))
-        try:
-            if data.startswith(b"#ROSBAG V2.0"):
-                source = scratch / "upload.bag"
-                source.write_bytes(data)
-            else:
-                source = _untar_bag(data, scratch, expected)
-            report = self.import_bag_report(
-                source,
-                activity,
-                activity_type=activity_type,
-                arguments=arguments,
-                episode_id=episode_id,
-            )
-        finally:
-            shutil.rmtree(scratch, ignore_errors=True)
-        return report
+        Raises :class:`InvalidInputError` (field ``body``) for anything else."""
+        what = BagEpisode(activity, activity_type, arguments, episode_id)
+        return bag_import.import_upload(self.store, self.paths, data, what, now=self._now())
 
     def get(self, episode_id: str) -> Episode:
         """Everything about one episode; raises :class:`EpisodeNotFoundError`."""
@@ -474,12 +394,11 @@ class EpisodeMemory:
             raise EpisodeNotFoundError(episode_id)
         if self._recordings is not None and episode_id in self._recordings:
             self._recordings.close(episode_id)
-        for key in [k for k in self._run_writers if k[0] == episode_id]:
-            self._run_writers.pop(key).close()
+        self.run_files.close_episode(episode_id)
         stored = self.archive.stored(self.store, episode_id) if self.archive else []
         moved: list[tuple[Path, Path]] = []
         if self.data_dir is not None:
-            for path in (self.streams_path(episode_id), self._dir("augmentations") / episode_id):
+            for path in (self.paths.streams(episode_id), self.paths.runs(episode_id)):
                 if path.exists():
                     aside = path.with_name(f".deleting-{path.name}")
                     path.rename(aside)
@@ -503,7 +422,13 @@ class EpisodeMemory:
 
     def import_rdf(self, data: bytes) -> Episode:
         """Load an episode exported by :meth:`export_rdf` into this memory."""
-        return self.get(transfer.import_episode(self.store, data))
+        episode_id = transfer.import_episode(self.store, data)
+        cue_index.backfill(self.store)  # an export made before the cue index existed
+        time_index.backfill(self.store)
+        episode = self.get(episode_id)
+        # the export may carry its old first/last pointers, or none: recompute them
+        time_index.refresh_activity(self.store, episode.activity)
+        return episode
 
     # Queries by cue --------------------------------------------------------------------------
 
@@ -577,82 +502,16 @@ class EpisodeMemory:
         """
         if values is not None and len(values) != len(samples):
             raise InvalidInputError("values", len(values), f"one value per sample ({len(samples)})")
-        recorded = self.recorded_frames(episode_id)
+        recorded = self.run_files.recorded_frames(episode_id)
         if values is not None:
             augmentation.check_derived(self.store, episode_id, run_id, samples, recorded)
-            self._write_derived(episode_id, run_id, samples, values, channels or {})
+            self.run_files.write(episode_id, run_id, samples, values, channels or {})
         return augmentation.add_derived(self.store, episode_id, run_id, samples, recorded)
 
     def recorded_frames(self, episode_id: str) -> dict[int, frozenset[str]]:
         """Frame number -> the providers and channels with a sample at that frame, as the
-        episode's stream file holds them (empty without a recording). Cached per file state."""
-        if self.data_dir is None:
-            return {}
-        path = self.streams_path(episode_id)
-        if not path.exists():
-            return {}
-        key = tuple(_file_state(f) for f in sorted(path.glob("*.mcap")))
-        cached = self._frame_cache.get(episode_id)
-        if cached is not None and cached[0] == key:
-            return cached[1]
-        replayer = Replayer(path)
-        frames = {
-            tick.frame: frozenset(
-                name for provider in tick.providers for name in (provider, "/" + provider)
-            )
-            for tick in replayer.ticks
-        }
-        self._frame_cache[episode_id] = (key, frames)
-        return frames
-
-    def _write_derived(
-        self,
-        episode_id: str,
-        run_id: str,
-        samples: Sequence[DerivedSpec],
-        values: Sequence[Any],
-        channels: Mapping[str, Mapping[str, Any]],
-    ) -> None:
-
-        run = augmentation.get_run(self.store, episode_id, run_id)
-        if run.ended is not None:
-            raise EpisodeStateError(f"run: run {run_id!r} has ended; start a new run")
-        key = (episode_id, run_id)
-        with self._lock:
-            writer = self._run_writers.get(key)
-            if writer is None:
-                source = self.local_streams(episode_id)
-                times = (
-                    {t.frame: t.time_ns for t in Replayer(source).ticks} if source.exists() else {}
-                )
-                writer = _RunWriter(
-                    Recorder(self.run_path(episode_id, run_id), episode_id=episode_id), times
-                )
-                self._run_writers[key] = writer
-                with self.store.transaction() as tx:
-                    tx.insert(
-                        augmentation.run_iri(episode_id, run_id),
-                        STREAM_FILE,
-                        Literal(
-                            self.run_path(episode_id, run_id).relative_to(self._dir(".")).as_posix()
-                        ),
-                        EPISODES,
-                    )
-        writer.write(samples, values, channels)
-
-    def _run_replayer(self, episode_id: str, run_id: str) -> tuple[str, Replayer]:
-        """The run's name prefix and a replayer of its stream file (flushed if still open)."""
-        run = augmentation.get_run(self.store, episode_id, run_id)
-        writer = self._run_writers.get((episode_id, run_id))
-        if writer is not None:
-            writer.recorder.flush()
-        path = self.run_path(episode_id, run_id)
-        if not path.exists():
-            raise NotFoundError(
-                f"run: run {run_id!r} of episode {episode_id!r} has no derived data stored "
-                "(post samples with values)"
-            )
-        return run_prefix(run.name, run.version), Replayer(path)
+        episode's stream file holds them (empty without a recording)."""
+        return self.run_files.recorded_frames(episode_id)
 
     def replay_run(
         self,
@@ -665,28 +524,12 @@ class EpisodeMemory:
         """Replay a run's derived samples, frame by frame, numbered by their source frames;
         with ``merge``, the source frames (``channels`` of them) with the derived samples
         beside the originals, named ``augmentations/<name>/v<version>/<channel>``."""
-        prefix, run = self._run_replayer(episode_id, run_id)
-        source = Replayer(self.streams_path(episode_id))
-        if merge:
-            return merged_frames(source, [(prefix, run)], channels)
-        return derived_frames(source, run, channels)
+        return self.run_files.replay(episode_id, run_id, merge=merge, channels=channels)
 
     def export_streams(self, episode_id: str, dest: Path, *, with_runs: bool = False) -> None:
         """Write the episode's streams as a standalone rosbag2 directory ``dest``; with
         ``with_runs``, every run's derived channels too, each its own topic per version."""
-        source = self.streams_path(episode_id)
-        runs = []
-        if with_runs:
-            for run in augmentation.list_runs(self.store, episode_id):
-                if self.run_path(episode_id, run.id).exists():
-                    self._run_replayer(episode_id, run.id)  # flushes a run still open
-                    runs.append(
-                        (run_prefix(run.name, run.version), self.run_path(episode_id, run.id))
-                    )
-        if runs:
-            export_merged(source, runs, dest)
-        else:
-            export_bag(source, dest)
+        self.run_files.export(episode_id, dest, with_runs=with_runs)
 
     def versions(self, augmentation_name: str, episode_id: str) -> list[dict[str, Any]]:
         """The runs of one augmentation on one episode side by side, for a rating view: each
@@ -699,8 +542,7 @@ class EpisodeMemory:
             if run.name != augmentation_name:
                 continue
             item = f"{episode_id}/{run.id}"
-            stored = self.data_dir is not None and self.run_path(episode_id, run.id).exists()
-            channels = sorted(self._run_replayer(episode_id, run.id)[1].providers) if stored else []
+            channels = self.run_files.channels(episode_id, run.id)
             rated = stats.get(item)
             out.append(
                 {
@@ -727,9 +569,7 @@ class EpisodeMemory:
         run = augmentation.get_run(self.store, episode_id, run_id)
         if run.ended is not None:
             raise EpisodeStateError(f"run: run {run_id!r} has ended; it is kept")
-        writer = self._run_writers.pop((episode_id, run_id), None)
-        if writer is not None:
-            writer.close()
+        self.run_files.close_run(episode_id, run_id)
         with self.store.transaction() as tx:
             for row in self.store.select(
                 "episodes_owned_nodes", episode=augmentation.run_iri(episode_id, run_id)
@@ -741,9 +581,7 @@ class EpisodeMemory:
 
     def end_run(self, episode_id: str, run_id: str) -> AugmentationRun:
         """Close a run (and its stream file)."""
-        writer = self._run_writers.pop((episode_id, run_id), None)
-        if writer is not None:
-            writer.close()
+        self.run_files.close_run(episode_id, run_id)
         return augmentation.end_run(self.store, episode_id, run_id, ended=self._now())
 
     def lacking(
@@ -767,9 +605,17 @@ class EpisodeMemory:
         sample: int | None = None,
         question: str | None = None,
         replace: bool = False,
+        session: str | None = None,
     ) -> Rating:
         """Store a person's 1-10 rating of a run (or of one of its derived samples), as the
-        answer to ``question``; a second answer needs ``replace`` (see ``feedback.rate``)."""
+        answer to ``question``; a second answer needs ``replace`` (see ``feedback.rate``).
+        With ``session``, the rating is given in that running feedback episode, whose agent
+        ``person`` must be (see :meth:`begin_feedback`)."""
+        given_in = (
+            sessions.check_session(self.store, check_id(session, "session"), person)
+            if session is not None
+            else None
+        )
         return feedback.rate(
             self.store,
             episode_id,
@@ -780,7 +626,33 @@ class EpisodeMemory:
             sample=sample,
             question=question,
             replace=replace,
+            session=given_in,
         )
+
+    def begin_feedback(
+        self,
+        person: str,
+        *,
+        rated: Sequence[str] = (),
+        begin: dt.datetime | str | None = None,
+        episode_id: str | None = None,
+    ) -> Episode:
+        """Begin a rating session as a feedback episode: ``person`` (its agent) rates the data
+        of the episodes ``rated``; ratings given with ``session=<its id>`` belong to it, and
+        :meth:`end` ends it. See :mod:`episodes.sessions`."""
+        session_id = sessions.begin_session(
+            self.store,
+            person=person,
+            rated=rated,
+            begin=self._time(begin, "begin"),
+            episode_id=check_id(episode_id, "id") if episode_id is not None else None,
+            memory_state=self.memory_state,
+        )
+        return self.get(session_id)
+
+    def session_ratings(self, session_id: str) -> list[Rating]:
+        """The ratings given in a feedback episode, in the order given."""
+        return sessions.session_ratings(self.store, check_id(session_id, "session"))
 
     def rank(
         self,
@@ -798,69 +670,4 @@ class EpisodeMemory:
 
     def close(self) -> None:
         """Close open run files (the recordings belong to whoever owns the registry)."""
-        for key in list(self._run_writers):
-            self._run_writers.pop(key).close()
-
-
-def _untar_bag(data: bytes, scratch: Path, expected: str) -> Path:
-    """Unpack a tar of one ROS 2 bag directory into ``scratch``; the bag directory."""
-    try:
-        with tarfile.open(fileobj=io.BytesIO(data)) as archive:
-            archive.extractall(scratch / "bag", filter="data")
-    except (tarfile.TarError, OSError, ValueError) as error:
-        raise InvalidInputError("body", f"{len(data)} bytes", f"{expected} ({error})") from None
-    found = sorted(p.parent for p in (scratch / "bag").rglob("metadata.yaml"))
-    if len(found) != 1:
-        raise InvalidInputError(
-            "body", f"a tar with {len(found)} metadata.yaml files", f"{expected} (exactly one)"
-        )
-    return found[0]
-
-
-def _file_state(path: Path) -> tuple[str, int, int]:
-    state = path.stat()
-    return path.name, state.st_mtime_ns, state.st_size
-
-
-def _from_ns(ns: int | None) -> dt.datetime | None:
-    return None if ns is None else dt.datetime.fromtimestamp(ns / 1e9, dt.UTC)
-
-
-class _RunWriter:
-    """The stream file of one augmentation run: derived samples at their source frames' times."""
-
-    def __init__(self, recorder: Any, frame_times: dict[int, int]) -> None:
-        self.recorder = recorder
-        self.frame_times = frame_times
-        self.last_ns = 0
-
-    def write(
-        self,
-        samples: Sequence[DerivedSpec],
-        values: Sequence[Any],
-        channels: Mapping[str, Mapping[str, Any]],
-    ) -> None:
-        for name, settings in channels.items():
-            options = dict(settings)
-            kind = options.pop("kind", None)
-            self.recorder.add_provider(name, kind, **options)
-        for i, (spec, value) in enumerate(zip(samples, values, strict=True)):
-            if spec.derived_channel not in self.recorder.providers:
-                raise InvalidInputError(
-                    f"samples[{i}].derived_channel",
-                    spec.derived_channel,
-                    "a derived channel declared in 'channels' (kind and settings)",
-                )
-            source_ns = time_ns = self.frame_times.get(spec.frame)
-            if time_ns is None or time_ns <= self.last_ns:
-                time_ns = None  # no recorded source time, or out of order: the writer's own clock
-            # the stamp is the source frame's tick time, whatever the tick time: replay and
-            # export match derived samples to their source frames by it
-            stamps = {spec.derived_channel: source_ns} if source_ns is not None else None
-            result = self.recorder.tick(
-                {spec.derived_channel: value}, time_ns=time_ns, stamps_ns=stamps
-            )
-            self.last_ns = max(self.last_ns, int(getattr(result, "time_ns", 0) or 0))
-
-    def close(self) -> None:
-        self.recorder.close()
+        self.run_files.close()

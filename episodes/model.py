@@ -187,6 +187,8 @@ class Rating:
     value: int
     time: dt.datetime
     question: str | None = None
+    session: str | None = None
+    """The feedback episode it was given in (see ``episodes.sessions``), if any."""
 
 
 def to_jsonable(value: Any) -> Any:

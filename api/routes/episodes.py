@@ -155,6 +155,18 @@ class RatingIn(_Strict):
         None, description="The question answered (a name or IRI); one answer per person."
     )
     replace: bool = Field(False, description="Revise this person's earlier answer.")
+    session: str | None = Field(
+        None, description="The running feedback episode the rating is given in (its agent rates)."
+    )
+
+
+class FeedbackIn(_Strict):
+    person: str = Field(description="Who rates: the agent of the feedback episode.")
+    rated: list[str] = Field(
+        default_factory=list, description="The episodes whose data is shown for rating."
+    )
+    begin: str | None = Field(None, description="When the session began (ISO 8601); now.")
+    id: str | None = Field(None, description="The feedback episode's id; a new one.")
 
 
 def _answer(value: Any) -> Any:
@@ -508,8 +520,26 @@ async def rate(
         sample=body.sample,
         question=body.question,
         replace=body.replace,
+        session=body.session,
     )
     return _answer(rating)
+
+
+@router.post("/feedback-sessions", status_code=status.HTTP_201_CREATED, dependencies=WRITE)
+async def begin_feedback(memory: EpisodesDep, body: FeedbackIn) -> Any:
+    """Begin a rating session, recorded as a feedback episode (agent: the person rating;
+    ``rated``: the episodes shown). Ratings sent with ``session`` belong to it; end it with
+    ``POST /episodes/{id}/end``."""
+    episode = await run_in_threadpool(
+        memory.begin_feedback, body.person, rated=body.rated, begin=body.begin, episode_id=body.id
+    )
+    return _answer(episode)
+
+
+@router.get("/feedback-sessions/{session_id}/ratings")
+async def session_ratings(memory: EpisodesDep, session_id: str) -> Any:
+    """The ratings given in a feedback episode, in the order given."""
+    return _answer(await run_in_threadpool(memory.session_ratings, session_id))
 
 
 @router.get("/augmentations/{name}/versions")

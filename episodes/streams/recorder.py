@@ -51,6 +51,7 @@ from episodes.streams.errors import (
     RecordingStateError,
     UnknownProviderError,
 )
+from episodes.streams.mcap_direct import DIRECT_BYTES, can_write_alone, write_alone
 from episodes.streams.messages import PROVIDER_TYPE, TICK_TYPE, ProviderSpec
 
 __all__ = ["ChannelStats", "Recorder", "TickResult", "mcap_file"]
@@ -206,6 +207,8 @@ class Recorder:
         self._writer.set_custom_data("engram.episode", episode_id)
         self._writer.set_custom_data("engram.format", str(FORMAT_VERSION))
         self._writer.open()
+        self._direct = can_write_alone(self._writer)
+        """Large samples skip rosbags' chunk buffer (see :mod:`episodes.streams.mcap_direct`)."""
         self._ts = messages.typestore()
         self._connections: dict[str, Any] = {}
         for topic, msgtype in (
@@ -543,7 +546,10 @@ class Recorder:
                         continue
                 msg = messages.encode(spec, stamp, value, sparse)
                 data = self._ts.serialize_cdr(msg, spec.msgtype)
-                self._writer.write(self._connections[spec.topic], tick.time_ns, data)
+                if self._direct and len(data) >= DIRECT_BYTES:
+                    write_alone(self._writer, self._connections[spec.topic], tick.time_ns, data)
+                else:
+                    self._writer.write(self._connections[spec.topic], tick.time_ns, data)
                 stored.append(1)
                 sizes.append(len(data))
                 spent.append(time.perf_counter() - began)

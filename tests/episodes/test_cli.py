@@ -82,3 +82,16 @@ def test_export_and_import_of_one_episode(tmp_path: Path) -> None:
     assert json.loads(out)["arguments"][0]["value"] == "NAO"
     code, out = engram(tmp_path / "b", "import-rdf", str(tmp_path / "missing.trig"))
     assert code == 1 and "missing.trig" in out
+
+
+def test_a_rating_session_as_a_feedback_episode(tmp_path: Path) -> None:
+    assert engram(tmp_path, "begin", "babbling", "--id", "b1")[0] == 0
+    code, out = engram(tmp_path, "feedback", "Martina", "--rated", "b1", "--id", "fb1")
+    assert code == 0, out
+    assert json.loads(out)["activity"] == "feedback"
+    code, out = engram(tmp_path, "rate", "b1", "0123abcd", "Alice", "8", "--session", "fb1")
+    assert code == 2 and "person" in out and "Martina" in out
+    code, out = engram(tmp_path, "session-ratings", "fb1")
+    assert (code, json.loads(out)) == (0, [])
+    code, out = engram(tmp_path, "recall", "feedback", "--agent", "Martina")
+    assert code == 0 and "fb1" in out

@@ -77,15 +77,16 @@ def queries_run(memory: EpisodeMemory, call: Callable[[], Any]) -> tuple[Any, in
         ("last", 1, None, "left hand", "b4"),
     ],
 )
-def test_recall_finds_the_first_last_and_nth_time_in_two_queries(
+def test_recall_finds_the_first_last_and_nth_time_in_one_query(
     history: EpisodeMemory, which: str, n: int, agent: str | None, obj: str | None, expected: str
 ) -> None:
     cue = Cue("babbling", agent=agent, obj=obj)
     found, queries = queries_run(history, lambda: history.recall(cue, which=which, n=n))  # type: ignore[arg-type]
     assert found.episode.id == expected
-    # the ordered ids of the matches, then one summary: gathering every match's participants
-    # in one query was linear in the matches, and SPARQL cannot bind OFFSET
-    assert queries == 2
+    # the ordered ids of the matches; the answer's summary is read from the store's indexes
+    # (episodes/summaries.py): gathering every match's participants in the query was linear
+    # in the matches, and SPARQL cannot bind OFFSET
+    assert queries == 1
 
 
 def test_recall_says_when_it_was(history: EpisodeMemory) -> None:
@@ -114,10 +115,10 @@ def test_bad_recall_arguments_name_the_field(
     assert caught.value.field == field
 
 
-def test_all_episodes_of_an_activity_oldest_first_in_two_queries(history: EpisodeMemory) -> None:
+def test_all_episodes_of_an_activity_oldest_first_in_one_query(history: EpisodeMemory) -> None:
     found, queries = queries_run(history, lambda: history.all(Cue("babbling", agent="HyungJin")))
     assert [r.episode.id for r in found] == ["b1", "b3", "b4"]
-    assert queries == 2  # the activity's episodes with participants, and the role matches
+    assert queries == 1  # the role matches; their summaries come from pattern lookups
 
 
 def test_how_many_times_in_one_query(history: EpisodeMemory) -> None:
@@ -134,7 +135,7 @@ def test_what_happened_between_two_times(history: EpisodeMemory) -> None:
     )
     # b3 runs until 15:40; p1 began 15:35 and has not ended
     assert [r.episode.id for r in found] == ["b3", "p1"]
-    assert queries == 1
+    assert queries == 1  # the window's episodes; their summaries come from pattern lookups
     assert history.between("2026-01-01T00:00:00+00:00", "2026-01-02T00:00:00+00:00") == []
 
 
@@ -168,3 +169,56 @@ def test_knowledge_consolidated_from_the_episodes(history: EpisodeMemory) -> Non
         ("object", "left hand", 3),
     ]
     assert [k.activity for k in history.knowledge()] == ["babbling", "point"]
+
+
+def test_arguments_stored_before_the_cue_index_are_found_once_a_memory_opens(
+    history: EpisodeMemory,
+) -> None:
+    """A store written before cue keys existed: the keys are added when a memory opens it."""
+    from episodes.cue_index import CUE_KEY
+    from ontologies.vocab import EPISODES
+
+    store = history.store
+    with store.transaction() as tx:
+        for quad in list(store.quads(predicate=CUE_KEY)):
+            tx.delete(quad.subject, CUE_KEY, quad.object, EPISODES)  # type: ignore[arg-type]
+    assert history.count(Cue("babbling", agent="HyungJin")) == 0  # the index is empty
+    reopened = EpisodeMemory(store, clock=lambda: NOW)
+    assert reopened.count(Cue("babbling", agent="HyungJin")) == 3
+    assert reopened.recall(Cue("babbling", obj="right hand"), which="last").episode.id == "b3"
+
+
+def test_a_retracted_argument_leaves_the_cue_index(history: EpisodeMemory) -> None:
+    history.remove_argument("b4", role="agent", value="HyungJin")
+    assert history.count(Cue("babbling", agent="HyungJin")) == 2
+    assert history.count(Cue("babbling", participant="HyungJin")) == 2
+    history.add_argument("b4", role="recipient", value="HyungJin")
+    assert history.count(Cue("babbling", agent="HyungJin")) == 2
+    assert history.count(Cue("babbling", participant="HyungJin")) == 3
+    assert history.count(Cue("babbling", role="recipient")) == 1
+
+
+def test_the_nth_time_reads_only_the_first_matches_it_needs(memory: EpisodeMemory) -> None:
+    from episodes.cues import _kind
+
+    for k in range(12):
+        memory.begin(
+            "waving",
+            arguments=[ArgumentSpec("agent", "Anna" if k % 2 else "Peter")],
+            begin=f"2026-01-{k + 1:02d}T10:00:00+00:00",
+            episode_id=f"w{k + 1}",
+        )
+    assert memory.recall(Cue("waving"), which="nth", n=10).episode.id == "w10"
+    assert memory.recall(Cue("waving"), which="nth", n=11).episode.id == "w11"
+    assert memory.recall(Cue("waving", agent="Anna"), which="nth", n=6).episode.id == "w12"
+    with pytest.raises(NotFoundError):
+        memory.recall(Cue("waving"), which="nth", n=13)
+    assert [_kind("nth", n) for n in (1, 10, 11, 100, 101, 1000, 1001)] == [
+        "head10",
+        "head10",
+        "head100",
+        "head100",
+        "head1000",
+        "head1000",
+        "list",
+    ]
