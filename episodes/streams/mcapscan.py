@@ -126,13 +126,8 @@ def _scan(
             yield from _record(op, body, schemas, channels, wanted, start_ns)
 
 
-def _chunk(
-    body: memoryview,
-    schemas: dict[int, str],
-    channels: dict[int, _Channel],
-    wanted: set[str] | None,
-    start_ns: int | None,
-) -> Iterator[RawMessage]:
+def chunk_records(body: memoryview) -> memoryview:
+    """The records a Chunk record's body holds, decompressed (zstd or lz4) and size-checked."""
     (uncompressed_size,) = _U64.unpack_from(body, 16)
     compression, pos = _string(body, 28)
     (records_len,) = _U64.unpack_from(body, pos)
@@ -147,6 +142,17 @@ def _chunk(
         raise CorruptRecordingError(f"unsupported chunk compression {compression!r}")
     if len(records) != uncompressed_size:
         raise CorruptRecordingError("chunk size does not match its header")
+    return records
+
+
+def _chunk(
+    body: memoryview,
+    schemas: dict[int, str],
+    channels: dict[int, _Channel],
+    wanted: set[str] | None,
+    start_ns: int | None,
+) -> Iterator[RawMessage]:
+    records = chunk_records(body)
     pos, end = 0, len(records)
     while pos + 9 <= end:
         op, length = _REC.unpack_from(records, pos)

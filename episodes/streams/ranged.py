@@ -43,12 +43,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from episodes.streams.errors import CorruptRecordingError
-from episodes.streams.mcapscan import McapScan, RawMessage
-
-try:
-    from compression import zstd  # type: ignore[import-not-found,unused-ignore]
-except ImportError:  # Python < 3.14, as rosbags does
-    from backports import zstd  # type: ignore[import-not-found,unused-ignore,no-redef]
+from episodes.streams.mcapscan import McapScan, RawMessage, chunk_records
 
 __all__ = ["RangedMcap", "SavedMessages", "read_messages", "write_messages"]
 
@@ -58,6 +53,8 @@ _REC = struct.Struct("<BQ")
 _U16 = struct.Struct("<H")
 _U32 = struct.Struct("<I")
 _U64 = struct.Struct("<Q")
+GROUP_BYTES = 8 * 1024 * 1024
+"""The most bytes of adjacent chunks fetched by one ranged read."""
 _MSG = struct.Struct("<HIQQ")
 _CHUNK_INDEX = struct.Struct("<QQQQ")
 TAIL_BYTES = 256 * 1024
@@ -196,12 +193,13 @@ class RangedMcap(McapScan):
         ]
         small = {cid for cid, (topic, _) in self._channels.items() if topic in self._small_topics}
         by_index = bool(wanted) and wanted <= small
+        groups = [[chunk] for chunk in chunks] if by_index else _adjacent(chunks, self.gap)
         pool = ThreadPoolExecutor(self.workers)
         try:
             ahead: list[Future[list[RawMessage]]] = []
-            window = 1  # the first chunk alone, then more ahead as the reader keeps reading
-            for chunk in chunks:
-                ahead.append(pool.submit(self._chunk_messages, chunk, wanted, by_index))
+            window = 1  # the first read alone, then more ahead as the reader keeps reading
+            for group in groups:
+                ahead.append(pool.submit(self._group_messages, group, wanted, by_index))
                 if len(ahead) >= window:
                     yield from _after(ahead.pop(0).result(), start_ns)
                     window = min(2 * window, self.window)
@@ -209,6 +207,19 @@ class RangedMcap(McapScan):
                 yield from _after(ahead.pop(0).result(), start_ns)
         finally:  # a reader that stops early does not wait for the reads ahead
             pool.shutdown(wait=False, cancel_futures=True)
+
+    def _group_messages(
+        self, group: list[_Chunk], wanted: set[int], by_index: bool
+    ) -> list[RawMessage]:
+        if len(group) == 1:
+            return self._chunk_messages(group[0], wanted, by_index)
+        start = group[0].offset
+        data = memoryview(self._get(start, group[-1].offset + group[-1].length - start))
+        found: list[RawMessage] = []
+        for chunk in group:
+            at = chunk.offset - start
+            found.extend(_scan(data[at : at + chunk.length], self._channels, wanted))
+        return found
 
     def _chunk_messages(self, chunk: _Chunk, wanted: set[int], by_index: bool) -> list[RawMessage]:
         if not by_index or chunk.compression or chunk.index_offsets.keys() <= wanted:
@@ -267,6 +278,24 @@ def _message_offsets(index: memoryview) -> list[tuple[int, int]]:
     return found
 
 
+def _adjacent(chunks: list[_Chunk], gap: int) -> list[list[_Chunk]]:
+    """Chunks in runs read by one request each: a chunk joins the run before it when less than
+    ``gap`` bytes (its message indexes) lie between them and the run stays under
+    ``GROUP_BYTES`` (a recorder writes each image as a chunk of its own)."""
+    runs: list[list[_Chunk]] = []
+    for chunk in chunks:
+        run = runs[-1] if runs else None
+        if (
+            run is not None
+            and chunk.offset - (run[-1].offset + run[-1].length) <= gap
+            and chunk.offset + chunk.length - run[0].offset <= GROUP_BYTES
+        ):
+            run.append(chunk)
+        else:
+            runs.append([chunk])
+    return runs
+
+
 def _joined(ranges: list[tuple[int, int]], gap: int) -> list[tuple[int, int]]:
     joined: list[tuple[int, int]] = []
     for start, end in ranges:
@@ -299,26 +328,8 @@ def _scan(
                 topic, msgtype = channels[channel_id]
                 found.append(RawMessage(topic, msgtype, log_time, body[22:]))
         elif op == 0x06:
-            found.extend(_scan(_chunk_records(body), channels, wanted))
+            found.extend(_scan(chunk_records(body), channels, wanted))
     return found
-
-
-def _chunk_records(body: memoryview) -> memoryview:
-    (uncompressed_size,) = _U64.unpack_from(body, 16)
-    compression, pos = _string(body, 28)
-    (records_length,) = _U64.unpack_from(body, pos)
-    records = body[pos + 8 : pos + 8 + records_length]
-    if compression == "zstd":
-        records = memoryview(zstd.decompress(bytes(records)))
-    elif compression == "lz4":
-        from lz4.frame import decompress  # type: ignore[import-untyped,unused-ignore]
-
-        records = memoryview(decompress(bytes(records)))
-    elif compression:
-        raise CorruptRecordingError(f"unsupported chunk compression {compression!r}")
-    if len(records) != uncompressed_size:
-        raise CorruptRecordingError("chunk size does not match its header")
-    return records
 
 
 _MESSAGES_MAGIC = b"ENGRAM-MESSAGES-2\n"
