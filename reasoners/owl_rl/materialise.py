@@ -63,7 +63,7 @@ from reasoners.owl_rl._terms import SWRL, to_term
 from reasoners.owl_rl.consistency import Clash, clashes
 from reasoners.owl_rl.engine import AXIOMS, Engine, Fact
 from reasoners.owl_rl.errors import UnknownReasonerError
-from reasoners.owl_rl.retract import inferred_delta, retract
+from reasoners.owl_rl.retract import Retraction, inferred_delta, retract
 from reasoners.owl_rl.swrl import SwrlRunner, parse_rules
 
 __all__ = [
@@ -455,6 +455,22 @@ def _asserted_after(
     return facts
 
 
+def _retract_region(state: _State, removed: set[Fact], added: set[Fact]) -> Retraction | None:
+    """Apply a change to ``state``'s asserted facts and re-derive its region of the closure
+    (:func:`.retract.retract`); None, with the state as it was, where that does not apply."""
+    limit = int(max(_INCREMENTAL_LIMIT * len(state.asserted), 1_000))
+    if len(added) > limit:
+        return None
+    facts = state.asserted
+    facts.difference_update(removed)
+    facts.update(added)
+    change = retract(state.engine, facts, removed=list(removed), added=list(added), limit=limit)
+    if change is None:
+        facts.difference_update(added)
+        facts.update(removed)
+    return change
+
+
 def _retract_listed(
     store: Store,
     asserted: NamedNode,
@@ -505,18 +521,10 @@ def _retract_facts(
     generation: int,
     start: float,
 ) -> ReasonReport | None:
-    limit = int(max(_INCREMENTAL_LIMIT * len(state.asserted), 1_000))
-    if len(added) > limit:
-        return None
-    facts = state.asserted
-    facts.difference_update(removed)
-    facts.update(added)
-    change = retract(state.engine, facts, removed=list(removed), added=list(added), limit=limit)
+    change = _retract_region(state, removed, added)
     if change is None:
-        facts.difference_update(added)
-        facts.update(removed)
         return None
-    engine = state.engine
+    facts, engine = state.asserted, state.engine
     to_add, to_remove = inferred_delta(engine, facts, change, removed=removed, added=added)
     written, committed = _write(store, inferred, to_add, to_remove, state.terms)
     state.inferred_count += written - len(to_remove)

@@ -68,12 +68,13 @@ from reasoners.owl_rl.materialise import (
     _gc_paused,
     _outputs,
     _report_consistency,
+    _retract_region,
     _Slot,
     _slot,
     _State,
     _touches_swrl,
 )
-from reasoners.owl_rl.retract import inferred_delta, retract
+from reasoners.owl_rl.retract import inferred_delta
 
 __all__ = ["PendingChanges", "Prepared", "prepare"]
 
@@ -246,17 +247,10 @@ def _retract(
     relative to the writer's view so far; None (the state untouched) if that does not apply."""
     start = time.perf_counter()
     removed, added = _view_difference(store, asserted, state, pending, changes, journal)
-    limit = int(max(_INCREMENTAL_LIMIT * len(state.asserted), 1_000))
-    if len(added) > limit:
+    change = _retract_region(state, removed, added)
+    if change is None:
         return None
     facts = state.asserted
-    facts.difference_update(removed)
-    facts.update(added)
-    change = retract(state.engine, facts, removed=list(removed), added=list(added), limit=limit)
-    if change is None:
-        facts.difference_update(added)
-        facts.update(removed)
-        return None
     state.pending, state.generation, state.asserted_dump = True, -1, None
     to_add, to_remove = inferred_delta(state.engine, facts, change, removed=removed, added=added)
     state.inferred_count += len(to_add) - len(to_remove)
