@@ -1,0 +1,267 @@
+"""The scene memory's history: every event, as triples with its time, in the ``history`` graph.
+
+Each write of :class:`reasoners.memory.SceneMemory` calls one function here with its own
+transaction, so an event is committed if and only if the change it records is. An event is a
+small node (four or five quads, no ``rdf:type``: ``engram:eventKind`` implies
+``engram:MemoryEvent``)::
+
+    <…/history/1735689600000-1764145123456789012>
+        engram:eventClass engram:Scene-4 ;     # or engram:eventScene for an experienced scene
+        engram:eventKind "reinforced" ;
+        prov:atTime "2025-01-01T00:00:00.000+00:00"^^xsd:dateTime ;
+        engram:eventScore 1.25 ;               # the class's raw score ζ once it happened
+        engram:eventLevel "LOW" .              # its sleep level, once it has one
+
+Kinds: ``learned``, ``reinforced`` (a scene stored as the class), ``retrieved`` (the class a
+cue recalled; its ancestors' counts rise too, unrecorded), ``rescored``, ``level``,
+``forgotten``, ``restored``, ``pinned``, ``unpinned``. Experienced scenes get ``forgotten``,
+``restored``, ``pinned`` and ``unpinned`` events.
+
+**Compaction rule.** A sleep pass re-scores every class; recording each would add a node per
+class per pass. A pass records a ``level`` event for each class whose level changed (with its
+new score), and, every :data:`RESCORE_EVERY_PASSES` passes, a ``rescored`` event for each other
+class whose ζ changed since the pass before. So the history grows with the updates (one event
+each) and with the level changes, and by at most ``classes / RESCORE_EVERY_PASSES`` events per
+pass. The score "as of T" is the score the class's last event before T recorded.
+
+Event IRIs sort as strings in the order the events happened (the memory clock's time in ms, then
+a sequence that rises across restarts), which the queries use: ``MAX(STR(?event))`` is the last.
+"""
+
+import dataclasses
+import datetime as dt
+import threading
+import time
+from collections.abc import Iterable, Mapping, Sequence
+
+from pyoxigraph import Literal, NamedNode
+
+from kg.store import Store
+from kg.transaction import Transaction
+from ontologies.vocab import (
+    EVENT_CLASS,
+    EVENT_KIND,
+    EVENT_LEVEL,
+    EVENT_SCENE,
+    EVENT_SCORE,
+    HISTORY,
+    HISTORY_NS,
+    PROV_AT_TIME,
+    XSD_DATETIME,
+)
+from reasoners.model import ClassRecord, ItemRecord, MemoryModel
+from reasoners.scoring import WEAK
+
+__all__ = [
+    "KINDS",
+    "RESCORE_EVERY_PASSES",
+    "ClassState",
+    "Event",
+    "as_of",
+    "events",
+    "forgetting",
+    "record",
+    "record_all",
+    "sleep_levels",
+]
+
+KINDS = (
+    "learned",
+    "reinforced",
+    "retrieved",
+    "rescored",
+    "level",
+    "forgotten",
+    "restored",
+    "pinned",
+    "unpinned",
+)
+RESCORE_EVERY_PASSES = 10
+"""Every this many sleep passes, a ``rescored`` event for each class whose ζ changed."""
+
+_sequence_lock = threading.Lock()
+_last_sequence = 0
+
+
+def _next_sequence() -> int:
+    """A number larger than any before it, in this process and (the wall clock permitting) in
+    any process before it: the wall-clock time in ns, or one more than the last."""
+    global _last_sequence
+    with _sequence_lock:
+        _last_sequence = max(_last_sequence + 1, time.time_ns())
+        return _last_sequence
+
+
+def _utc(at: dt.datetime) -> dt.datetime:
+    return at.astimezone(dt.UTC)
+
+
+def _time_literal(at: dt.datetime) -> Literal:
+    return Literal(_utc(at).isoformat(timespec="milliseconds"), datatype=XSD_DATETIME)
+
+
+def event_iri(at: dt.datetime) -> NamedNode:
+    """A new event's IRI: the time in ms (13 digits) and a rising sequence (19 digits)."""
+    ms = int(_utc(at).timestamp() * 1000)
+    return NamedNode(f"{HISTORY_NS}{ms:013d}-{_next_sequence():019d}")
+
+
+def _write(
+    tx: Transaction,
+    about: NamedNode,
+    kind: str,
+    at: dt.datetime,
+    *,
+    scene: bool,
+    score: float | None,
+    level: str | None,
+) -> None:
+    event = event_iri(at)
+    tx.insert(event, EVENT_SCENE if scene else EVENT_CLASS, about, HISTORY)
+    tx.insert(event, EVENT_KIND, Literal(kind), HISTORY)
+    tx.insert(event, PROV_AT_TIME, _time_literal(at), HISTORY)
+    if score is not None:
+        tx.insert(event, EVENT_SCORE, Literal(float(score)), HISTORY)
+    if level is not None:
+        tx.insert(event, EVENT_LEVEL, Literal(level), HISTORY)
+
+
+def record(tx: Transaction, item: ClassRecord | ItemRecord, kind: str, at: dt.datetime) -> None:
+    """Record that ``kind`` happened to a class or experienced scene at ``at``, with the score
+    and level its record holds now (call it once the change is made)."""
+    if isinstance(item, ClassRecord):
+        _write(tx, item.iri, kind, at, scene=False, score=item.score, level=item.level)
+    else:
+        _write(tx, item.iri, kind, at, scene=True, score=None, level=item.level)
+
+
+def record_all(
+    tx: Transaction, items: Iterable[ClassRecord | ItemRecord], kind: str, at: dt.datetime
+) -> None:
+    """:func:`record` for each of ``items``."""
+    for item in items:
+        record(tx, item, kind, at)
+
+
+def forgetting(
+    tx: Transaction,
+    model: MemoryModel,
+    classes: Sequence[NamedNode],
+    items: Sequence[NamedNode],
+    zetas: Mapping[NamedNode, float],
+    at: dt.datetime,
+) -> None:
+    """Record a sleep pass's forgetting before it happens (the records are still live):
+    ``classes`` with their experienced scenes, and ``items`` alone; each WEAK."""
+    doomed = set(classes)
+    scenes = [i for c in classes for i in model.items_of.get(c, ())]
+    scenes += [i for i, r in model.items.items() if r.cls in doomed and i not in scenes]
+    for cls in classes:
+        _write(tx, cls, "forgotten", at, scene=False, score=zetas.get(cls), level=WEAK)
+    for item in dict.fromkeys([*scenes, *items]):
+        if item in model.items:
+            _write(tx, item, "forgotten", at, scene=True, score=None, level=WEAK)
+
+
+def sleep_levels(
+    tx: Transaction,
+    model: MemoryModel,
+    levels: Mapping[NamedNode, str],
+    zetas: Mapping[NamedNode, float],
+    at: dt.datetime,
+) -> None:
+    """Record a sleep pass's re-scoring under the compaction rule (module docstring). Call it
+    before the pass writes the new levels and scores: the records still hold the old ones."""
+    periodic = (model.sleep_passes + 1) % RESCORE_EVERY_PASSES == 0
+    for cls, record_ in model.classes.items():
+        level, zeta = levels[cls], zetas[cls]
+        if record_.level != level:
+            _write(tx, cls, "level", at, scene=False, score=zeta, level=level)
+        elif periodic and record_.score != zeta:
+            _write(tx, cls, "rescored", at, scene=False, score=zeta, level=level)
+
+
+# Reading ---------------------------------------------------------------------------------------
+
+
+@dataclasses.dataclass(frozen=True, slots=True)
+class Event:
+    """One event of a class's or experienced scene's history."""
+
+    time: str
+    """ISO 8601, UTC, ms precision."""
+    kind: str
+    score: float | None
+    level: str | None
+
+    def to_json(self) -> dict[str, object]:
+        return dataclasses.asdict(self)
+
+
+@dataclasses.dataclass(frozen=True, slots=True)
+class ClassState:
+    """A class as it was at some time: its last event then, and the score and level it left."""
+
+    cls: NamedNode
+    since: str
+    """When its last event before the time happened (ISO 8601)."""
+    last_event: str
+    score: float | None
+    level: str | None
+
+    def to_json(self) -> dict[str, object]:
+        return {
+            "class": self.cls.value,
+            "since": self.since,
+            "last_event": self.last_event,
+            "score": self.score,
+            "level": self.level,
+        }
+
+
+def _float(term: object) -> float | None:
+    return float(term.value) if isinstance(term, Literal) else None
+
+
+def _text(term: object) -> str | None:
+    return term.value if isinstance(term, Literal) else None
+
+
+def events(store: Store, about: NamedNode) -> list[Event]:
+    """The history of a class or experienced scene, oldest first (empty if it has none)."""
+    rows = store.select("history_events", about=about)
+    return [
+        Event(
+            time=_utc_text(row["time"]),
+            kind=str(_text(row["kind"])),
+            score=_float(row.get("score")),
+            level=_text(row.get("level")),
+        )
+        for row in rows
+    ]
+
+
+def as_of(store: Store, at: dt.datetime) -> list[ClassState]:
+    """The classes that existed at ``at`` (learned or restored, not forgotten since), each with
+    the score and level its last event before ``at`` left, sorted by IRI."""
+    if at.tzinfo is None:
+        raise ValueError(f"at: got {at!r}, expected a timezone-aware datetime")
+    rows = store.select("history_as_of", asOf=_time_literal(at))
+    states = [
+        ClassState(
+            cls=row["class"],  # type: ignore[arg-type]
+            since=_utc_text(row["time"]),
+            last_event=str(_text(row["kind"])),
+            score=_float(row.get("score")),
+            level=_text(row.get("level")),
+        )
+        for row in rows
+    ]
+    return sorted(states, key=lambda s: s.cls.value)
+
+
+def _utc_text(term: object) -> str:
+    text = _text(term)
+    if text is None:
+        raise TypeError(f"expected a time literal, got {term!r}")
+    return _utc(dt.datetime.fromisoformat(text)).isoformat(timespec="milliseconds")
