@@ -1,6 +1,9 @@
 """``GET /memory/history`` and ``GET /memory/as-of`` on the lived week (Scene-2 forgotten on
 Tuesday), through a live server: the JSON contract the web views chart."""
 
+import re
+from pathlib import Path
+
 import pytest
 
 from ontologies.vocab import engram
@@ -65,3 +68,14 @@ def test_bad_requests_get_clear_answers(
     assert response.status_code == status, response.text
     if field is not None:
         assert field in response.text
+
+
+def test_the_readme_as_of_query_answers_through_sparql(lived_server: LiveServer) -> None:
+    readme = (Path(__file__).resolve().parents[3] / "README.md").read_text(encoding="utf-8")
+    section = readme.split("### The memory's history", 1)[1].split("\n## ", 1)[0]
+    [query] = re.findall(r"```sparql\n(.*?)```", section, flags=re.DOTALL)
+    response = lived_server.client.post("/sparql", data={"query": query})
+    assert response.status_code == 200, response.text
+    rows = response.json()["results"]["bindings"]
+    assert {r["class"]["value"].rsplit("#")[-1] for r in rows} == {"Scene-1", "Scene-2"}
+    assert {r["kind"]["value"] for r in rows} == {"retrieved", "learned"}
