@@ -39,30 +39,38 @@ from pyoxigraph import Literal, NamedNode
 from kg.store import Store
 from kg.transaction import Transaction
 from ontologies.vocab import (
+    EVENT_BEST_MATCH,
     EVENT_CLASS,
+    EVENT_CONFIDENCE,
     EVENT_KIND,
     EVENT_LEVEL,
+    EVENT_PARENT,
     EVENT_SCENE,
     EVENT_SCORE,
     HISTORY,
     HISTORY_NS,
     PROV_AT_TIME,
+    PROV_USED,
     XSD_DATETIME,
 )
 from reasoners.model import ClassRecord, ItemRecord, MemoryModel
+from reasoners.results import Recognition
 from reasoners.scoring import WEAK
 
 __all__ = [
     "KINDS",
     "RESCORE_EVERY_PASSES",
     "ClassState",
+    "Decision",
     "Event",
     "as_of",
     "events",
     "forgetting",
+    "learned_decision",
     "record",
     "record_all",
     "sleep_levels",
+    "stored",
 ]
 
 KINDS = (
@@ -115,7 +123,7 @@ def _write(
     scene: bool,
     score: float | None,
     level: str | None,
-) -> None:
+) -> NamedNode:
     event = event_iri(at)
     tx.insert(event, EVENT_SCENE if scene else EVENT_CLASS, about, HISTORY)
     tx.insert(event, EVENT_KIND, Literal(kind), HISTORY)
@@ -124,6 +132,7 @@ def _write(
         tx.insert(event, EVENT_SCORE, Literal(float(score)), HISTORY)
     if level is not None:
         tx.insert(event, EVENT_LEVEL, Literal(level), HISTORY)
+    return event
 
 
 def record(tx: Transaction, item: ClassRecord | ItemRecord, kind: str, at: dt.datetime) -> None:
@@ -133,6 +142,31 @@ def record(tx: Transaction, item: ClassRecord | ItemRecord, kind: str, at: dt.da
         _write(tx, item.iri, kind, at, scene=False, score=item.score, level=item.level)
     else:
         _write(tx, item.iri, kind, at, scene=True, score=None, level=item.level)
+
+
+def stored(
+    tx: Transaction,
+    model: MemoryModel,
+    record_: ClassRecord,
+    scene: NamedNode,
+    recognised: Sequence[Recognition],
+    at: dt.datetime,
+    learned: NamedNode | None,
+) -> None:
+    """Record that ``scene`` was stored as the class of ``record_`` (``learned`` is the class
+    when it was learned anew, None when reinforced), with the decision as PROV: the scene the
+    event used, the best class it belonged to and that class's confidence, and for a new class
+    the parents it was placed under."""
+    kind = "learned" if learned is not None else "reinforced"
+    event = _write(tx, record_.iri, kind, at, scene=False, score=record_.score, level=record_.level)
+    tx.insert(event, PROV_USED, scene, HISTORY)
+    best = recognised[0] if recognised else None
+    tx.insert(event, EVENT_CONFIDENCE, Literal(best.confidence if best else 0.0), HISTORY)
+    if best is not None:
+        tx.insert(event, EVENT_BEST_MATCH, best.cls, HISTORY)
+    if learned is not None:
+        for parent in sorted(model.parents[learned], key=str):
+            tx.insert(event, EVENT_PARENT, parent, HISTORY)
 
 
 def record_all(
@@ -239,6 +273,34 @@ def events(store: Store, about: NamedNode) -> list[Event]:
         )
         for row in rows
     ]
+
+
+@dataclasses.dataclass(frozen=True, slots=True)
+class Decision:
+    """What a class's ``learned`` event recorded when it was learned."""
+
+    scene: NamedNode | None
+    best: NamedNode | None
+    confidence: float | None
+    parents: tuple[NamedNode, ...]
+
+
+def learned_decision(store: Store, cls: NamedNode) -> Decision | None:
+    """The decision recorded when ``cls`` was last learned, or None (learned before Engram kept
+    a history, or by ``learn_classes``, which stores no scene)."""
+    rows = store.select("history_decision", cls=cls)
+    if not rows:
+        return None
+    row = rows[0]
+    scene, best = row.get("scene"), row.get("best")
+    parents = row.get("parents")
+    names = parents.value.split() if isinstance(parents, Literal) else []
+    return Decision(
+        scene=scene if isinstance(scene, NamedNode) else None,
+        best=best if isinstance(best, NamedNode) else None,
+        confidence=_float(row.get("confidence")),
+        parents=tuple(NamedNode(p) for p in sorted(names)),
+    )
 
 
 def as_of(store: Store, at: dt.datetime) -> list[ClassState]:

@@ -569,7 +569,7 @@ class SceneMemory:
                 self._rescore(tx, {record.iri}, {fresh} if fresh else set())
                 if fresh is not None:
                     persist.write_class(tx, record, stored=m.stored_restrictions)
-                history.record(tx, record, "learned" if fresh else "reinforced", now)
+                history.stored(tx, m, record, item.iri, recognised, now, fresh)
                 self._bump_update(tx)
             result = StoreResult(
                 scene_item=item.iri,

@@ -128,9 +128,9 @@ def test_sleep_records_only_level_changes_and_periodic_rescoring(
     for _ in range(history.RESCORE_EVERY_PASSES - 2):  # nothing changes: nothing recorded
         memory.sleep()
     assert history_quads(memory.store) == after_first
-    memory.store_scene(BIG)  # one event; ζ of BIG's class changes
+    memory.store_scene(BIG)  # one event of 8 quads; ζ of BIG's class changes
     grown = history_quads(memory.store)
-    assert grown - after_first == 5
+    assert grown - after_first == 8
     memory.sleep()  # the periodic pass: only classes whose ζ changed since the pass before
     assert history_quads(memory.store) - grown <= 5 * 2
 
@@ -144,3 +144,30 @@ def test_history_is_not_in_the_analyst_default_graph() -> None:
 def test_as_of_refuses_a_naive_time(memory: SceneMemory) -> None:
     with pytest.raises(ValueError, match="timezone-aware"):
         history.as_of(memory.store, dt.datetime(2025, 1, 1))
+
+
+def test_the_learning_decision_is_recorded_as_prov(memory: SceneMemory) -> None:
+    small = memory.store_scene(SMALL)
+    big = memory.store_scene([*SMALL, *BIG])  # contains SMALL's relations: placed under it
+    assert big.learned and big.parents == (small.stored_as,)
+    decision = history.learned_decision(memory.store, big.stored_as)
+    assert decision is not None
+    assert decision.scene == big.scene_item and decision.parents == (small.stored_as,)
+    assert decision.best == small.stored_as
+    assert decision.confidence == pytest.approx(big.confidence)
+    first = history.learned_decision(memory.store, small.stored_as)
+    assert first is not None and first.best is None and first.confidence == 0.0
+
+
+def test_the_learning_explanation_reads_the_recorded_decision(memory: SceneMemory) -> None:
+    from reasoners.explain import explain_learning
+
+    small = memory.store_scene(SMALL)
+    big = memory.store_scene([*SMALL, *BIG])
+    why = explain_learning(memory, big.stored_as)
+    assert why.recorded and why.scene == big.scene_item.value
+    assert why.best == small.stored_as.value
+    assert why.best_confidence == pytest.approx(big.confidence)
+    assert f"fitted its scene with confidence d(Scene-1) / d(scene) = {why.best_complexity}/" in (
+        why.words
+    )
