@@ -305,20 +305,36 @@ def learned_decision(store: Store, cls: NamedNode) -> Decision | None:
 
 def as_of(store: Store, at: dt.datetime) -> list[ClassState]:
     """The classes that existed at ``at`` (learned or restored, not forgotten since), each with
-    the score and level its last event before ``at`` left, sorted by IRI."""
+    the score and level its last event before ``at`` left, sorted by IRI.
+
+    The same answer as ``sparql/history_as_of.rq``, computed from one scan of the events' class
+    links: an event IRI holds its time and sorts in event order, so the last event of each class
+    before ``at`` is the largest IRI below ``<HISTORY_NS><ms of at + 1>``; only those events are
+    then read (the SPARQL's grouping and join take seconds at 10,000 classes)."""
     if at.tzinfo is None:
         raise ValueError(f"at: got {at!r}, expected a timezone-aware datetime")
-    rows = store.select("history_as_of", asOf=_time_literal(at))
-    states = [
-        ClassState(
-            cls=row["class"],  # type: ignore[arg-type]
-            since=_utc_text(row["time"]),
-            last_event=str(_text(row["kind"])),
-            score=_float(row.get("score")),
-            level=_text(row.get("level")),
+    bound = f"{HISTORY_NS}{int(_utc(at).timestamp() * 1000) + 1:013d}"
+    last: dict[NamedNode, str] = {}
+    for quad in store.quads(None, EVENT_CLASS, None, HISTORY):
+        subject, cls = quad.subject, quad.object
+        event = subject.value if isinstance(subject, NamedNode) else ""
+        if "" < event < bound and isinstance(cls, NamedNode) and event > last.get(cls, ""):
+            last[cls] = event
+    states = []
+    for cls, event in last.items():
+        values = {q.predicate: q.object for q in store.quads(NamedNode(event), None, None, HISTORY)}
+        kind = _text(values.get(EVENT_KIND))
+        if kind == "forgotten":
+            continue
+        states.append(
+            ClassState(
+                cls=cls,
+                since=_utc_text(values.get(PROV_AT_TIME)),
+                last_event=str(kind),
+                score=_float(values.get(EVENT_SCORE)),
+                level=_text(values.get(EVENT_LEVEL)),
+            )
         )
-        for row in rows
-    ]
     return sorted(states, key=lambda s: s.cls.value)
 
 
