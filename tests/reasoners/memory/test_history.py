@@ -95,7 +95,7 @@ def test_as_of_rebuilds_the_classes_across_forgetting_and_restore(
     assert kinds(memory, item) == ["forgotten", "restored"]
     for at in (learned, forgotten - dt.timedelta(seconds=1), forgotten, restored):  # the SPARQL
         rows = memory.store.select("history_as_of", asOf=history._time_literal(at))
-        assert sorted(r["class"].value for r in rows) == sorted(names(at))  # type: ignore[union-attr]
+        assert sorted(r["class"].value for r in rows) == sorted(names(at))
 
 
 def test_an_event_is_stored_if_and_only_if_its_change_is(
