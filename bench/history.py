@@ -8,7 +8,7 @@
    retrieval, the memory clock advancing 10 minutes a pass: the history graph's growth per
    update and per pass is counted in quads and in N-Triples bytes.
 3. Scene update cost with and without history, interleaved in the same run (without: the
-   history module's one write function replaced by a no-op): ``--ab-updates`` novel
+   history functions the memory calls replaced by no-ops): ``--ab-updates`` novel
    10-object scenes (each learns a class) and as many repeats of a known scene (each
    reinforces) per side; the ratio of the medians is printed.
 4. ``GET /memory/as-of``'s query (``history.as_of``) at the middle pass and at the end, median
@@ -57,13 +57,18 @@ class Clock:
         return self.now
 
 
+ENTRY_POINTS = ("record", "record_all", "stored", "forgetting", "sleep_levels")
+"""The functions of reasoners.history that reasoners.memory calls."""
+
+
 class Recorder:
-    """Instrumentation: every triple the history writes, kept by wrapping its one write
-    function (the transaction passed on is wrapped to see its inserts)."""
+    """Instrumentation: every triple the history writes, kept by wrapping the functions the
+    memory calls (the transaction they get is wrapped to see its inserts); ``off()`` makes them
+    write nothing (the memory without history), ``on()`` records again."""
 
     def __init__(self) -> None:
         self.triples: list[Triple] = []
-        self.original = history._write
+        self.originals = {name: getattr(history, name) for name in ENTRY_POINTS}
         recorder = self
 
         class Seen:
@@ -74,10 +79,25 @@ class Recorder:
                 recorder.triples.append(Triple(s, p, o))  # type: ignore[arg-type]
                 self.tx.insert(s, p, o, g)  # type: ignore[attr-defined]
 
-        def write(tx: object, *args: object, **kwargs: object) -> None:
-            self.original(Seen(tx), *args, **kwargs)  # type: ignore[arg-type]
+        def wrap(function: Callable[..., None]) -> Callable[..., None]:
+            def wrapped(tx: object, *args: object, **kwargs: object) -> None:
+                function(tx if isinstance(tx, Seen) else Seen(tx), *args, **kwargs)
 
-        self.write = write
+            return wrapped
+
+        self.wrapped = {name: wrap(f) for name, f in self.originals.items()}
+
+    def on(self) -> None:
+        for name, function in self.wrapped.items():
+            setattr(history, name, function)
+
+    def off(self) -> None:
+        for name in ENTRY_POINTS:
+            setattr(history, name, lambda *args, **kwargs: None)
+
+    def restore(self) -> None:
+        for name, function in self.originals.items():
+            setattr(history, name, function)
 
     def mark(self) -> int:
         return len(self.triples)
@@ -142,7 +162,7 @@ def main() -> None:
         sleep_times: list[float] = []
         middle: dt.datetime | None = None
         recorder = Recorder()
-        history._write = recorder.write
+        recorder.on()
         began = time.perf_counter()
         for number in range(args.passes):
             clock.now += dt.timedelta(minutes=10)
@@ -156,7 +176,7 @@ def main() -> None:
             pass_growth.append(recorder.since(mark))
             if number == args.passes // 2:
                 middle = clock.now
-        history._write = recorder.original
+        recorder.restore()
         store.flush()
         quads = sum(1 for _ in store.quads(None, None, None, HISTORY))
         size = recorder.since(0)[1]
@@ -184,7 +204,6 @@ def main() -> None:
             f" quads; written per class per pass {size / classes / args.passes:.0f} bytes"
         )
         # Update cost with and without history, interleaved
-        write = history._write
         known = random_scene(rng, 10)
         memory.store_scene(known)
         store.flush()
@@ -195,12 +214,15 @@ def main() -> None:
         without_repeat: list[float] = []
         for _ in range(args.ab_updates):
             for on in (True, False):
-                history._write = write if on else (lambda *a, **k: None)
+                if on:
+                    recorder.restore()
+                else:
+                    recorder.off()
                 (with_learn if on else without_learn).append(
                     timed(memory.store_scene, random_scene(rng, 10))
                 )
                 (with_repeat if on else without_repeat).append(timed(memory.store_scene, known))
-        history._write = write
+        recorder.restore()
         print(
             f"scene update (learn) with history {median_ms(with_learn):.2f} ms, without "
             f"{median_ms(without_learn):.2f} ms: ratio "
