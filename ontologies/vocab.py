@@ -368,7 +368,7 @@ EVENT_LEVEL = engram("eventLevel")
 EVENT_CONFIDENCE = engram("eventConfidence")
 """On a learned or reinforced event: the confidence of the best class the scene belonged to."""
 EVENT_BEST_MATCH = engram("eventBestMatch")
-"""On a learned or reinforced event: the best class the scene belonged to, then."""
+"""On a learned event: the best class the scene belonged to, then (a reinforced class is it)."""
 EVENT_PARENT = engram("eventParent")
 """On a learned event: a direct parent the new class was placed under."""
 PROV_AT_TIME = prov("atTime")
