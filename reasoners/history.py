@@ -287,19 +287,29 @@ class Decision:
 
 def learned_decision(store: Store, cls: NamedNode) -> Decision | None:
     """The decision recorded when ``cls`` was last learned, or None (learned before Engram kept
-    a history, or by ``learn_classes``, which stores no scene)."""
-    rows = store.select("history_decision", cls=cls)
-    if not rows:
+    a history, or by ``learn_classes``, which stores no scene). A few point lookups (the
+    equivalent SPARQL, ``sparql/history_decision.rq``, takes ~20 ms at 10,000 classes)."""
+    learned = Literal("learned")
+    events = [
+        q.subject.value
+        for q in store.quads(None, EVENT_CLASS, cls, HISTORY)
+        if isinstance(q.subject, NamedNode)
+        and any(True for _ in store.quads(q.subject, EVENT_KIND, learned, HISTORY))
+    ]
+    if not events:
         return None
-    row = rows[0]
-    scene, best = row.get("scene"), row.get("best")
-    parents = row.get("parents")
-    names = parents.value.split() if isinstance(parents, Literal) else []
+    event = NamedNode(max(events))
+    values: dict[NamedNode, list[object]] = {}
+    for quad in store.quads(event, None, None, HISTORY):
+        values.setdefault(quad.predicate, []).append(quad.object)
+    scene = (values.get(PROV_USED) or [None])[0]
+    best = (values.get(EVENT_BEST_MATCH) or [None])[0]
+    parents = [p for p in values.get(EVENT_PARENT, []) if isinstance(p, NamedNode)]
     return Decision(
         scene=scene if isinstance(scene, NamedNode) else None,
         best=best if isinstance(best, NamedNode) else None,
-        confidence=_float(row.get("confidence")),
-        parents=tuple(NamedNode(p) for p in sorted(names)),
+        confidence=_float((values.get(EVENT_CONFIDENCE) or [None])[0]),
+        parents=tuple(sorted(parents, key=str)),
     )
 
 

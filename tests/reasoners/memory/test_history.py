@@ -158,6 +158,12 @@ def test_the_learning_decision_is_recorded_as_prov(memory: SceneMemory) -> None:
     assert decision.scene == big.scene_item and decision.parents == (small.stored_as,)
     assert decision.best == small.stored_as
     assert decision.confidence == pytest.approx(big.confidence)
+    [row] = memory.store.select("history_decision", cls=big.stored_as)  # the same, in SPARQL
+    assert (row["scene"], row["best"], row["parents"].value) == (
+        decision.scene,
+        decision.best,
+        small.stored_as.value,
+    )
     first = history.learned_decision(memory.store, small.stored_as)
     assert first is not None and first.best is None and first.confidence == 0.0
 
