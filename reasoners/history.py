@@ -189,7 +189,8 @@ def forgetting(
     ``classes`` with their experienced scenes, and ``items`` alone; each WEAK."""
     doomed = set(classes)
     scenes = [i for c in classes for i in model.items_of.get(c, ())]
-    scenes += [i for i, r in model.items.items() if r.cls in doomed and i not in scenes]
+    if doomed:  # as _forget finds them
+        scenes += [i for i, r in model.items.items() if r.cls in doomed]
     for cls in classes:
         _write(tx, cls, "forgotten", at, scene=False, score=zetas.get(cls), level=WEAK)
     for item in dict.fromkeys([*scenes, *items]):
