@@ -194,6 +194,8 @@ TEXT = (
     "why did you learn Scene-300",
     "how well do you remember Scene-1",
     "explain Scene-500",
+    "how did the score of Scene-1 change",
+    "what did you know today",
 )
 
 
