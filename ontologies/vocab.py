@@ -365,6 +365,8 @@ EVENT_SCENE = engram("eventScene")
 EVENT_KIND = engram("eventKind")
 EVENT_SCORE = engram("eventScore")
 EVENT_LEVEL = engram("eventLevel")
+EVENT_STATE = engram("eventState")
+"""On an event about a class: "<kind> <level or -> <score or -> <class IRI>", what as-of scans."""
 EVENT_CONFIDENCE = engram("eventConfidence")
 """On a learned or reinforced event: the confidence of the best class the scene belonged to."""
 EVENT_BEST_MATCH = engram("eventBestMatch")

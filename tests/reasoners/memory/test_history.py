@@ -131,9 +131,9 @@ def test_sleep_records_only_level_changes_and_periodic_rescoring(
     for _ in range(history.RESCORE_EVERY_PASSES - 2):  # nothing changes: nothing recorded
         memory.sleep()
     assert history_quads(memory.store) == after_first
-    memory.store_scene(BIG)  # one event of 7 quads; ζ of BIG's class changes
+    memory.store_scene(BIG)  # one event of 8 quads; ζ of BIG's class changes
     grown = history_quads(memory.store)
-    assert grown - after_first == 7
+    assert grown - after_first == 8
     memory.sleep()  # the periodic pass: only classes whose ζ changed since the pass before
     assert history_quads(memory.store) - grown <= 5 * 2
 
