@@ -2,7 +2,7 @@
 
 Each write of :class:`reasoners.memory.SceneMemory` calls one function here with its own
 transaction, so an event is committed if and only if the change it records is. An event is a
-small node (four or five quads, no ``rdf:type``: ``engram:eventKind`` implies
+small node (a few quads, no ``rdf:type``: ``engram:eventKind`` implies
 ``engram:MemoryEvent``)::
 
     <…/history/1735689600000-1764145123456789012>
@@ -10,7 +10,8 @@ small node (four or five quads, no ``rdf:type``: ``engram:eventKind`` implies
         engram:eventKind "reinforced" ;
         prov:atTime "2025-01-01T00:00:00.000+00:00"^^xsd:dateTime ;
         engram:eventScore 1.25 ;               # the class's raw score ζ once it happened
-        engram:eventLevel "LOW" .              # its sleep level, once it has one
+        engram:eventLevel "LOW" ;              # its sleep level, once it has one
+        engram:eventState "reinforced LOW 1.25 https://w3id.org/engram/ontology#Scene-4" .
 
 Kinds: ``learned``, ``reinforced`` (a scene stored as the class), ``retrieved`` (the class a
 cue recalled; its ancestors' counts rise too, unrecorded), ``rescored``, ``level``,
