@@ -429,7 +429,6 @@ class Asker:
         prefix = "But I did recognise it. " if parsed.slots.get("negated") else ""
         return _Reply(prefix + why.words, data, [why])
 
-
     # History -----------------------------------------------------------------------------------
 
     def _history_score(self, parsed: Parsed) -> _Reply:
@@ -468,12 +467,9 @@ class Asker:
         if not states:
             return _Reply(f"I knew no kind of scene {phrase}.", data)
         best = sorted(states, key=lambda s: (-(s.score or 0.0), s.cls.value))[:3]
-        listed = _join(
-            [f"{local(s.cls)}{f' ({s.level})' if s.level else ''}" for s in best]
-        )
+        listed = _join([f"{local(s.cls)}{f' ({s.level})' if s.level else ''}" for s in best])
         return _Reply(
-            f"{phrase.capitalize()} I knew {_count(len(states), 'kind')} of scene; "
-            f"best {listed}.",
+            f"{phrase.capitalize()} I knew {_count(len(states), 'kind')} of scene; best {listed}.",
             data,
         )
 
