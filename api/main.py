@@ -19,7 +19,7 @@ from api.errors import install_error_handlers
 from api.finite_json import FiniteJsonBodies
 from api.memory_state import live_memory_state
 from api.openapi_errors import install_error_docs
-from api.routes import admin, armor, ask, episodes, export, health, sparql, streams, views
+from api.routes import admin, armor, ask, episodes, export, health, history, sparql, streams, views
 from episodes import EpisodeMemory
 from episodes.streams import RecordingRegistry
 from kg import ensure_ontology
@@ -131,7 +131,7 @@ def create_app(settings: Settings | None = None) -> FastAPI:
     )
     install_error_handlers(app)
     # armor first: route matching is a sizeable share of a directive's time
-    for module in (armor, health, sparql, export, admin, episodes, streams, ask):
+    for module in (armor, health, sparql, export, admin, episodes, streams, ask, history):
         app.include_router(module.router)
     views.install(app)  # the web views: JSON under /views, pages under /web (api/web/)
     app.add_middleware(

@@ -18,6 +18,7 @@ Run from the repository root::
 
     .venv/bin/python bench/ask.py                       # 10,000 episodes and classes
     .venv/bin/python bench/ask.py --quick               # small, to exercise the script
+    .venv/bin/python bench/ask.py --no-speech           # text latency only
 """
 
 import argparse
@@ -193,6 +194,8 @@ TEXT = (
     "why did you learn Scene-300",
     "how well do you remember Scene-1",
     "explain Scene-500",
+    "how did the score of Scene-1 change",
+    "what did you know today",
 )
 
 
@@ -233,6 +236,7 @@ def main() -> None:
     parser.add_argument("--speeds", type=int, nargs="+", default=[145, 160, 175])
     parser.add_argument("--seed", type=int, default=7)
     parser.add_argument("--quick", action="store_true", help="200 episodes and classes")
+    parser.add_argument("--no-speech", action="store_true", help="text latency only")
     args = parser.parse_args()
     if args.quick:
         args.episodes = args.classes = 200
@@ -241,7 +245,8 @@ def main() -> None:
     if hasattr(os, "sched_setaffinity"):
         os.sched_setaffinity(0, {min(os.sched_getaffinity(0))})  # one core
     print(f"python {sys.version.split()[0]}, one core: CPU {min(os.sched_getaffinity(0))}")
-    speech(args.speeds)
+    if not args.no_speech:
+        speech(args.speeds)
     latency(args.episodes, args.classes, args.repeat, args.seed)
 
 

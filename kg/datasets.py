@@ -1,10 +1,11 @@
 """The dataset an analyst's SPARQL query reads by default: the live memory, not the trash.
 
 A query sent to ``/sparql`` without ``default-graph-uri`` reads as its default graph the union
-of every named graph except ``trash`` (forgotten classes and experienced scenes): the T-Box, the
-learned classes (``memory``), the experienced scenes (``episodic``), the episodes and every ARMOR
-reference with its inferences. The trash stays reachable by name, ``GRAPH <…/graph/trash>``, as
-does every other graph; a ``default-graph-uri`` in the request chooses the default graph itself.
+of every named graph except ``trash`` (forgotten classes and experienced scenes) and ``history``
+(the scene memory's events, reasoners.history): the T-Box, the learned classes (``memory``), the
+experienced scenes (``episodic``), the episodes and every ARMOR reference with its inferences.
+Trash and history stay reachable by name, ``GRAPH <…/graph/trash>``, as does every other graph;
+a ``default-graph-uri`` in the request chooses the default graph itself.
 
 >>> from pyoxigraph import Literal
 >>> from kg.store import Store
@@ -18,11 +19,11 @@ does every other graph; a ``default-graph-uri`` in the request chooses the defau
 """
 
 from kg.store import Store
-from ontologies.vocab import TRASH
+from ontologies.vocab import HISTORY, TRASH
 
 __all__ = ["NOT_IN_DEFAULT", "analyst_default_graphs"]
 
-NOT_IN_DEFAULT = frozenset({TRASH})
+NOT_IN_DEFAULT = frozenset({TRASH, HISTORY})
 """Graphs an analyst reaches only by name."""
 
 

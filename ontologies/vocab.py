@@ -47,12 +47,15 @@ MEMORY = NamedNode(GRAPH_NS + "memory")
 EPISODIC = NamedNode(GRAPH_NS + "episodic")
 TRASH = NamedNode(GRAPH_NS + "trash")
 EPISODES = NamedNode(GRAPH_NS + "episodes")
+HISTORY = NamedNode(GRAPH_NS + "history")
+"""The scene memory's events (reasoners.history), reached by name like the trash."""
 GRAPHS = {
     "tbox": TBOX,
     "memory": MEMORY,
     "episodic": EPISODIC,
     "trash": TRASH,
     "episodes": EPISODES,
+    "history": HISTORY,
 }
 
 
@@ -349,3 +352,25 @@ MEMORY_REVISION_GRAPH = NamedNode(GRAPH_NS + "memory-revision")
 scene-memory transaction: the index file saved beside the store names the revision it mirrors.
 Not exported (not part of the ontology)."""
 MEMORY_REVISION = REVISION
+
+# --- Scene memory history (reasoners.history, issue 17) ---------------------------------------
+HISTORY_NS = BASE + "history/"
+"""Event IRIs are ``<HISTORY_NS><UTC time in ms, 13 digits>-<sequence, 19 digits>``: sorted as
+strings, they are in the order the events happened."""
+MEMORY_EVENT = engram("MemoryEvent")
+EVENT_CLASS = engram("eventClass")
+"""On a memory event: the learned class it is about."""
+EVENT_SCENE = engram("eventScene")
+"""On a memory event: the experienced scene it is about."""
+EVENT_KIND = engram("eventKind")
+EVENT_SCORE = engram("eventScore")
+EVENT_LEVEL = engram("eventLevel")
+EVENT_STATE = engram("eventState")
+"""On an event about a class: "<kind> <level or -> <score or -> <class IRI>", what as-of scans."""
+EVENT_CONFIDENCE = engram("eventConfidence")
+"""On a learned or reinforced event: the confidence of the best class the scene belonged to."""
+EVENT_BEST_MATCH = engram("eventBestMatch")
+"""On a learned event: the best class the scene belonged to, then (a reinforced class is it)."""
+EVENT_PARENT = engram("eventParent")
+"""On a learned event: a direct parent the new class was placed under."""
+PROV_AT_TIME = prov("atTime")

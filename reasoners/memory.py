@@ -72,7 +72,7 @@ from ontologies.vocab import (
     TRASH_CLASS,
     UPDATES_SINCE_SLEEP,
 )
-from reasoners import index_file, persist
+from reasoners import history, index_file, persist
 from reasoners.batch import PendingWrites, QuadReader
 from reasoners.clock import SettableClock
 from reasoners.encode import Encoder, Relation
@@ -582,6 +582,7 @@ class SceneMemory:
                 self._rescore(tx, {record.iri}, {fresh} if fresh else set())
                 if fresh is not None:
                     persist.write_class(tx, record, stored=m.stored_restrictions)
+                history.stored(tx, m, record, item.iri, recognised, now, fresh)
                 self._bump_update(tx)
             result = StoreResult(
                 scene_item=item.iri,
@@ -631,6 +632,7 @@ class SceneMemory:
             self._rescore(tx, new, new)
             for record in fresh:
                 persist.write_class(tx, record, stored=m.stored_restrictions)
+            history.record_all(tx, fresh, "learned", now)
             m.updates_since_sleep += len(fresh)
             persist.write_state(tx, m)
         return [r.iri for r in fresh]
@@ -698,6 +700,7 @@ class SceneMemory:
                 for cls in members:
                     self._count_use(tx, m.classes[cls], now, retrieved=True)
                 self._rescore(tx, members)
+                history.record(tx, m.classes[recalled], "retrieved", now)
             activation = None
             if spread and recalled is not None:
                 activation = self._spread({recalled: 1.0}, spread_decay, spread_hops)
@@ -796,9 +799,11 @@ class SceneMemory:
                 and not record.pinned
                 and not m.classes[record.cls].pinned  # a pinned class keeps its scenes
             ]
+            history.forgetting(tx, m, doomed_classes, doomed_items, zetas, now)
             forgotten_items = self._forget(tx, doomed_classes, doomed_items, now)
             if doomed_classes:  # the graph changed: ζ of the forgotten classes' neighbours too
                 zetas = m.zetas()
+            history.sleep_levels(tx, m, class_levels, zetas, now)
             # systems consolidation: every class's stored ζ brought up to date
             for cls, record in m.classes.items():
                 self._write_score(tx, record, zetas[cls])
@@ -931,6 +936,7 @@ class SceneMemory:
             if record.pinned != pinned:
                 persist.set_value(tx, iri, PINNED, Literal(record.pinned), Literal(pinned), graph)
                 record.pinned = pinned
+                history.record(tx, record, "pinned" if pinned else "unpinned", self._now())
 
     def restore(self, iri: NamedNode) -> tuple[NamedNode, ...]:
         """Bring a forgotten class (with every experienced scene of it in the trash: those
@@ -994,6 +1000,7 @@ class SceneMemory:
         self._restore_items(tx, items)
         self._rescore(tx, set(), {cls})
         persist.write_class(tx, record, stored=m.stored_restrictions)
+        history.record(tx, record, "restored", self._now())
         return (cls, *items)
 
     def _restore_items(self, tx: Transaction, items: Sequence[NamedNode]) -> None:
@@ -1016,6 +1023,7 @@ class SceneMemory:
                 pinned=persist.text(values.get(PINNED, Literal(False))) == "true",
             )
             m.add_item(record)
+            history.record(tx, record, "restored", self._now())
 
     def _unknown(self, iri: NamedNode) -> UnknownItemError:
         m = self._model

@@ -23,6 +23,7 @@ from episodes.errors import InvalidInputError, NotFoundError
 from episodes.times import to_literal
 from kg import Store
 from ontologies.vocab import TRASH, engram
+from reasoners import history
 from reasoners.errors import MemoryReasonerError
 from reasoners.explain import (
     Explanation,
@@ -126,6 +127,8 @@ class Asker:
             "explain_learn": self._explain_learn,
             "explain_level": self._explain_level,
             "explain_any": self._explain_any,
+            "history_score": self._history_score,
+            "history_as_of": self._history_as_of,
         }
 
     def ask(self, text: str) -> Answer:
@@ -426,6 +429,50 @@ class Asker:
         prefix = "But I did recognise it. " if parsed.slots.get("negated") else ""
         return _Reply(prefix + why.words, data, [why])
 
+    # History -----------------------------------------------------------------------------------
+
+    def _history_score(self, parsed: Parsed) -> _Reply:
+        name = parsed.slots["name"]
+        events = history.events(self.store, _iri(name))
+        data: dict[str, Any] = {"class": _iri(name).value, "events": [e.to_json() for e in events]}
+        if not events:
+            return _Reply(f"I have no history of {name}.", data)
+        first, last = events[0], events[-1]
+        when = self.scenes.now()
+        parts = [f"I {_past(first.kind)} {name} {say_when(_parse(first.time), when)}"]
+        counts = {k: sum(1 for e in events if e.kind == k) for k in ("reinforced", "retrieved")}
+        if counts["reinforced"]:
+            parts.append(f"saw it again {_times(counts['reinforced'])}")
+        if counts["retrieved"]:
+            parts.append(f"recalled it {_times(counts['retrieved'])}")
+        levels = [e.level for e in events if e.kind == "level" and e.level]
+        words = _join(parts) + "."
+        if levels:
+            words += f" Its level went {' then '.join(levels)}."
+        scores = [e.score for e in events if e.score is not None]
+        if scores:
+            words += f" Its score went from {scores[0]:.2f} to {scores[-1]:.2f}."
+        if last.kind == "forgotten":
+            words += f" I forgot it {say_when(_parse(last.time), when)}."
+        return _Reply(words, data)
+
+    def _history_as_of(self, parsed: Parsed) -> _Reply:
+        phrase = parsed.slots["time"]
+        end = time_window(phrase, self.scenes.now())[1]
+        states = history.as_of(self.store, end)
+        data: dict[str, Any] = {
+            "time": end.isoformat(),
+            "classes": [s.to_json() for s in states],
+        }
+        if not states:
+            return _Reply(f"I knew no kind of scene {phrase}.", data)
+        best = sorted(states, key=lambda s: (-(s.score or 0.0), s.cls.value))[:3]
+        listed = _join([f"{local(s.cls)}{f' ({s.level})' if s.level else ''}" for s in best])
+        return _Reply(
+            f"{phrase.capitalize()} I knew {_count(len(states), 'kind')} of scene; best {listed}.",
+            data,
+        )
+
 
 class _NotUnderstood(Exception):
     """A question fits a form, but a part of it does not (its words say which)."""
@@ -445,6 +492,14 @@ def _not_understood(text: str, words: str) -> Answer:
 
 def _time(moment: dt.datetime) -> Literal:
     return to_literal(moment)
+
+
+def _parse(text: str) -> dt.datetime:
+    return dt.datetime.fromisoformat(text)
+
+
+def _past(kind: str) -> str:
+    return {"learned": "learned", "restored": "restored"}.get(kind, f"first {kind}")
 
 
 def _times(n: int) -> str:

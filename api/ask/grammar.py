@@ -148,6 +148,22 @@ FORMS: tuple[Form, ...] = (
         "(how well | why) do you remember <name>",
     ),
     Form(
+        "history_score",
+        (
+            rf"how (?:did|has) the score of (?P<name>{_NAME}) (?:change|changed)",
+            rf"how (?:did|has) (?P<name>{_NAME}) (?:change|changed)",
+            rf"what happened to (?P<name>{_NAME})",
+        ),
+        "how did the score of Scene-1 change",
+        "(how did the score of <name> change) | (what happened to <name>)",
+    ),
+    Form(
+        "history_as_of",
+        (rf"what did you know (?P<time>{_TIME})",),
+        "what did you know yesterday",
+        "what did you know <time>",
+    ),
+    Form(
         "explain_any",
         (rf"(?:explain|tell me about) (?P<name>{_NAME})",),
         "explain Scene-3",

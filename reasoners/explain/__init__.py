@@ -16,8 +16,10 @@ no longer live, from the ``trash`` and ``episodic`` graphs through ``sparql/expl
 - :class:`ForgettingExplanation` and :class:`RestoreExplanation`: why something is in the
   trash, and whether (and with what) it can come back.
 
-A learning explanation compares the class with the classes learned before it that are still
-live: a class forgotten since then no longer takes part (the memory keeps no history yet).
+A learning explanation names the best class and confidence recorded when the class was learned
+(PROV triples in the history graph, :mod:`reasoners.history`), even a class forgotten since;
+without a record (a store older than its history) it compares the class with the classes learned
+before it that are still live.
 
 >>> import datetime as dt
 >>> from kg import Store

@@ -17,6 +17,7 @@ from ontologies.vocab import (
     STORE_COUNT,
     TRASH,
 )
+from reasoners import history
 from reasoners.errors import UnknownItemError
 from reasoners.explain.kinds import (
     Explanation,
@@ -124,16 +125,26 @@ def explain_learning(
         for m in _near_misses(memory, signature, exclude, limit=6)
         if _learned_before(memory, cls, NamedNode(m.cls))
     )[:3]
+    best_cls = best.cls if best else None
+    best_confidence = best.confidence if best else 0.0
+    # the decision as recorded when the class was learned (PROV, reasoners.history): it names
+    # the best class then, even one forgotten since
+    decision = history.learned_decision(memory.store, cls)
+    recorded = decision is not None and decision.scene is not None
+    if decision is not None and recorded:
+        best_cls, best_confidence = decision.best, decision.confidence or 0.0
+        scene = scene if scene is not None else decision.scene
     return LearningExplanation(
         cls=cls.value,
         scene=scene.value if scene is not None else None,
         complexity=signature.complexity,
-        best=best.cls.value if best else None,
-        best_complexity=best.complexity if best else 0,
-        best_confidence=best.confidence if best else 0.0,
+        best=best_cls.value if best_cls else None,
+        best_complexity=round(best_confidence * signature.complexity) if best_cls else 0,
+        best_confidence=best_confidence,
         threshold=memory.policy.learnThreshold,
         recognised=tuple((r.cls.value, r.confidence) for r in earlier),
         near_misses=misses,
+        recorded=recorded,
     )
 
 

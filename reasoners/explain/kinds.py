@@ -181,6 +181,9 @@ class LearningExplanation:
     recognised: tuple[tuple[str, float], ...]
     """Every earlier class the scene belonged to, with its confidence."""
     near_misses: tuple[NearMiss, ...]
+    recorded: bool = False
+    """Whether the best class and its confidence are those recorded when the class was learned
+    (the history's PROV triples), rather than derived from the classes live now."""
 
     @property
     def words(self) -> str:

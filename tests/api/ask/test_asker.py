@@ -173,6 +173,27 @@ def test_explain_anything(asker: Asker) -> None:
     assert "restore the class first" in str(body["words"])
 
 
+def test_how_did_the_score_change(asker: Asker) -> None:
+    body = ask(asker, "How did the score of scene two change?")
+    answer = body["answer"]
+    kinds = [e["kind"] for e in answer["events"]]  # type: ignore[index]
+    assert kinds[0] == "learned" and kinds[-1] == "forgotten" and "level" in kinds
+    words = str(body["words"])
+    assert words.startswith("I learned Scene-2 two days ago") and "WEAK" in words
+    assert words.endswith("I forgot it yesterday at 08:00.")
+    assert any("eventClass" in q for q in body["sparql"])  # type: ignore[attr-defined]
+    assert ask(asker, "what happened to Scene-99")["words"] == "I have no history of Scene-99."
+
+
+def test_what_did_you_know_then(asker: Asker) -> None:
+    before = ask(asker, "what did you know last week")  # the week before the memory began
+    assert before["words"] == "I knew no kind of scene last week."
+    yesterday = ask(asker, "what did you know yesterday")
+    classes = yesterday["answer"]["classes"]  # type: ignore[index]
+    assert {c["class"].rsplit("#")[-1] for c in classes} == {"Scene-1", "Scene-3"}
+    assert str(yesterday["words"]).startswith("Yesterday I knew 2 kinds of scene; best Scene-1")
+
+
 def test_a_question_outside_the_grammar_gets_the_closest_forms(asker: Asker) -> None:
     answer = asker.ask("why did you forgot scene 4")
     assert not answer.understood and answer.form is None and answer.sparql == ()

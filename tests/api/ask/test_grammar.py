@@ -68,6 +68,9 @@ CASES = [
     ("Why did you learn Scene-3?", "explain_learn", {"name": "Scene-3"}),
     ("How well do you remember scene one?", "explain_level", {"name": "Scene-1"}),
     ("explain experience 31", "explain_any", {"name": "experience-31"}),
+    ("How did the score of scene two change?", "history_score", {"name": "Scene-2"}),
+    ("what happened to Scene-4", "history_score", {"name": "Scene-4"}),
+    ("What did you know yesterday?", "history_as_of", {"time": "yesterday"}),
 ]
 
 

@@ -1,0 +1,254 @@
+"""The scene memory's history (reasoners/history.py): its cost per update, its growth, and the
+"as of T" query, at 10,000 classes after 100 sleep passes.
+
+1. ``--classes`` classes are learned with ``SceneMemory.learn_classes`` from random scenes of
+   2-5 objects on an in-memory store and bulk loaded into an on-disk one (as
+   bench/scene_memory.py does; not timed).
+2. ``--passes`` sleep passes, each after ``--updates-per-pass`` committed scene updates and one
+   retrieval, the memory clock advancing 10 minutes a pass: the history graph's growth per
+   update and per pass is counted in quads and in N-Triples bytes.
+3. Scene update cost with and without history, interleaved in the same run (without: the
+   history functions the memory calls replaced by no-ops): ``--ab-updates`` novel
+   10-object scenes (each learns a class) and as many repeats of a known scene (each
+   reinforces) per side; the ratio of the medians is printed.
+4. ``GET /memory/as-of``'s query (``history.as_of``) at the middle pass and at the end, median
+   of ``--repeats`` runs.
+
+Run from the repository root::
+
+    nice -n 10 .venv/bin/python bench/history.py                # 10,000 classes, 100 passes
+    nice -n 10 .venv/bin/python bench/history.py --quick        # tiny, to exercise the script
+"""
+
+import argparse
+import datetime as dt
+import gc
+import os
+import random
+import shutil
+import statistics
+import sys
+import tempfile
+import time
+from collections.abc import Callable
+from pathlib import Path
+
+from pyoxigraph import RdfFormat, Triple, serialize
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from scene_memory import random_scene
+
+from kg import Store
+from ontologies.vocab import EPISODIC, HISTORY, MEMORY, MEMORY_REVISION_GRAPH
+from reasoners import history
+from reasoners.memory import SceneMemory
+from reasoners.signature import Signature
+
+SEED = 20261126
+GRAPHS = (MEMORY, EPISODIC, MEMORY_REVISION_GRAPH, HISTORY)
+START = dt.datetime(2026, 1, 1, tzinfo=dt.UTC)
+
+
+class Clock:
+    def __init__(self) -> None:
+        self.now = START
+
+    def __call__(self) -> dt.datetime:
+        return self.now
+
+
+ENTRY_POINTS = ("record", "record_all", "stored", "forgetting", "sleep_levels")
+"""The functions of reasoners.history that reasoners.memory calls."""
+
+
+class Recorder:
+    """Instrumentation: every triple the history writes, kept by wrapping the functions the
+    memory calls (the transaction they get is wrapped to see its inserts); ``off()`` makes them
+    write nothing (the memory without history), ``on()`` records again."""
+
+    def __init__(self) -> None:
+        self.triples: list[Triple] = []
+        self.originals = {name: getattr(history, name) for name in ENTRY_POINTS}
+        recorder = self
+
+        class Seen:
+            def __init__(self, tx: object) -> None:
+                self.tx = tx
+
+            def insert(self, s: object, p: object, o: object, g: object) -> None:
+                recorder.triples.append(Triple(s, p, o))  # type: ignore[arg-type]
+                self.tx.insert(s, p, o, g)  # type: ignore[attr-defined]
+
+        def wrap(function: Callable[..., None]) -> Callable[..., None]:
+            def wrapped(tx: object, *args: object, **kwargs: object) -> None:
+                function(tx if isinstance(tx, Seen) else Seen(tx), *args, **kwargs)
+
+            return wrapped
+
+        self.wrapped = {name: wrap(f) for name, f in self.originals.items()}
+
+    def on(self) -> None:
+        for name, function in self.wrapped.items():
+            setattr(history, name, function)
+
+    def off(self) -> None:
+        for name in ENTRY_POINTS:
+            setattr(history, name, lambda *args, **kwargs: None)
+
+    def restore(self) -> None:
+        for name, function in self.originals.items():
+            setattr(history, name, function)
+
+    def mark(self) -> int:
+        return len(self.triples)
+
+    def since(self, mark: int) -> tuple[int, int]:
+        """(quads, N-Triples bytes) written since ``mark``."""
+        new = self.triples[mark:]
+        return len(new), len(serialize(new, format=RdfFormat.N_TRIPLES) or b"")
+
+
+def build(directory: Path, size: int, rng: random.Random, clock: Clock) -> None:
+    staging = SceneMemory(Store(), clock=clock)
+    learned = 0
+    while learned < size:
+        batch: list[Signature] = []
+        while len(batch) < min(5_000, size - learned):
+            signature = staging.encoder.signature(random_scene(rng, rng.randint(2, 5)))
+            if signature:
+                batch.append(signature)
+        learned += len(staging.learn_classes(batch))
+    target = Store(directory)
+    for graph in GRAPHS:
+        target.fill_graph(graph, staging.store.graph_ntriples(graph))
+    target.flush()
+
+
+def timed(call: Callable[..., object], *args: object) -> float:
+    began = time.perf_counter()
+    call(*args)
+    return time.perf_counter() - began
+
+
+def median_ms(values: list[float]) -> float:
+    return statistics.median(values) * 1000
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    parser.add_argument("--classes", type=int, default=10_000)
+    parser.add_argument("--passes", type=int, default=100)
+    parser.add_argument("--updates-per-pass", type=int, default=5)
+    parser.add_argument("--ab-updates", type=int, default=30)
+    parser.add_argument("--repeats", type=int, default=5)
+    parser.add_argument("--quick", action="store_true", help="200 classes, 10 passes")
+    args = parser.parse_args()
+    if args.quick:
+        args.classes, args.passes, args.ab_updates, args.repeats = 200, 10, 5, 3
+    rng = random.Random(SEED)
+    clock = Clock()
+    workdir = Path(tempfile.mkdtemp(prefix="engram-history-bench-"))
+    try:
+        began = time.perf_counter()
+        build(workdir / "store", args.classes, rng, clock)
+        store = Store(workdir / "store")
+        memory = SceneMemory(store, clock=clock)
+        print(
+            f"built {args.classes} classes in {time.perf_counter() - began:.0f} s; "
+            f"load {os.getloadavg()[0]:.2f}"
+        )
+        update_growth: list[tuple[int, int]] = []
+        pass_growth: list[tuple[int, int]] = []
+        sleep_times: list[float] = []
+        middle: dt.datetime | None = None
+        recorder = Recorder()
+        recorder.on()
+        began = time.perf_counter()
+        for number in range(args.passes):
+            clock.now += dt.timedelta(minutes=10)
+            for _ in range(args.updates_per_pass):
+                mark = recorder.mark()
+                memory.store_scene(random_scene(rng, rng.randint(3, 5)))
+                update_growth.append(recorder.since(mark))
+            memory.retrieve(random_scene(rng, 3))
+            mark = recorder.mark()
+            sleep_times.append(timed(memory.sleep))
+            pass_growth.append(recorder.since(mark))
+            if number == args.passes // 2:
+                middle = clock.now
+        recorder.restore()
+        store.flush()
+        quads = sum(1 for _ in store.quads(None, None, None, HISTORY))
+        size = recorder.since(0)[1]
+        classes = len(memory.classes())
+        print(
+            f"{args.passes} passes in {time.perf_counter() - began:.0f} s "
+            f"(sleep median {median_ms(sleep_times):.0f} ms); {classes} live classes, "
+            f"{len(memory.trash())} in the trash; load {os.getloadavg()[0]:.2f}"
+        )
+        per_update_q = statistics.median(q for q, _ in update_growth)
+        per_update_b = statistics.median(b for _, b in update_growth)
+        every = history.RESCORE_EVERY_PASSES
+        print(
+            f"history: {quads} quads in the store ({len(recorder.triples)} written during the "
+            f"passes, {size / 1e6:.1f} MB as N-Triples); per scene update (median) "
+            f"{per_update_q:.0f} quads, {per_update_b:.0f} bytes"
+        )
+        periodic = [g for i, g in enumerate(pass_growth) if (i + 1) % every == 0]
+        other = [g for i, g in enumerate(pass_growth) if i and (i + 1) % every]
+        print(
+            f"per sleep pass: first {pass_growth[0][0]} quads ({pass_growth[0][1]} bytes); "
+            f"other passes median {statistics.median(q for q, _ in other) if other else 0:.0f} "
+            f"quads (max {max((q for q, _ in other), default=0)}); every {every}th pass "
+            f"(rescored) median {statistics.median(q for q, _ in periodic) if periodic else 0:.0f}"
+            f" quads; written per class per pass {size / classes / args.passes:.0f} bytes"
+        )
+        # Update cost with and without history, interleaved
+        known = random_scene(rng, 10)
+        memory.store_scene(known)
+        store.flush()
+        gc.collect()
+        with_learn: list[float] = []
+        without_learn: list[float] = []
+        with_repeat: list[float] = []
+        without_repeat: list[float] = []
+        for _ in range(args.ab_updates):
+            for on in (True, False):
+                if on:
+                    recorder.restore()
+                else:
+                    recorder.off()
+                (with_learn if on else without_learn).append(
+                    timed(memory.store_scene, random_scene(rng, 10))
+                )
+                (with_repeat if on else without_repeat).append(timed(memory.store_scene, known))
+        recorder.restore()
+        print(
+            f"scene update (learn) with history {median_ms(with_learn):.2f} ms, without "
+            f"{median_ms(without_learn):.2f} ms: ratio "
+            f"{statistics.median(with_learn) / statistics.median(without_learn):.3f}"
+        )
+        print(
+            f"scene update (reinforce) with history {median_ms(with_repeat):.2f} ms, without "
+            f"{median_ms(without_repeat):.2f} ms: ratio "
+            f"{statistics.median(with_repeat) / statistics.median(without_repeat):.3f}"
+        )
+        for label, at in (("middle pass", middle), ("end", clock.now)):
+            assert at is not None
+            times = []
+            for _ in range(args.repeats):
+                began = time.perf_counter()
+                states = history.as_of(store, at)
+                times.append(time.perf_counter() - began)
+            print(
+                f"as-of at the {label}: {len(states)} classes, median {median_ms(times):.0f} ms "
+                f"(min {min(times) * 1000:.0f}); load {os.getloadavg()[0]:.2f}"
+            )
+        del memory, store
+        gc.collect()
+    finally:
+        shutil.rmtree(workdir, ignore_errors=True)
+
+
+if __name__ == "__main__":
+    main()
