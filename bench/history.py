@@ -84,6 +84,9 @@ class Recorder:
             def __init__(self, tx: object) -> None:
                 self.tx = tx
 
+            def __getattr__(self, name: str) -> object:  # what the functions read of it
+                return getattr(self.tx, name)
+
             def insert(self, s: object, p: object, o: object, g: object) -> None:
                 recorder.triples.append(Triple(s, p, o))  # type: ignore[arg-type]
                 self.tx.insert(s, p, o, g)  # type: ignore[attr-defined]

@@ -10,8 +10,9 @@ small node (a few quads, no ``rdf:type``: ``engram:eventKind`` implies
         engram:eventKind "reinforced" ;
         prov:atTime "2025-01-01T00:00:00.000+00:00"^^xsd:dateTime ;
         engram:eventScore 1.25 ;               # the class's raw score ζ once it happened
-        engram:eventLevel "LOW" ;              # its sleep level, once it has one
-        engram:eventState "reinforced LOW 1.25 https://w3id.org/engram/ontology#Scene-4" .
+        engram:eventLevel "LOW" .              # its sleep level, once it has one
+    <…/history/epoch-3>                        # the journal of the current epoch (below)
+        engram:historyEntry "1735689600000-1764145123456789012 reinforced LOW 1.25 …#Scene-4" .
 
 Kinds: ``learned``, ``reinforced`` (a scene stored as the class), ``retrieved`` (the class a
 cue recalled; its ancestors' counts rise too, unrecorded), ``rescored``, ``level``,
@@ -27,6 +28,30 @@ pass. The score "as of T" is the score the class's last event before T recorded.
 
 Event IRIs sort as strings in the order the events happened (the memory clock's time in ms, then
 a sequence that rises across restarts), which the queries use: ``MAX(STR(?event))`` is the last.
+
+**Checkpoints (as of T).** An event about a class also adds one line to the journal of the
+current epoch: ``engram:historyEntry`` on ``<…/history/epoch-k>``, the event's IRI tail, kind,
+level, score and class in one literal, which one lookup of the epoch node reads back. (Histories
+written before checkpoints kept that line, without the IRI, as ``engram:eventState`` on the
+event.) At the end of a sleep pass, once epoch k holds at least :data:`CHECKPOINT_MIN_EVENTS`
+class events and a quarter as many as there are live classes (or at the first pass of a history
+from before checkpoints), the pass writes, in its transaction, checkpoint k+1
+(``<…/history/checkpoint-k+1>``): each class's last event among all those written so far
+(``engram:checkpointState``, journal lines, zlib + base64; forgotten classes included) and a
+summary (``engram:checkpointSummary``: its number, the largest event it covers and the smallest
+event of epoch k), and epoch k+1 begins. The memory reads the current epoch (the last
+checkpoint's number) from the store once per model (``MemoryModel.history_epoch``), so it
+survives restarts and a rebuilt model. :func:`as_of` takes the latest checkpoint covering only
+events before T, and folds in the journal of its epoch and of each later epoch that holds an
+event before T (with a clock that only moves forward: the current one); with no such
+checkpoint, the full scan of every class event. At 10,000 classes after 100 passes on disk it
+takes 65-75 ms (the full scan 250 ms; ``bench/history.py``).
+
+**Growth.** The journal line replaces the ``eventState`` quad (the same quads per event, ~33
+bytes more). A checkpoint costs ~19 bytes per class (compressed), and comes only after at least
+``max(1000, classes / 4)`` events (each ≥ 8 quads, ~600 bytes as N-Triples), so checkpoints add
+at most ~13 % to the history; passes where nothing happens add nothing. Measured at 10,000
+classes, 100 passes: 4 checkpoints of 193 kB, 7.7 kB per pass, 4 % of the 19.4 MB written.
 """
 
 import base64
@@ -35,9 +60,9 @@ import datetime as dt
 import threading
 import time
 import zlib
-from collections.abc import Iterable, Mapping, Sequence
+from collections.abc import Iterable, Iterator, Mapping, Sequence
 
-from pyoxigraph import Literal, NamedNode
+from pyoxigraph import Literal, NamedNode, Quad
 
 from kg.store import Store
 from kg.transaction import Transaction
@@ -453,12 +478,45 @@ def _last_events(reader: QuadReader, bound: str, use_checkpoints: bool) -> _Last
     return last
 
 
-def checkpoint(tx: Transaction, model: MemoryModel, reader: QuadReader, at: dt.datetime) -> bool:
+@dataclasses.dataclass(frozen=True, slots=True)
+class _Written:
+    """``store`` with the journal and checkpoint quads ``tx`` inserts: the history is only ever
+    added to, so this is the store as it will be (read faster than through the pending view,
+    which matches every quad the transaction writes on each read)."""
+
+    store: QuadReader
+    pending: list[Quad]
+
+    @classmethod
+    def of(cls, tx: Transaction, store: QuadReader) -> "_Written":
+        kept = (HISTORY_ENTRY, CHECKPOINT_SUMMARY, CHECKPOINT_STATE)
+        return cls(store, [q for q in tx.inserts if q.predicate in kept])
+
+    def quads(
+        self,
+        subject: NamedNode | None = None,
+        predicate: NamedNode | None = None,
+        obj: NamedNode | Literal | None = None,
+        graph: NamedNode | None = None,
+    ) -> Iterator[Quad]:
+        yield from self.store.quads(subject, predicate, obj, graph)
+        for q in self.pending:
+            if (
+                (subject is None or q.subject == subject)
+                and (predicate is None or q.predicate == predicate)
+                and (obj is None or q.object == obj)
+                and (graph is None or q.graph_name == graph)
+            ):
+                yield q
+
+
+def checkpoint(tx: Transaction, model: MemoryModel, store: QuadReader, at: dt.datetime) -> bool:
     """End a sleep pass's history: once the current epoch holds enough class events (at least
     :data:`CHECKPOINT_MIN_EVENTS` and a quarter of the live classes), or a history from before
     checkpoints has none, write checkpoint ``epoch + 1`` (every class's last event so far) and
-    start that epoch. ``reader`` sees the store with ``tx``'s writes; call it after the pass's
-    events are written. Returns whether it wrote one."""
+    start that epoch. ``store`` is the store without ``tx``'s writes (which are read from
+    ``tx``); call it after the pass's events are written. Returns whether it wrote one."""
+    reader = _Written.of(tx, store)
     epoch = _epoch(model)
     checkpoints = _checkpoints(reader)
     entries = list(_entries(reader, epoch))

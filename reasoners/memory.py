@@ -810,7 +810,7 @@ class SceneMemory:
             if doomed_classes:  # the graph changed: ζ of the forgotten classes' neighbours too
                 zetas = m.zetas()
             history.sleep_levels(tx, m, class_levels, zetas, now)
-            history.checkpoint(tx, m, self._reader, now)
+            history.checkpoint(tx, m, self.store, now)
             # systems consolidation: every class's stored ζ brought up to date
             for cls, record in m.classes.items():
                 self._write_score(tx, record, zetas[cls])
