@@ -556,15 +556,19 @@ def as_of(store: QuadReader, at: dt.datetime, *, use_checkpoints: bool = True) -
         raise ValueError(f"at: got {at!r}, expected a timezone-aware datetime")
     bound = f"{int(_utc(at).timestamp() * 1000) + 1:013d}"
     states = []
+    times: dict[str, str] = {}  # events share times (a sleep pass's, a bulk learning's)
     for event, entry in _last_events(store, bound, use_checkpoints).values():
         _, kind, level, score, cls = entry.split(" ", 4)
         if kind == "forgotten":
             continue
-        since = dt.datetime.fromtimestamp(int(event[:13]) / 1000, dt.UTC)
+        since = times.get(event[:13])
+        if since is None:
+            moment = dt.datetime.fromtimestamp(int(event[:13]) / 1000, dt.UTC)
+            since = times[event[:13]] = moment.isoformat(timespec="milliseconds")
         states.append(
             ClassState(
                 cls=NamedNode(cls),
-                since=since.isoformat(timespec="milliseconds"),
+                since=since,
                 last_event=kind,
                 score=None if score == "-" else float(score),
                 level=None if level == "-" else level,
