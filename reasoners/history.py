@@ -45,7 +45,7 @@ survives restarts and a rebuilt model. :func:`as_of` takes the latest checkpoint
 events before T, and folds in the journal of its epoch and of each later epoch that holds an
 event before T (with a clock that only moves forward: the current one); with no such
 checkpoint, the full scan of every class event. At 10,000 classes after 100 passes on disk it
-takes 65-75 ms (the full scan 250 ms; ``bench/history.py``).
+takes 41-60 ms (the full scan 225 ms; 256-308 ms before checkpoints; ``bench/history.py``).
 
 **Growth.** The journal line replaces the ``eventState`` quad (the same quads per event, ~33
 bytes more). A checkpoint costs ~19 bytes per class (compressed), and comes only after at least
@@ -550,7 +550,7 @@ def as_of(store: QuadReader, at: dt.datetime, *, use_checkpoints: bool = True) -
     and the journal of its epoch (module docstring): an event IRI holds its time and sorts in
     event order, so the last event of each class before ``at`` is the largest IRI below
     ``<HISTORY_NS><ms of at + 1>``. Without a checkpoint before ``at``, one scan of every class
-    event (0.4 s at 10,000 classes after 100 passes on disk; the SPARQL's grouping and join
+    event (0.23 s at 10,000 classes after 100 passes on disk; the SPARQL's grouping and join
     take 0.5-1 s). ``use_checkpoints=False`` makes that scan (to check the two agree)."""
     if at.tzinfo is None:
         raise ValueError(f"at: got {at!r}, expected a timezone-aware datetime")
