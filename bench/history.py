@@ -11,8 +11,10 @@
    history functions the memory calls replaced by no-ops): ``--ab-updates`` novel
    10-object scenes (each learns a class) and as many repeats of a known scene (each
    reinforces) per side; the ratio of the medians is printed.
-4. ``GET /memory/as-of``'s query (``history.as_of``) at the middle pass and at the end, median
-   of ``--repeats`` runs.
+4. The checkpoints the passes wrote (count, bytes of their state literals), and
+   ``GET /memory/as-of``'s query (``history.as_of``) at the middle pass and at the end, median
+   of ``--repeats`` runs, with the checkpoints and by the full scan (interleaved; the answers
+   compared).
 
 Run from the repository root::
 
@@ -39,7 +41,14 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 from scene_memory import random_scene
 
 from kg import Store
-from ontologies.vocab import EPISODIC, HISTORY, MEMORY, MEMORY_REVISION_GRAPH
+from ontologies.vocab import (
+    CHECKPOINT_STATE,
+    CHECKPOINT_SUMMARY,
+    EPISODIC,
+    HISTORY,
+    MEMORY,
+    MEMORY_REVISION_GRAPH,
+)
 from reasoners import history
 from reasoners.memory import SceneMemory
 from reasoners.signature import Signature
@@ -57,7 +66,7 @@ class Clock:
         return self.now
 
 
-ENTRY_POINTS = ("record", "record_all", "stored", "forgetting", "sleep_levels")
+ENTRY_POINTS = ("record", "record_all", "stored", "forgetting", "sleep_levels", "checkpoint")
 """The functions of reasoners.history that reasoners.memory calls."""
 
 
@@ -75,13 +84,16 @@ class Recorder:
             def __init__(self, tx: object) -> None:
                 self.tx = tx
 
+            def __getattr__(self, name: str) -> object:  # what the functions read of it
+                return getattr(self.tx, name)
+
             def insert(self, s: object, p: object, o: object, g: object) -> None:
                 recorder.triples.append(Triple(s, p, o))  # type: ignore[arg-type]
                 self.tx.insert(s, p, o, g)  # type: ignore[attr-defined]
 
-        def wrap(function: Callable[..., None]) -> Callable[..., None]:
-            def wrapped(tx: object, *args: object, **kwargs: object) -> None:
-                function(tx if isinstance(tx, Seen) else Seen(tx), *args, **kwargs)
+        def wrap(function: Callable[..., object]) -> Callable[..., object]:
+            def wrapped(tx: object, *args: object, **kwargs: object) -> object:
+                return function(tx if isinstance(tx, Seen) else Seen(tx), *args, **kwargs)
 
             return wrapped
 
@@ -233,16 +245,35 @@ def main() -> None:
             f"{median_ms(without_repeat):.2f} ms: ratio "
             f"{statistics.median(with_repeat) / statistics.median(without_repeat):.3f}"
         )
+        numbers = [
+            history._text(q.object) or "" for q in store.quads(None, CHECKPOINT_SUMMARY, None, None)
+        ]
+        stored = sum(
+            len(history._text(q.object) or "")
+            for q in store.quads(None, CHECKPOINT_STATE, None, None)
+        )
+        print(
+            f"checkpoints: {len(numbers)} (numbers "
+            f"{sorted(int(n.split()[0]) for n in numbers)}), {stored / 1e6:.2f} MB of state "
+            f"literals ({stored / max(len(numbers), 1) / 1e3:.0f} kB each), "
+            f"{stored / args.passes:.0f} bytes per pass"
+        )
         for label, at in (("middle pass", middle), ("end", clock.now)):
             assert at is not None
-            times = []
+            times: dict[bool, list[float]] = {True: [], False: []}
+            answers = {}
             for _ in range(args.repeats):
-                began = time.perf_counter()
-                states = history.as_of(store, at)
-                times.append(time.perf_counter() - began)
+                for use in (True, False):
+                    began = time.perf_counter()
+                    answers[use] = history.as_of(store, at, use_checkpoints=use)
+                    times[use].append(time.perf_counter() - began)
+            same = "same answers" if answers[True] == answers[False] else "ANSWERS DIFFER"
             print(
-                f"as-of at the {label}: {len(states)} classes, median {median_ms(times):.0f} ms "
-                f"(min {min(times) * 1000:.0f}); load {os.getloadavg()[0]:.2f}"
+                f"as-of at the {label}: {len(answers[True])} classes, median "
+                f"{median_ms(times[True]):.0f} ms (min {min(times[True]) * 1000:.0f}) with "
+                f"checkpoints, {median_ms(times[False]):.0f} ms by the full scan: ratio "
+                f"{statistics.median(times[True]) / statistics.median(times[False]):.3f}, "
+                f"{same}; load {os.getloadavg()[0]:.2f}"
             )
         del memory, store
         gc.collect()

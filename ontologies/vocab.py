@@ -366,7 +366,16 @@ EVENT_KIND = engram("eventKind")
 EVENT_SCORE = engram("eventScore")
 EVENT_LEVEL = engram("eventLevel")
 EVENT_STATE = engram("eventState")
-"""On an event about a class: "<kind> <level or -> <score or -> <class IRI>", what as-of scans."""
+"""On an event about a class, in histories written before checkpoints: "<kind> <level or ->
+<score or -> <class IRI>" (now a journal entry, :data:`HISTORY_ENTRY`)."""
+HISTORY_ENTRY = engram("historyEntry")
+"""On an epoch node of the history (``<HISTORY_NS>epoch-<k>``): one class event written in epoch
+k, "<event IRI after HISTORY_NS> <kind> <level or -> <score or -> <class IRI>"."""
+CHECKPOINT_SUMMARY = engram("checkpointSummary")
+"""On a history checkpoint (``<HISTORY_NS>checkpoint-<k>``): "<k> <largest event covered>
+<smallest event of epoch k-1>" (event IRIs after HISTORY_NS; ~ for none)."""
+CHECKPOINT_STATE = engram("checkpointState")
+"""On a history checkpoint: each class's last event covered, as journal entries, zlib + base64."""
 EVENT_CONFIDENCE = engram("eventConfidence")
 """On a learned or reinforced event: the confidence of the best class the scene belonged to."""
 EVENT_BEST_MATCH = engram("eventBestMatch")

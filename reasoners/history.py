@@ -10,8 +10,9 @@ small node (a few quads, no ``rdf:type``: ``engram:eventKind`` implies
         engram:eventKind "reinforced" ;
         prov:atTime "2025-01-01T00:00:00.000+00:00"^^xsd:dateTime ;
         engram:eventScore 1.25 ;               # the class's raw score ζ once it happened
-        engram:eventLevel "LOW" ;              # its sleep level, once it has one
-        engram:eventState "reinforced LOW 1.25 https://w3id.org/engram/ontology#Scene-4" .
+        engram:eventLevel "LOW" .              # its sleep level, once it has one
+    <…/history/epoch-3>                        # the journal of the current epoch (below)
+        engram:historyEntry "1735689600000-1764145123456789012 reinforced LOW 1.25 …#Scene-4" .
 
 Kinds: ``learned``, ``reinforced`` (a scene stored as the class), ``retrieved`` (the class a
 cue recalled; its ancestors' counts rise too, unrecorded), ``rescored``, ``level``,
@@ -27,19 +28,47 @@ pass. The score "as of T" is the score the class's last event before T recorded.
 
 Event IRIs sort as strings in the order the events happened (the memory clock's time in ms, then
 a sequence that rises across restarts), which the queries use: ``MAX(STR(?event))`` is the last.
+
+**Checkpoints (as of T).** An event about a class also adds one line to the journal of the
+current epoch: ``engram:historyEntry`` on ``<…/history/epoch-k>``, the event's IRI tail, kind,
+level, score and class in one literal, which one lookup of the epoch node reads back. (Histories
+written before checkpoints kept that line, without the IRI, as ``engram:eventState`` on the
+event.) At the end of a sleep pass, once epoch k holds at least :data:`CHECKPOINT_MIN_EVENTS`
+class events and a quarter as many as there are live classes (or at the first pass of a history
+from before checkpoints), the pass writes, in its transaction, checkpoint k+1
+(``<…/history/checkpoint-k+1>``): each class's last event among all those written so far
+(``engram:checkpointState``, journal lines, zlib + base64; forgotten classes included) and a
+summary (``engram:checkpointSummary``: its number, the largest event it covers and the smallest
+event of epoch k), and epoch k+1 begins. The memory reads the current epoch (the last
+checkpoint's number) from the store once per model (``MemoryModel.history_epoch``), so it
+survives restarts and a rebuilt model. :func:`as_of` takes the latest checkpoint covering only
+events before T, and folds in the journal of its epoch and of each later epoch that holds an
+event before T (with a clock that only moves forward: the current one); with no such
+checkpoint, the full scan of every class event. At 10,000 classes after 100 passes on disk it
+takes 41-60 ms (the full scan 225 ms; 256-308 ms before checkpoints; ``bench/history.py``).
+
+**Growth.** The journal line replaces the ``eventState`` quad (the same quads per event, ~33
+bytes more). A checkpoint costs ~19 bytes per class (compressed), and comes only after at least
+``max(1000, classes / 4)`` events (each ≥ 8 quads, ~600 bytes as N-Triples), so checkpoints add
+at most ~13 % to the history; passes where nothing happens add nothing. Measured at 10,000
+classes, 100 passes: 4 checkpoints of 193 kB, 7.7 kB per pass, 4 % of the 19.4 MB written.
 """
 
+import base64
 import dataclasses
 import datetime as dt
 import threading
 import time
-from collections.abc import Iterable, Mapping, Sequence
+import zlib
+from collections.abc import Iterable, Iterator, Mapping, Sequence
 
-from pyoxigraph import Literal, NamedNode
+from pyoxigraph import Literal, NamedNode, Quad
 
 from kg.store import Store
 from kg.transaction import Transaction
 from ontologies.vocab import (
+    CHECKPOINT_STATE,
+    CHECKPOINT_SUMMARY,
     EVENT_BEST_MATCH,
     EVENT_CLASS,
     EVENT_CONFIDENCE,
@@ -50,22 +79,27 @@ from ontologies.vocab import (
     EVENT_SCORE,
     EVENT_STATE,
     HISTORY,
+    HISTORY_ENTRY,
     HISTORY_NS,
     PROV_AT_TIME,
     PROV_USED,
     XSD_DATETIME,
 )
+from reasoners.batch import QuadReader
 from reasoners.model import ClassRecord, ItemRecord, MemoryModel
 from reasoners.results import Recognition
 from reasoners.scoring import WEAK
 
 __all__ = [
+    "CHECKPOINT_MIN_EVENTS",
     "KINDS",
     "RESCORE_EVERY_PASSES",
     "ClassState",
     "Decision",
     "Event",
     "as_of",
+    "checkpoint",
+    "current_epoch",
     "events",
     "forgetting",
     "learned_decision",
@@ -88,6 +122,11 @@ KINDS = (
 )
 RESCORE_EVERY_PASSES = 10
 """Every this many sleep passes, a ``rescored`` event for each class whose ζ changed."""
+CHECKPOINT_MIN_EVENTS = 1_000
+"""A sleep pass writes a checkpoint once the epoch holds this many class events and at least a
+quarter as many as there are live classes (see :func:`checkpoint`)."""
+_NONE = "~"
+"""Sorts after every event IRI's tail: "no event"."""
 
 _sequence_lock = threading.Lock()
 _last_sequence = 0
@@ -116,8 +155,23 @@ def event_iri(at: dt.datetime) -> NamedNode:
     return NamedNode(f"{HISTORY_NS}{ms:013d}-{_next_sequence():019d}")
 
 
+def _epoch_node(epoch: int) -> NamedNode:
+    return NamedNode(f"{HISTORY_NS}epoch-{epoch}")
+
+
+def _checkpoint_node(number: int) -> NamedNode:
+    return NamedNode(f"{HISTORY_NS}checkpoint-{number}")
+
+
+def _epoch(model: MemoryModel) -> int:
+    if model.history_epoch is None:
+        raise RuntimeError("history: the model's history epoch was not read (current_epoch)")
+    return model.history_epoch
+
+
 def _write(
     tx: Transaction,
+    model: MemoryModel,
     about: NamedNode,
     kind: str,
     at: dt.datetime,
@@ -134,20 +188,26 @@ def _write(
         tx.insert(event, EVENT_SCORE, Literal(float(score)), HISTORY)
     if level is not None:
         tx.insert(event, EVENT_LEVEL, Literal(level), HISTORY)
-    if not scene:  # what "as of" reads, in one scan (see as_of)
+    if not scene:  # what "as of" reads: the epoch's journal (see as_of)
         value = "-" if score is None else repr(float(score))
-        state = f"{kind} {level or '-'} {value} {about.value}"
-        tx.insert(event, EVENT_STATE, Literal(state), HISTORY)
+        entry = f"{event.value[len(HISTORY_NS) :]} {kind} {level or '-'} {value} {about.value}"
+        tx.insert(_epoch_node(_epoch(model)), HISTORY_ENTRY, Literal(entry), HISTORY)
     return event
 
 
-def record(tx: Transaction, item: ClassRecord | ItemRecord, kind: str, at: dt.datetime) -> None:
+def record(
+    tx: Transaction,
+    model: MemoryModel,
+    item: ClassRecord | ItemRecord,
+    kind: str,
+    at: dt.datetime,
+) -> None:
     """Record that ``kind`` happened to a class or experienced scene at ``at``, with the score
     and level its record holds now (call it once the change is made)."""
     if isinstance(item, ClassRecord):
-        _write(tx, item.iri, kind, at, scene=False, score=item.score, level=item.level)
+        _write(tx, model, item.iri, kind, at, scene=False, score=item.score, level=item.level)
     else:
-        _write(tx, item.iri, kind, at, scene=True, score=None, level=item.level)
+        _write(tx, model, item.iri, kind, at, scene=True, score=None, level=item.level)
 
 
 def stored(
@@ -164,7 +224,9 @@ def stored(
     event used and the confidence of the best class it belonged to; for a new class, that best
     class and the parents it was placed under (a reinforced class is itself the best class)."""
     kind = "learned" if learned is not None else "reinforced"
-    event = _write(tx, record_.iri, kind, at, scene=False, score=record_.score, level=record_.level)
+    event = _write(
+        tx, model, record_.iri, kind, at, scene=False, score=record_.score, level=record_.level
+    )
     tx.insert(event, PROV_USED, scene, HISTORY)
     best = recognised[0] if recognised else None
     tx.insert(event, EVENT_CONFIDENCE, Literal(best.confidence if best else 0.0), HISTORY)
@@ -176,11 +238,15 @@ def stored(
 
 
 def record_all(
-    tx: Transaction, items: Iterable[ClassRecord | ItemRecord], kind: str, at: dt.datetime
+    tx: Transaction,
+    model: MemoryModel,
+    items: Iterable[ClassRecord | ItemRecord],
+    kind: str,
+    at: dt.datetime,
 ) -> None:
     """:func:`record` for each of ``items``."""
     for item in items:
-        record(tx, item, kind, at)
+        record(tx, model, item, kind, at)
 
 
 def forgetting(
@@ -198,10 +264,10 @@ def forgetting(
     if doomed:  # as _forget finds them
         scenes += [i for i, r in model.items.items() if r.cls in doomed]
     for cls in classes:
-        _write(tx, cls, "forgotten", at, scene=False, score=zetas.get(cls), level=WEAK)
+        _write(tx, model, cls, "forgotten", at, scene=False, score=zetas.get(cls), level=WEAK)
     for item in dict.fromkeys([*scenes, *items]):
         if item in model.items:
-            _write(tx, item, "forgotten", at, scene=True, score=None, level=WEAK)
+            _write(tx, model, item, "forgotten", at, scene=True, score=None, level=WEAK)
 
 
 def sleep_levels(
@@ -217,9 +283,9 @@ def sleep_levels(
     for cls, record_ in model.classes.items():
         level, zeta = levels[cls], zetas[cls]
         if record_.level != level:
-            _write(tx, cls, "level", at, scene=False, score=zeta, level=level)
+            _write(tx, model, cls, "level", at, scene=False, score=zeta, level=level)
         elif periodic and record_.score != zeta:
-            _write(tx, cls, "rescored", at, scene=False, score=zeta, level=level)
+            _write(tx, model, cls, "rescored", at, scene=False, score=zeta, level=level)
 
 
 # Reading ---------------------------------------------------------------------------------------
@@ -320,33 +386,185 @@ def learned_decision(store: Store, cls: NamedNode) -> Decision | None:
     )
 
 
-def as_of(store: Store, at: dt.datetime) -> list[ClassState]:
-    """The classes that existed at ``at`` (learned or restored, not forgotten since), each with
-    the score and level its last event before ``at`` left, sorted by IRI.
+# Checkpoints -----------------------------------------------------------------------------------
 
-    The same answer as ``sparql/history_as_of.rq``, from one scan of the class events'
-    ``engram:eventState`` (kind, level, score and class in one literal): an event IRI holds its
-    time and sorts in event order, so the last event of each class before ``at`` is the largest
-    IRI below ``<HISTORY_NS><ms of at + 1>``. (The SPARQL's grouping and join, or a lookup of
-    each class's last event, take 0.5-1 s at 10,000 classes on disk.)"""
-    if at.tzinfo is None:
-        raise ValueError(f"at: got {at!r}, expected a timezone-aware datetime")
-    bound = f"{HISTORY_NS}{int(_utc(at).timestamp() * 1000) + 1:013d}"
-    last: dict[str, tuple[str, str]] = {}
-    for quad in store.quads(None, EVENT_STATE, None, HISTORY):
-        event, state = quad.subject.value, quad.object.value  # type: ignore[union-attr]
+
+@dataclasses.dataclass(frozen=True, slots=True)
+class _Checkpoint:
+    number: int
+    covers: str
+    """The largest event (IRI tail) among those it covers: every event of epochs < number."""
+    low: str
+    """The smallest event (IRI tail) of epoch number - 1, ``_NONE`` if it had none."""
+
+
+_Last = dict[str, tuple[str, str]]
+"""Class IRI -> (its last event's IRI tail, its journal entry)."""
+
+
+def _checkpoints(reader: QuadReader) -> list[_Checkpoint]:
+    """Every checkpoint of the history, by number (one scan of their summaries)."""
+    found = []
+    for quad in reader.quads(None, CHECKPOINT_SUMMARY, None, HISTORY):
+        number, covers, low = quad.object.value.split(" ")  # type: ignore[union-attr]
+        found.append(_Checkpoint(int(number), covers, low))
+    return sorted(found, key=lambda c: c.number)
+
+
+def current_epoch(reader: QuadReader) -> int:
+    """The epoch new class events belong to: the number of the last checkpoint (0 before the
+    first). The memory reads it once per model and keeps it in ``MemoryModel.history_epoch``."""
+    return max((c.number for c in _checkpoints(reader)), default=0)
+
+
+def _entries(reader: QuadReader, epoch: int) -> Iterable[str]:
+    for quad in reader.quads(_epoch_node(epoch), HISTORY_ENTRY, None, HISTORY):
+        yield quad.object.value  # type: ignore[union-attr]
+
+
+def _legacy(reader: QuadReader, last: _Last, bound: str) -> None:
+    """Fold into ``last`` the events before ``bound`` of a history written before checkpoints
+    (each with its ``engram:eventState``): one scan of them all."""
+    start = len(HISTORY_NS)
+    for quad in reader.quads(None, EVENT_STATE, None, HISTORY):
+        event, state = quad.subject.value[start:], quad.object.value  # type: ignore[union-attr]
         if event < bound:
             cls = state.rsplit(" ", 1)[-1]
             if event > last.get(cls, ("", ""))[0]:
-                last[cls] = (event, state)
-    start = len(HISTORY_NS)
+                last[cls] = (event, f"{event} {state}")
+
+
+def _fold(entries: Iterable[str], last: _Last, bound: str) -> tuple[str, str]:
+    """Fold into ``last`` the journal ``entries`` before ``bound``; return the smallest and the
+    largest event among all of ``entries`` (``_NONE`` and "" when there are none)."""
+    low, high = _NONE, ""
+    for entry in entries:
+        event = entry[: entry.index(" ")]
+        low, high = min(low, event), max(high, event)
+        if event < bound:
+            cls = entry[entry.rindex(" ") + 1 :]
+            if event > last.get(cls, ("", ""))[0]:
+                last[cls] = (event, entry)
+    return low, high
+
+
+def _read_state(reader: QuadReader, number: int) -> _Last:
+    last: _Last = {}
+    for quad in reader.quads(_checkpoint_node(number), CHECKPOINT_STATE, None, HISTORY):
+        text = zlib.decompress(base64.b64decode(quad.object.value)).decode()  # type: ignore[union-attr]
+        for entry in text.split("\n") if text else ():
+            last[entry[entry.rindex(" ") + 1 :]] = (entry[: entry.index(" ")], entry)
+    return last
+
+
+def _last_events(reader: QuadReader, bound: str, use_checkpoints: bool) -> _Last:
+    """Each class's last event before ``bound`` (an event IRI tail): the latest checkpoint that
+    covers only events before ``bound``, then the events of the epochs since that may hold one
+    before it; the full scan when no checkpoint does (or not ``use_checkpoints``)."""
+    checkpoints = _checkpoints(reader)
+    usable = [c for c in checkpoints if c.covers < bound and use_checkpoints]
+    if usable:
+        start = usable[-1].number
+        last = _read_state(reader, start)
+    else:
+        start, last = 0, {}
+        _legacy(reader, last, bound)
+    lows = {c.number - 1: c.low for c in checkpoints}
+    latest = checkpoints[-1].number if checkpoints else 0
+    for epoch in range(start, latest + 1):
+        # a closed epoch whose events all come at or after bound holds nothing to fold
+        if epoch == start or lows.get(epoch, "") < bound or not use_checkpoints:
+            _fold(_entries(reader, epoch), last, bound)
+    return last
+
+
+@dataclasses.dataclass(frozen=True, slots=True)
+class _Written:
+    """``store`` with the journal and checkpoint quads ``tx`` inserts: the history is only ever
+    added to, so this is the store as it will be (read faster than through the pending view,
+    which matches every quad the transaction writes on each read)."""
+
+    store: QuadReader
+    pending: list[Quad]
+
+    @classmethod
+    def of(cls, tx: Transaction, store: QuadReader) -> "_Written":
+        kept = (HISTORY_ENTRY, CHECKPOINT_SUMMARY, CHECKPOINT_STATE)
+        return cls(store, [q for q in tx.inserts if q.predicate in kept])
+
+    def quads(
+        self,
+        subject: NamedNode | None = None,
+        predicate: NamedNode | None = None,
+        obj: NamedNode | Literal | None = None,
+        graph: NamedNode | None = None,
+    ) -> Iterator[Quad]:
+        yield from self.store.quads(subject, predicate, obj, graph)
+        for q in self.pending:
+            if (
+                (subject is None or q.subject == subject)
+                and (predicate is None or q.predicate == predicate)
+                and (obj is None or q.object == obj)
+                and (graph is None or q.graph_name == graph)
+            ):
+                yield q
+
+
+def checkpoint(tx: Transaction, model: MemoryModel, store: QuadReader, at: dt.datetime) -> bool:
+    """End a sleep pass's history: once the current epoch holds enough class events (at least
+    :data:`CHECKPOINT_MIN_EVENTS` and a quarter of the live classes), or a history from before
+    checkpoints has none, write checkpoint ``epoch + 1`` (every class's last event so far) and
+    start that epoch. ``store`` is the store without ``tx``'s writes (which are read from
+    ``tx``); call it after the pass's events are written. Returns whether it wrote one."""
+    reader = _Written.of(tx, store)
+    epoch = _epoch(model)
+    checkpoints = _checkpoints(reader)
+    entries = list(_entries(reader, epoch))
+    legacy = not checkpoints and any(True for _ in reader.quads(None, EVENT_STATE, None, HISTORY))
+    if len(entries) < max(CHECKPOINT_MIN_EVENTS, len(model.classes) // 4) and not legacy:
+        return False
+    if checkpoints:
+        last = _read_state(reader, checkpoints[-1].number)
+        covers = checkpoints[-1].covers
+    else:
+        last, covers = {}, ""
+        _legacy(reader, last, _NONE)
+        covers = max((event for event, _ in last.values()), default="")
+    low, high = _fold(entries, last, _NONE)
+    covers = max(covers, high)
+    text = "\n".join(entry for _, entry in sorted(last.values()))
+    state = base64.b64encode(zlib.compress(text.encode(), 6)).decode()
+    node = _checkpoint_node(epoch + 1)
+    tx.insert(node, CHECKPOINT_SUMMARY, Literal(f"{epoch + 1} {covers} {low}"), HISTORY)
+    tx.insert(node, CHECKPOINT_STATE, Literal(state), HISTORY)
+    tx.insert(node, PROV_AT_TIME, _time_literal(at), HISTORY)
+    model.history_epoch = epoch + 1
+    return True
+
+
+def as_of(store: QuadReader, at: dt.datetime, *, use_checkpoints: bool = True) -> list[ClassState]:
+    """The classes that existed at ``at`` (learned or restored, not forgotten since), each with
+    the score and level its last event before ``at`` left, sorted by IRI.
+
+    The same answer as ``sparql/history_as_of.rq``, from the latest checkpoint before ``at``
+    and the journal of its epoch (module docstring): an event IRI holds its time and sorts in
+    event order, so the last event of each class before ``at`` is the largest IRI below
+    ``<HISTORY_NS><ms of at + 1>``. Without a checkpoint before ``at``, one scan of every class
+    event (0.23 s at 10,000 classes after 100 passes on disk; the SPARQL's grouping and join
+    take 0.5-1 s). ``use_checkpoints=False`` makes that scan (to check the two agree)."""
+    if at.tzinfo is None:
+        raise ValueError(f"at: got {at!r}, expected a timezone-aware datetime")
+    bound = f"{int(_utc(at).timestamp() * 1000) + 1:013d}"
     states = []
-    for cls, (event, state) in last.items():
-        kind, level, score, _ = state.split(" ", 3)
+    times: dict[str, str] = {}  # events share times (a sleep pass's, a bulk learning's)
+    for event, entry in _last_events(store, bound, use_checkpoints).values():
+        _, kind, level, score, cls = entry.split(" ", 4)
         if kind == "forgotten":
             continue
-        ms = int(event[start : start + 13])
-        since = dt.datetime.fromtimestamp(ms / 1000, dt.UTC).isoformat(timespec="milliseconds")
+        since = times.get(event[:13])
+        if since is None:
+            moment = dt.datetime.fromtimestamp(int(event[:13]) / 1000, dt.UTC)
+            since = times[event[:13]] = moment.isoformat(timespec="milliseconds")
         states.append(
             ClassState(
                 cls=NamedNode(cls),

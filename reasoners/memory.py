@@ -319,6 +319,7 @@ class SceneMemory:
         """
         with self._lock:
             if self._batch is not None:  # the batch's owner commits, or rolls back
+                self._read_history_epoch()
                 yield self._batch
                 persist.write_view(self._batch, self._model, self._policy_iri)
                 return
@@ -328,6 +329,7 @@ class SceneMemory:
                 with self.store.transaction(alongside=alongside) as tx:
                     writes = PendingWrites()
                     self._reader = writes.view(self.store)
+                    self._read_history_epoch()
                     yield writes
                     persist.write_view(writes, self._model, self._policy_iri)
                     if not writes.is_empty:  # the index file names the revision it mirrors
@@ -342,6 +344,10 @@ class SceneMemory:
                 raise
             finally:
                 self._reader = self.store
+
+    def _read_history_epoch(self) -> None:
+        if self._model.history_epoch is None:  # a model just loaded or rebuilt
+            self._model.history_epoch = history.current_epoch(self._reader)
 
     @contextmanager
     def batch(self) -> Iterator[PendingWrites]:
@@ -632,7 +638,7 @@ class SceneMemory:
             self._rescore(tx, new, new)
             for record in fresh:
                 persist.write_class(tx, record, stored=m.stored_restrictions)
-            history.record_all(tx, fresh, "learned", now)
+            history.record_all(tx, m, fresh, "learned", now)
             m.updates_since_sleep += len(fresh)
             persist.write_state(tx, m)
         return [r.iri for r in fresh]
@@ -700,7 +706,7 @@ class SceneMemory:
                 for cls in members:
                     self._count_use(tx, m.classes[cls], now, retrieved=True)
                 self._rescore(tx, members)
-                history.record(tx, m.classes[recalled], "retrieved", now)
+                history.record(tx, m, m.classes[recalled], "retrieved", now)
             activation = None
             if spread and recalled is not None:
                 activation = self._spread({recalled: 1.0}, spread_decay, spread_hops)
@@ -804,6 +810,7 @@ class SceneMemory:
             if doomed_classes:  # the graph changed: ζ of the forgotten classes' neighbours too
                 zetas = m.zetas()
             history.sleep_levels(tx, m, class_levels, zetas, now)
+            history.checkpoint(tx, m, self.store, now)
             # systems consolidation: every class's stored ζ brought up to date
             for cls, record in m.classes.items():
                 self._write_score(tx, record, zetas[cls])
@@ -936,7 +943,9 @@ class SceneMemory:
             if record.pinned != pinned:
                 persist.set_value(tx, iri, PINNED, Literal(record.pinned), Literal(pinned), graph)
                 record.pinned = pinned
-                history.record(tx, record, "pinned" if pinned else "unpinned", self._now())
+                history.record(
+                    tx, self._model, record, "pinned" if pinned else "unpinned", self._now()
+                )
 
     def restore(self, iri: NamedNode) -> tuple[NamedNode, ...]:
         """Bring a forgotten class (with every experienced scene of it in the trash: those
@@ -1000,7 +1009,7 @@ class SceneMemory:
         self._restore_items(tx, items)
         self._rescore(tx, set(), {cls})
         persist.write_class(tx, record, stored=m.stored_restrictions)
-        history.record(tx, record, "restored", self._now())
+        history.record(tx, self._model, record, "restored", self._now())
         return (cls, *items)
 
     def _restore_items(self, tx: Transaction, items: Sequence[NamedNode]) -> None:
@@ -1023,7 +1032,7 @@ class SceneMemory:
                 pinned=persist.text(values.get(PINNED, Literal(False))) == "true",
             )
             m.add_item(record)
-            history.record(tx, record, "restored", self._now())
+            history.record(tx, self._model, record, "restored", self._now())
 
     def _unknown(self, iri: NamedNode) -> UnknownItemError:
         m = self._model

@@ -145,6 +145,9 @@ class MemoryModel:
     last_sleep_at: dt.datetime | None = None
     updates_since_sleep: int = 0
     sleep_passes: int = 0
+    history_epoch: int | None = None
+    """The history epoch new class events go to (reasoners.history.current_epoch); None until
+    the memory reads it from the store, once per model."""
     has_state: bool = False
     """Whether the ``memory`` graph holds the memory-state individual."""
     unwritten: set[NamedNode] = field(default_factory=set)

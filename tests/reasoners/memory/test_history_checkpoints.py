@@ -1,0 +1,170 @@
+"""History checkpoints: "as of T" read from the latest checkpoint and its epoch's journal gives
+the answer of the full scan, and of the SPARQL, whatever happened and whenever T is."""
+
+import contextlib
+import datetime as dt
+import itertools
+import random
+from unittest import mock
+
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+from pyoxigraph import Literal, NamedNode
+
+from kg import Store
+from ontologies.vocab import (
+    CHECKPOINT_STATE,
+    CHECKPOINT_SUMMARY,
+    EVENT_STATE,
+    HISTORY,
+    HISTORY_ENTRY,
+    HISTORY_NS,
+    PROV_AT_TIME,
+)
+from reasoners import history
+from reasoners.errors import UnknownItemError
+from reasoners.memory import SceneMemory
+
+from .conftest import START, FakeClock, random_scene
+from .test_forgetting import set_policy
+
+SETTINGS = settings(
+    max_examples=25, deadline=None, suppress_health_check=[HealthCheck.too_slow], derandomize=True
+)
+
+
+def checkpoint_times(store: Store) -> list[dt.datetime]:
+    nodes = {q.subject for q in store.quads(None, CHECKPOINT_SUMMARY, None, HISTORY)}
+    return [
+        dt.datetime.fromisoformat(q.object.value)  # type: ignore[union-attr]
+        for node in nodes
+        for q in store.quads(node, PROV_AT_TIME, None, HISTORY)  # type: ignore[arg-type]
+    ]
+
+
+def to_legacy(store: Store) -> None:
+    """Rewrite the history as a store from before checkpoints held it: each class event's state
+    on the event (``engram:eventState``), no journal, no checkpoint."""
+    with store.transaction() as tx:
+        for quad in store.quads(None, HISTORY_ENTRY, None, HISTORY):
+            tail, state = quad.object.value.split(" ", 1)  # type: ignore[union-attr]
+            tx.insert(NamedNode(HISTORY_NS + tail), EVENT_STATE, Literal(state), HISTORY)
+            tx.delete(quad.subject, quad.predicate, quad.object, HISTORY)  # type: ignore[arg-type]
+        for predicate in (CHECKPOINT_SUMMARY, CHECKPOINT_STATE, PROV_AT_TIME):
+            for quad in store.quads(None, predicate, None, HISTORY):
+                if "checkpoint-" in quad.subject.value:  # type: ignore[union-attr]
+                    tx.delete(quad.subject, predicate, quad.object, HISTORY)  # type: ignore[arg-type]
+
+
+def assert_same_answers(store: Store, times: list[dt.datetime], rng: random.Random) -> None:
+    for at in times:
+        fast = history.as_of(store, at)
+        assert fast == history.as_of(store, at, use_checkpoints=False), at
+    for at in rng.sample(times, min(6, len(times))):  # the SPARQL, independent of both
+        rows = store.select("history_as_of", asOf=history._time_literal(at))
+        expected = sorted((r["class"].value, r["kind"].value) for r in rows)
+        got = [(s.cls.value, s.last_event) for s in history.as_of(store, at)]
+        assert got == expected, at
+
+
+@SETTINGS
+@given(seed=st.integers(0, 1_000_000), steps=st.integers(10, 60), legacy_at=st.integers(-1, 60))
+def test_as_of_with_checkpoints_is_the_full_scan(seed: int, steps: int, legacy_at: int) -> None:
+    rng = random.Random(seed)
+    clock = FakeClock()
+    store = Store()
+    SceneMemory(store, clock=clock)  # loads the T-Box
+    set_policy(
+        store,
+        weakLevelThreshold=rng.choice([0.2, 0.4, 0.6]),
+        weakPassesToForget=rng.choice([1, 2]),
+        forgetGracePeriodSeconds=0.0,
+    )
+    memory = SceneMemory(store, clock=clock)
+    scenes = [random_scene(rng, 2, 3) for _ in range(8)]
+    times = [START - dt.timedelta(seconds=1)]
+    with mock.patch.object(history, "CHECKPOINT_MIN_EVENTS", rng.choice([1, 3, 8])):
+        for step in range(steps):
+            if step == legacy_at:  # a store from before checkpoints, reopened by this code
+                to_legacy(store)
+                memory = SceneMemory(store, clock=clock)
+            # time moves on, stands still, and now and then goes back a little
+            delta = rng.choice([0, 0, 1, 60, 3600, 86_400, -1, -120])
+            clock.advance(milliseconds=rng.randint(0, 999), seconds=delta)
+            action = rng.random()
+            if action < 0.35:
+                memory.store_scene(rng.choice(scenes))
+            elif action < 0.45:
+                memory.retrieve(rng.choice(scenes))
+            elif action < 0.75:
+                memory.sleep()
+            elif action < 0.82 and memory.trash():
+                with contextlib.suppress(UnknownItemError):  # a scene whose class is trashed
+                    memory.restore(rng.choice(memory.trash()))
+            elif action < 0.87 and memory.classes():
+                cls = rng.choice(memory.classes()).iri
+                memory.pin(cls, rng.random() < 0.5)
+            elif action < 0.92:  # a restart: the epoch is read back from the store
+                memory = SceneMemory(store, clock=clock)
+            elif action < 0.96:  # a batch the caller never commits writes nothing
+                try:
+                    with memory.batch():
+                        memory.store_scene(rng.choice(scenes))
+                        memory.sleep()
+                        raise RuntimeError("rolled back")
+                except RuntimeError:
+                    pass
+            else:  # a batch the caller commits
+                with memory.batch() as writes:
+                    memory.store_scene(rng.choice(scenes))
+                    memory.sleep()
+                    with store.transaction() as tx:
+                        writes.copy_into(tx)
+            times.append(clock.now)
+    marks = checkpoint_times(store)
+    around = [t + dt.timedelta(milliseconds=d) for t in [*times, *marks] for d in (-1, 0, 1)]
+    between = [t + (u - t) / 2 for t, u in itertools.pairwise(times)]
+    assert_same_answers(store, sorted(set(around + between)), rng)
+
+
+def test_a_sleep_pass_writes_a_checkpoint_once_the_epoch_is_large_enough(
+    memory: SceneMemory, clock: FakeClock
+) -> None:
+    rng = random.Random(7)
+    with mock.patch.object(history, "CHECKPOINT_MIN_EVENTS", 4):
+        memory.sleep()
+        assert checkpoint_times(memory.store) == []  # nothing happened: no checkpoint
+        while len(list(memory.store.quads(None, HISTORY_ENTRY, None, HISTORY))) < 4:
+            clock.advance(seconds=1)
+            memory.store_scene(random_scene(rng))
+        clock.advance(seconds=1)
+        memory.sleep()
+        assert checkpoint_times(memory.store) == [clock.now]
+        assert history.current_epoch(memory.store) == 1
+        memory.sleep()  # the new epoch holds too few events
+        assert len(checkpoint_times(memory.store)) == 1
+        before = {s.cls for s in history.as_of(memory.store, clock.now)}
+        reopened = SceneMemory(memory.store, clock=clock)
+        clock.advance(seconds=1)
+        reopened.store_scene(random_scene(rng))
+        epochs = {q.subject for q in memory.store.quads(None, HISTORY_ENTRY, None, HISTORY)}
+        assert NamedNode(f"{HISTORY_NS}epoch-1") in epochs  # after the restart too
+        assert before <= {s.cls for s in history.as_of(memory.store, clock.now)}
+
+
+def test_an_old_history_gets_a_checkpoint_at_the_next_sleep_pass(
+    memory: SceneMemory, clock: FakeClock
+) -> None:
+    rng = random.Random(3)
+    for _ in range(5):
+        clock.advance(seconds=1)
+        memory.store_scene(random_scene(rng))
+    at = clock.now
+    expected = history.as_of(memory.store, at)
+    to_legacy(memory.store)
+    assert history.as_of(memory.store, at) == expected  # the full scan reads the old states
+    reopened = SceneMemory(memory.store, clock=clock)
+    clock.advance(seconds=1)
+    reopened.sleep()
+    assert len(checkpoint_times(memory.store)) == 1
+    assert history.as_of(memory.store, at) == expected
