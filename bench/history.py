@@ -38,6 +38,7 @@ from pathlib import Path
 from pyoxigraph import RdfFormat, Triple, serialize
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
+from scene_memory import build as build_memory
 from scene_memory import random_scene
 
 from kg import Store
@@ -51,7 +52,6 @@ from ontologies.vocab import (
 )
 from reasoners import history
 from reasoners.memory import SceneMemory
-from reasoners.signature import Signature
 
 SEED = 20261126
 GRAPHS = (MEMORY, EPISODIC, MEMORY_REVISION_GRAPH, HISTORY)
@@ -120,22 +120,6 @@ class Recorder:
         return len(new), len(serialize(new, format=RdfFormat.N_TRIPLES) or b"")
 
 
-def build(directory: Path, size: int, rng: random.Random, clock: Clock) -> None:
-    staging = SceneMemory(Store(), clock=clock)
-    learned = 0
-    while learned < size:
-        batch: list[Signature] = []
-        while len(batch) < min(5_000, size - learned):
-            signature = staging.encoder.signature(random_scene(rng, rng.randint(2, 5)))
-            if signature:
-                batch.append(signature)
-        learned += len(staging.learn_classes(batch))
-    target = Store(directory)
-    for graph in GRAPHS:
-        target.fill_graph(graph, staging.store.graph_ntriples(graph))
-    target.flush()
-
-
 def timed(call: Callable[..., object], *args: object) -> float:
     began = time.perf_counter()
     call(*args)
@@ -162,7 +146,7 @@ def main() -> None:
     workdir = Path(tempfile.mkdtemp(prefix="engram-history-bench-"))
     try:
         began = time.perf_counter()
-        build(workdir / "store", args.classes, rng, clock)
+        build_memory(workdir / "store", args.classes, rng, clock=clock, graphs=GRAPHS)
         store = Store(workdir / "store")
         memory = SceneMemory(store, clock=clock)
         print(

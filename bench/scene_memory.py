@@ -26,6 +26,7 @@ Run from the repository root::
 """
 
 import argparse
+import datetime as dt
 import gc
 import os
 import platform
@@ -38,7 +39,7 @@ import sys
 import tempfile
 import time
 from collections import Counter
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from pathlib import Path
 
 from pyoxigraph import BlankNode, NamedNode, Quad, RdfFormat, Triple, serialize
@@ -159,7 +160,14 @@ GRAPHS = (MEMORY, EPISODIC, MEMORY_REVISION_GRAPH)
 """What learning writes (the T-Box is loaded by the memory itself)."""
 
 
-def build(directory: Path, size: int, rng: random.Random) -> None:
+def build(
+    directory: Path,
+    size: int,
+    rng: random.Random,
+    *,
+    clock: Callable[[], dt.datetime] | None = None,
+    graphs: Sequence[NamedNode] = GRAPHS,
+) -> None:
     """An on-disk store at ``directory`` holding a memory of ``size`` classes learned from
     random scenes of 2-5 objects (not timed).
 
@@ -168,7 +176,7 @@ def build(directory: Path, size: int, rng: random.Random) -> None:
     (``Store.fill_graph``): the store ends up as if they had been learned there, in minutes at
     100,000 classes instead of hours of on-disk transactions.
     """
-    staging = SceneMemory(Store())
+    staging = SceneMemory(Store()) if clock is None else SceneMemory(Store(), clock=clock)
     learned = 0
     while learned < size:
         batch: list[Signature] = []
@@ -178,7 +186,7 @@ def build(directory: Path, size: int, rng: random.Random) -> None:
                 batch.append(signature)
         learned += len(staging.learn_classes(batch))
     target = Store(directory)
-    for graph in GRAPHS:
+    for graph in graphs:
         target.fill_graph(graph, staging.store.graph_ntriples(graph))
     target.flush()
 

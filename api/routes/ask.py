@@ -10,7 +10,6 @@ from typing import Annotated, Any, Literal
 
 from fastapi import APIRouter, Depends, Query, Request, Response
 from pydantic import BaseModel, Field
-from pyoxigraph import NamedNode
 from starlette.concurrency import run_in_threadpool
 
 from api.ask import Asker
@@ -18,8 +17,8 @@ from api.ask.asker import MAX_QUESTION
 from api.ask.speech import MAX_AUDIO_S, Recogniser, synthesise
 from api.deps import require_token
 from api.openapi_errors import error_responses
+from api.routes.names import memory_iri
 from episodes.errors import InvalidInputError
-from ontologies.vocab import ENGRAM_NS
 from reasoners.explain import explain, to_jsonable
 
 router = APIRouter(tags=["ask"])
@@ -114,16 +113,6 @@ def explain_about(
 ) -> dict[str, Any]:
     """``about`` is a learned class, an experienced scene or something forgotten: a short name
     in Engram's namespace (``Scene-4``) or a full IRI. Unknown IRIs answer 404."""
-    iri = _iri(about)
+    iri = memory_iri(about, "about")
     explanations = explain(request.app.state.scene_memory, iri)
     return {"about": iri.value, "explanations": [to_jsonable(e) for e in explanations]}
-
-
-def _iri(text: str) -> NamedNode:
-    value = text.strip().strip("<>")
-    if ":" not in value:
-        value = ENGRAM_NS + value
-    try:
-        return NamedNode(value)
-    except ValueError:
-        raise InvalidInputError("about", text, "a class or scene name, or an IRI") from None

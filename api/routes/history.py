@@ -8,8 +8,8 @@ from fastapi import APIRouter, Query, Request
 from pyoxigraph import NamedNode
 
 from api.openapi_errors import error_responses
+from api.routes.names import memory_iri
 from episodes.errors import InvalidInputError, NotFoundError
-from ontologies.vocab import ENGRAM_NS
 from reasoners import history
 from reasoners.errors import UnknownItemError
 
@@ -29,7 +29,7 @@ def class_history(
     IRI. Each event has its ``time`` (ISO 8601, UTC), ``kind`` (learned, reinforced, retrieved,
     rescored, level, forgotten, restored, pinned, unpinned), and the ``score`` (raw score ζ) and
     ``level`` it left (null where there is none). A name the memory never held answers 404."""
-    iri = _iri(cls)
+    iri = memory_iri(cls, "class")
     memory = request.app.state.scene_memory
     events = history.events(memory.store, iri)
     if not events and not _known(memory, iri):
@@ -75,16 +75,6 @@ def _parse_time(text: str) -> dt.datetime:
             "time", text, "a time with a time zone, such as 2026-01-01T12:00:00Z"
         )
     return at
-
-
-def _iri(text: str) -> NamedNode:
-    value = text.strip().strip("<>")
-    if ":" not in value:
-        value = ENGRAM_NS + value
-    try:
-        return NamedNode(value)
-    except ValueError:
-        raise InvalidInputError("class", text, "a class or scene name, or an IRI") from None
 
 
 def _known(memory: Any, iri: NamedNode) -> bool:
