@@ -16,10 +16,7 @@ from pathlib import Path
 import numpy as np
 from numpy.typing import NDArray
 
-try:
-    from compression import zstd  # type: ignore[import-not-found,unused-ignore]
-except ImportError:  # Python < 3.14, as rosbags does
-    from backports import zstd  # type: ignore[import-not-found,unused-ignore,no-redef]
+from episodes.streams.mcapscan import chunk_records
 
 __all__ = ["ChannelMessages", "McapIndex", "open_index"]
 
@@ -34,8 +31,6 @@ _INDEX_ENTRY = np.dtype([("time", "<u8"), ("offset", "<u8")])
 @dataclass(frozen=True)
 class _Chunk:
     start: int
-    compression: str
-    uncompressed_size: int
     message_indexes: dict[int, int]
 
 
@@ -61,18 +56,8 @@ class McapIndex:
         self._chunks = chunks
 
     def _records(self, chunk: _Chunk) -> memoryview:
-        buf = self._buf
-        body = chunk.start + 9
-        compression, pos = _string(buf, body + 8 + 8 + 8 + 4)
-        (length,) = _U64.unpack_from(buf, pos)
-        records = buf[pos + 8 : pos + 8 + length]
-        if compression == "zstd":
-            records = memoryview(zstd.decompress(bytes(records)))
-        elif compression:
-            raise ValueError(f"chunk compression {compression!r}")
-        if len(records) != chunk.uncompressed_size:
-            raise ValueError("chunk size does not match its index")
-        return records
+        (length,) = _U64.unpack_from(self._buf, chunk.start + 1)
+        return chunk_records(self._buf[chunk.start + 9 : chunk.start + 9 + length])
 
     def _entries(self, chunk: _Chunk, channel: int) -> NDArray[np.void]:
         at = chunk.message_indexes[channel]
@@ -157,11 +142,8 @@ def open_index(file: Path) -> McapIndex | None:
             entries = np.frombuffer(
                 buf[body + 36 : body + 36 + map_length], dtype=[("c", "<u2"), ("o", "<u8")]
             )
-            at = body + 36 + map_length + 8
-            compression, at = _string(buf, at)
-            (uncompressed,) = _U64.unpack_from(buf, at + 8)
             indexes = {int(e["c"]): int(e["o"]) for e in entries}
-            chunks.append(_Chunk(start, compression, uncompressed, indexes))
+            chunks.append(_Chunk(start, indexes))
         pos = body + length
     if not chunks:
         return None

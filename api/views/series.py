@@ -24,11 +24,15 @@ from numpy.typing import NDArray
 from api.views.mcapindex import open_index
 from episodes.streams import Kind
 from episodes.streams import messages as ros
+from episodes.streams.errors import CorruptRecordingError
 from episodes.streams.mcapscan import McapScan
 from episodes.streams.messages import PROVIDER_TYPE, ProviderSpec
 from episodes.streams.recorder import PROVIDERS_TOPIC, TICKS_TOPIC
 
 __all__ = ["ChannelScan", "RecordingTimes", "recording_times", "scan_channel"]
+
+_BROKEN_INDEX = (ValueError, IndexError, struct.error, CorruptRecordingError)
+"""What reading an MCAP index that does not hold together raises: read by a scan instead."""
 
 _U32 = struct.Struct("<I")
 _NUMERIC = (Kind.FLOAT_ARRAY, Kind.JOINT_STATE)
@@ -141,7 +145,7 @@ def recording_times(file: Path) -> RecordingTimes | None:
             name: index.times(spec.topic) if spec.topic in has else np.zeros(0, np.int64)
             for name, spec in providers.items()
         }
-    except (ValueError, IndexError, struct.error):
+    except _BROKEN_INDEX:
         return None
     return RecordingTimes(providers, ticks, samples)
 
@@ -165,7 +169,7 @@ def _from_index(file: Path, channel: str) -> ChannelScan | None:
         if topic not in index.channels:
             return ChannelScan(providers, start, np.zeros(0, np.int64), np.zeros((0, 0)))
         found = index.messages(topic)
-    except (ValueError, IndexError, struct.error):  # an index that does not hold together
+    except _BROKEN_INDEX:
         return None
     if found is None:
         return ChannelScan(providers, start)
