@@ -543,6 +543,14 @@ def _retract_facts(
     return report
 
 
+def asserted_objects(state: _State, s: str, p: str) -> set[str]:
+    """The objects of ``s p`` that ``state`` holds as asserted."""
+    objects = {o for o in state.engine.objects(s, p) if (s, p, o) in state.asserted}
+    if (s, p, s) in state.asserted:  # x owl:sameAs x: asserted, never in the engine
+        objects.add(s)
+    return objects
+
+
 def _listed_difference(
     store: Store, asserted: NamedNode, state: _State, changed: Iterable[AddedTriple]
 ) -> tuple[set[Fact], set[Fact]]:
@@ -550,14 +558,11 @@ def _listed_difference(
     in ``changed`` against those ``state`` saw."""
     removed: set[Fact] = set()
     added: set[Fact] = set()
-    engine = state.engine
     for subject, predicate in {(s, p) for s, p, _ in changed}:
         _check_graph("changes subject", subject)
         _check_graph("changes predicate", predicate)
         s, p = str(subject), str(predicate)
-        before = {o for o in engine.objects(s, p) if (s, p, o) in state.asserted}
-        if (s, p, s) in state.asserted:  # x owl:sameAs x: asserted, never in the engine
-            before.add(s)
+        before = asserted_objects(state, s, p)
         now = {str(quad.object) for quad in store.quads(subject, predicate, None, asserted)}
         removed.update((s, p, o) for o in before - now)
         added.update((s, p, o) for o in now - before)

@@ -73,6 +73,7 @@ from reasoners.owl_rl.materialise import (
     _slot,
     _State,
     _touches_swrl,
+    asserted_objects,
 )
 from reasoners.owl_rl.retract import inferred_delta
 
@@ -293,15 +294,12 @@ def _view_difference(
         pending_removed.setdefault((s, p), set()).add(o)
     removed: set[Fact] = set()
     added: set[Fact] = set()
-    engine = state.engine
     changed = [*journal, *changes.added, *changes.removed]
     for subject, predicate in {(s, p) for s, p, _ in changed}:
         _check_graph("changes subject", subject)
         _check_graph("changes predicate", predicate)
         s, p = str(subject), str(predicate)
-        before = {o for o in engine.objects(s, p) if (s, p, o) in state.asserted}
-        if (s, p, s) in state.asserted:  # x owl:sameAs x: asserted, never in the engine
-            before.add(s)
+        before = asserted_objects(state, s, p)
         now: set[str] = set()
         if not pending.cleared:
             now = {str(q.object) for q in store.quads(subject, predicate, None, asserted)}
