@@ -16,7 +16,7 @@ from pathlib import Path
 import numpy as np
 from numpy.typing import NDArray
 
-from episodes.streams.mcapscan import chunk_records
+from episodes.streams.mcapscan import chunk_records, read_string
 
 __all__ = ["ChannelMessages", "McapIndex", "open_index"]
 
@@ -40,11 +40,6 @@ class ChannelMessages:
 
     time_ns: NDArray[np.int64]
     data: NDArray[np.uint8]
-
-
-def _string(buf: memoryview | bytes, pos: int) -> tuple[str, int]:
-    (n,) = _U32.unpack_from(buf, pos)
-    return bytes(buf[pos + 4 : pos + 4 + n]).decode(), pos + 4 + n
 
 
 class McapIndex:
@@ -134,7 +129,7 @@ def open_index(file: Path) -> McapIndex | None:
         body = pos + 9
         if op == 0x04:  # channel
             (channel_id,) = _U16.unpack_from(buf, body)
-            topic, _ = _string(buf, body + 4)
+            topic, _ = read_string(buf, body + 4)
             channels[topic] = channel_id
         elif op == 0x08:  # chunk index
             (start,) = _U64.unpack_from(buf, body + 16)

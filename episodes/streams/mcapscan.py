@@ -27,7 +27,7 @@ try:
 except ImportError:  # Python < 3.14, as rosbags does
     from backports import zstd  # type: ignore[import-not-found,unused-ignore,no-redef]
 
-__all__ = ["McapScan", "RawMessage", "scan_bytes"]
+__all__ = ["McapScan", "RawMessage", "chunk_records", "read_string", "scan_bytes"]
 
 _MAGIC = b"\x89MCAP0\r\n"
 _U16 = struct.Struct("<H")
@@ -53,7 +53,8 @@ class _Channel:
     msgtype: str
 
 
-def _string(buf: memoryview, pos: int) -> tuple[str, int]:
+def read_string(buf: memoryview | bytes, pos: int) -> tuple[str, int]:
+    """The MCAP string (u32 length, UTF-8) at ``pos``, and the position after it."""
     (n,) = _U32.unpack_from(buf, pos)
     return bytes(buf[pos + 4 : pos + 4 + n]).decode(), pos + 4 + n
 
@@ -129,7 +130,7 @@ def _scan(
 def chunk_records(body: memoryview) -> memoryview:
     """The records a Chunk record's body holds, decompressed (zstd or lz4) and size-checked."""
     (uncompressed_size,) = _U64.unpack_from(body, 16)
-    compression, pos = _string(body, 28)
+    compression, pos = read_string(body, 28)
     (records_len,) = _U64.unpack_from(body, pos)
     records = body[pos + 8 : pos + 8 + records_len]
     if compression == "zstd":
@@ -180,8 +181,8 @@ def _record(
             yield RawMessage(channel.topic, channel.msgtype, log_time, body[22:])
     elif op == 0x03:
         (schema_id,) = _U16.unpack_from(body, 0)
-        schemas[schema_id], _ = _string(body, 2)
+        schemas[schema_id], _ = read_string(body, 2)
     elif op == 0x04:
         channel_id, schema_id = struct.unpack_from("<HH", body, 0)
-        topic, _ = _string(body, 4)
+        topic, _ = read_string(body, 4)
         channels[channel_id] = _Channel(topic, schemas.get(schema_id, ""))

@@ -43,7 +43,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from episodes.streams.errors import CorruptRecordingError
-from episodes.streams.mcapscan import McapScan, RawMessage, chunk_records
+from episodes.streams.mcapscan import McapScan, RawMessage, chunk_records, read_string
 
 __all__ = ["RangedMcap", "SavedMessages", "read_messages", "write_messages"]
 
@@ -78,11 +78,6 @@ class _Chunk:
     def records_offset(self) -> int:
         """Where the chunk's records start in the file (uncompressed chunks)."""
         return self.offset + 9 + 28 + 4 + len(self.compression.encode()) + 8
-
-
-def _string(buf: bytes | memoryview, pos: int) -> tuple[str, int]:
-    (n,) = _U32.unpack_from(buf, pos)
-    return bytes(buf[pos + 4 : pos + 4 + n]).decode(), pos + 4 + n
 
 
 class RangedMcap(McapScan):
@@ -162,10 +157,10 @@ class RangedMcap(McapScan):
             pos += 9 + length
             if op == 0x03:
                 (schema_id,) = _U16.unpack_from(body, 0)
-                schemas[schema_id], _ = _string(body, 2)
+                schemas[schema_id], _ = read_string(body, 2)
             elif op == 0x04:
                 channel_id, schema_id = struct.unpack_from("<HH", body, 0)
-                topic, _ = _string(body, 4)
+                topic, _ = read_string(body, 4)
                 channels[channel_id] = (schema_id, topic)
             elif op == 0x08:
                 self._chunks.append(_chunk_index(body))
@@ -256,7 +251,7 @@ def _chunk_index(body: memoryview) -> _Chunk:
         (offsets[channel_id],) = _U64.unpack_from(body, pos + 2)
     pos = 36 + map_length
     (index_length,) = _U64.unpack_from(body, pos)
-    compression, _ = _string(body, pos + 8)
+    compression, _ = read_string(body, pos + 8)
     return _Chunk(start_ns, end_ns, offset, length, offsets, index_length, compression)
 
 
