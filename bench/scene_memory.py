@@ -240,6 +240,11 @@ class WriteTimer:
         store._prepare = timed_prepare  # type: ignore[method-assign]
 
 
+def _learn_and_read(memory: SceneMemory, scene: list[Primitive]) -> None:
+    memory.store_scene(scene)
+    memory.settle_view()  # what the store's next read does first
+
+
 def run(size: int, args: argparse.Namespace, rng: random.Random) -> dict[str, object]:
     workdir = Path(tempfile.mkdtemp(prefix="engram-bench-"))
     try:
@@ -253,16 +258,27 @@ def run(size: int, args: argparse.Namespace, rng: random.Random) -> dict[str, ob
         # Unflushed, RocksDB's memtable holds the whole build and a learn costs about 1.5x.
         store.flush()
         novel = [random_scene(rng, 10) for _ in range(args.updates)]
+        read_after = [random_scene(rng, 10) for _ in range(args.updates)]
         known = random_scene(rng, 10)
         memory.store_scene(known)
+        memory.settle_view()
         gc.collect()
         writes = WriteTimer(store)
         CPU.clear()
         learn_times = [timed(memory.store_scene, scene) for scene in novel]
+        learns = slice(0, len(writes.times))
+        view_learns_s = timed(memory.settle_view)  # the view of all those learns, written once
+        view = writes.parts[learns.stop :]
+        first = len(writes.times)
         repeat_times = [timed(memory.store_scene, known) for _ in range(args.updates)]
-        learn_cpu, repeat_cpu = CPU[: len(novel)], CPU[len(novel) :]
-        learns, repeats = slice(0, len(novel)), slice(len(novel), len(novel) + args.updates)
+        repeats = slice(first, len(writes.times))
+        view_repeats_s = timed(memory.settle_view)
+        after_view = len(novel) + 1  # CPU holds the view write between learns and repeats
+        learn_cpu, repeat_cpu = CPU[: len(novel)], CPU[after_view : after_view + args.updates]
+        # a reader after every update: each learn's view written before the next one
+        read_times = [timed(_learn_and_read, memory, scene) for scene in read_after]
         parts = {part: statistics.median(c[part] for c in writes.parts[learns]) for part in PARTS}
+        parts["view"] = sum(c["view"] for c in view) / len(novel)
         cues = [random_scene(rng, 10)[:3] for _ in range(args.retrievals)]
         retrieve_times = [timed(memory.retrieve, cue) for cue in cues]
         recognise_times = [timed(memory.recognise, scene) for scene in novel]
@@ -307,6 +323,9 @@ def run(size: int, args: argparse.Namespace, rng: random.Random) -> dict[str, ob
             "repeat_quads": statistics.median(writes.quads[repeats]),
             "parts": parts,
             "repeat": repeat_times,
+            "learn_read": read_times,
+            "view_learns_s": view_learns_s,
+            "view_repeats_s": view_repeats_s,
             "retrieve": retrieve_times,
             "recognise": recognise_times,
             "sleep_s": sleep_s,
@@ -349,7 +368,8 @@ def main() -> None:
     print()
     header = (
         f"{'classes':>8} {'build s':>8} {'learn med':>9} {'learn p99':>9} {'reinf med':>9} "
-        f"{'reinf p99':>9} {'retr med':>8} {'retr p99':>8} {'recog med':>9} {'sleep ms':>9} "
+        f"{'reinf p99':>9} {'l+read med':>10} {'l+read p99':>10} {'retr med':>8} "
+        f"{'retr p99':>8} {'recog med':>9} {'sleep ms':>9} "
         f"{'save s':>7} {'open s':>7} {'rebld s':>7} {'lw med':>7} {'lw quads':>8} "
         f"{'HermiT s':>9} {'x update':>9} {'x recog':>9}"
     )
@@ -359,7 +379,8 @@ def main() -> None:
     breakdown: list[str] = []
     for size in sizes:
         r = run(size, args, rng)
-        ms = {k: [1000 * t for t in r[k]] for k in ("learn", "repeat", "retrieve", "recognise")}  # type: ignore[attr-defined]
+        kinds = ("learn", "repeat", "learn_read", "retrieve", "recognise")
+        ms = {k: [1000 * t for t in r[k]] for k in kinds}  # type: ignore[attr-defined]
         update_med = statistics.median(ms["learn"] + ms["repeat"])
         recog_med = statistics.median(ms["recognise"])
         hermit = r["hermit_s"]
@@ -378,6 +399,8 @@ def main() -> None:
             f"{str(size) + '/' + str(r['classes']):>8} {r['build_s']:>8.1f} "
             f"{statistics.median(ms['learn']):>9.2f} {percentile(ms['learn'], 0.99):>9.2f} "
             f"{statistics.median(ms['repeat']):>9.2f} {percentile(ms['repeat'], 0.99):>9.2f} "
+            f"{statistics.median(ms['learn_read']):>10.2f} "
+            f"{percentile(ms['learn_read'], 0.99):>10.2f} "
             f"{statistics.median(ms['retrieve']):>8.2f} {percentile(ms['retrieve'], 0.99):>8.2f} "
             f"{recog_med:>9.3f} {1000 * r['sleep_s']:>9.1f} {r['save_s']:>7.2f} "  # type: ignore[operator]
             f"{r['open_s']:>7.2f} {r['rebuild_s']:>7.2f} "
@@ -390,6 +413,8 @@ def main() -> None:
             f"{r['size']:>8} {1000 * r['learn_write']:>9.2f} {1000 * r['learn_own']:>9.2f} "  # type: ignore[operator]
             f"{1000 * r['repeat_write']:>9.2f} {r['repeat_quads']:>8.0f} "  # type: ignore[operator]
             + " ".join(f"{parts[p]:>7.0f}" for p in PARTS)  # type: ignore[index]
+            + f" {1000 * r['view_learns_s'] / args.updates:>9.2f}"  # type: ignore[operator]
+            + f" {1000 * r['view_repeats_s'] / args.updates:>9.2f}"  # type: ignore[operator]
             + f" {r['store_open_s']:>8.2f}"
             + "".join(f" {1000 * t:>9.1f}" for t in r["cpu"])  # type: ignore[attr-defined]
         )
@@ -398,7 +423,7 @@ def main() -> None:
     print(
         f"{'classes':>8} {'lrn write':>9} {'lrn own':>9} {'rnf write':>9} {'rnf quads':>8} "
         + " ".join(f"{'q ' + p:>7}" for p in PARTS)
-        + f" {'db open':>8}"
+        + f" {'view/lrn':>9} {'view/rnf':>9} {'db open':>8}"
         + "".join(f" {c:>9}" for c in ("cpu learn", "cpu reinf", "cpu sleep", "cpu open"))
     )
     for line in breakdown:
@@ -406,14 +431,19 @@ def main() -> None:
     print()
     print("learn = novel 10-object scene (learns a class), reinf = known scene (reinforces);")
     print("med/p99 over the timed calls; each update and retrieval is one committed transaction.")
+    print("The score view is written before the store's next read, once for all updates since:")
+    print("l+read = a learn followed at once by a read (its view written before the next learn),")
+    print("what a client pays that reads after every update.")
     print("x update = HermiT time / median committed update; x recog = HermiT / median recognise.")
     print("lw = the store write alone of a learn (Oxigraph applying it) and the quads it writes.")
     print("lrn own = a learn's time minus its store write: Engram's own work (encode, recognise,")
     print("link, re-score, build the transaction); q <part> = a learn's quads by part: view (the")
-    print("Z terms of every class whose Z changed, the memory state's factors), edges (direct")
-    print("subclass edges), class (the new definition and annotations), scene (the experienced")
-    print("scene), other (counters, revision). db open = the part of open (seconds) spent")
-    print("opening the on-disk store itself, before the memory reads anything. cpu <x> = the")
+    print("Z terms of every class whose Z changed and the memory state's factors, written once")
+    print("for all the learns; per learn), edges (direct subclass edges), class (the new")
+    print("definition and annotations), scene (the experienced scene), other (counters,")
+    print("revision). view/lrn, view/rnf = the time of that one view write after all the learns")
+    print("(reinforces), per update. db open = the part of open (seconds) spent opening the")
+    print("on-disk store itself, before the memory reads anything. cpu <x> = the")
     print("CPU time (ms, every thread of the process) of a learn, a reinforce (medians), the sleep")
     print("pass and the open with the index file: under load, steadier than wall times.")
     print("save = writing the index file after the sleep pass; open = reopening with it;")

@@ -208,6 +208,8 @@ class QueryRunner:
             "max_depth": self.max_depth,
             "graph_data": dict(graph_data) if graph_data is not None else None,
         }
+        if graph_data is None:  # what the store keeps lazily is written before the copy reads
+            self.store.settle_reads()
         status, form, payload = self._exchange(
             job, deadline, limit_s, from_store=graph_data is None
         )

@@ -99,6 +99,8 @@ class Store:
                 ) from error
             raise StoreError(f"cannot open the store at {self.path}: {error}") from error
         self._write_lock = threading.Lock()
+        self._read_barriers: list[Callable[[], None]] = []
+        self._in_write = threading.local()
         self._tracers: list[Tracer] = [tracer] if tracer else []
         self._generation = 0
         self._committer: ThreadPoolExecutor | None = None
@@ -125,6 +127,31 @@ class Store:
         self._generation += 1
         if self._commit_log is not None:
             self._commit_log.unrecorded(self._generation)
+
+    # Read barriers -----------------------------------------------------------------------------
+
+    def add_read_barrier(self, barrier: Callable[[], None]) -> None:
+        """Call ``barrier`` before every read of this store (see :meth:`settle_reads`)."""
+        self._read_barriers.append(barrier)
+
+    def settle_reads(self) -> None:
+        """Bring triples kept up to date lazily (the scene memory's score view) up to date, by
+        running the read barriers; every read method calls it first, and so does the SPARQL
+        endpoint before its workers catch up. A read made inside a transaction or a barrier of
+        this thread skips it: it belongs to the write in progress, which reads what it writes."""
+        if self._read_barriers and not getattr(self._in_write, "depth", 0):
+            with self._writing():
+                for barrier in self._read_barriers:
+                    barrier()
+
+    @contextmanager
+    def _writing(self) -> Iterator[None]:
+        local = self._in_write
+        local.depth = getattr(local, "depth", 0) + 1
+        try:
+            yield
+        finally:
+            local.depth -= 1
 
     # Tracing -----------------------------------------------------------------------------------
 
@@ -186,6 +213,7 @@ class Store:
         return list(result)
 
     def _query(self, text: str, bindings: Mapping[str, Binding]) -> Any:
+        self.settle_reads()
         text = bind_values(text, bindings)
         self._trace("query", text, bindings)
         return self._store.query(text, use_default_graph_as_union=True)
@@ -210,6 +238,7 @@ class Store:
         """
         if mentions_keyword(text, "SERVICE"):
             raise QueryRefusedError("SERVICE is refused: queries may only read this store")
+        self.settle_reads()
         text = bind_values(text, bindings or {})
         self._trace("query", text, bindings or {})
         try:
@@ -228,6 +257,7 @@ class Store:
         graph: NamedNode | None = None,
     ) -> Iterator[Quad]:
         """The stored quads matching a pattern (``None`` matches anything)."""
+        self.settle_reads()
         return self._store.quads_for_pattern(subject, predicate, obj, graph)
 
     def settle(self) -> None:
@@ -262,6 +292,7 @@ class Store:
         """
         if not isinstance(graph, NamedNode):
             raise TypeError(f"graph must be a NamedNode naming an Engram graph, got {graph!r}")
+        self.settle_reads()
         self._trace("query", f"DUMP GRAPH {graph} AS N-Triples", {})
         return self._store.dump(format=pyoxigraph.RdfFormat.N_TRIPLES, from_graph=graph) or b""
 
@@ -282,7 +313,7 @@ class Store:
         write has finished, and they do not undo the write.
         """
         self.settle()
-        with self._write_lock:
+        with self._write_lock, self._writing():
             tx = Transaction()
             yield tx
             write = self._prepare(tx)
@@ -501,6 +532,7 @@ class Store:
         On the same file system the copy is made of hard links and is cheap. Raises
         ``FileExistsError`` if ``target`` exists and ``StoreError`` for an in-memory store.
         """
+        self.settle_reads()
         if self.remote is not None:
             self.remote.backup(str(target))
         if self.path is None:

@@ -11,9 +11,11 @@ Semantic scores are derived from each class's raw terms (complexity, store and r
 counts), its children and the global maxima (:mod:`reasoners.model`): an update re-derives the
 touched class and its ancestors in memory and writes only what it changed in the store (the
 touched class's counters, time and ``engram:rawScore``, the new class and its edges, the new
-experienced scene, and the score view of the branch: the Z terms of the classes whose Z changed
-and the four values on the memory state, :func:`reasoners.persist.write_view`), so that a SPARQL
-reader derives every class's live normalised score and level after every committed change. The
+experienced scene). The score view (the Z terms of the classes whose Z changed and the four
+values on the memory state, :func:`reasoners.persist.write_view`), from which a SPARQL reader
+derives every class's live normalised score and level, is written by :meth:`~SceneMemory.
+settle_view` before the store is next read, once for all the updates since the last read; on a
+shared fleet server, which other robots read directly, in each update's transaction. The
 sleep pass also records each item's level (``engram:sleepLevel``), which forgetting counts.
 
 >>> import datetime as dt
@@ -36,6 +38,7 @@ import heapq
 import logging
 import threading
 import time
+import weakref
 from collections.abc import Callable, Iterator, Sequence
 from contextlib import contextmanager
 from operator import attrgetter
@@ -151,6 +154,13 @@ class SceneMemory:
         self.policy: Policy = load_policy(store, policy)
         self.encoder = Encoder.from_store(store, self.policy)
         self._policy_iri = policy
+        self._eager_view = store.remote is not None
+        """Write the score view in every update's transaction: other robots read a shared
+        server directly, past this process's read barrier."""
+        self._view_stale = False
+        """Set before an update commits; cleared when the score view has been written for it."""
+        self._rebuilding = False
+        store.add_read_barrier(_settle_view_of(weakref.ref(self)))
         self._loaded: MemoryModel | None = None
         self._revision: str | None = None
         self._saved_revision: str | None = None
@@ -205,8 +215,19 @@ class SceneMemory:
         """Rebuild the in-memory index from the store: after another Engram changed it (a
         follower of a shared memory) or a failed write left the index unsure (kg.remote)."""
         with self._lock:
+            self._rebuild()
+
+    def _rebuild(self) -> None:
+        """Read the model again from the store (under the lock). The reads do not write the
+        view of the model they replace (:meth:`settle_view`); the next read checks the view of
+        the new one."""
+        self._rebuilding = True
+        try:
             self._model = persist.load_model(self.store, self._weights())
             self._revision = index_file.stored_revision(self.store)
+        finally:
+            self._rebuilding = False
+        self._view_stale = not self._eager_view
 
     def update_model(self, change: Callable[[MemoryModel], None]) -> None:
         """Run ``change`` on the in-memory index under the memory's lock: a follower of a shared
@@ -251,6 +272,7 @@ class SceneMemory:
         path = index_file.index_path(self.store)
         if path is None or not self.ready:
             return False
+        self.settle_view()  # so that the next open has no view to repair
         with self._lock:
             revision = self._revision
             if revision is None or revision == self._saved_revision:
@@ -290,7 +312,7 @@ class SceneMemory:
             unlabelled = [record for cls, record in m.classes.items() if cls not in named]
         if not (legacy or m.unwritten or factors_stale or unlabelled):
             return
-        with self._write() as tx:
+        with self._write(view=True) as tx:
             for record in unlabelled:  # learned before labels spelt out the definition
                 tx.delete_matching(record.iri, RDFS_LABEL, None, graph=MEMORY)
                 persist.write_label(tx, record)
@@ -310,18 +332,46 @@ class SceneMemory:
         # with microseconds makes HermiT refuse an export).
         return now.replace(microsecond=now.microsecond - now.microsecond % 1000)
 
+    def settle_view(self) -> None:
+        """Write the score view's pending changes (:func:`reasoners.persist.write_view`) in
+        one transaction, if an update left any; the store calls it before every read
+        (:meth:`kg.store.Store.settle_reads`), so a reader never sees a stale view.
+
+        An update writes the class it touched, its edges and its experienced scene; the score
+        terms of its ancestors (a class's score depends on its children's) wait for the next
+        read, so that the updates between two reads rewrite each changed class once. Not
+        while a batch is open (its owner has not committed yet) or the model loads."""
+        if not self._view_stale:
+            return
+        with self._lock:
+            if self._batch is not None or self._loaded is None or self._rebuilding:
+                return
+            if not self._view_stale:
+                return
+            with self._write(view=True):
+                pass
+            self._view_stale = False
+
     @contextmanager
-    def _write(self, *, refresh_alongside: bool = False) -> Iterator[PendingWrites]:
+    def _write(
+        self, *, refresh_alongside: bool = False, view: bool = False
+    ) -> Iterator[PendingWrites]:
         """One transaction; if anything fails, the model is rebuilt from the store.
 
         With ``refresh_alongside``, the model's pending re-scoring (the ancestors of what the
         transaction touched) runs while the store applies the write, instead of before it.
+        The transaction writes the score view with ``view`` or on a shared server; otherwise
+        the view is marked stale for :meth:`settle_view`.
         """
+        view = view or self._eager_view
         with self._lock:
+            if not view:
+                self._view_stale = True  # before the commit: no reader may miss it
             if self._batch is not None:  # the batch's owner commits, or rolls back
                 self._read_history_epoch()
                 yield self._batch
-                persist.write_view(self._batch, self._model, self._policy_iri)
+                if view:
+                    persist.write_view(self._batch, self._model, self._policy_iri)
                 return
             alongside = self._model.refresh if refresh_alongside else None
             revision = index_file.new_revision()
@@ -331,7 +381,8 @@ class SceneMemory:
                     self._reader = writes.view(self.store)
                     self._read_history_epoch()
                     yield writes
-                    persist.write_view(writes, self._model, self._policy_iri)
+                    if view:
+                        persist.write_view(writes, self._model, self._policy_iri)
                     if not writes.is_empty:  # the index file names the revision it mirrors
                         index_file.record_revision(writes, self._revision, revision)
                     writes.copy_into(tx)
@@ -339,8 +390,7 @@ class SceneMemory:
                     self._revision = revision
             except BaseException:
                 if self._loaded is not None:  # not while it loads: the loader will set it
-                    self._model = persist.load_model(self.store, self._weights())
-                    self._revision = index_file.stored_revision(self.store)
+                    self._rebuild()
                 raise
             finally:
                 self._reader = self.store
@@ -378,8 +428,7 @@ class SceneMemory:
                 yield writes
                 self._revision = revision
             except BaseException:
-                self._model = persist.load_model(self.store, self._weights())
-                self._revision = index_file.stored_revision(self.store)
+                self._rebuild()
                 if isinstance(clock, SettableClock):
                     clock.restore(saved)
                 raise
@@ -1231,6 +1280,16 @@ class SceneMemory:
         """The live class learned with exactly this signature, or None."""
         with self._lock:
             return self._model.index.with_signature(signature)
+
+
+def _settle_view_of(memory: "weakref.ref[SceneMemory]") -> Callable[[], None]:
+    """The store's read barrier for a memory: one that does not keep it alive."""
+
+    def settle() -> None:
+        if (live := memory()) is not None:
+            live.settle_view()
+
+    return settle
 
 
 def _maybe_str(value: str | None) -> Literal | None:

@@ -9,8 +9,8 @@ Layout (DESIGN.md, "Store layout"):
   definition and the short name as ``skos:notation``, and its annotations (complexity,
   storeCount, retrieveCount, rawScore = raw ζ as of the class's last update or sleep pass,
   created, lastAccessed, consecutiveWeakCount and pinned when not 0 / false, sleepLevel = the
-  level of the last sleep pass); the *score view*: ``scoreTerms`` ("Z_d Z_s Z_r", exact after
-  every committed change) on each class, and
+  level of the last sleep pass); the *score view*: ``scoreTerms`` ("Z_d Z_s Z_r", exact
+  whenever the store is read: :meth:`reasoners.memory.SceneMemory.settle_view`) on each class, and
   ``scoreFactor*``, ``maxRawScore`` and ``usesPolicy`` on ``engram:memoryState`` (with the last
   sleep and the updates since), from which ``sparql/memory_class_scores.rq`` derives every
   class's live normalised score and level (:func:`write_view`). A restriction ``≥n p.T`` is one node
@@ -546,7 +546,7 @@ def write_view(tx: Transaction, model: MemoryModel, policy: NamedNode) -> int:
     model.unwritten.clear()
     node = MEMORY_STATE_INDIVIDUAL
     factors = (*model.coefficients(), model.max_score)
-    if factors != model.written_factors:
+    if factors != model.written_factors and (model.classes or model.written_factors is not None):
         old_factors = model.written_factors
         if old_factors is None:
             tx.insert(node, RDF_TYPE, OWL_NAMED_INDIVIDUAL, MEMORY)

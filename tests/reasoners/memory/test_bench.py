@@ -26,7 +26,10 @@ def test_bench_quick_prints_a_row_per_size() -> None:
     parts = [line.split() for line in breakdown if line.split()[:1] in (["20"], ["60"])]
     assert len(parts) == 2, done.stdout
     for row in parts:
-        write, own, _, _, *quads, db_open, cpu_learn, _, _, cpu_open = (float(x) for x in row[1:])
+        write, own, _, _, *quads, view_learn, _, db_open, cpu_learn, _, _, cpu_open = (
+            float(x) for x in row[1:]
+        )
         assert write > 0 and own > 0 and db_open > 0 and cpu_learn > 0 and cpu_open > 0
+        assert view_learn > 0  # the view of the learns, written once before the next read
         view, _edges, new_class, scene, _ = quads
         assert new_class > 0 and scene > 0 and view > 0, row

@@ -31,7 +31,8 @@ ROOT = Path(__file__).resolve().parents[3]
 def assert_same_model(opened: MemoryModel, built: MemoryModel) -> None:
     """Every public field of the model (new ones included), the index and the live scores."""
     for field in dataclasses.fields(MemoryModel):
-        if not field.name.startswith("_") and field.name != "index":
+        # the history epoch is read from the store by the first write (a view repaired on open)
+        if not field.name.startswith("_") and field.name not in ("index", "history_epoch"):
             assert getattr(opened, field.name) == getattr(built, field.name), field.name
     assert opened.index.classes() == built.index.classes()
     assert opened.index._at_least == built.index._at_least

@@ -3,6 +3,10 @@ query returns each class's normalised score and level exactly as QUERY MEMORY SC
 
 import contextlib
 import random
+import re
+import subprocess
+import sys
+from pathlib import Path
 
 import pytest
 from hypothesis import HealthCheck, given, settings
@@ -17,6 +21,8 @@ from reasoners.scoring import rounded
 
 from .conftest import FakeClock, random_scene
 from .test_forgetting import BIG, SMALL, set_policy
+
+REPO = Path(__file__).resolve().parents[3]
 
 Op = tuple[str, int]
 OPS = st.lists(
@@ -85,25 +91,74 @@ def test_untouched_classes_read_their_live_scores_between_sleep_passes() -> None
     assert {level for _, level in view.values()} <= {"HIGH", "LOW", "WEAK"}
 
 
-def test_an_update_rewrites_the_view_of_its_branch_only() -> None:
-    """The Z terms written by one update are those of the stored class and its ancestors; a
-    new maximum changes the four values on the memory state, not every class."""
+def _terms_written(texts: list[str]) -> set[NamedNode]:
+    found = re.findall(f"<([^>]+)> <{re.escape(SCORE_TERMS.value)}>", "\n".join(texts))
+    return {NamedNode(iri) for iri in found}
+
+
+def test_the_view_of_an_update_is_its_branch_written_before_the_next_read() -> None:
+    """An update's own transaction writes no score terms; the next read of the store first
+    writes those of the stored class and its ancestors, and nothing else. A new maximum
+    changes the four values on the memory state, not every class."""
     memory = SceneMemory(Store(), clock=FakeClock())
     for seed in range(60):
         with contextlib.suppress(InvalidSceneError):  # a scene without relations
             memory.store_scene(random_scene(random.Random(seed)))
-    written: list[str] = []
-    with memory.store.tracing(lambda kind, text, bindings: written.append(text)):
+    assert analyst_scores(memory.store) == api_scores(memory)  # the view written so far
+    update: list[str] = []
+    with memory.store.tracing(lambda kind, text, _: kind != "query" and update.append(text)):
         result = memory.store_scene(random_scene(random.Random(3)))
+    assert update and not _terms_written(update)
+    read: list[str] = []
+    with memory.store.tracing(lambda kind, text, _: kind != "query" and read.append(text)):
+        view = analyst_scores(memory.store)
     branch = {result.stored_as} | memory._model.ancestors(result.stored_as)
-    rewritten = {
-        NamedNode(line.split()[0].strip("<>"))
-        for line in "\n".join(written).splitlines()
-        if SCORE_TERMS.value in line
-    }
+    rewritten = _terms_written(read)
     assert len(memory.classes()) > len(branch) + 5
     assert rewritten and rewritten <= branch, "only the branch's terms are rewritten"
-    assert analyst_scores(memory.store) == api_scores(memory)
+    assert view == api_scores(memory)
+
+
+def test_the_updates_between_two_reads_write_each_changed_class_once() -> None:
+    memory = SceneMemory(Store(), clock=FakeClock())
+    scenes = [random_scene(random.Random(seed)) for seed in range(40)]
+    written: list[str] = []
+    with memory.store.tracing(lambda kind, text, _: kind != "query" and written.append(text)):
+        for scene in scenes:
+            with contextlib.suppress(InvalidSceneError):
+                memory.store_scene(scene)
+        view = analyst_scores(memory.store)
+    writes = re.findall(f"<{re.escape(SCORE_TERMS.value)}>", "\n".join(written))
+    assert len(writes) == len(memory.classes()) == len(_terms_written(written))
+    assert view == api_scores(memory)
+
+
+def test_an_update_left_unread_by_a_crash_is_in_the_view_when_the_memory_reopens(
+    tmp_path: Path,
+) -> None:
+    """The view is derived: a process that dies between an update and the next read leaves
+    terms the reopened memory finds stale and rewrites, in one transaction, before any read."""
+    script = f"""
+import random, os
+from kg import Store
+from reasoners.memory import SceneMemory
+from tests.reasoners.memory.conftest import random_scene
+memory = SceneMemory(Store({str(tmp_path / "store")!r}))
+for seed in range(30):
+    try:
+        memory.store_scene(random_scene(random.Random(seed)))
+    except Exception:
+        pass
+assert memory._view_stale
+memory.store.flush()
+os._exit(0)  # no read, no shutdown: the view was never written
+"""
+    subprocess.run([sys.executable, "-c", script], check=True, cwd=REPO, timeout=120)
+    store = Store(tmp_path / "store")
+    terms = {q.subject for q in store._store.quads_for_pattern(None, SCORE_TERMS, None, MEMORY)}
+    memory = SceneMemory(store)
+    assert len(terms) < len(memory.classes()), "the crash left the view behind"
+    assert analyst_scores(store) == api_scores(memory)
 
 
 def test_a_store_written_before_the_view_gets_it_when_the_memory_opens() -> None:
@@ -113,6 +168,7 @@ def test_a_store_written_before_the_view_gets_it_when_the_memory_opens() -> None
     memory.store_scene(BIG)
     memory.store_scene(SMALL)
     expected = api_scores(memory)
+    memory.settle_view()
     with store.transaction() as tx:  # as an older Engram left it
         tx.delete_matching(None, SCORE_TERMS, None, graph=MEMORY)
         tx.insert(memory.classes()[0].iri, LEGACY_SCORE, Literal(0.5), MEMORY)
