@@ -8,13 +8,17 @@ each (``http.client``):
   transaction, to their own reference, as fast as they are answered;
 - ``--readers`` threads (default 8) alternate a point query (one subject's label) and a join
   (individuals with their classes and the classes' labels, LIMIT 20) on ``/sparql``;
-- one thread asks ``/health`` every 50 ms.
+- one thread asks ``/health`` every 50 ms;
+- in a third phase, ``--scene-writers`` threads (default 2; 0 skips the phase) each store random
+  4-object scenes in the scene memory (one directive list a scene, as a perception client
+  sends it), as fast as they are answered: every read then first writes the score view those
+  scenes changed (``SceneMemory.settle_view``).
 
-Two phases of ``--seconds`` each (default 8): readers alone (the baseline, same run), then
-readers with the writers. Printed per phase: reader median and p99 per query kind, ``/health``
-median and p99, the writers' median and their directives per second, and the ratio of the
-loaded figures to the baseline. Targets (issue 15): point and join median < 50 ms, p99 <
-250 ms, ``/health`` < 20 ms with 8 writers and 8 readers.
+Phases of ``--seconds`` each (default 8): readers alone (the baseline, same run), readers with
+the writers, readers with the scene writers. Printed per phase: reader median and p99 per query
+kind, ``/health`` median and p99, the writers' median and their directives per second, and the
+ratio of the loaded figures to the baseline. Targets (issue 15): point and join median
+< 50 ms, p99 < 250 ms, ``/health`` < 20 ms with 8 writers and 8 readers.
 
 ``--breakdown`` first prints, in this process on an on-disk store, what bringing a query's view
 of the store up to date costs each way (medians): a backup of the store and a fresh read-only
@@ -33,6 +37,7 @@ import argparse
 import http.client
 import json
 import os
+import random
 import socket
 import statistics
 import subprocess
@@ -44,6 +49,9 @@ from pathlib import Path
 from urllib.parse import urlencode
 
 ROOT = Path(__file__).resolve().parent.parent
+sys.path.insert(0, str(ROOT))
+from api.client._memory import ScenePrimitive  # noqa: E402
+
 SERVER = """
 import sys, uvicorn
 from api.config import Settings
@@ -192,6 +200,38 @@ def _writer(port: int, ref: str, stop: threading.Event, timings: Timings) -> Non
         i += 1
 
 
+def _scene_list(ref: str, rng: random.Random) -> bytes:
+    """A directive list storing one random 4-object scene in the scene memory (as a perception
+    client sends it: LOAD INIT, the primitives' ADDs, SCENE UPDATED)."""
+    directives = [("LOAD", "INIT", "", [])]
+    for k in range(4):
+        kind = rng.choice(["Sphere", "Cylinder", "Cone", "Plane"])
+        centre = (rng.uniform(0, 1), rng.uniform(0, 1), rng.uniform(0, 0.5))
+        axis = None if kind == "Sphere" else rng.choice([(0.0, 0.0, 1.0), (1.0, 0.0, 0.0)])
+        radius = 0.04 if kind == "Sphere" else None
+        primitive = ScenePrimitive(f"o{k}", kind, centre, axis=axis, radius=radius)
+        directives += primitive.directives()
+    directives.append(("SCENE", "UPDATED", "", []))
+    requests = [
+        json.loads(_directive(ref, *args, command=c, first=f, second=s2))["armor_request"]
+        for c, f, s2, args in directives
+    ]
+    return json.dumps({"armor_requests": requests}).encode()
+
+
+def _scene_writer(port: int, ref: str, stop: threading.Event, timings: Timings) -> None:
+    connection = http.client.HTTPConnection("127.0.0.1", port, timeout=60)
+    headers = {"Content-Type": "application/json"}
+    rng = random.Random(ref)
+    while not stop.is_set():
+        body = _scene_list(ref, rng)
+        start = time.perf_counter()
+        connection.request("POST", "/armor_interface_serialized_srv", body=body, headers=headers)
+        answer = json.loads(connection.getresponse().read())
+        ok = all(r["success"] for r in answer["armor_responses"])
+        timings.add("scene", time.perf_counter() - start, ok)
+
+
 def _health(port: int, stop: threading.Event, timings: Timings) -> None:
     connection = http.client.HTTPConnection("127.0.0.1", port, timeout=60)
     while not stop.is_set():
@@ -200,7 +240,9 @@ def _health(port: int, stop: threading.Event, timings: Timings) -> None:
         time.sleep(0.05)
 
 
-def phase(port: int, *, readers: int, writers: int, seconds: float) -> Timings:
+def phase(
+    port: int, *, readers: int, writers: int, seconds: float, scene_writers: int = 0
+) -> Timings:
     """Run the clients for ``seconds`` and return their latencies."""
     timings = Timings()
     stop = threading.Event()
@@ -208,6 +250,10 @@ def phase(port: int, *, readers: int, writers: int, seconds: float) -> Timings:
     threads += [
         threading.Thread(target=_writer, args=(port, f"w{n}_{time.monotonic_ns()}", stop, timings))
         for n in range(writers)
+    ]
+    threads += [
+        threading.Thread(target=_scene_writer, args=(port, f"s{n}", stop, timings))
+        for n in range(scene_writers)
     ]
     threads.append(threading.Thread(target=_health, args=(port, stop, timings)))
     for thread in threads:
@@ -226,7 +272,7 @@ def _p99(values: list[float]) -> float:
 
 def report(label: str, timings: Timings, seconds: float, baseline: Timings | None) -> None:
     print(f"{label}:")
-    for kind in ("point", "join", "health", "write"):
+    for kind in ("point", "join", "health", "write", "scene"):
         values = timings.seconds.get(kind, [])
         if not values:
             continue
@@ -312,6 +358,12 @@ def main() -> None:
         help="ENGRAM_SPARQL_SNAPSHOT_MAX_AGE_S for the server (0: exact snapshots)",
     )
     parser.add_argument(
+        "--scene-writers",
+        type=int,
+        default=2,
+        help="clients storing scenes in the scene memory in a third phase (0: no such phase)",
+    )
+    parser.add_argument(
         "--breakdown", action="store_true", help="first time snapshot against replay in-process"
     )
     options = parser.parse_args()
@@ -335,6 +387,20 @@ def main() -> None:
                 seconds=options.seconds,
             )
             report("readers with writers", mixed, options.seconds, alone)
+            if options.scene_writers:
+                perceiving = phase(
+                    server.port,
+                    readers=options.readers,
+                    writers=0,
+                    seconds=options.seconds,
+                    scene_writers=options.scene_writers,
+                )
+                report(
+                    f"readers with {options.scene_writers} scene writers",
+                    perceiving,
+                    options.seconds,
+                    alone,
+                )
         finally:
             server.stop()
 

@@ -157,8 +157,13 @@ class SceneMemory:
         self._eager_view = store.remote is not None
         """Write the score view in every update's transaction: other robots read a shared
         server directly, past this process's read barrier."""
-        self._view_stale = False
-        """Set before an update commits; cleared when the score view has been written for it."""
+        self._counters = threading.Lock()
+        self._begun = 0
+        """Updates that left the view to be written, counted just before they commit."""
+        self._viewed = 0
+        """How many of those the written view includes."""
+        self._wanted = 0
+        """The most a reader is waiting for: a writer writes the view before it lets go."""
         self._rebuilding = False
         store.add_read_barrier(_settle_view_of(weakref.ref(self)))
         self._loaded: MemoryModel | None = None
@@ -227,7 +232,6 @@ class SceneMemory:
             self._revision = index_file.stored_revision(self.store)
         finally:
             self._rebuilding = False
-        self._view_stale = not self._eager_view
 
     def update_model(self, change: Callable[[MemoryModel], None]) -> None:
         """Run ``change`` on the in-memory index under the memory's lock: a follower of a shared
@@ -334,23 +338,52 @@ class SceneMemory:
 
     def settle_view(self) -> None:
         """Write the score view's pending changes (:func:`reasoners.persist.write_view`) in
-        one transaction, if an update left any; the store calls it before every read
-        (:meth:`kg.store.Store.settle_reads`), so a reader never sees a stale view.
+        one transaction, if an update committed before this call left any; the store calls it
+        before every read (:meth:`kg.store.Store.settle_reads`), so a reader never sees a stale
+        view.
 
         An update writes the class it touched, its edges and its experienced scene; the score
         terms of its ancestors (a class's score depends on its children's) wait for the next
-        read, so that the updates between two reads rewrite each changed class once. Not
-        while a batch is open (its owner has not committed yet) or the model loads."""
-        if not self._view_stale:
+        read, so that the updates between two reads rewrite each changed class once. While
+        another thread holds the memory (an update in progress), the caller waits for that
+        thread to write the view as it lets go. Nothing is written while a batch of this thread
+        is open (it has not committed yet) or while the model loads."""
+        target = self._begun
+        while self._viewed < target:
+            if self._lock.acquire(blocking=False):  # free, or this thread's own
+                try:
+                    if self._batch is None and self._loaded is not None and not self._rebuilding:
+                        self._want(target)
+                        self._write_view_if_wanted()
+                finally:
+                    self._lock.release()
+                return
+            self._want(target)  # the holder writes it as it lets go, or this thread does
+            if self._lock.acquire(timeout=0.01):
+                self._lock.release()
+
+    def _want(self, target: int) -> None:
+        with self._counters:
+            self._wanted = max(self._wanted, target)
+
+    def _write_view_if_wanted(self) -> None:
+        """Under the lock: write the view of every update begun so far if a reader waits for
+        it."""
+        if self._wanted <= self._viewed:
             return
-        with self._lock:
-            if self._batch is not None or self._loaded is None or self._rebuilding:
-                return
-            if not self._view_stale:
-                return
-            with self._write(view=True):
-                pass
-            self._view_stale = False
+        upto = self._begun
+        with self._write(view=True):
+            pass
+        with self._counters:
+            self._viewed = max(self._viewed, upto)
+
+    def _let_go(self) -> None:
+        """After a committed update, still under the lock: write the view if a reader waits
+        (a failure is left to the reader, which tries again and reports it)."""
+        try:
+            self._write_view_if_wanted()
+        except Exception:
+            log.exception("scene memory: the score view could not be written after an update")
 
     @contextmanager
     def _write(
@@ -365,9 +398,9 @@ class SceneMemory:
         """
         view = view or self._eager_view
         with self._lock:
-            if not view:
-                self._view_stale = True  # before the commit: no reader may miss it
             if self._batch is not None:  # the batch's owner commits, or rolls back
+                if not view:
+                    self._begun += 1  # its commit is the owner's: a reader arriving waits
                 self._read_history_epoch()
                 yield self._batch
                 if view:
@@ -385,6 +418,8 @@ class SceneMemory:
                         persist.write_view(writes, self._model, self._policy_iri)
                     if not writes.is_empty:  # the index file names the revision it mirrors
                         index_file.record_revision(writes, self._revision, revision)
+                        if not view:
+                            self._begun += 1  # before the commit: no reader may miss it
                     writes.copy_into(tx)
                 if not writes.is_empty:
                     self._revision = revision
@@ -394,6 +429,8 @@ class SceneMemory:
                 raise
             finally:
                 self._reader = self.store
+            if not view:
+                self._let_go()
 
     def _read_history_epoch(self) -> None:
         if self._model.history_epoch is None:  # a model just loaded or rebuilt
@@ -434,6 +471,7 @@ class SceneMemory:
                 raise
             finally:
                 self._batch, self._reader = None, self.store
+            self._let_go()
 
     def _scene(self, primitives: Sequence[Primitive], field: str = "primitives") -> list[Primitive]:
         scene = list(primitives)

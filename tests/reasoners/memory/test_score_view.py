@@ -6,6 +6,7 @@ import random
 import re
 import subprocess
 import sys
+import threading
 from pathlib import Path
 
 import pytest
@@ -149,7 +150,7 @@ for seed in range(30):
         memory.store_scene(random_scene(random.Random(seed)))
     except Exception:
         pass
-assert memory._view_stale
+assert memory._begun > memory._viewed
 memory.store.flush()
 os._exit(0)  # no read, no shutdown: the view was never written
 """
@@ -185,3 +186,43 @@ def test_rounding_matches_sparql_round(value: float) -> None:
     rows = Store().query_graphs(text, graphs=[MEMORY], bindings={"x": Literal(value)})
     [row] = list(rows)  # type: ignore[call-overload]
     assert float(row["r"].value) == rounded(value)
+
+
+def test_readers_beside_writers_see_every_update_that_returned_before_they_read() -> None:
+    """Writer threads store scenes and each reads the analysts' query after every update:
+    its class is there (the view written for it, by the writer in progress or by the reader);
+    reader threads query all along; nothing deadlocks and the view ends equal to the API."""
+    memory = SceneMemory(Store(), clock=FakeClock())
+    errors: list[BaseException] = []
+    stop = threading.Event()
+
+    def writer(first: int) -> None:
+        try:
+            for seed in range(first, first + 15):
+                try:
+                    stored = memory.store_scene(random_scene(random.Random(seed))).stored_as
+                except InvalidSceneError:
+                    continue
+                assert stored in analyst_scores(memory.store)
+        except BaseException as error:
+            errors.append(error)
+
+    def reader() -> None:
+        try:
+            while not stop.is_set():
+                analyst_scores(memory.store)
+        except BaseException as error:
+            errors.append(error)
+
+    writers = [threading.Thread(target=writer, args=(n * 100,)) for n in range(3)]
+    readers = [threading.Thread(target=reader) for _ in range(2)]
+    for thread in writers + readers:
+        thread.start()
+    for thread in writers:
+        thread.join(timeout=120)
+    stop.set()
+    for thread in readers:
+        thread.join(timeout=30)
+    assert not any(t.is_alive() for t in writers + readers), "a reader or writer is stuck"
+    assert not errors, errors
+    assert analyst_scores(memory.store) == api_scores(memory)
