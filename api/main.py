@@ -33,7 +33,8 @@ log = logging.getLogger(__name__)
 
 async def _sleep_when_due(memory: SceneMemory, period_s: float) -> None:
     """Check every ``period_s`` whether the policy's sleep interval has passed, and sleep then;
-    then flush what the store committed since the last check.
+    then write the score view the updates since the last read left, and flush what the store
+    committed since the last check.
 
     Updates also trigger the pass (every N of them); this covers a memory left alone. The flush
     writes the store's in-memory tables to its files, so that opening it after a crash replays
@@ -47,6 +48,8 @@ async def _sleep_when_due(memory: SceneMemory, period_s: float) -> None:
         if not memory.ready:  # still opening in the background
             continue
         await run_in_threadpool(sleep_if_due, memory)
+        # the score view of the updates since the last read, so that the files converge
+        await run_in_threadpool(_settle_view, memory)
         if store.generation != flushed:
             flushed = store.generation
             await run_in_threadpool(store.flush)
@@ -66,6 +69,14 @@ def _save_index(memory: SceneMemory) -> None:
         memory.save_index()
     except Exception:
         log.exception("the scene memory's index file could not be saved")
+
+
+def _settle_view(memory: SceneMemory) -> None:
+    """Write the score view's pending changes; a failure is the next reader's to report."""
+    try:
+        memory.settle_view()
+    except Exception:
+        log.exception("the scene memory's score view could not be written")
 
 
 def _utc_now() -> dt.datetime:
