@@ -154,9 +154,10 @@ class SceneMemory:
         self.policy: Policy = load_policy(store, policy)
         self.encoder = Encoder.from_store(store, self.policy)
         self._policy_iri = policy
-        self._eager_view = store.remote is not None
-        """Write the score view in every update's transaction: other robots read a shared
-        server directly, past this process's read barrier."""
+        self.view_in_each_update = store.remote is not None
+        """Write the score view in every update's transaction instead of before the next read:
+        the default on a shared server, which other robots read directly, past this process's
+        read barrier (set before the first update)."""
         self._counters = threading.Lock()
         self._begun = 0
         """Updates that left the view to be written, counted just before they commit."""
@@ -396,7 +397,7 @@ class SceneMemory:
         The transaction writes the score view with ``view`` or on a shared server; otherwise
         the view is marked stale for :meth:`settle_view`.
         """
-        view = view or self._eager_view
+        view = view or self.view_in_each_update
         with self._lock:
             if self._batch is not None:  # the batch's owner commits, or rolls back
                 if not view:
