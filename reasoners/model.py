@@ -450,6 +450,40 @@ class MemoryModel:
         self._dirty_top = 0
         self.unwritten = {r.iri for r in self.classes.values() if r.written_z != r.z}
 
+    def restore(
+        self,
+        records: list[ClassRecord],
+        parents: list[set[NamedNode]],
+        children: list[set[NamedNode]],
+        at_least: dict[Key, list[int]],
+        by_complexity: dict[int, int],
+        restrictions: Counter[Restriction],
+    ) -> None:
+        """Take classes as a saved index file holds them (an empty model only): every record
+        complete (Z, child sums, parent records, fan-in, written Z), ``parents[k]`` and
+        ``children[k]`` the direct edges of ``records[k]``, the index's bitsets for the records
+        in their order, and ``restrictions`` what the signatures use. Nothing is re-derived, and
+        no table is filled class by class: opening 100,000 classes takes about a second.
+        """
+        if self.classes:
+            raise ValueError("restore: the model is not empty")
+        nodes = [r.iri for r in records]
+        self.index.restore(
+            list(zip(nodes, (r.signature for r in records), strict=True)), at_least, by_complexity
+        )
+        self.classes = dict(zip(nodes, records, strict=True))
+        self.parents = dict(zip(nodes, parents, strict=True))
+        self.children = dict(zip(nodes, children, strict=True))
+        self.items_of = {node: set() for node in nodes}
+        self.complexities = Counter(r.signature.complexity for r in records)
+        self.store_counts = Counter(r.store_count for r in records)
+        self.retrieve_counts = Counter(r.retrieve_count for r in records)
+        self.restrictions = restrictions
+        self._set_rows(records)
+        self._dirty.clear()
+        self._dirty_top = 0
+        self.unwritten = {r.iri for r in records if r.written_z != r.z}
+
     def derived(self) -> "Derived | None":
         """What :meth:`load` would derive for :attr:`classes` (in their order): the index's
         bitsets and each class's Z and child sums, all current; None when the index's positions
@@ -541,6 +575,15 @@ class MemoryModel:
         self.items[record.iri] = record
         self.items_of.setdefault(record.cls, set()).add(record.iri)
         self.item_complexities[record.complexity] += 1
+
+    def add_items(self, records: Iterable[ItemRecord]) -> None:
+        """:meth:`add_item` of many items, the counter filled at once."""
+        records = list(records)
+        self.items.update((r.iri, r) for r in records)
+        items_of = self.items_of
+        for record in records:
+            items_of.setdefault(record.cls, set()).add(record.iri)
+        self.item_complexities.update(r.complexity for r in records)
 
     def remove_item(self, item: NamedNode) -> ItemRecord:
         record = self.items.pop(item)

@@ -131,6 +131,17 @@ class Signature(Mapping[Key, int]):
         return signature
 
     @classmethod
+    def unchecked(cls, counts: dict[Key, int], complexity: int) -> "Signature":
+        """A signature that takes ``counts`` and their sum ``complexity`` as they are, neither
+        copied nor checked: for counts already in signature order and checked in bulk, as a
+        saved index file's are (:mod:`reasoners.index_file` checks every count at once)."""
+        signature = cls.__new__(cls)
+        signature._counts = counts
+        signature._hash = hash(frozenset(counts.items()))
+        signature.complexity = complexity
+        return signature
+
+    @classmethod
     def from_json(cls, text: str) -> "Signature":
         """The signature written by :meth:`to_json`; ``InvalidSceneError`` if malformed."""
         try:
