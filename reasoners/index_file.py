@@ -361,7 +361,7 @@ def _signatures(
     keys: list[Key], lengths: bytes, key_column: bytes, count_column: bytes, size: int
 ) -> list[Signature]:
     """The classes' signatures from the packed columns: each count checked at once (all
-    positive integers), then one dict and one :meth:`Signature.unchecked` per class."""
+    positive integers), then :meth:`Signature.unchecked_runs`."""
     counts = _ints(count_column)
     if counts and min(counts) < 1:
         raise ValueError(f"a signature count of {min(counts)}, expected a positive integer")
@@ -369,11 +369,7 @@ def _signatures(
     ends = _ends(_ints(lengths), len(counts), "signatures")
     if len(sig_keys) != len(counts) or len(ends) != size:
         raise ValueError(f"signatures: {len(ends)} for {size} classes")
-    unchecked = Signature.unchecked
-    return [
-        unchecked(dict(zip(sig_keys[start:end], run, strict=True)), sum(run))
-        for start, end, run in zip([0, *ends], ends, _runs(counts, ends), strict=False)
-    ]
+    return Signature.unchecked_runs(sig_keys, counts, ends)
 
 
 def _edges(
