@@ -405,22 +405,15 @@ class MemoryModel:
         self,
         records: Iterable[ClassRecord],
         edges: Iterable[tuple[NamedNode, NamedNode]],
-        *,
-        derived: "Derived | None" = None,
     ) -> None:
         """Bulk-load classes and their stored (child, parent) edges; Z is derived from scratch.
 
         Indexes the classes in one pass (:meth:`SignatureIndex.add_all`) and fills the score
-        rows at once: opening a memory of 100,000 classes takes seconds, not minutes. With
-        ``derived`` (what :meth:`derived` gave for the same records in the same order, as an
-        index file keeps it), the bitsets and the Z terms are taken as they are, not re-derived.
+        rows at once: rebuilding a memory of 100,000 classes from its triples takes seconds,
+        not minutes (an index file is read by :meth:`restore`, which re-derives nothing).
         """
         records = list(records)
-        if derived is None:
-            self.index.add_all((r.iri, r.signature) for r in records)
-        else:
-            at_least, by_complexity, _ = derived
-            self.index.restore([(r.iri, r.signature) for r in records], at_least, by_complexity)
+        self.index.add_all((r.iri, r.signature) for r in records)
         self._register_all(records)
         classes, parents, children = self.classes, self.parents, self.children
         for child, parent in edges:
@@ -431,20 +424,15 @@ class MemoryModel:
             children[parent].add(child)
             below.up.append(above)
             above.fan_in += 1
-        if derived is None:
-            ordered = sorted(classes.values(), key=lambda r: -r.signature.complexity)
-            own = self._own
-            for record in ordered:  # children (more complex) before parents
-                record.z = z = own(record)
-                for above in record.up:
-                    sums = above.sums
-                    sums[0] += z[0]
-                    sums[1] += z[1]
-                    sums[2] += z[2]
-        else:
-            ordered = records
-            for record, (z, sums) in zip(records, derived[2], strict=True):
-                record.z, record.sums = z, sums
+        ordered = sorted(classes.values(), key=lambda r: -r.signature.complexity)
+        own = self._own
+        for record in ordered:  # children (more complex) before parents
+            record.z = z = own(record)
+            for above in record.up:
+                sums = above.sums
+                sums[0] += z[0]
+                sums[1] += z[1]
+                sums[2] += z[2]
         self._set_rows(ordered)
         self._dirty.clear()
         self._dirty_top = 0
@@ -485,15 +473,16 @@ class MemoryModel:
         self.unwritten = {r.iri for r in records if r.written_z != r.z}
 
     def derived(self) -> "Derived | None":
-        """What :meth:`load` would derive for :attr:`classes` (in their order): the index's
-        bitsets and each class's Z and child sums, all current; None when the index's positions
-        are not the classes' order (a class was removed), so that a load re-derives them."""
+        """What :meth:`load` would derive for :attr:`classes` (in their order), for
+        :meth:`restore`: the index's bitsets (squeezed where classes were removed) and each
+        class's Z and child sums, all current; None if the index does not hold the classes in
+        their order, so that a load re-derives them."""
         self.refresh()
-        state = self.index.state()
-        if state is None or self.index.classes() != list(self.classes):
+        if self.index.classes() != list(self.classes):
             return None
+        at_least, by_complexity = self.index.state()
         scores = [(r.z, list(r.sums)) for r in self.classes.values()]
-        return (state[0], state[1], scores)
+        return (at_least, by_complexity, scores)
 
     def add_class(
         self, record: ClassRecord, ancestors: Iterable[NamedNode] | None = None

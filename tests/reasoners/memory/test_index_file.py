@@ -16,11 +16,13 @@ import pytest
 from pyoxigraph import Literal
 
 from kg import Store
-from ontologies.vocab import MEMORY, RDFS_LABEL
+from ontologies.vocab import MEMORY, PLANE, RDFS_LABEL, SPHERE, engram
 from reasoners import index_file, persist
 from reasoners.errors import MemoryLoadingError
+from reasoners.index import SignatureIndex
 from reasoners.memory import SceneMemory
 from reasoners.model import MemoryModel
+from reasoners.signature import Signature
 
 from .conftest import FakeClock, plane, sphere
 from .index_writer import scenes
@@ -277,16 +279,33 @@ def test_opening_from_the_index_file_writes_nothing_and_keeps_the_file_current(
     assert reopen(saved_copy, clock).loaded_from == "index file"
 
 
-def test_an_index_file_after_a_forgotten_class_re_derives_the_index(
+def test_an_index_file_after_a_forgotten_class_holds_the_index_without_its_hole(
     tmp_path: Path, clock: FakeClock
 ) -> None:
     memory = filled(tmp_path / "store", clock)
-    last = memory.classes()[-1].iri
+    first = memory.classes()[0].iri
     with memory._write() as tx:  # a class leaves the index: its position becomes a hole
-        memory._forget(tx, [last], [], memory._now())
-    assert memory._model.derived() is None
+        memory._forget(tx, [first], [], memory._now())
+    assert None in memory._model.index.slots()
     assert memory.save_index()
     del memory
     opened = reopen(tmp_path / "store", clock)
     assert opened.loaded_from == "index file"
     assert_same_model(opened._model, persist.load_model(opened.store))
+
+
+def test_the_saved_bitsets_of_an_index_with_holes_are_those_of_its_live_classes() -> None:
+    above, below = engram("sphereIsAboveOf"), engram("planeIsBelowOf")
+    entries = [
+        (engram(f"Scene-{k}"), Signature(counts))
+        for k, counts in enumerate(
+            [{(above, PLANE): 1}, {(above, PLANE): 3, (below, SPHERE): 1}, {(above, PLANE): 2}]
+        )
+    ]
+    index = SignatureIndex()
+    index.add_all(entries)
+    index.remove(entries[1][0])  # the only class with a count of 3, and with ``below``
+    fresh = SignatureIndex()
+    fresh.add_all([entries[0], entries[2]])
+    assert index.state() == fresh.state()
+    assert index.state()[0] == {(above, PLANE): [0, 0b11, 0b10]}
