@@ -52,6 +52,7 @@ from pathlib import Path
 from typing import Any, cast
 
 import numpy as np
+from numpy.typing import NDArray
 from pyoxigraph import Literal, NamedNode
 
 from kg.store import Store
@@ -302,7 +303,8 @@ def rebuild(values: dict[str, Any], weights: Weights) -> MemoryModel:
     columns = (stores, retrieves, scores, created, accessed, weak, pinned, levels, written)
     if any(len(column) != size for column in columns):
         raise ValueError(f"classes: columns of {[len(c) for c in columns]}, not {size}")
-    signatures = _signatures(keys, lengths, key_column, count_column, size)
+    restrictions = _Restrictions(keys, key_column, count_column)
+    signatures = _signatures(keys, restrictions, lengths, key_column, count_column, size)
     up, down = _edges(values["edges"], size)
     derived = values["derived"]
     model = MemoryModel(weights=weights)
@@ -335,7 +337,7 @@ def rebuild(values: dict[str, Any], weights: Weights) -> MemoryModel:
             [set(map(node_at, run)) for run in down],
             {keys[k]: levels for k, levels in at_least},
             by_complexity,
-            _restrictions(keys, key_column, count_column),
+            restrictions.counter(),
         )
     model.written_factors = None if values["factors"] is None else tuple(values["factors"])
     item_iris, classes_of, complexities, item_created, item_accessed, *rest = values["items"]
@@ -357,19 +359,61 @@ def rebuild(values: dict[str, Any], weights: Weights) -> MemoryModel:
     return model
 
 
+class _Restrictions:
+    """The restrictions (key, count) of every signature, from the packed columns: each distinct
+    one hashed and counted once, in numpy, rather than millions of tuples hashed one by one."""
+
+    def __init__(self, keys: list[Key], key_column: bytes, count_column: bytes) -> None:
+        key_numbers = np.frombuffer(key_column, dtype="<u4").astype(np.intp)
+        counts = np.frombuffer(count_column, dtype="<u4").astype(np.intp)
+        if len(key_numbers) != len(counts):
+            raise ValueError(f"signatures: {len(key_numbers)} keys, {len(counts)} counts")
+        if len(counts) and (counts.min() < 1 or key_numbers.max() >= len(keys)):
+            raise ValueError("signatures: a count below 1 or a key number out of range")
+        width = int(counts.max(initial=0)) + 1
+        codes = key_numbers * width + counts  # one number per restriction
+        if len(keys) * width <= _TABLE:  # counted in a dense table
+            table = np.bincount(codes)
+            distinct = np.flatnonzero(table)
+            uses = table[distinct]
+            rank = np.zeros(len(table), dtype=np.intp)
+            rank[distinct] = np.arange(len(distinct))
+            inverse = rank[codes]
+        else:  # a huge count: sorted instead
+            distinct, inverse, uses = np.unique(codes, return_inverse=True, return_counts=True)
+        self.distinct: list[Restriction] = [
+            (keys[code // width], code % width) for code in distinct.tolist()
+        ]
+        self.uses: list[int] = uses.tolist()
+        hashes = np.array([hash(restriction) for restriction in self.distinct], dtype=np.int64)
+        self.item_hashes: NDArray[np.int64] = hashes[inverse]
+        """``hash((key, count))`` of every entry of the columns."""
+
+    def counter(self) -> Counter[Restriction]:
+        """How many signatures use each restriction (:attr:`MemoryModel.restrictions`)."""
+        return Counter(dict(zip(self.distinct, self.uses, strict=True)))
+
+
+_TABLE = 1 << 24
+"""The most (key, count) cells a dense table of restrictions may have."""
+
+
 def _signatures(
-    keys: list[Key], lengths: bytes, key_column: bytes, count_column: bytes, size: int
+    keys: list[Key],
+    restrictions: _Restrictions,
+    lengths: bytes,
+    key_column: bytes,
+    count_column: bytes,
+    size: int,
 ) -> list[Signature]:
-    """The classes' signatures from the packed columns: each count checked at once (all
-    positive integers), then :meth:`Signature.unchecked_runs`."""
+    """The classes' signatures from the packed columns (their counts and keys checked at once by
+    :class:`_Restrictions`), built by :meth:`Signature.unchecked_runs`."""
     counts = _ints(count_column)
-    if counts and min(counts) < 1:
-        raise ValueError(f"a signature count of {min(counts)}, expected a positive integer")
     sig_keys = list(map(keys.__getitem__, _ints(key_column)))
     ends = _ends(_ints(lengths), len(counts), "signatures")
-    if len(sig_keys) != len(counts) or len(ends) != size:
+    if len(ends) != size:
         raise ValueError(f"signatures: {len(ends)} for {size} classes")
-    return Signature.unchecked_runs(sig_keys, counts, ends)
+    return Signature.unchecked_runs(sig_keys, counts, ends, restrictions.item_hashes)
 
 
 def _edges(
@@ -383,24 +427,6 @@ def _edges(
     if len(up) != size or len(down) != size:
         raise ValueError(f"edges: {len(up)} parent and {len(down)} child lists for {size} classes")
     return up, down
-
-
-def _restrictions(keys: list[Key], key_column: bytes, count_column: bytes) -> Counter[Restriction]:
-    """How many classes use each restriction (key, count), counted in numpy from the packed
-    columns rather than by hashing a million (key, count) tuples."""
-    key_numbers = np.frombuffer(key_column, dtype="<u4").astype(np.uint64)
-    counts = np.frombuffer(count_column, dtype="<u4").astype(np.uint64)
-    codes, uses = np.unique(key_numbers * np.uint64(_CODES) + counts, return_counts=True)
-    return Counter(
-        {
-            (keys[code // _CODES], code % _CODES): n
-            for code, n in zip(codes.tolist(), uses.tolist(), strict=True)
-        }
-    )
-
-
-_CODES = 1 << 32
-"""Restriction (key number k, count n) coded as one integer ``k * _CODES + n``."""
 
 
 @contextlib.contextmanager

@@ -3,7 +3,9 @@ from the triples when it is missing, stale, truncated, corrupt or half-written."
 
 import dataclasses
 import gc
+import itertools
 import os
+import random
 import shutil
 import signal
 import subprocess
@@ -12,6 +14,7 @@ import threading
 from collections.abc import Callable
 from pathlib import Path
 
+import numpy as np
 import pytest
 from pyoxigraph import Literal
 
@@ -22,7 +25,7 @@ from reasoners.errors import MemoryLoadingError
 from reasoners.index import SignatureIndex
 from reasoners.memory import SceneMemory
 from reasoners.model import MemoryModel
-from reasoners.signature import Signature
+from reasoners.signature import Signature, _frozenset_hashes
 
 from .conftest import FakeClock, plane, sphere
 from .index_writer import scenes
@@ -309,3 +312,23 @@ def test_the_saved_bitsets_of_an_index_with_holes_are_those_of_its_live_classes(
     fresh.add_all([entries[0], entries[2]])
     assert index.state() == fresh.state()
     assert index.state()[0] == {(above, PLANE): [0, 0b11, 0b10]}
+
+
+def test_signatures_read_in_bulk_hash_as_python_hashes_them() -> None:
+    rng = random.Random(5)
+    properties = [engram(name) for name in ("sphereIsAboveOf", "planeIsBelowOf", "isNear")]
+    pool = [((p, t), n) for p in properties for t in (PLANE, SPHERE) for n in range(1, 4)]
+    samples = [dict(rng.sample(pool, rng.randint(1, 6))) for _ in range(500)]
+    runs = [dict(Signature(sample).items()) for sample in samples]  # in signature order
+    keys = [key for run in runs for key in run]
+    counts = [n for run in runs for n in run.values()]
+    ends = list(itertools.accumulate(len(run) for run in runs))
+    item_hashes = np.array([hash(item) for run in runs for item in run.items()], dtype=np.int64)
+    python = [hash(frozenset(run.items())) for run in runs]
+    assert _frozenset_hashes(item_hashes, ends) == python  # the bulk path, not its fallback
+    built = Signature.unchecked_runs(keys, counts, ends, item_hashes)
+    assert built == [Signature(run) for run in runs]
+    assert [hash(s) for s in built] == python
+    # wrong item hashes (another interpreter's frozenset hash) are caught and not used
+    wrong = Signature.unchecked_runs(keys, counts, ends, item_hashes + 1)
+    assert [hash(s) for s in wrong] == python
