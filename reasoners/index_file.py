@@ -174,6 +174,11 @@ def snapshot(model: MemoryModel, revision: str, weights: Weights) -> dict[str, A
     packed arrays with per-class lengths, so that reading them back is a few bulk calls rather
     than Python work per class (format 3).
     """
+    with _collector_paused():  # a few hundred thousand lists, all kept until pickled
+        return _snapshot(model, revision, weights)
+
+
+def _snapshot(model: MemoryModel, revision: str, weights: Weights) -> dict[str, Any]:
     keys: dict[Key, int] = {}
 
     def key_number(key: Key) -> int:
@@ -202,13 +207,15 @@ def snapshot(model: MemoryModel, revision: str, weights: Weights) -> dict[str, A
     records = list(model.classes.values())
     numbers = {cls: k for k, cls in enumerate(model.classes)}
     signatures = [r.signature for r in records]
-    parents = [[numbers[p] for p in model.parents[r.iri]] for r in records]
-    children = [[numbers[c] for c in model.children[r.iri]] for r in records]
+    parents = [list(map(numbers.__getitem__, model.parents[r.iri])) for r in records]
+    flat_keys = list(itertools.chain.from_iterable(signatures))
+    for key in dict.fromkeys(flat_keys):  # the few distinct keys numbered first
+        key_number(key)
     classes = (
         [r.iri.value for r in records],
-        _u32(len(sig) for sig in signatures),
-        _u32(key_number(key) for sig in signatures for key in sig),
-        _u32(n for sig in signatures for n in sig.values()),
+        _u32(map(len, signatures)),
+        _u32(map(keys.__getitem__, flat_keys)),
+        _u32(itertools.chain.from_iterable(sig.values() for sig in signatures)),
         [r.store_count for r in records],
         [r.retrieve_count for r in records],
         [r.score for r in records],
@@ -219,12 +226,7 @@ def snapshot(model: MemoryModel, revision: str, weights: Weights) -> dict[str, A
         [r.level for r in records],
         [r.written_z for r in records],
     )
-    edges = (
-        _u32(len(row) for row in parents),
-        _u32(itertools.chain.from_iterable(parents)),
-        _u32(len(row) for row in children),
-        _u32(itertools.chain.from_iterable(children)),
-    )
+    edges = _edge_columns(parents)
     items = list(model.items.values())
     item_columns = (
         [r.iri.value for r in items],
@@ -275,6 +277,22 @@ def snapshot(model: MemoryModel, revision: str, weights: Weights) -> dict[str, A
             model.has_state,
         ),
     }
+
+
+def _edge_columns(parents: list[list[int]]) -> tuple[bytes, bytes, bytes, bytes]:
+    """The packed (parent lengths, parents, child lengths, children) of the classes whose
+    parents are ``parents[k]``: the children are the parents inverted, in numpy (the model keeps
+    ``children`` the inverse of ``parents``)."""
+    lengths = np.fromiter(map(len, parents), dtype=np.intp, count=len(parents))
+    above = np.fromiter(itertools.chain.from_iterable(parents), dtype=np.intp)
+    below = np.repeat(np.arange(len(parents)), lengths)
+    by_parent = np.argsort(above, kind="stable")
+    return (
+        lengths.astype("<u4").tobytes(),
+        above.astype("<u4").tobytes(),
+        np.bincount(above, minlength=len(parents)).astype("<u4").tobytes(),
+        below[by_parent].astype("<u4").tobytes(),
+    )
 
 
 def rebuild(values: dict[str, Any], weights: Weights) -> MemoryModel:
