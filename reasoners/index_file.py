@@ -3,7 +3,9 @@
 Rebuilding the model from triples (:func:`reasoners.persist.load_model`) reads every learned
 class, edge and experienced scene through SPARQL: seconds at 10,000 classes. The index file holds
 the same facts as plain values (IRIs as strings, signatures as key numbers, times as ISO text),
-so opening reads it and rebuilds the model with its bulk builder, and falls back to the triples
+laid out as columns (signatures and edges as packed arrays) with what the model derives from
+them (the index's bitsets, each class's Z terms), so that opening reads it with bulk calls and
+re-derives nothing (under two seconds at 100,000 classes), and falls back to the triples
 whenever the file cannot be trusted:
 
 - **versioned**: every committed scene-memory transaction replaces the store's revision token
