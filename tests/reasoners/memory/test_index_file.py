@@ -160,12 +160,22 @@ def _wrong_shape(path: Path) -> None:
     index_file.write_snapshot(path, values)
 
 
+def _zero_count(path: Path) -> None:
+    """A well-formed file (checksum and all) whose signatures hold a count of 0."""
+    values = index_file.read(path)
+    columns = list(values["classes"])
+    columns[3] = bytes(len(columns[3]))  # the packed counts, every one 0
+    values["classes"] = tuple(columns)
+    index_file.write_snapshot(path, values)
+
+
 def _empty(path: Path) -> None:
     path.write_bytes(b"")
 
 
 @pytest.mark.parametrize(
-    "damage", [_truncate, _flip, _header_only, _garbage, _a_global, _wrong_shape, _empty]
+    "damage",
+    [_truncate, _flip, _header_only, _garbage, _a_global, _wrong_shape, _zero_count, _empty],
 )
 def test_a_damaged_index_file_falls_back_to_the_store(
     saved_copy: Path, clock: FakeClock, damage: Callable[[Path], None]
