@@ -137,14 +137,30 @@ class SignatureIndex:
                 members[per_count[n - 1]] = True
                 levels[n] |= _pack(members)
 
-    def state(self) -> tuple[dict[Key, list[int]], dict[int, int]] | None:
-        """The bitsets (at least n per key, per complexity) when no class was removed (every
-        position live), for :meth:`restore`; None otherwise (the caller re-indexes)."""
-        if self._live != (1 << len(self._classes)) - 1:
-            return None
-        return {key: list(levels) for key, levels in self._at_least.items()}, dict(
-            self._by_complexity
-        )
+    def state(self) -> tuple[dict[Key, list[int]], dict[int, int]]:
+        """The bitsets (at least n per key, per complexity) of the live classes in their order,
+        as :meth:`add_all` of those classes alone would build them (removed positions squeezed
+        out, levels no class reaches any more dropped), for :meth:`restore`."""
+        size = len(self._classes)
+        if self._live == (1 << size) - 1:
+            return {key: list(levels) for key, levels in self._at_least.items()}, dict(
+                self._by_complexity
+            )
+        live = np.array([cls is not None for cls in self._classes], dtype=bool)
+
+        def squeezed(value: int) -> int:
+            packed = np.frombuffer(value.to_bytes((size + 7) // 8, "little"), dtype=np.uint8)
+            return _pack(np.unpackbits(packed, bitorder="little")[:size].astype(bool)[live])
+
+        at_least: dict[Key, list[int]] = {}
+        for key, levels in self._at_least.items():
+            kept = [0, *(squeezed(level) for level in levels[1:])]
+            while len(kept) > 1 and not kept[-1]:
+                kept.pop()
+            if len(kept) > 1:
+                at_least[key] = kept
+        by_complexity = {d: squeezed(members) for d, members in self._by_complexity.items()}
+        return at_least, {d: members for d, members in by_complexity.items() if members}
 
     def restore(
         self,

@@ -14,8 +14,11 @@ True
 
 import functools
 import json
-from collections.abc import ItemsView, Iterator, Mapping, ValuesView
+from collections.abc import ItemsView, Iterator, Mapping, Sequence, ValuesView
+from typing import cast
 
+import numpy as np
+from numpy.typing import NDArray
 from pyoxigraph import NamedNode
 
 from reasoners.errors import InvalidSceneError
@@ -41,6 +44,32 @@ def _order(item: tuple[Key, int]) -> tuple[str, str]:
     """Signatures keep their keys sorted by IRI (reading ``.value`` makes a new string each
     time, so the few distinct keys' orders are cached)."""
     return _key_order(item[0])
+
+
+_CHECKED = 16
+"""How many of the hashes :func:`_frozenset_hashes` combines are compared with Python's."""
+
+
+def _frozenset_hashes(item_hashes: "NDArray[np.int64]", ends: Sequence[int]) -> list[int] | None:
+    """``hash(frozenset(items))`` of every run of items ending before ``ends[k]``, from the
+    items' hashes, computed as CPython 3.11 combines them (Objects/setobject.c,
+    ``frozenset_hash``: the entries' shuffled hashes xored, then mixed with the size), for all
+    runs at once; None if a run is empty (the caller hashes them one by one). The caller checks
+    a few against Python's own, so that another interpreter's algorithm is never trusted."""
+    if not len(ends):
+        return []
+    bounds = np.array([0, *ends], dtype=np.intp)
+    sizes = np.diff(bounds)
+    if sizes.min() < 1 or bounds[-1] != len(item_hashes):
+        return None
+    h = item_hashes.view(np.uint64)
+    shuffled = (h ^ np.uint64(89869747) ^ (h << np.uint64(16))) * np.uint64(3644798167)
+    combined = np.bitwise_xor.reduceat(shuffled, bounds[:-1])
+    combined ^= (sizes.astype(np.uint64) + np.uint64(1)) * np.uint64(1927868237)
+    combined ^= (combined >> np.uint64(11)) ^ (combined >> np.uint64(25))
+    combined = combined * np.uint64(69069) + np.uint64(907133923)
+    combined[combined == np.uint64(2**64 - 1)] = np.uint64(590923713)  # -1 is reserved
+    return cast(list[int], combined.view(np.int64).tolist())
 
 
 class Signature(Mapping[Key, int]):
@@ -129,6 +158,42 @@ class Signature(Mapping[Key, int]):
         signature._hash = hash(frozenset(counts.items()))
         signature.complexity = sum(counts.values())
         return signature
+
+    @classmethod
+    def unchecked_runs(
+        cls,
+        keys: Sequence[Key],
+        counts: Sequence[int],
+        ends: Sequence[int],
+        item_hashes: "NDArray[np.int64] | None" = None,
+    ) -> list["Signature"]:
+        """The signatures laid end to end in ``keys`` and ``counts`` (each one's keys in
+        signature order), the k-th ending before ``ends[k]``; the counts are taken as they are,
+        not checked: for counts checked in bulk, as a saved index file's are
+        (:mod:`reasoners.index_file`). One loop for them all, 100,000 at a time.
+
+        ``item_hashes[i]``, when given, is ``hash((keys[i], counts[i]))``: the signatures'
+        hashes are then combined from them in numpy (:func:`_frozenset_hashes`) instead of
+        building a frozenset per signature, and checked against Python's on the first few.
+        """
+        hashes = None if item_hashes is None else _frozenset_hashes(item_hashes, ends)
+        made: list[Signature] = []
+        append, new, start = made.append, cls.__new__, 0
+        for k, end in enumerate(ends):
+            run = counts[start:end]
+            counts_of = dict(zip(keys[start:end], run, strict=True))
+            signature = new(cls)
+            signature._counts = counts_of
+            signature._hash = hash(frozenset(counts_of.items())) if hashes is None else hashes[k]
+            signature.complexity = sum(run)
+            append(signature)
+            start = end
+        if hashes is not None and any(
+            s._hash != hash(frozenset(s._counts.items())) for s in made[:_CHECKED]
+        ):  # another Python's frozenset hash: every signature hashed as it is built
+            for signature in made:
+                signature._hash = hash(frozenset(signature._counts.items()))
+        return made
 
     @classmethod
     def from_json(cls, text: str) -> "Signature":

@@ -3,7 +3,9 @@ from the triples when it is missing, stale, truncated, corrupt or half-written."
 
 import dataclasses
 import gc
+import itertools
 import os
+import random
 import shutil
 import signal
 import subprocess
@@ -12,15 +14,18 @@ import threading
 from collections.abc import Callable
 from pathlib import Path
 
+import numpy as np
 import pytest
 from pyoxigraph import Literal
 
 from kg import Store
-from ontologies.vocab import MEMORY, RDFS_LABEL
+from ontologies.vocab import MEMORY, PLANE, RDFS_LABEL, SPHERE, engram
 from reasoners import index_file, persist
 from reasoners.errors import MemoryLoadingError
+from reasoners.index import SignatureIndex
 from reasoners.memory import SceneMemory
 from reasoners.model import MemoryModel
+from reasoners.signature import Signature, _frozenset_hashes
 
 from .conftest import FakeClock, plane, sphere
 from .index_writer import scenes
@@ -155,12 +160,22 @@ def _wrong_shape(path: Path) -> None:
     index_file.write_snapshot(path, values)
 
 
+def _zero_count(path: Path) -> None:
+    """A well-formed file (checksum and all) whose signatures hold a count of 0."""
+    values = index_file.read(path)
+    columns = list(values["classes"])
+    columns[3] = bytes(len(columns[3]))  # the packed counts, every one 0
+    values["classes"] = tuple(columns)
+    index_file.write_snapshot(path, values)
+
+
 def _empty(path: Path) -> None:
     path.write_bytes(b"")
 
 
 @pytest.mark.parametrize(
-    "damage", [_truncate, _flip, _header_only, _garbage, _a_global, _wrong_shape, _empty]
+    "damage",
+    [_truncate, _flip, _header_only, _garbage, _a_global, _wrong_shape, _zero_count, _empty],
 )
 def test_a_damaged_index_file_falls_back_to_the_store(
     saved_copy: Path, clock: FakeClock, damage: Callable[[Path], None]
@@ -277,16 +292,53 @@ def test_opening_from_the_index_file_writes_nothing_and_keeps_the_file_current(
     assert reopen(saved_copy, clock).loaded_from == "index file"
 
 
-def test_an_index_file_after_a_forgotten_class_re_derives_the_index(
+def test_an_index_file_after_a_forgotten_class_holds_the_index_without_its_hole(
     tmp_path: Path, clock: FakeClock
 ) -> None:
     memory = filled(tmp_path / "store", clock)
-    last = memory.classes()[-1].iri
+    first = memory.classes()[0].iri
     with memory._write() as tx:  # a class leaves the index: its position becomes a hole
-        memory._forget(tx, [last], [], memory._now())
-    assert memory._model.derived() is None
+        memory._forget(tx, [first], [], memory._now())
+    assert None in memory._model.index.slots()
     assert memory.save_index()
     del memory
     opened = reopen(tmp_path / "store", clock)
     assert opened.loaded_from == "index file"
     assert_same_model(opened._model, persist.load_model(opened.store))
+
+
+def test_the_saved_bitsets_of_an_index_with_holes_are_those_of_its_live_classes() -> None:
+    above, below = engram("sphereIsAboveOf"), engram("planeIsBelowOf")
+    entries = [
+        (engram(f"Scene-{k}"), Signature(counts))
+        for k, counts in enumerate(
+            [{(above, PLANE): 1}, {(above, PLANE): 3, (below, SPHERE): 1}, {(above, PLANE): 2}]
+        )
+    ]
+    index = SignatureIndex()
+    index.add_all(entries)
+    index.remove(entries[1][0])  # the only class with a count of 3, and with ``below``
+    fresh = SignatureIndex()
+    fresh.add_all([entries[0], entries[2]])
+    assert index.state() == fresh.state()
+    assert index.state()[0] == {(above, PLANE): [0, 0b11, 0b10]}
+
+
+def test_signatures_read_in_bulk_hash_as_python_hashes_them() -> None:
+    rng = random.Random(5)
+    properties = [engram(name) for name in ("sphereIsAboveOf", "planeIsBelowOf", "isNear")]
+    pool = [((p, t), n) for p in properties for t in (PLANE, SPHERE) for n in range(1, 4)]
+    samples = [dict(rng.sample(pool, rng.randint(1, 6))) for _ in range(500)]
+    runs = [dict(Signature(sample).items()) for sample in samples]  # in signature order
+    keys = [key for run in runs for key in run]
+    counts = [n for run in runs for n in run.values()]
+    ends = list(itertools.accumulate(len(run) for run in runs))
+    item_hashes = np.array([hash(item) for run in runs for item in run.items()], dtype=np.int64)
+    python = [hash(frozenset(run.items())) for run in runs]
+    assert _frozenset_hashes(item_hashes, ends) == python  # the bulk path, not its fallback
+    built = Signature.unchecked_runs(keys, counts, ends, item_hashes)
+    assert built == [Signature(run) for run in runs]
+    assert [hash(s) for s in built] == python
+    # wrong item hashes (another interpreter's frozenset hash) are caught and not used
+    wrong = Signature.unchecked_runs(keys, counts, ends, item_hashes + 1)
+    assert [hash(s) for s in wrong] == python
