@@ -77,6 +77,10 @@ class SignatureIndex:
         """The bit position of an indexed class (stable until it is removed)."""
         return self._position[cls]
 
+    def positions(self, classes: Iterable[NamedNode]) -> list[int]:
+        """:meth:`position` of each of ``classes``."""
+        return list(map(self._position.__getitem__, classes))
+
     def slots(self) -> list[NamedNode | None]:
         """The class at every bit position (None where a class was removed)."""
         return self._classes

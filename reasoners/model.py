@@ -30,6 +30,7 @@ import datetime as dt
 import functools
 import itertools
 import math
+import operator
 from collections import Counter
 from collections.abc import Iterable
 from dataclasses import dataclass, field
@@ -108,6 +109,9 @@ class TrashedItem:
     iri: NamedNode
     cls: NamedNode
     forgotten_at: dt.datetime
+
+
+_sums_of = operator.attrgetter("sums")
 
 
 @functools.lru_cache(maxsize=4096)
@@ -283,7 +287,7 @@ class MemoryModel:
         if self._dirty_top < down_to or not self._dirty:
             return
         self._refreshes += 1
-        mark, own = self._refreshes, self._own
+        mark = self._refreshes
         waiting: dict[int, list[ClassRecord]] = {}
         for cls in self._dirty:
             record = self.classes[cls]
@@ -291,23 +295,49 @@ class MemoryModel:
             waiting.setdefault(record.signature.complexity, []).append(record)
         self._dirty.clear()
         changed: list[ClassRecord] = []
-        while waiting and max(waiting) >= down_to:
-            for record in waiting.pop(max(waiting)):
-                new = own(record)
+        keep = changed.append
+        a_c, log_fixed = self.weights[1], _log_fixed
+        # :meth:`_own` inlined (the same arithmetic): this loop runs once per ancestor of what
+        # changed, thousands of times per update in a large memory
+        while waiting:
+            complexity = max(waiting)
+            if complexity < down_to:
+                break
+            u_d = complexity * SCALE
+            for record in waiting.pop(complexity):
+                n = record.fan_in
+                if n:
+                    s0, s1, s2 = record.sums
+                    new = (
+                        u_d + round(a_c * (s0 / n)),
+                        log_fixed(record.store_count) + round(a_c * (s1 / n)),
+                        log_fixed(record.retrieve_count) + round(a_c * (s2 / n)),
+                    )
+                else:
+                    new = (u_d, log_fixed(record.store_count), log_fixed(record.retrieve_count))
                 old = record.z
                 if new == old:
                     continue
                 record.z = new
-                changed.append(record)
+                keep(record)
                 d0, d1, d2 = new[0] - old[0], new[1] - old[1], new[2] - old[2]
-                for above in record.up:
-                    sums = above.sums
-                    sums[0] += d0
-                    sums[1] += d1
-                    sums[2] += d2
+                up = record.up
+                if d0 or d2:
+                    for sums in map(_sums_of, up):
+                        sums[0] += d0
+                        sums[1] += d1
+                        sums[2] += d2
+                else:  # a reinforce changes the store term alone
+                    for sums in map(_sums_of, up):
+                        sums[1] += d1
+                for above in up:
                     if above.mark != mark:
                         above.mark = mark
-                        waiting.setdefault(above.signature.complexity, []).append(above)
+                        level = above.signature.complexity
+                        if level in waiting:
+                            waiting[level].append(above)
+                        else:
+                            waiting[level] = [above]
         self._dirty.update(record.iri for level in waiting.values() for record in level)
         self._dirty_top = max(waiting, default=0)
         self._set_rows(changed)
@@ -327,10 +357,11 @@ class MemoryModel:
     def _set_rows(self, records: list[ClassRecord]) -> None:
         if not records:
             return
-        position = self.index.position
-        positions = [position(r.iri) for r in records]
+        positions = self.index.positions(r.iri for r in records)
         self._grow(max(positions))
-        self._z[:, positions] = np.array([r.z for r in records], dtype=np.float64).T / SCALE
+        z = itertools.chain.from_iterable(r.z for r in records)
+        rows = np.fromiter(z, dtype=np.float64, count=3 * len(records)).reshape(-1, 3)
+        self._z[:, positions] = rows.T / SCALE
         self._version += 1
 
     def _grow(self, position: int) -> None:
@@ -498,8 +529,11 @@ class MemoryModel:
             ancestors = self.index.recognised(record.signature)
         ancestors = set(ancestors)
         descendants = set(self.index.dominating(record.signature))
-        parents = {p for p in ancestors if self.children[p].isdisjoint(ancestors)}
-        children = {c for c in descendants if self.parents[c].isdisjoint(descendants)}
+        # A direct parent is an ancestor with no child among the ancestors, that is, no
+        # ancestor's parent (and the other way round for the children): set unions of the
+        # edge sets, whose members' hashes are kept, instead of a test per ancestor.
+        parents = ancestors.difference(*(self.parents[a] for a in ancestors))
+        children = descendants.difference(*(self.children[d] for d in descendants))
         removed: set[tuple[NamedNode, NamedNode]] = set()
         self._register(record)
         for p in parents:

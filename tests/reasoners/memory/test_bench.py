@@ -33,3 +33,26 @@ def test_bench_quick_prints_a_row_per_size() -> None:
         assert view_learn > 0  # the view of the learns, written once before the next read
         view, _edges, new_class, scene, _ = quads
         assert new_class > 0 and scene > 0 and view > 0, row
+
+
+UPDATE_COSTS = BENCH.with_name("update_costs.py")
+
+
+@pytest.mark.slow
+def test_update_costs_quick_prints_learn_and_reinforce_per_size() -> None:
+    done = subprocess.run(
+        [sys.executable, str(UPDATE_COSTS), "--quick", "--profile", "3"],
+        capture_output=True,
+        text=True,
+        timeout=300,
+        check=True,
+        cwd=BENCH.parents[1],
+    )
+    rows = [line.split() for line in done.stdout.splitlines()]
+    rows = [r for r in rows if len(r) == 9 and r[1] in ("learn", "reinforce")]
+    assert [r[1] for r in rows] == ["learn", "reinforce"] * 2, done.stdout
+    for row in rows:
+        wall, cpu, _recog, _rescore, write, quads, ancestors = (float(x) for x in row[2:])
+        assert wall > 0 and cpu > 0 and write > 0 and quads > 0, row
+        assert ancestors >= 1, row  # a reinforced scene is recognised as its class at least
+    assert "learns at" in done.stdout and "reinforces at" in done.stdout
