@@ -27,7 +27,7 @@ from pyoxigraph import Literal, NamedNode, Quad
 from kg.store import Store
 from kg.transaction import Object, Pattern, Subject, Transaction
 
-__all__ = ["PendingView", "PendingWrites", "QuadReader"]
+__all__ = ["PendingView", "PendingWrites", "QuadReader", "matches"]
 
 
 class QuadReader(Protocol):
@@ -42,13 +42,14 @@ class QuadReader(Protocol):
     ) -> Iterator[Quad]: ...
 
 
-def _matches(
+def matches(
     quad: Quad,
     subject: object,
     predicate: object,
     obj: object,
     graph: object,
 ) -> bool:
+    """Whether ``quad`` matches the pattern (``None`` matches anything)."""
     return (
         (subject is None or quad.subject == subject)
         and (predicate is None or quad.predicate == predicate)
@@ -86,7 +87,7 @@ class PendingWrites(Transaction):
         graph: NamedNode,
     ) -> None:
         super().delete_matching(subject, predicate, obj, graph=graph)
-        doomed = {q for q in self._inserted if _matches(q, subject, predicate, obj, graph)}
+        doomed = {q for q in self._inserted if matches(q, subject, predicate, obj, graph)}
         if doomed:
             self._inserted -= doomed
             self.inserts = [q for q in self.inserts if q not in doomed]
@@ -107,7 +108,7 @@ class PendingWrites(Transaction):
             seen.add(quad)
             yield quad
         for quad in list(self.inserts):
-            if quad not in seen and _matches(quad, subject, predicate, obj, graph):
+            if quad not in seen and matches(quad, subject, predicate, obj, graph):
                 seen.add(quad)
                 yield quad
 
@@ -123,7 +124,7 @@ class PendingWrites(Transaction):
 
 
 def _hit(pattern: Pattern, quad: Quad) -> bool:
-    return _matches(quad, pattern.subject, pattern.predicate, pattern.object, pattern.graph)
+    return matches(quad, pattern.subject, pattern.predicate, pattern.object, pattern.graph)
 
 
 @dataclass(frozen=True)

@@ -85,7 +85,7 @@ from ontologies.vocab import (
     PROV_USED,
     XSD_DATETIME,
 )
-from reasoners.batch import QuadReader
+from reasoners.batch import QuadReader, matches
 from reasoners.model import ClassRecord, ItemRecord, MemoryModel
 from reasoners.results import Recognition
 from reasoners.scoring import WEAK
@@ -500,14 +500,7 @@ class _Written:
         graph: NamedNode | None = None,
     ) -> Iterator[Quad]:
         yield from self.store.quads(subject, predicate, obj, graph)
-        for q in self.pending:
-            if (
-                (subject is None or q.subject == subject)
-                and (predicate is None or q.predicate == predicate)
-                and (obj is None or q.object == obj)
-                and (graph is None or q.graph_name == graph)
-            ):
-                yield q
+        yield from (q for q in self.pending if matches(q, subject, predicate, obj, graph))
 
 
 def checkpoint(tx: Transaction, model: MemoryModel, store: QuadReader, at: dt.datetime) -> bool:

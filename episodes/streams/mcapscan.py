@@ -146,6 +146,20 @@ def chunk_records(body: memoryview) -> memoryview:
     return records
 
 
+def records(buf: memoryview) -> Iterator[tuple[int, memoryview]]:
+    """The (opcode, body) of each record laid end to end in ``buf`` (a chunk's records, a
+    summary, a chunk's message index); :class:`CorruptRecordingError` for one that runs past
+    the end."""
+    pos, end = 0, len(buf)
+    while pos + 9 <= end:
+        op, length = _REC.unpack_from(buf, pos)
+        pos += 9
+        if pos + length > end:
+            raise CorruptRecordingError("a record runs past the bytes read")
+        yield op, buf[pos : pos + length]
+        pos += length
+
+
 def _chunk(
     body: memoryview,
     schemas: dict[int, str],
@@ -153,12 +167,7 @@ def _chunk(
     wanted: set[str] | None,
     start_ns: int | None,
 ) -> Iterator[RawMessage]:
-    records = chunk_records(body)
-    pos, end = 0, len(records)
-    while pos + 9 <= end:
-        op, length = _REC.unpack_from(records, pos)
-        rec = records[pos + 9 : pos + 9 + length]
-        pos += 9 + length
+    for op, rec in records(chunk_records(body)):
         yield from _record(op, rec, schemas, channels, wanted, start_ns)
 
 

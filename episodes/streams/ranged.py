@@ -43,13 +43,18 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from episodes.streams.errors import CorruptRecordingError
-from episodes.streams.mcapscan import McapScan, RawMessage, chunk_records, read_string
+from episodes.streams.mcapscan import (
+    McapScan,
+    RawMessage,
+    chunk_records,
+    read_string,
+    records,
+)
 
 __all__ = ["RangedMcap", "SavedMessages", "read_messages", "write_messages"]
 
 _MAGIC = b"\x89MCAP0\r\n"
 _FOOTER = struct.Struct("<BQQQI")  # opcode, length, summary start, summary offset start, crc
-_REC = struct.Struct("<BQ")
 _U16 = struct.Struct("<H")
 _U32 = struct.Struct("<I")
 _U64 = struct.Struct("<Q")
@@ -150,11 +155,7 @@ class RangedMcap(McapScan):
     def _parse_summary(self, buf: memoryview) -> None:
         schemas: dict[int, str] = {}
         channels: dict[int, tuple[int, str]] = {}
-        pos = 0
-        while pos + 9 <= len(buf):
-            op, length = _REC.unpack_from(buf, pos)
-            body = buf[pos + 9 : pos + 9 + length]
-            pos += 9 + length
+        for op, body in records(buf):
             if op == 0x03:
                 (schema_id,) = _U16.unpack_from(body, 0)
                 schemas[schema_id], _ = read_string(body, 2)
@@ -258,11 +259,7 @@ def _chunk_index(body: memoryview) -> _Chunk:
 def _message_offsets(index: memoryview) -> list[tuple[int, int]]:
     """(channel id, offset in the chunk's records) of every message a chunk's index lists."""
     found = []
-    pos = 0
-    while pos + 9 <= len(index):
-        op, length = _REC.unpack_from(index, pos)
-        body = index[pos + 9 : pos + 9 + length]
-        pos += 9 + length
+    for op, body in records(index):
         if op != 0x07:
             continue
         (channel_id,) = _U16.unpack_from(body, 0)
@@ -310,13 +307,7 @@ def _scan(
 ) -> list[RawMessage]:
     """The wanted messages among whole records (a chunk's records are read inside it)."""
     found: list[RawMessage] = []
-    pos = 0
-    while pos + 9 <= len(buf):
-        op, length = _REC.unpack_from(buf, pos)
-        body = buf[pos + 9 : pos + 9 + length]
-        if len(body) != length:
-            raise CorruptRecordingError("a record runs past the bytes read")
-        pos += 9 + length
+    for op, body in records(buf):
         if op == 0x05:
             channel_id, _sequence, log_time, _published = _MSG.unpack_from(body, 0)
             if channel_id in wanted:
