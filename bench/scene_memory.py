@@ -298,6 +298,7 @@ def run(size: int, args: argparse.Namespace, rng: random.Random) -> dict[str, ob
             hermit = hermit_seconds(memory, scene, workdir, args.hermit_timeout)
         sleep_s = timed(memory.sleep)
         sleep_cpu = CPU[-1]
+        sleep_write, sleep_quads = writes.times[-1], writes.quads[-1]
         classes = len(memory.classes())
         save_s = timed(memory.save_index)  # flushes the store first, as the server does
         del memory, store
@@ -340,6 +341,8 @@ def run(size: int, args: argparse.Namespace, rng: random.Random) -> dict[str, ob
             "retrieve": retrieve_times,
             "recognise": recognise_times,
             "sleep_s": sleep_s,
+            "sleep_write": sleep_write,
+            "sleep_quads": sleep_quads,
             "first_sleep_s": first_sleep_s,
             "save_s": save_s,
             "open_s": open_s,
@@ -355,6 +358,33 @@ def run(size: int, args: argparse.Namespace, rng: random.Random) -> dict[str, ob
         }
     finally:
         shutil.rmtree(workdir, ignore_errors=True)
+
+
+TARGETS_MS = {
+    ("learn", 10_000): 10.0,
+    ("learn", 100_000): 20.0,
+    ("reinforce", 100_000): 10.0,
+    ("sleep", 100_000): 5_000.0,
+}
+"""Issue 15's medians, by (measure, learned classes)."""
+
+
+def against_targets(r: dict[str, object], ms: dict[str, list[float]]) -> list[str]:
+    """One line per measure: its median, the store write alone, and the target at that size."""
+    measured = {
+        "learn": (statistics.median(ms["learn"]), 1000 * r["learn_write"]),  # type: ignore[operator]
+        "reinforce": (statistics.median(ms["repeat"]), 1000 * r["repeat_write"]),  # type: ignore[operator]
+        "sleep": (1000 * r["sleep_s"], 1000 * r["sleep_write"]),  # type: ignore[operator]
+    }
+    lines = []
+    for measure, (median, write) in measured.items():
+        target = TARGETS_MS.get((measure, r["size"]))  # type: ignore[arg-type]
+        ratio = f"{write / target:>9.2f}" if target else f"{'-':>9}"
+        lines.append(
+            f"{r['size']:>8} {measure:<10} {median:>9.1f} {write:>9.1f} "
+            f"{target if target else '-':>9} {ratio}"
+        )
+    return lines
 
 
 def main() -> None:
@@ -390,6 +420,7 @@ def main() -> None:
     print("-" * len(header))
     rng = random.Random(SEED)
     breakdown: list[str] = []
+    floors: list[str] = []
     for size in sizes:
         r = run(size, args, rng)
         kinds = ("learn", "repeat", "learn_read", "learn_in_update", "retrieve", "recognise")
@@ -433,7 +464,9 @@ def main() -> None:
             + f" {1000 * r['view_repeats_s'] / args.updates:>9.2f}"  # type: ignore[operator]
             + f" {r['store_open_s']:>8.2f}"
             + "".join(f" {1000 * t:>9.1f}" for t in r["cpu"])  # type: ignore[attr-defined]
+            + f" {r['sleep_write']:>9.2f} {r['sleep_quads']:>9.0f}"
         )
+        floors += against_targets(r, ms)
     print()
     print("Where a committed update's time goes (medians; ms unless marked):")
     print(
@@ -441,8 +474,16 @@ def main() -> None:
         + " ".join(f"{'q ' + p:>7}" for p in PARTS)
         + f" {'view/lrn':>9} {'view/rnf':>9} {'db open':>8}"
         + "".join(f" {c:>9}" for c in ("cpu learn", "cpu reinf", "cpu sleep", "cpu open"))
+        + f" {'slp write':>9} {'slp quads':>9}"
     )
     for line in breakdown:
+        print(line)
+    print()
+    print("Against the targets of issue 15 (ms; write = the store applying that transaction)")
+    print(
+        f"{'classes':>8} {'measure':<10} {'median':>9} {'write':>9} {'target':>9} {'write/tgt':>9}"
+    )
+    for line in floors:
         print(line)
     print()
     print("learn = novel 10-object scene (learns a class), reinf = known scene (reinforces);")
@@ -466,6 +507,9 @@ def main() -> None:
     print("pass and the open with the index file: under load, steadier than wall times.")
     print("sleep 1st = the memory's first sleep pass (every class gets its first level), before")
     print("the timed updates; sleep ms = the pass after them (cpu sleep: its CPU time).")
+    print("slp write, slp quads = that pass's store write alone (s) and its quads.")
+    print("write/tgt = the store write alone over the target: above 1, the target is below what")
+    print("the store takes to apply the transaction the operation must commit.")
     print("save = writing the index file after the sleep pass; open = reopening with it;")
     print("rebld = reopening without it (the model rebuilt from the store's triples).")
 

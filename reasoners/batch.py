@@ -18,6 +18,7 @@ and it answers reads as the store will be once those writes commit (:meth:`quads
 ['2']
 """
 
+from collections import defaultdict
 from collections.abc import Iterator
 from dataclasses import dataclass, field
 from typing import Protocol
@@ -64,16 +65,23 @@ class PendingWrites(Transaction):
 
     _inserted: set[Quad] = field(default_factory=set, repr=False)
     _deleted: set[Quad] = field(default_factory=set, repr=False)
+    _subjects: defaultdict[Subject, set[Quad]] = field(
+        default_factory=lambda: defaultdict(set), repr=False
+    )
+    """The inserted quads by subject, so that a deletion by pattern with a subject looks at
+    that subject's alone (a sleep pass inserts a million quads, then deletes a few by pattern)."""
 
     def insert(self, subject: Subject, predicate: NamedNode, obj: Object, graph: NamedNode) -> None:
         quad = self._quad(subject, predicate, obj, graph)
         self.inserts.append(quad)
         self._inserted.add(quad)
+        self._subjects[quad.subject].add(quad)
 
     def delete(self, subject: Subject, predicate: NamedNode, obj: Object, graph: NamedNode) -> None:
         quad = self._quad(subject, predicate, obj, graph)
         if quad in self._inserted:
             self._inserted.discard(quad)
+            self._subjects[quad.subject].discard(quad)
             self.inserts = [q for q in self.inserts if q != quad]
         self.deletes.append(quad)
         self._deleted.add(quad)
@@ -87,9 +95,12 @@ class PendingWrites(Transaction):
         graph: NamedNode,
     ) -> None:
         super().delete_matching(subject, predicate, obj, graph=graph)
-        doomed = {q for q in self._inserted if matches(q, subject, predicate, obj, graph)}
+        candidates = self._inserted if subject is None else self._subjects.get(subject, set())
+        doomed = {q for q in candidates if matches(q, subject, predicate, obj, graph)}
         if doomed:
             self._inserted -= doomed
+            for quad in doomed:
+                self._subjects[quad.subject].discard(quad)
             self.inserts = [q for q in self.inserts if q not in doomed]
 
     def quads(
