@@ -464,7 +464,7 @@ def main() -> None:
             + f" {1000 * r['view_repeats_s'] / args.updates:>9.2f}"  # type: ignore[operator]
             + f" {r['store_open_s']:>8.2f}"
             + "".join(f" {1000 * t:>9.1f}" for t in r["cpu"])  # type: ignore[attr-defined]
-            + f" {r['sleep_write']:>9.2f} {r['sleep_quads']:>9.0f}"
+            + f" {1000 * r['sleep_write']:>9.1f} {r['sleep_quads']:>9.0f}"  # type: ignore[operator]
         )
         floors += against_targets(r, ms)
     print()
@@ -507,7 +507,7 @@ def main() -> None:
     print("pass and the open with the index file: under load, steadier than wall times.")
     print("sleep 1st = the memory's first sleep pass (every class gets its first level), before")
     print("the timed updates; sleep ms = the pass after them (cpu sleep: its CPU time).")
-    print("slp write, slp quads = that pass's store write alone (s) and its quads.")
+    print("slp write, slp quads = that pass's store write alone and its quads.")
     print("write/tgt = the store write alone over the target: above 1, the target is below what")
     print("the store takes to apply the transaction the operation must commit.")
     print("save = writing the index file after the sleep pass; open = reopening with it;")

@@ -65,7 +65,7 @@ class PendingWrites(Transaction):
 
     _inserted: set[Quad] = field(default_factory=set, repr=False)
     _deleted: set[Quad] = field(default_factory=set, repr=False)
-    _subjects: defaultdict[Subject, set[Quad]] = field(
+    _subjects: defaultdict[object, set[Quad]] = field(
         default_factory=lambda: defaultdict(set), repr=False
     )
     """The inserted quads by subject, so that a deletion by pattern with a subject looks at

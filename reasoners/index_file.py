@@ -37,9 +37,7 @@ True
 True
 """
 
-import contextlib
 import datetime as dt
-import gc
 import hashlib
 import io
 import itertools
@@ -49,7 +47,7 @@ import pickle
 import struct
 import uuid
 from collections import Counter
-from collections.abc import Callable, Iterable, Iterator
+from collections.abc import Callable, Iterable
 from pathlib import Path
 from typing import Any, cast
 
@@ -60,6 +58,7 @@ from pyoxigraph import Literal, NamedNode
 from kg.store import Store
 from kg.transaction import Transaction
 from ontologies.vocab import MEMORY_REVISION, MEMORY_REVISION_GRAPH, MEMORY_STATE_INDIVIDUAL
+from reasoners.collector import collector_paused
 from reasoners.model import (
     ClassRecord,
     ItemRecord,
@@ -176,7 +175,8 @@ def snapshot(model: MemoryModel, revision: str, weights: Weights) -> dict[str, A
     packed arrays with per-class lengths, so that reading them back is a few bulk calls rather
     than Python work per class (format 3).
     """
-    with _collector_paused():  # a few hundred thousand lists, all kept until pickled
+    # a few hundred thousand lists, all kept until pickled
+    with collector_paused(age_survivors=True):
         return _snapshot(model, revision, weights)
 
 
@@ -449,27 +449,6 @@ def _edges(
     return up, down
 
 
-@contextlib.contextmanager
-def _collector_paused() -> Iterator[None]:
-    """The cyclic garbage collector paused: building a few million objects that all stay alive
-    would otherwise set it off again and again, each pass walking everything built so far (a
-    third of the time at 30,000 classes, more at 100,000).
-
-    What was built is then handed to the oldest generation directly (``gc.freeze`` then
-    ``gc.unfreeze``, which puts the frozen objects back there), so that the first collections
-    after it do not walk it once more as young objects (0.3-0.4 s at 100,000 classes). It stays
-    collectable: the next full collection sees it, as it would have."""
-    was_enabled = gc.isenabled()
-    gc.disable()
-    try:
-        yield
-    finally:
-        gc.freeze()
-        gc.unfreeze()
-        if was_enabled:
-            gc.enable()
-
-
 # The file ------------------------------------------------------------------------------------
 
 
@@ -538,7 +517,7 @@ def load(path: Path, revision: str | None, weights: Weights) -> MemoryModel | No
     """The model saved at ``path`` if it mirrors the store at ``revision`` with ``weights``;
     None (the reason logged) if the file is missing, stale, truncated or corrupt."""
     try:
-        with _collector_paused():
+        with collector_paused(age_survivors=True):
             values = read(path)
             if revision is None or values.get("revision") != revision:
                 raise IndexFileError(

@@ -78,6 +78,7 @@ from ontologies.vocab import (
 from reasoners import history, index_file, persist
 from reasoners.batch import PendingWrites, QuadReader
 from reasoners.clock import SettableClock
+from reasoners.collector import collector_paused
 from reasoners.encode import Encoder, Relation
 from reasoners.errors import (
     InvalidSceneError,
@@ -843,7 +844,7 @@ class SceneMemory:
         forgotten scene once. One transaction.
         """
         started = time.perf_counter()
-        with self._write() as tx:
+        with collector_paused(), self._write() as tx:
             now = self._now()
             m, p = self._model, self.policy
             rescored = len(m.classes)

@@ -53,6 +53,7 @@ from dataclasses import dataclass
 from pyoxigraph import Literal, NamedNode, Quad
 
 from kg import Store
+from reasoners.collector import collector_paused
 from reasoners.owl_rl._terms import to_term
 from reasoners.owl_rl.consistency import Clash
 from reasoners.owl_rl.engine import Fact
@@ -65,7 +66,6 @@ from reasoners.owl_rl.materialise import (
     _check_reasoner,
     _closure,
     _facts,
-    _gc_paused,
     _outputs,
     _report_consistency,
     _retract_region,
@@ -187,7 +187,7 @@ def prepare(
     slot = _slot(store, asserted, inferred)
     if after is not None:
         after._supersede()
-    with slot.lock, _gc_paused():
+    with slot.lock, collector_paused():
         try:
             return _prepare(store, asserted, inferred, slot, changes, pending, after, recompute)
         except BaseException:

@@ -22,17 +22,28 @@ def test_bench_quick_prints_a_row_per_size() -> None:
     rows = [line for line in done.stdout.splitlines() if line.strip().startswith(("20/", "60/"))]
     assert len(rows) == 2, done.stdout
     # and where a learn's time and quads go, per size: write vs own work, quads by part
-    breakdown = done.stdout.split("Where a committed update's time goes")[1].splitlines()
-    parts = [line.split() for line in breakdown if line.split()[:1] in (["20"], ["60"])]
+    after = done.stdout.split("Where a committed update's time goes")[1]
+    breakdown, targets = after.split("Against the targets of issue 15")
+    parts = [
+        line.split() for line in breakdown.splitlines() if line.split()[:1] in (["20"], ["60"])
+    ]
     assert len(parts) == 2, done.stdout
     for row in parts:
         write, own, _, _, *quads, view_learn, _, db_open, cpu_learn, _, _, cpu_open = (
-            float(x) for x in row[1:]
+            float(x) for x in row[1:-2]
         )
         assert write > 0 and own > 0 and db_open > 0 and cpu_learn > 0 and cpu_open > 0
         assert view_learn > 0  # the view of the learns, written once before the next read
         view, _edges, new_class, scene, _ = quads
         assert new_class > 0 and scene > 0 and view > 0, row
+        sleep_write, sleep_quads = (float(x) for x in row[-2:])
+        assert sleep_write > 0 and sleep_quads > 0, row  # the pass writes every class's level
+    # each measure beside the store write it commits, which cannot exceed the measure itself
+    lines = [line.split() for line in targets.splitlines() if line.split()[:1] in (["20"], ["60"])]
+    assert [line[1] for line in lines] == ["learn", "reinforce", "sleep"] * 2, targets
+    for line in lines:
+        median, write = float(line[2]), float(line[3])
+        assert 0 < write <= median, line
 
 
 UPDATE_COSTS = BENCH.with_name("update_costs.py")
