@@ -2,6 +2,7 @@
 
 import asyncio
 import datetime as dt
+import gc
 import logging
 import time
 from collections.abc import AsyncIterator
@@ -79,6 +80,18 @@ def _settle_view(memory: SceneMemory) -> None:
         log.exception("the scene memory's score view could not be written")
 
 
+async def _freeze_once_loaded(memory: SceneMemory, poll_s: float = 0.5) -> None:
+    """Once the scene memory has loaded, hand the process's heap so far (the memory model
+    above all: millions of objects at 100,000 classes) to the collector's permanent generation
+    (``gc.freeze``), so that its full collections stop walking it. Unfrozen at shutdown.
+
+    At 100,000 classes a full collection during an update walks the whole model: the slowest
+    reinforce of 80 took 392 ms with it and 70 ms without (median 57 against 52 ms)."""
+    while not memory.wait_ready(timeout_s=0):
+        await asyncio.sleep(poll_s)
+    gc.freeze()
+
+
 def _utc_now() -> dt.datetime:
     return dt.datetime.now(dt.UTC)
 
@@ -120,11 +133,14 @@ def create_app(settings: Settings | None = None) -> FastAPI:
         )
         sleeper = asyncio.create_task(_sleep_when_due(scene_memory, settings.sleep_check_s))
         warmer = asyncio.create_task(views.warm_up(scene_memory))  # the graph page's first list
+        freezer = asyncio.create_task(_freeze_once_loaded(scene_memory))
         try:
             yield
         finally:
             sleeper.cancel()
             warmer.cancel()
+            freezer.cancel()
+            gc.unfreeze()  # what closed with this app must be collectable again (the store's lock)
             recordings.close_all()  # a recording still open at shutdown ends as a complete file
             runner.close()
             if scene_memory.wait_ready(timeout_s=0):

@@ -259,6 +259,9 @@ def run(size: int, args: argparse.Namespace, rng: random.Random) -> dict[str, ob
         # than that, so the timed updates start, as they would there, from a flushed store.
         # Unflushed, RocksDB's memtable holds the whole build and a learn costs about 1.5x.
         store.flush()
+        # The server also hands the loaded heap to the collector's permanent generation
+        # (api.main), so that its full collections during an update stop walking the model.
+        gc.freeze()
         novel = [random_scene(rng, 10) for _ in range(args.updates)]
         read_after = [random_scene(rng, 10) for _ in range(args.updates)]
         in_update = [random_scene(rng, 10) for _ in range(args.updates)]
@@ -301,6 +304,7 @@ def run(size: int, args: argparse.Namespace, rng: random.Random) -> dict[str, ob
         sleep_write, sleep_quads = writes.times[-1], writes.quads[-1]
         classes = len(memory.classes())
         save_s = timed(memory.save_index)  # flushes the store first, as the server does
+        gc.unfreeze()  # as the server does when it stops: the store can then be closed
         del memory, store
         gc.collect()  # closes the store, which one process at a time may open
         began, cpu = time.perf_counter(), time.process_time()

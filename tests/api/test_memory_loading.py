@@ -1,6 +1,7 @@
 """The server answers while the scene memory opens in the background, and saves the memory's
 index file when it stops, so that the next start reads it."""
 
+import gc
 import threading
 import time
 from collections.abc import Callable
@@ -76,8 +77,14 @@ def test_a_stopped_server_saves_the_index_file_and_the_next_start_reads_it(
         assert _wait_for(http, "ready")["memory"] == {"state": "ready", "loaded_from": "store"}
         with ArmorClient("camera", "engram", base_url=url) as client:
             stored = client.memory.store_scene(SCENE)
+        # the loaded heap is out of the collector's full passes while it serves
+        deadline = time.monotonic() + 30
+        while not gc.get_freeze_count() and time.monotonic() < deadline:
+            time.sleep(0.05)
+        assert gc.get_freeze_count() > 0
     server.should_exit = True
     thread.join(timeout=30)
+    assert gc.get_freeze_count() == 0  # and back in them once it stopped: the store can close
     assert settings.store_dir.with_name("store" + index_file.SUFFIX).exists()
     settings = Settings(host="127.0.0.1", port=free_port(), data_dir=tmp_path / "data")
     server, thread, url = serve(create_app(settings), settings)
