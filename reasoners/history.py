@@ -277,7 +277,7 @@ def forgetting(
     ``classes`` with their experienced scenes, and ``items`` alone; each WEAK."""
     doomed = set(classes)
     scenes = [i for c in classes for i in model.items_of.get(c, ())]
-    if doomed:  # as _forget finds them
+    if doomed:  # as forgetting.move_to_trash finds them
         scenes += [i for i, r in model.items.items() if r.cls in doomed]
     for cls in classes:
         _write(tx, model, cls, "forgotten", at, scene=False, score=zetas.get(cls), level=WEAK)

@@ -55,7 +55,6 @@ from ontologies.vocab import (
     DEFAULT_POLICY,
     EPISODIC,
     FORGOTTEN_AT,
-    FORGOTTEN_SIGNATURE,
     HAS_PRIMITIVE,
     LAST_ACCESSED,
     LEGACY_LEVEL,
@@ -63,19 +62,16 @@ from ontologies.vocab import (
     LEVEL,
     MEMORY,
     MEMORY_STATE_INDIVIDUAL,
-    OWL_EQUIVALENT_CLASS,
     PINNED,
     RDFS_LABEL,
-    RDFS_SUBCLASSOF,
     RETRIEVE_COUNT,
     SCORE,
     SKOS_NOTATION,
     STORE_COUNT,
     TRASH,
-    TRASH_CLASS,
     UPDATES_SINCE_SLEEP,
 )
-from reasoners import history, index_file, persist
+from reasoners import forgetting, history, index_file, persist
 from reasoners.batch import PendingWrites, QuadReader
 from reasoners.clock import SettableClock
 from reasoners.collector import collector_paused
@@ -87,7 +83,7 @@ from reasoners.errors import (
     RestoreConflictError,
     UnknownItemError,
 )
-from reasoners.model import ClassRecord, ItemRecord, MemoryModel, TrashedClass, TrashedItem
+from reasoners.model import ClassRecord, ItemRecord, MemoryModel
 from reasoners.policy import Policy, load_policy
 from reasoners.primitives import Primitive
 from reasoners.results import (
@@ -101,7 +97,7 @@ from reasoners.results import (
     StoreResult,
     TrashEntry,
 )
-from reasoners.scoring import WEAK, episodic_score, level_of, log_ratio
+from reasoners.scoring import level_of
 from reasoners.signature import Signature
 
 __all__ = ["LOADING_WAIT_S", "Clock", "Cue", "SceneMemory"]
@@ -581,24 +577,6 @@ class SceneMemory:
             last_accessed=record.last_accessed,
         )
 
-    def _item_raw(
-        self,
-        record: ItemRecord,
-        now: dt.datetime,
-        normalised: dict[NamedNode, float] | None = None,
-    ) -> float:
-        m = self._model
-        cls = m.classes[record.cls]
-        max_d = m.max_item_complexity
-        return episodic_score(
-            self.policy,
-            complexity_ratio=record.complexity / max_d if max_d else 0.0,
-            class_normalised=m.normalised(cls) if normalised is None else normalised[cls.iri],
-            store_ratio=log_ratio(cls.store_count, m.max_store),
-            retrieve_ratio=log_ratio(cls.retrieve_count, m.max_retrieve),
-            age_s=(now - record.last_accessed).total_seconds(),
-        )
-
     def _count_use(
         self, tx: Transaction, record: ClassRecord, now: dt.datetime, *, retrieved: bool
     ) -> None:
@@ -846,68 +824,25 @@ class SceneMemory:
         started = time.perf_counter()
         with collector_paused(), self._write() as tx:
             now = self._now()
-            m, p = self._model, self.policy
+            m = self._model
             rescored = len(m.classes)
-            zetas = m.zetas()
-            top = m.max_score
-            class_levels: dict[NamedNode, str] = {}
-            weak_counts: dict[NamedNode, int] = {}
-            for cls, record in m.classes.items():
-                level = level_of(
-                    zetas[cls] / top if top > 0 else 0.0,
-                    high=p.highLevelThreshold,
-                    weak=p.weakLevelThreshold,
-                )
-                class_levels[cls] = level
-                weak_counts[cls] = record.weak_count + 1 if level == WEAK else 0
-            normalised = {cls: zetas[cls] / top if top > 0 else 0.0 for cls in zetas}
-            raw = {iri: self._item_raw(r, now, normalised) for iri, r in m.items.items()}
-            top = max(raw.values(), default=0.0)
-            item_levels = {
-                iri: level_of(
-                    value / top if top > 0 else 0.0,
-                    high=p.highLevelThreshold,
-                    weak=p.weakLevelThreshold,
-                )
-                for iri, value in raw.items()
-            }
-            item_weak = {
-                iri: m.items[iri].weak_count + 1 if level == WEAK else 0
-                for iri, level in item_levels.items()
-            }
-            grace = dt.timedelta(seconds=p.forgetGracePeriodSeconds)
-            k = p.weakPassesToForget
-            protected = {r.cls for r in m.items.values() if r.pinned}
-            doomed_classes = [
-                cls
-                for cls, record in m.classes.items()
-                if weak_counts[cls] >= k
-                and now - record.created >= grace
-                and not record.pinned
-                and cls not in protected
-            ]
-            doomed = set(doomed_classes)
-            doomed_items = [
-                iri
-                for iri, record in m.items.items()
-                if record.cls not in doomed
-                and item_weak[iri] >= k
-                and now - record.created >= grace
-                and not record.pinned
-                and not m.classes[record.cls].pinned  # a pinned class keeps its scenes
-            ]
-            history.forgetting(tx, m, doomed_classes, doomed_items, zetas, now)
-            forgotten_items = self._forget(tx, doomed_classes, doomed_items, now)
-            if doomed_classes:  # the graph changed: ζ of the forgotten classes' neighbours too
-                zetas = m.zetas()
+            plan = forgetting.plan(m, self.policy, now)
+            class_levels, item_levels = plan.class_levels, plan.item_levels
+            doomed_classes = plan.doomed_classes
+            history.forgetting(tx, m, doomed_classes, plan.doomed_items, plan.zetas, now)
+            forgotten_items = forgetting.move_to_trash(
+                tx, m, self._reader, doomed_classes, plan.doomed_items, now
+            )
+            # the graph changed: ζ of the forgotten classes' neighbours too
+            zetas = m.zetas() if doomed_classes else plan.zetas
             history.sleep_levels(tx, m, class_levels, zetas, now)
             history.checkpoint(tx, m, self.store, now)
             # systems consolidation: every class's stored ζ brought up to date
             for cls, record in m.classes.items():
                 self._write_score(tx, record, zetas[cls])
-                self._set_level(tx, record, class_levels[cls], weak_counts[cls], MEMORY)
+                self._set_level(tx, record, class_levels[cls], plan.weak_counts[cls], MEMORY)
             for iri, item in m.items.items():
-                self._set_level(tx, item, item_levels[iri], item_weak[iri], EPISODIC)
+                self._set_level(tx, item, item_levels[iri], plan.item_weak[iri], EPISODIC)
             m.last_sleep_at = now
             m.updates_since_sleep = 0
             m.sleep_passes += 1
@@ -956,52 +891,6 @@ class SceneMemory:
                 graph,
             )
             record.weak_count = weak
-
-    def _forget(
-        self,
-        tx: Transaction,
-        classes: Sequence[NamedNode],
-        items: Sequence[NamedNode],
-        now: dt.datetime,
-    ) -> list[NamedNode]:
-        """Move ``classes`` (with their experienced scenes) and ``items`` to the trash; return
-        the experienced scenes moved now, each once."""
-        m = self._model
-        moved: list[NamedNode] = []
-        stamp = persist.time_literal(now)
-        added: set[tuple[NamedNode, NamedNode]] = set()
-        for cls in classes:
-            record = m.classes[cls]
-            own = persist.delete_class(tx, self._reader, cls)
-            for quad in own:
-                if quad.predicate not in (RDFS_SUBCLASSOF, OWL_EQUIVALENT_CLASS) and (
-                    quad.predicate not in persist.VIEW_PREDICATES
-                ):
-                    persist.insert_quad(tx, quad, TRASH)
-            tx.insert(cls, RDFS_SUBCLASSOF, TRASH_CLASS, TRASH)
-            tx.insert(cls, FORGOTTEN_AT, stamp, TRASH)
-            tx.insert(cls, FORGOTTEN_SIGNATURE, Literal(record.signature.to_json()), TRASH)
-            added |= m.remove_class(cls)
-            added = {(c, p) for c, p in added if c in m.classes and p in m.classes}
-            for key, n in record.signature.items():
-                if not m.restrictions[(key, n)] and (key, n) in m.stored_restrictions:
-                    persist.delete_restriction(tx, key, n)
-                    m.stored_restrictions.discard((key, n))
-            m.trashed_classes[cls] = TrashedClass(cls, record.signature, now)
-            items = [*items, *sorted(m.items_of.get(cls, ()) or self._items_of(cls), key=str)]
-        persist.write_edges(tx, added)
-        for item in items:
-            if item not in m.items:
-                continue
-            record_item = m.remove_item(item)
-            persist.move(tx, self._reader, [item], EPISODIC, TRASH, follow=HAS_PRIMITIVE)
-            tx.insert(item, FORGOTTEN_AT, stamp, TRASH)
-            m.trashed_items[item] = TrashedItem(item, record_item.cls, now)
-            moved.append(item)
-        return moved
-
-    def _items_of(self, cls: NamedNode) -> list[NamedNode]:
-        return [i for i, r in self._model.items.items() if r.cls == cls]
 
     def maybe_sleep(self) -> SleepReport | None:
         """Run a sleep pass if ``sleepEveryUpdates`` updates or ``sleepIntervalSeconds`` seconds
@@ -1145,8 +1034,8 @@ class SceneMemory:
                 raise self._unknown(iri)
             now = self._now()
             record = m.items[iri]
-            raw = self._item_raw(record, now)
-            top = max((self._item_raw(r, now) for r in m.items.values()), default=0.0)
+            raw = forgetting.item_raw(m, p, record, now)
+            top = max((forgetting.item_raw(m, p, r, now) for r in m.items.values()), default=0.0)
             normalised = raw / top if top > 0 else 0.0
             cls = m.classes[record.cls]
             return ItemScores(

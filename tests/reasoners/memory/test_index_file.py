@@ -20,7 +20,7 @@ from pyoxigraph import Literal
 
 from kg import Store
 from ontologies.vocab import MEMORY, PLANE, RDFS_LABEL, SPHERE, engram
-from reasoners import index_file, persist
+from reasoners import forgetting, index_file, persist
 from reasoners.errors import MemoryLoadingError
 from reasoners.index import SignatureIndex
 from reasoners.memory import SceneMemory
@@ -298,7 +298,7 @@ def test_an_index_file_after_a_forgotten_class_holds_the_index_without_its_hole(
     memory = filled(tmp_path / "store", clock)
     first = memory.classes()[0].iri
     with memory._write() as tx:  # a class leaves the index: its position becomes a hole
-        memory._forget(tx, [first], [], memory._now())
+        forgetting.move_to_trash(tx, memory._model, memory._reader, [first], [], memory._now())
     assert None in memory._model.index.slots()
     assert memory.save_index()
     del memory
