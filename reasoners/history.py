@@ -57,7 +57,6 @@ classes, 100 passes: 4 checkpoints of 193 kB, 7.7 kB per pass, 4 % of the 19.4 M
 import base64
 import dataclasses
 import datetime as dt
-import functools
 import threading
 import time
 import zlib
@@ -146,31 +145,16 @@ def _utc(at: dt.datetime) -> dt.datetime:
     return at.astimezone(dt.UTC)
 
 
-# The terms below are the same for every event of one update or sleep pass (a pass at 100,000
-# classes writes up to one event per class), so they are built once and kept (terms are values).
-
-
-@functools.lru_cache(maxsize=16)
 def _time_literal(at: dt.datetime) -> Literal:
     return Literal(_utc(at).isoformat(timespec="milliseconds"), datatype=XSD_DATETIME)
 
 
-@functools.lru_cache(maxsize=16)
-def _event_prefix(at: dt.datetime) -> str:
-    return f"{HISTORY_NS}{int(_utc(at).timestamp() * 1000):013d}-"
-
-
-@functools.lru_cache(maxsize=64)
-def _plain(text: str) -> Literal:
-    return Literal(text)
-
-
 def event_iri(at: dt.datetime) -> NamedNode:
     """A new event's IRI: the time in ms (13 digits) and a rising sequence (19 digits)."""
-    return NamedNode(f"{_event_prefix(at)}{_next_sequence():019d}")
+    ms = int(_utc(at).timestamp() * 1000)
+    return NamedNode(f"{HISTORY_NS}{ms:013d}-{_next_sequence():019d}")
 
 
-@functools.lru_cache(maxsize=16)
 def _epoch_node(epoch: int) -> NamedNode:
     return NamedNode(f"{HISTORY_NS}epoch-{epoch}")
 
@@ -198,12 +182,12 @@ def _write(
 ) -> NamedNode:
     event = event_iri(at)
     tx.insert(event, EVENT_SCENE if scene else EVENT_CLASS, about, HISTORY)
-    tx.insert(event, EVENT_KIND, _plain(kind), HISTORY)
+    tx.insert(event, EVENT_KIND, Literal(kind), HISTORY)
     tx.insert(event, PROV_AT_TIME, _time_literal(at), HISTORY)
     if score is not None:
         tx.insert(event, EVENT_SCORE, Literal(float(score)), HISTORY)
     if level is not None:
-        tx.insert(event, EVENT_LEVEL, _plain(level), HISTORY)
+        tx.insert(event, EVENT_LEVEL, Literal(level), HISTORY)
     if not scene:  # what "as of" reads: the epoch's journal (see as_of)
         value = "-" if score is None else repr(float(score))
         entry = f"{event.value[len(HISTORY_NS) :]} {kind} {level or '-'} {value} {about.value}"
