@@ -370,7 +370,7 @@ TARGETS_MS = {
     ("reinforce", 100_000): 10.0,
     ("sleep", 100_000): 5_000.0,
 }
-"""Issue 15's medians, by (measure, learned classes)."""
+"""Issue 15's targets for the medians, by (measure, learned classes)."""
 
 
 def against_targets(r: dict[str, object], ms: dict[str, list[float]]) -> list[str]:
