@@ -4,9 +4,9 @@ A REASON, reading or saving the memory's index file, and a sleep pass at 100,000
 build a few million objects that either stay alive or die by reference counting, not in cycles.
 Each collector pass the allocations set off walks the whole heap (the memory model included),
 over and over: a fifth of a REASON's time at 50k triples, a third of reading an index file at
-30,000 classes, about 3 of the 10 s of Python in a sleep pass at 100,000 classes
-(``bench/scene_memory.py``, with and without). Pausing it is safe: nothing is left behind that
-only the collector could free, and it runs again as soon as the work ends.
+30,000 classes, about 2.4 of the 9.4-9.9 s of Python in a sleep pass at 100,000 classes (one
+memory's copies, the pass timed with and without the pause). Pausing it is safe: nothing is left
+behind that only the collector could free, and it runs again as soon as the work ends.
 """
 
 import contextlib
