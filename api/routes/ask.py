@@ -39,8 +39,9 @@ def _asker(request: Request) -> Asker:
     state = request.app.state
     with _LOCK:
         asker: Asker | None = getattr(state, "asker", None)
-        if asker is None or asker.scenes is not state.scene_memory:
-            asker = state.asker = Asker(state.scene_memory, state.episodes)
+        services = state.services
+        if asker is None or asker.scenes is not services.scene_memory:
+            asker = state.asker = Asker(services.scene_memory, services.episodes)
         return asker
 
 
@@ -114,5 +115,5 @@ def explain_about(
     """``about`` is a learned class, an experienced scene or something forgotten: a short name
     in Engram's namespace (``Scene-4``) or a full IRI. Unknown IRIs answer 404."""
     iri = memory_iri(about, "about")
-    explanations = explain(request.app.state.scene_memory, iri)
+    explanations = explain(request.app.state.services.scene_memory, iri)
     return {"about": iri.value, "explanations": [to_jsonable(e) for e in explanations]}

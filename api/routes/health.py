@@ -19,8 +19,9 @@ async def health(store: StoreDep, request: Request) -> dict[str, Any]:
     opening the store ensured, the store's transaction count, the memory's state), never from
     the store: beside 8 writers and 8 SPARQL readers, a store query and a hop through the thread
     pool made it 30 ms (median) instead of a few."""
-    version = request.app.state.ontology_version
-    memory = request.app.state.scene_memory
+    services = request.app.state.services
+    version = services.ontology.version
+    memory = services.scene_memory
     if memory.ready:
         state = "ready"
     elif memory.wait_ready(timeout_s=0):

@@ -30,7 +30,7 @@ def class_history(
     rescored, level, forgotten, restored, pinned, unpinned), and the ``score`` (raw score ζ) and
     ``level`` it left (null where there is none). A name the memory never held answers 404."""
     iri = memory_iri(cls, "class")
-    memory = request.app.state.scene_memory
+    memory = request.app.state.services.scene_memory
     events = history.events(memory.store, iri)
     if not events and not _known(memory, iri):
         raise NotFoundError(
@@ -52,7 +52,7 @@ def memory_as_of(
     (its end, UTC). Each class comes with its last event by then and the score (ζ) and level
     that event left."""
     at = _parse_time(time)
-    states = history.as_of(request.app.state.scene_memory.store, at)
+    states = history.as_of(request.app.state.services.scene_memory.store, at)
     return {
         "time": at.astimezone(dt.UTC).isoformat(timespec="milliseconds"),
         "classes": [s.to_json() for s in states],
