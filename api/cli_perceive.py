@@ -1,5 +1,6 @@
 """``engram perceive``: point clouds or bags in, scenes stored in the memory, results printed."""
 
+import itertools
 from collections.abc import Iterator
 from pathlib import Path
 from typing import TYPE_CHECKING, Annotated
@@ -79,12 +80,22 @@ def perceive_command(
     """Perceive SOURCE and store every stable scene; print what the memory recognised or learned."""
     import numpy as np
 
-    from shapes import ShapesError, open_source, source_length
+    try:
+        from shapes import ShapesError, open_source, source_length
+    except ImportError as error:
+        console.print(
+            f"[red]perception is not installed ({error}): pip install 'engram-kg[perception]'[/red]"
+        )
+        raise typer.Exit(1) from None
 
     try:
         world_from_sensor = np.loadtxt(pose).reshape(4, 4) if pose else None
         total = source_length(source, topic=topic)
         frames = open_source(source, topic=topic, world_from_sensor=world_from_sensor)
+        # the first frame is read now, so that a bad source says so before the memory opens
+        first = next(frames, None)
+        if first is not None:
+            frames = itertools.chain([first], frames)
     except (ShapesError, OSError, ValueError) as error:
         console.print(f"[red]{escape(str(error))}[/red]")
         raise typer.Exit(2) from None

@@ -160,4 +160,4 @@ def test_the_readme_example_answers_as_shown(lived_data_dir: Path) -> None:
     assert words[:2] == ["engram", "ask"]
     result = CliRunner().invoke(app, [*words[1:], "--data", str(lived_data_dir)])
     assert result.exit_code == 0, result.output
-    assert result.output.strip() == expected
+    assert result.stdout.strip() == expected  # stderr names the memory opened
