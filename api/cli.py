@@ -34,7 +34,7 @@ app = typer.Typer(
     no_args_is_help=True,
     pretty_exceptions_enable=False,
 )
-console = Console()
+console = Console(soft_wrap=True)  # paths and URLs stay on one line
 app.add_typer(episodes_app, name="episodes")
 app.command("perceive")(perceive_command)
 app.command("ask")(ask_command)

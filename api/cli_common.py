@@ -99,22 +99,34 @@ def memory_at(settings: Settings) -> str:
     return str(settings.data_dir)
 
 
-@contextmanager
-def opened(settings: Settings, *, create: bool = False) -> Iterator["Services"]:
-    """The memory ``settings`` name, opened through the composition root for one command, and
-    closed after it; exits 1 with the reason if it cannot be opened."""
-    from api.services import open_services
+def _open(settings: Settings, *, create: bool = False) -> "Services":
+    """The memory ``settings`` name, opened here; a store held by another process raises
+    StoreBusyError, anything else that stops it exits 1 with the reason."""
+    from api.services import StoreBusyError, open_services
     from kg import EngramError
 
     try:
         services = open_services(settings, create=create)
+    except StoreBusyError:
+        raise
     except (EngramError, ValueError) as error:
         fail(str(error), 1)
     tell(f"memory: {services.where}")
+    return services
+
+
+@contextmanager
+def opened(settings: Settings, *, create: bool = False) -> Iterator["Services"]:
+    """The memory ``settings`` name, opened through the composition root for one command, and
+    closed after it; exits 1 with the reason if it cannot be opened."""
+    from api.services import StoreBusyError
+
     try:
+        services = _open(settings, create=create)
+    except StoreBusyError as error:
+        fail(str(error), 1)
+    with services:
         yield services
-    finally:
-        services.close()
 
 
 @contextmanager
@@ -124,28 +136,21 @@ def reach(
     """The memory a command works on: an HTTP client of ``server`` if given; else the data
     directory opened here; else, when a running server holds the directory, a client of that
     server. Exits 1 with the reason when none can be had."""
-    from api.services import StoreBusyError, open_services
-    from kg import EngramError
+    from api.services import StoreBusyError
 
-    if server is not None:
-        with remote(server.rstrip("/"), token) as client:
-            yield client
-        return
-    try:
-        services = open_services(settings)
-    except StoreBusyError as error:
-        if error.server is None:
-            fail(f"{error}; or give --server URL", 1)
-        with remote(error.server, token) as client:
-            yield client
-        return
-    except (EngramError, ValueError) as error:
-        fail(str(error), 1)
-    tell(f"memory: {services.where}")
-    try:
-        yield services
-    finally:
-        services.close()
+    if server is None:
+        try:
+            services = _open(settings)
+        except StoreBusyError as error:
+            if error.server is None:
+                fail(f"{error}; or give --server URL", 1)
+            server = error.server
+        else:
+            with services:
+                yield services
+            return
+    with remote(server.rstrip("/"), token) as client:
+        yield client
 
 
 @contextmanager
