@@ -77,10 +77,8 @@ def _settle_view(memory: SceneMemory) -> None:
 async def _freeze_once_loaded(memory: SceneMemory, poll_s: float = 0.5) -> None:
     """Once the scene memory has loaded, hand the process's heap so far (the memory model
     above all: millions of objects at 100,000 classes) to the collector's permanent generation
-    (``gc.freeze``), so that its full collections stop walking it. Unfrozen at shutdown.
-
-    At 100,000 classes a full collection during an update walks the whole model: the slowest
-    reinforce of 80 took 392 ms with it and 70 ms without (median 57 against 52 ms)."""
+    (``gc.freeze``), so that its full collections stop walking it during updates. Unfrozen at
+    shutdown (bench/README.md has what it saves)."""
     while not memory.wait_ready(timeout_s=0):
         await asyncio.sleep(poll_s)
     gc.freeze()

@@ -53,7 +53,5 @@ def cue_query(kind: str, constraints: int) -> str:
         order = f"ORDER BY ?begin ?episode\nLIMIT {int(kind.removeprefix('head'))}"
     if constraints == 0 and kind in ("first", "last"):
         order = ""
-    text = _template().substitute(
-        constraints=constraints, select=select, match=match, order=order
-    )
+    text = _template().substitute(constraints=constraints, select=select, match=match, order=order)
     return text.rstrip() + "\n"

@@ -18,7 +18,7 @@ from api.ask.speech import MAX_AUDIO_S, Recogniser, synthesise
 from api.deps import require_token
 from api.openapi_errors import error_responses
 from api.routes.names import memory_iri
-from episodes.errors import InvalidInputError
+from kg.errors import InvalidValueError
 from reasoners.explain import explain, to_jsonable
 
 router = APIRouter(tags=["ask"])
@@ -86,7 +86,7 @@ async def ask_audio(
     spoken answer, with what was heard in the ``X-Engram-Heard`` header."""
     wav = await request.body()
     if len(wav) > MAX_AUDIO_BYTES:
-        raise InvalidInputError("body", f"{len(wav)} bytes", f"a WAV of at most {MAX_AUDIO_S:g} s")
+        raise InvalidValueError("body", f"{len(wav)} bytes", f"a WAV of at most {MAX_AUDIO_S:g} s")
     recogniser = await run_in_threadpool(_recogniser, request)
     heard, answer = await run_in_threadpool(asker.ask_audio, wav, recogniser)
     speech = await run_in_threadpool(synthesise, answer.words)

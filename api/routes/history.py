@@ -9,7 +9,7 @@ from pyoxigraph import NamedNode
 
 from api.openapi_errors import error_responses
 from api.routes.names import memory_iri
-from episodes.errors import InvalidInputError, NotFoundError
+from kg.errors import InvalidValueError, NotFoundError
 from reasoners import history
 from reasoners.errors import UnknownItemError
 
@@ -67,11 +67,11 @@ def _parse_time(text: str) -> dt.datetime:
             return dt.datetime.combine(day, dt.time(23, 59, 59, 999000), tzinfo=dt.UTC)
         at = dt.datetime.fromisoformat(value)
     except ValueError:
-        raise InvalidInputError(
+        raise InvalidValueError(
             "time", text, "an ISO 8601 time such as 2026-01-01T12:00:00Z, or a date"
         ) from None
     if at.tzinfo is None:
-        raise InvalidInputError(
+        raise InvalidValueError(
             "time", text, "a time with a time zone, such as 2026-01-01T12:00:00Z"
         )
     return at
