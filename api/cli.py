@@ -13,6 +13,7 @@ from rich.markup import escape
 from api.cli_ask import ask_command
 from api.cli_episodes import app as episodes_app
 from api.cli_perceive import perceive_command
+from api.cli_ros import ros_command, ros_options
 from api.config import Settings
 from api.demo import run_demo
 from api.main import create_app
@@ -31,6 +32,7 @@ console = Console()
 app.add_typer(episodes_app, name="episodes")
 app.command("perceive")(perceive_command)
 app.command("ask")(ask_command)
+app.command("ros")(ros_command)
 
 DataOption = Annotated[
     Path | None, typer.Option("--data", help="Data directory (default: $ENGRAM_DATA_DIR).")
@@ -73,7 +75,7 @@ def views_url(settings: Settings) -> str:
     return f"http://{settings.host}:{settings.port}/web/"
 
 
-def _serve(settings: Settings) -> None:
+def _serve(settings: Settings, *, ros: bool = False) -> None:
     _refuse_damaged(settings)
     # Engram's own loggers go through uvicorn's handler, at INFO, like the server's.
     log_config = copy.deepcopy(uvicorn.config.LOGGING_CONFIG)
@@ -83,8 +85,13 @@ def _serve(settings: Settings) -> None:
         "(SPARQL at /sparql, OWL export at /export, API docs at /docs); Ctrl-C stops."
     )
     console.print(f"Web views (memory graph, scenes in 3D, episodes, query): {views_url(settings)}")
+    app = create_app(settings)
+    if ros:  # the ROS node on the app's engine (api/ros/serve.py)
+        from api.ros.serve import add_ros
+
+        add_ros(app, ros_options())
     uvicorn.run(
-        create_app(settings),
+        app,
         host=settings.host,
         port=settings.port,
         log_level="info",
@@ -134,9 +141,16 @@ def demo(
 
 
 @app.command()
-def serve(data: DataOption = None, host: HostOption = None, port: PortOption = None) -> None:
+def serve(
+    data: DataOption = None,
+    host: HostOption = None,
+    port: PortOption = None,
+    ros: Annotated[
+        bool, typer.Option(help="Also serve ARMOR's ROS services (engram ros).")
+    ] = False,
+) -> None:
     """Serve the store over HTTP: SPARQL, export, the ARMOR directive API, episodes, streams."""
-    _serve(_settings(data_dir=data, host=host, port=port))
+    _serve(_settings(data_dir=data, host=host, port=port), ros=ros)
 
 
 @app.command()
