@@ -1,0 +1,124 @@
+"""A real ROS master and ``engram ros`` per test module, and rospy clients of its services."""
+
+import gc
+import json
+import os
+import uuid
+import warnings
+from collections.abc import Iterator
+from pathlib import Path
+from typing import Any
+
+import httpx
+import pytest
+
+from api.armor.models import (
+    ArmorDirectiveListReq,
+    ArmorDirectiveReq,
+    ArmorDirectiveRes,
+    ArmorRequest,
+)
+from api.client import ArmorClient
+from api.ros.convert import response_of, ros_request
+from api.ros.messages import ArmorMsgs, armor_msgs
+from tests.ros.processes import Master, engram, master
+
+import rospy  # isort: skip  (tests.ros.processes put ROS on the path)
+
+
+class RosArmor:
+    """Calls ARMOR's two services with rospy's ServiceProxy, as ARMOR's clients do."""
+
+    def __init__(self, master_uri: str) -> None:
+        os.environ["ROS_MASTER_URI"] = master_uri  # read by rospy at each lookup
+        self.types: ArmorMsgs = armor_msgs()
+        self.single = rospy.ServiceProxy("/armor_interface_srv", self.types.srv.ArmorDirective)
+        self.list = rospy.ServiceProxy(
+            "/armor_interface_serialized_srv", self.types.srv.ArmorDirectiveList
+        )
+
+    def request(self, directive: ArmorDirectiveReq) -> Any:
+        return ros_request(directive, self.types.msg)
+
+    def execute(self, directive: ArmorDirectiveReq) -> ArmorDirectiveRes:
+        return response_of(self.single(self.request(directive)).armor_response)
+
+    def execute_list(self, directives: list[ArmorDirectiveReq]) -> Any:
+        return self.list([self.request(d) for d in directives])
+
+
+def directive(
+    command: str, first: str = "", second: str = "", args: list[str] | None = None, *, ref: str
+) -> ArmorDirectiveReq:
+    return ArmorDirectiveReq(
+        client_name="tester",
+        reference_name=ref,
+        command=command,
+        primary_command_spec=first,
+        secondary_command_spec=second,
+        args=args or [],
+    )
+
+
+@pytest.fixture(autouse=True)
+def _rospy_sockets() -> Iterator[None]:
+    """rospy leaves its XML-RPC connections to the collector: close them within the test."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", ResourceWarning)
+        yield
+        gc.collect()
+
+
+@pytest.fixture(scope="module")
+def ros_master(tmp_path_factory: pytest.TempPathFactory) -> Iterator[Master]:
+    """A ``rosmaster --core`` on a free loopback port, for one test module."""
+    with master(tmp_path_factory.mktemp("master")) as running:
+        yield running
+
+
+@pytest.fixture(scope="module")
+def engram_ros(ros_master: Master, tmp_path_factory: pytest.TempPathFactory) -> Iterator[Path]:
+    """``engram ros`` on a fresh data directory, registered with ``ros_master``; its home."""
+    home = tmp_path_factory.mktemp("engram-ros")
+    with engram(["ros", "--data", str(home / "data")], ros_master, home):
+        yield home
+
+
+@pytest.fixture
+def ros_armor(engram_ros: Path, ros_master: Master) -> RosArmor:
+    return RosArmor(ros_master.uri)
+
+
+class RosTransport(httpx.BaseTransport):
+    """api.client's requests (armor_py_api's calls) carried by rospy's ServiceProxy."""
+
+    def __init__(self, ros: RosArmor) -> None:
+        self.ros = ros
+
+    def handle_request(self, request: httpx.Request) -> httpx.Response:
+        body = json.loads(request.read())
+        try:
+            if request.url.path.endswith("/armor_interface_srv"):
+                one = ArmorRequest.model_validate(body).armor_request
+                answer = {"armor_response": self.ros.execute(one).model_dump()}
+            else:
+                many = ArmorDirectiveListReq.model_validate(body).armor_requests
+                result = self.ros.execute_list(many)
+                answer = {
+                    "success": result.success,
+                    "is_consistent": result.is_consistent,
+                    "armor_responses": [
+                        response_of(r).model_dump() for r in result.armor_responses
+                    ],
+                }
+        except rospy.ServiceException as error:
+            return httpx.Response(500, json={"detail": str(error)})
+        return httpx.Response(200, json=answer)
+
+
+@pytest.fixture
+def py_api_client(ros_armor: RosArmor) -> Iterator[ArmorClient]:
+    """armor_py_api's ``ArmorClient("client", "reference")`` (as api.client), over ROS."""
+    http = httpx.Client(base_url="http://ros", transport=RosTransport(ros_armor))
+    with ArmorClient("client", "reference_" + uuid.uuid4().hex[:8], http=http) as client:
+        yield client
