@@ -10,6 +10,7 @@ from pathlib import Path
 from typing import Any
 
 import httpx
+import numpy as np
 import pytest
 
 from api.armor.models import (
@@ -21,6 +22,7 @@ from api.armor.models import (
 from api.client import ArmorClient
 from api.ros.convert import response_of, ros_request
 from api.ros.messages import ArmorMsgs, armor_msgs
+from shapes.synthetic import Camera
 from tests.ros.processes import Master, engram, master
 
 import rospy  # isort: skip  (tests.ros.processes put ROS on the path)
@@ -69,18 +71,28 @@ def _rospy_sockets() -> Iterator[None]:
         gc.collect()
 
 
-@pytest.fixture(scope="module")
+CLOUD_TOPIC = "/engram_test/points"
+RESULT_TOPIC = "/engram_test/scenes"
+
+
+@pytest.fixture(scope="session")
 def ros_master(tmp_path_factory: pytest.TempPathFactory) -> Iterator[Master]:
-    """A ``rosmaster --core`` on a free loopback port, for one test module."""
+    """A ``rosmaster --core`` on a free loopback port."""
     with master(tmp_path_factory.mktemp("master")) as running:
         yield running
 
 
-@pytest.fixture(scope="module")
+@pytest.fixture(scope="session")
 def engram_ros(ros_master: Master, tmp_path_factory: pytest.TempPathFactory) -> Iterator[Path]:
-    """``engram ros`` on a fresh data directory, registered with ``ros_master``; its home."""
+    """``engram ros`` on a fresh data directory, registered with ``ros_master``, perceiving
+    ``CLOUD_TOPIC`` from the synthetic tabletop camera's pose; its home directory."""
     home = tmp_path_factory.mktemp("engram-ros")
-    with engram(["ros", "--data", str(home / "data")], ros_master, home):
+    pose = home / "pose.txt"
+    np.savetxt(pose, Camera().world_from_camera)
+    arguments = ["ros", "--data", str(home / "data"), "--cloud-topic", CLOUD_TOPIC]
+    arguments += ["--result-topic", RESULT_TOPIC, "--pose", str(pose)]
+    arguments += ["--scene-frames", "2", "--min-hits", "2"]
+    with engram(arguments, ros_master, home):
         yield home
 
 
