@@ -1,6 +1,6 @@
 """The ROS node: ARMOR's two services on the engine, kept registered across master restarts.
 
-Import only after :func:`api.ros.system.load_ros` (this module imports rospy).
+Importing this module puts ROS's Python modules on the path (:mod:`api.ros._ros`).
 """
 
 import logging
@@ -8,13 +8,9 @@ import threading
 from collections.abc import Callable
 from typing import Any
 
-import rosgraph.masterapi
-import rospy
-import rospy.impl.registration
-from rospy.impl.registration import RegManager, get_registration_listeners
-
 from api.armor import ArmorEngine
 from api.armor.names import ValueStyle
+from api.ros._ros import rosgraph, rospy
 from api.ros.convert import request_of, response_to_ros
 from api.ros.messages import ArmorMsgs, armor_msgs
 from kg import EngramError
@@ -143,8 +139,8 @@ class MasterWatch:
             master.registerPublisher(name, data_type, node_uri)
         for name, data_type in topics.get_subscriptions():
             publishers = master.registerSubscriber(name, data_type, node_uri)
-            for listener in get_registration_listeners().listeners:
-                if isinstance(listener, RegManager):
+            for listener in rospy.impl.registration.get_registration_listeners().listeners:
+                if isinstance(listener, rospy.impl.registration.RegManager):
                     listener.publisher_update(name, publishers)
         for name, service_uri in services.get_services():
             master.registerService(name, service_uri, node_uri)

@@ -11,7 +11,7 @@ class the scene was stored under, ``sparql_queried_objects`` the memory's detail
 
 The pose is a parameter: ``world_from_sensor``, the 4x4 matrix taking the cloud's points to a
 world frame whose z axis points up, against gravity (identity: the cloud is already in such a
-frame). Import only after :func:`api.ros.system.load_ros` (this module imports rospy).
+frame). Importing this module puts ROS's Python modules on the path (:mod:`api.ros._ros`).
 """
 
 import collections
@@ -22,12 +22,11 @@ from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
-import rospy
-import sensor_msgs.msg
 
 from api.armor import ArmorEngine
 from api.armor.models import ArmorDirectiveReq, ArmorDirectiveRes
 from api.perceive import scene_primitives
+from api.ros._ros import rospy, sensor_msgs
 from api.ros.convert import response_to_ros
 from api.ros.messages import armor_msgs
 from shapes import Frame, Perception, ShapesError, StableScene
@@ -158,7 +157,7 @@ class CloudPerception:
     def store(self, scene: StableScene) -> ArmorDirectiveRes:
         """Store one scene as one directive list; the answer of its last directive, or of the
         first that failed (the list then changed nothing)."""
-        directives = [("LOAD", "INIT", "", [])]
+        directives: list[tuple[str, str, str, list[str]]] = [("LOAD", "INIT", "", [])]
         for primitive in scene_primitives(scene):
             directives += primitive.directives()
         directives.append(("SCENE", "UPDATED", "", []))

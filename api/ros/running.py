@@ -1,13 +1,12 @@
 """A running ROS node: the services, the optional perception, the master watch.
 
-Import only after :func:`api.ros.system.load_ros` (this module imports rospy).
+Importing this module puts ROS's Python modules on the path (:mod:`api.ros._ros`).
 """
 
 import logging
 
-import rospy
-
 from api.armor import ArmorEngine
+from api.ros._ros import rospy
 from api.ros.node import ArmorServices, MasterWatch, init_node
 from api.ros.node_options import RosOptions
 from api.ros.perception import CloudPerception

@@ -52,20 +52,6 @@ def every_family(saved: Path) -> list[Step]:
     ]
 
 
-def memory_scene() -> list[Step]:
-    """One scene into Engram's memory (LOAD INIT, the primitives, SCENE UPDATED)."""
-    steps: list[Step] = [("LOAD", "INIT", "", [])]
-    for name, kind, x in (("sphere1", "Sphere", "0.1"), ("plane1", "Plane", "0.0")):
-        steps.append(("ADD", "IND", "CLASS", [name, kind]))
-        for prop, value in (("centreX", x), ("centreY", "0.0"), ("centreZ", "0.05")):
-            steps.append(("ADD", "DATAPROP", "IND", [prop, name, "DOUBLE", value]))
-    steps.append(("ADD", "DATAPROP", "IND", ["radius", "sphere1", "DOUBLE", "0.05"]))
-    for prop, value in (("axisX", "0.0"), ("axisY", "0.0"), ("axisZ", "1.0")):
-        steps.append(("ADD", "DATAPROP", "IND", [prop, "plane1", "DOUBLE", value]))
-    steps.append(("SCENE", "UPDATED", "", []))
-    return steps
-
-
 def armor_py_api_client_test() -> list[Step]:
     """What armor_py_api's client_test.py sends, in order (its calls written as directives)."""
     owl = str(DATA / "test.owl")

@@ -1,0 +1,76 @@
+"""``engram serve --ros``: HTTP and ROS on one engine; the node outlives a master restart."""
+
+import uuid
+from collections.abc import Iterator
+from dataclasses import dataclass
+
+import httpx
+import pytest
+
+from tests.conftest import free_port
+from tests.ros.conftest import RosArmor, directive
+from tests.ros.processes import Master, engram, service_registered, wait_for
+
+
+@dataclass
+class Served:
+    master: Master
+    http: httpx.Client
+    ros: RosArmor
+
+
+@pytest.fixture(scope="module")
+def served(tmp_path_factory: pytest.TempPathFactory) -> Iterator[Served]:
+    """Its own master (restarted by a test) and ``engram serve --ros``."""
+    home = tmp_path_factory.mktemp("serve-ros")
+    master = Master(free_port(), home).start()
+    port = free_port()
+    arguments = ["serve", "--ros", "--data", str(home / "data"), "--port", str(port)]
+    try:
+        with (
+            engram(arguments, master, home),
+            httpx.Client(base_url=f"http://127.0.0.1:{port}", timeout=30) as http,
+        ):
+            wait_for(lambda: http.get("/health").status_code == 200, "the HTTP server")
+            yield Served(master, http, RosArmor(master.uri))
+    finally:
+        master.stop()
+
+
+def _http(served: Served, *args: object, ref: str) -> dict[str, object]:
+    body = {"armor_request": directive(*args, ref=ref).model_dump()}  # type: ignore[arg-type]
+    answer = served.http.post("/armor_interface_srv", json=body)
+    assert answer.status_code == 200, answer.text
+    result: dict[str, object] = answer.json()["armor_response"]
+    return result
+
+
+def test_what_ros_clients_write_http_reads_and_back(served: Served) -> None:
+    ref = "ref_" + uuid.uuid4().hex[:8]
+    load = directive("LOAD", "FILE", "", ["", "http://ex.org/" + ref, "false", "", "true"], ref=ref)
+    assert served.ros.execute(load).success
+    assert served.ros.execute(directive("ADD", "IND", "CLASS", ["robot", "Agent"], ref=ref)).success
+    assert _http(served, "QUERY", "IND", "CLASS", ["Agent"], ref=ref)["queried_objects"] == [
+        f"<http://ex.org/{ref}#robot>"
+    ]
+    assert _http(served, "ADD", "IND", "CLASS", ["cup", "Agent"], ref=ref)["success"]
+    seen = served.ros.execute(directive("QUERY", "IND", "CLASS", ["Agent"], ref=ref))
+    assert sorted(seen.queried_objects) == [
+        f"<http://ex.org/{ref}#cup>",
+        f"<http://ex.org/{ref}#robot>",
+    ]
+
+
+def test_the_node_registers_again_after_a_master_restart(served: Served) -> None:
+    master = served.master
+    master.stop()
+    master.start()  # same port, a master that knows nothing
+    wait_for(
+        lambda: service_registered(master.uri, "/armor_interface_serialized_srv"),
+        "engram to register again",
+        timeout_s=30,
+    )
+    ref = "ref_" + uuid.uuid4().hex[:8]
+    load = directive("LOAD", "FILE", "", ["", "http://ex.org/" + ref, "false", "", "true"], ref=ref)
+    assert served.ros.execute(load).success
+    assert _http(served, "GET", "ALL", "REFS", ref=ref)["success"]
