@@ -6,6 +6,7 @@ import os
 import uuid
 import warnings
 from collections.abc import Iterator
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
@@ -23,7 +24,8 @@ from api.client import ArmorClient
 from api.ros.convert import response_of, ros_request
 from api.ros.messages import ArmorMsgs, armor_msgs
 from shapes.synthetic import Camera
-from tests.ros.processes import Master, engram, master
+from tests.conftest import free_port
+from tests.ros.processes import Engram, Master
 
 import rospy  # isort: skip  (tests.ros.processes put ROS on the path)
 
@@ -64,10 +66,18 @@ def directive(
 
 @pytest.fixture(autouse=True)
 def _rospy_sockets() -> Iterator[None]:
-    """rospy leaves its XML-RPC connections to the collector: close them within the test."""
+    """rospy leaves sockets of its XML-RPC connections unclosed (their warnings are ignored)."""
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", ResourceWarning)
         yield
+
+
+@pytest.fixture(autouse=True, scope="module")
+def _collect_rospy_sockets() -> Iterator[None]:
+    """Those of them in reference cycles: collected before the next module's tests."""
+    yield
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", ResourceWarning)
         gc.collect()
 
 
@@ -75,25 +85,66 @@ CLOUD_TOPIC = "/engram_test/points"
 RESULT_TOPIC = "/engram_test/scenes"
 
 
-@pytest.fixture(scope="session")
-def ros_master(tmp_path_factory: pytest.TempPathFactory) -> Iterator[Master]:
-    """A ``rosmaster --core`` on a free loopback port."""
-    with master(tmp_path_factory.mktemp("master")) as running:
-        yield running
+MAX_LIST_LENGTH = 2000
+"""ENGRAM_ARMOR_MAX_LIST_LENGTH of the ``engram ros`` under test."""
+
+
+@dataclass
+class Launched:
+    """The two nodes under test, each on its own master, started together (each takes seconds
+    to import Engram): ``engram ros`` and ``engram serve --ros`` (whose master a test restarts)."""
+
+    ros_master: Master
+    ros: Engram
+    serve_master: Master
+    serve: Engram
+    http_port: int
 
 
 @pytest.fixture(scope="session")
-def engram_ros(ros_master: Master, tmp_path_factory: pytest.TempPathFactory) -> Iterator[Path]:
-    """``engram ros`` on a fresh data directory, registered with ``ros_master``, perceiving
-    ``CLOUD_TOPIC`` from the synthetic tabletop camera's pose; its home directory."""
-    home = tmp_path_factory.mktemp("engram-ros")
-    pose = home / "pose.txt"
+def launched(tmp_path_factory: pytest.TempPathFactory) -> Iterator[Launched]:
+    ros_home = tmp_path_factory.mktemp("engram-ros")
+    serve_home = tmp_path_factory.mktemp("serve-ros")
+    ros_master = Master(free_port(), ros_home).start()
+    serve_master = Master(free_port(), serve_home).start()
+    pose = ros_home / "pose.txt"
     np.savetxt(pose, Camera().world_from_camera)
-    arguments = ["ros", "--data", str(home / "data"), "--cloud-topic", CLOUD_TOPIC]
+    arguments = ["ros", "--data", str(ros_home / "data"), "--cloud-topic", CLOUD_TOPIC]
     arguments += ["--result-topic", RESULT_TOPIC, "--pose", str(pose)]
     arguments += ["--scene-frames", "2", "--min-hits", "2"]
-    with engram(arguments, ros_master, home):
-        yield home
+    limit = {"ENGRAM_ARMOR_MAX_LIST_LENGTH": str(MAX_LIST_LENGTH)}
+    port = free_port()
+    serve_arguments = ["serve", "--ros", "--data", str(serve_home / "data"), "--port", str(port)]
+    nodes = [
+        Engram(arguments, ros_master, ros_home, limit),
+        Engram(serve_arguments, serve_master, serve_home),
+    ]
+    try:
+        for node in nodes:
+            node.wait()
+        yield Launched(ros_master, nodes[0], serve_master, nodes[1], port)
+        codes = [node.stop() for node in nodes]
+        assert codes == [0, 0], "a node did not stop cleanly on SIGINT: " + "".join(
+            node.log_path.read_text() for node in nodes
+        )
+    finally:
+        for node in nodes:
+            node.stop()
+        ros_master.stop()
+        serve_master.stop()
+
+
+@pytest.fixture(scope="session")
+def ros_master(launched: Launched) -> Master:
+    """The master of ``engram ros``."""
+    return launched.ros_master
+
+
+@pytest.fixture(scope="session")
+def engram_ros(launched: Launched) -> Path:
+    """``engram ros`` on a fresh data directory, perceiving ``CLOUD_TOPIC`` from the synthetic
+    tabletop camera's pose, lists limited to ``MAX_LIST_LENGTH``; its home directory."""
+    return launched.ros.home
 
 
 @pytest.fixture

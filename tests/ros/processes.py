@@ -108,29 +108,51 @@ def master(home: Path) -> Iterator[Master]:
         running.stop()
 
 
+class Engram:
+    """``engram ARGUMENTS`` as a child process (started at once; :meth:`wait` for its services),
+    with ``ENVIRONMENT`` added to its environment."""
+
+    def __init__(
+        self,
+        arguments: list[str],
+        master: Master,
+        home: Path,
+        environment: dict[str, str] | None = None,
+    ) -> None:
+        self.master, self.home = master, home
+        self.log_path = home / "engram.log"
+        self._log = self.log_path.open("wb")
+        self.process = subprocess.Popen(
+            [sys.executable, "-c", ENGRAM, *arguments],
+            env=ros_env(master.uri, home) | (environment or {}),
+            stdout=self._log,
+            stderr=subprocess.STDOUT,
+            cwd=home,
+        )
+
+    def wait(self) -> "Engram":
+        """Return once its ARMOR service is registered; raise with its output if it ended."""
+
+        def ready() -> bool:
+            if self.process.poll() is not None:
+                raise RuntimeError(self.log_path.read_text())
+            return service_registered(self.master.uri, "/armor_interface_srv")
+
+        wait_for(ready, "engram to register its services")
+        return self
+
+    def stop(self) -> int:
+        """Stop it with SIGINT, as Ctrl-C does; its exit code."""
+        stop_process(self.process)
+        self._log.close()
+        return self.process.returncode
+
+
 @contextlib.contextmanager
-def engram(
-    arguments: list[str], master: Master, home: Path, *, wait_service: bool = True
-) -> Iterator[subprocess.Popen[bytes]]:
-    """``engram ARGUMENTS`` as a child process, until its ARMOR service is registered."""
-    log = (home / "engram.log").open("wb")
-    process = subprocess.Popen(
-        [sys.executable, "-c", ENGRAM, *arguments],
-        env=ros_env(master.uri, home),
-        stdout=log,
-        stderr=subprocess.STDOUT,
-        cwd=home,
-    )
+def engram(arguments: list[str], master: Master, home: Path) -> Iterator[Engram]:
+    """``engram ARGUMENTS`` as a child process, once its ARMOR service is registered."""
+    running = Engram(arguments, master, home)
     try:
-        if wait_service:
-
-            def ready() -> bool:
-                if process.poll() is not None:
-                    raise RuntimeError((home / "engram.log").read_text())
-                return service_registered(master.uri, "/armor_interface_srv")
-
-            wait_for(ready, "engram to register its services")
-        yield process
+        yield running.wait()
     finally:
-        stop_process(process)
-        log.close()
+        running.stop()

@@ -7,9 +7,8 @@ from dataclasses import dataclass
 import httpx
 import pytest
 
-from tests.conftest import free_port
-from tests.ros.conftest import RosArmor, directive
-from tests.ros.processes import Master, engram, service_registered, wait_for
+from tests.ros.conftest import Launched, RosArmor, directive
+from tests.ros.processes import Master, service_registered, wait_for
 
 
 @dataclass
@@ -20,21 +19,12 @@ class Served:
 
 
 @pytest.fixture(scope="module")
-def served(tmp_path_factory: pytest.TempPathFactory) -> Iterator[Served]:
-    """Its own master (restarted by a test) and ``engram serve --ros``."""
-    home = tmp_path_factory.mktemp("serve-ros")
-    master = Master(free_port(), home).start()
-    port = free_port()
-    arguments = ["serve", "--ros", "--data", str(home / "data"), "--port", str(port)]
-    try:
-        with (
-            engram(arguments, master, home),
-            httpx.Client(base_url=f"http://127.0.0.1:{port}", timeout=30) as http,
-        ):
-            wait_for(lambda: http.get("/health").status_code == 200, "the HTTP server")
-            yield Served(master, http, RosArmor(master.uri))
-    finally:
-        master.stop()
+def served(launched: Launched) -> Iterator[Served]:
+    """``engram serve --ros`` on its own master (which a test restarts)."""
+    url = f"http://127.0.0.1:{launched.http_port}"
+    with httpx.Client(base_url=url, timeout=30) as http:
+        wait_for(lambda: http.get("/health").status_code == 200, "the HTTP server")
+        yield Served(launched.serve_master, http, RosArmor(launched.serve_master.uri))
 
 
 def _http(served: Served, *args: object, ref: str) -> dict[str, object]:

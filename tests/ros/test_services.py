@@ -13,7 +13,7 @@ from api.armor.models import ArmorDirectiveListRes
 from api.client import ArmorClient
 from api.ros.convert import response_of
 from tests.conftest import LiveServer
-from tests.ros.conftest import RosArmor
+from tests.ros.conftest import MAX_LIST_LENGTH, RosArmor
 from tests.ros.sequences import (
     armor_py_api_client_test,
     directives,
@@ -138,3 +138,16 @@ def test_a_client_that_disconnects_mid_call_leaves_the_node_serving(
     answer = ros_armor.execute(query)
     assert answer.exit_code in (0, 207)
     assert ros_armor.execute_list(directives(armor_py_api_client_test(), ref + "_b")).success
+
+
+def test_a_list_longer_than_the_maximum_fails_the_call_and_changes_nothing(
+    ros_armor: RosArmor,
+) -> None:
+    ref = "ref_" + uuid.uuid4().hex[:8]
+    load = ("LOAD", "FILE", "", ["", "http://ex.org/" + ref, "false", "PELLET", "true"])
+    assert ros_armor.execute(directives([load], ref)[0]).success
+    steps = [("ADD", "IND", "CLASS", [f"ind_{i}", "Class_1"]) for i in range(MAX_LIST_LENGTH + 1)]
+    with pytest.raises(rospy.ServiceException, match="at most 2000 directives"):
+        ros_armor.execute_list(directives(steps, ref))
+    query = directives([("QUERY", "IND", "CLASS", ["Class_1"])], ref)[0]
+    assert ros_armor.execute(query).queried_objects == []
