@@ -122,8 +122,7 @@ def perception(node: RunningNode, seconds: float, rate_hz: float) -> None:
     shot = camera.shoot(scene, np.random.default_rng(1))
     # an organised 640 x 480 cloud: NaN where the camera saw nothing
     organised = np.full((480 * 640, 3), np.nan)
-    hit = np.isfinite(shot.depth.ravel())
-    organised[hit] = shot.frame.points[: int(hit.sum())]
+    organised[shot.frame.pixels] = shot.frame.points
     publisher = rospy.Publisher(CLOUD_TOPIC, sensor_msgs.msg.PointCloud2, queue_size=1)
     while publisher.get_num_connections() == 0:
         time.sleep(0.05)

@@ -30,7 +30,7 @@ from api.ros._ros import rospy, sensor_msgs
 from api.ros.convert import response_to_ros
 from api.ros.messages import armor_msgs
 from shapes import Frame, Perception, ShapesError, StableScene
-from shapes.bags import decode_pointcloud2
+from shapes.bags import decode_pointcloud2_pixels
 from shapes.types import FloatArray
 
 __all__ = ["CloudPerception", "PerceptionCounts", "frame_of"]
@@ -42,26 +42,18 @@ _BUFFER_BYTES = 1 << 26
 
 
 def frame_of(message: Any, world_from_sensor: FloatArray | None = None) -> Frame | None:
-    """The points (and packed colours) of a PointCloud2, organised or not, as a frame; None for
-    a cloud with no finite point. Raises :class:`shapes.SourceError` for an unreadable one."""
-    view = _CloudView(message)
-    points, colours = decode_pointcloud2(view)
+    """The points (and packed colours) of a PointCloud2 as a frame, organised (``height`` > 1:
+    with its image shape and pixels, for the artefact filters) or not; None for a cloud with no
+    finite point. Raises :class:`shapes.SourceError` for an unreadable one."""
+    points, colours, pixels = decode_pointcloud2_pixels(message)
     if len(points) == 0:
         return None
     stamp = message.header.stamp.to_sec()
     pose = np.eye(4) if world_from_sensor is None else world_from_sensor
-    return Frame(points, colours, stamp, message.header.frame_id, pose)
-
-
-class _CloudView:
-    """A rospy PointCloud2 with ``data`` as a uint8 array (rospy gives bytes)."""
-
-    def __init__(self, message: Any) -> None:
-        self._message = message
-        self.data = np.frombuffer(message.data, dtype=np.uint8)
-
-    def __getattr__(self, name: str) -> Any:
-        return getattr(self._message, name)
+    rows, columns = int(message.height), int(message.width)
+    if rows <= 1:
+        return Frame(points, colours, stamp, message.header.frame_id, pose)
+    return Frame(points, colours, stamp, message.header.frame_id, pose, (rows, columns), pixels)
 
 
 @dataclass

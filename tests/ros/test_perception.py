@@ -69,7 +69,7 @@ def _cloud(fields: list[tuple[str, int, int]], step: int, rows: int, width: int)
     return message
 
 
-def test_an_organised_padded_float64_cloud_decodes_to_its_points() -> None:
+def test_an_organised_padded_float64_cloud_is_an_organised_frame_of_its_finite_points() -> None:
     points = np.arange(2 * 3 * 3, dtype="<f8").reshape(2, 3, 3)
     points[1, 2] = np.nan  # a hole of the organised cloud
     message = _cloud([("x", 0, 8), ("y", 8, 8), ("z", 16, 8)], 24, 2, 3)
@@ -78,6 +78,9 @@ def test_an_organised_padded_float64_cloud_decodes_to_its_points() -> None:
     assert frame is not None
     np.testing.assert_allclose(frame.points, points.reshape(-1, 3)[:5])
     assert frame.colours is None
+    assert frame.image_shape == (2, 3)
+    assert frame.pixels is not None
+    assert frame.pixels.tolist() == [0, 1, 2, 3, 4]
 
 
 @pytest.mark.parametrize(
