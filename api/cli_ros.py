@@ -11,6 +11,7 @@ from rich.markup import escape
 from api.config import Settings
 from api.ros.node_options import RosOptions
 from api.ros.system import RosUnavailableError, load_ros
+from kg import EngramError
 from shapes import PerceptionParams
 from shapes.frame import as_transform
 
@@ -104,7 +105,11 @@ def _run(settings: Settings, options: RosOptions) -> None:
     from api.ros.running import RunningNode
     from api.ros.runtime import open_memory
 
-    memory = open_memory(settings)
+    try:
+        memory = open_memory(settings)
+    except (EngramError, ValueError) as error:  # a locked or unreadable store, a bad setting
+        console.print(f"[red]{escape(str(error))}[/red]")
+        raise typer.Exit(1) from None
     try:
         node = RunningNode(memory.engine, options, signals=True)
         console.print(

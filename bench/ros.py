@@ -75,6 +75,17 @@ def round_trips(calls: int) -> None:
         print(f"round trip, QUERY IND CLASS, {how}: {_ms(times)} over {calls} calls")
 
 
+def master_lookups(calls: int) -> None:
+    """What a call without a persistent connection asks the master first (rosmaster's time)."""
+    master = rospy.core.xmlrpcapi(os.environ["ROS_MASTER_URI"])
+    times = []
+    for _ in range(calls):
+        started = time.perf_counter()
+        master.lookupService("/bench", "/armor_interface_srv")
+        times.append(time.perf_counter() - started)
+    print(f"of which the master's lookupService (rosmaster, rospy's connection): {_ms(times)}")
+
+
 def long_list(length: int, runs: int = 3) -> None:
     srv = armor_msgs().srv
     proxy = rospy.ServiceProxy("/armor_interface_serialized_srv", srv.ArmorDirectiveList)
@@ -165,6 +176,7 @@ def main() -> None:
         rospy.wait_for_service("/armor_interface_srv", 30)
         try:
             round_trips(args.calls)
+            master_lookups(args.calls)
             long_list(args.list_length)
             perception(node, args.seconds, args.rate)
         finally:

@@ -1,12 +1,9 @@
 """armor_msgs as Engram generates them: ARMOR's definitions, hence ARMOR's md5sums."""
 
 import hashlib
-from pathlib import Path
 
 import pytest
-from typer.testing import CliRunner
 
-from api.cli import app
 from api.ros.messages import DEFINITIONS, armor_msgs, md5sums_of_definitions
 from api.ros.system import load_ros
 
@@ -50,21 +47,3 @@ def test_generated_classes_carry_the_md5sums_of_armors_definitions() -> None:
                 assert cls._type == name
     for name, md5 in ARMOR_MD5SUMS.items():
         assert computed[name] == md5
-
-
-@pytest.mark.parametrize(
-    ("pose", "fragment"),
-    [("1 0 0\n0 1 0\n", "expected a 4x4 rigid transform"), (None, "expected a 4x4")],
-)
-def test_engram_ros_refuses_a_bad_pose_before_starting(
-    tmp_path: Path, pose: str | None, fragment: str
-) -> None:
-    path = tmp_path / "pose.txt"
-    if pose is not None:
-        path.write_text(pose)
-    scaled = "2 0 0 0\n0 1 0 0\n0 0 1 0\n0 0 0 1\n"  # not rigid
-    if pose is None:
-        path.write_text(scaled)
-    result = CliRunner().invoke(app, ["ros", "--data", str(tmp_path), "--pose", str(path)])
-    assert result.exit_code == 2
-    assert fragment in " ".join(result.output.split())
