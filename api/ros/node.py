@@ -26,10 +26,18 @@ SERIAL_SERVICE = "/armor_interface_serialized_srv"
 def init_node(name: str, *, signals: bool) -> None:
     """Register this process with the master of ``ROS_MASTER_URI`` as node ``name``.
 
+    The root logger keeps the handlers it had (``engram serve``'s console); a process that had
+    none logs where rospy logs, to its ROS log file (``rospy.loginfo`` also to the console).
+
     ``signals``: let rospy handle SIGINT/SIGTERM (a process that is only a ROS node); False
     when another framework (uvicorn) owns them, or outside the main thread.
     """
+    root = logging.getLogger()
+    handlers, level = list(root.handlers), root.level
     rospy.init_node(name, anonymous=False, disable_signals=not signals)
+    if handlers:  # rospy replaced the root logger's handlers (uvicorn's) with its log file's
+        root.handlers[:] = handlers
+        root.setLevel(level)
 
 
 class ArmorServices:

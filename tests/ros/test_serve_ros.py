@@ -64,3 +64,12 @@ def test_the_node_registers_again_after_a_master_restart(served: Served) -> None
     load = directive("LOAD", "FILE", "", ["", "http://ex.org/" + ref, "false", "", "true"], ref=ref)
     assert served.ros.execute(load).success
     assert _http(served, "GET", "ALL", "REFS", ref=ref)["success"]
+
+
+def test_engrams_log_stays_on_the_servers_console_once_ros_started(launched: Launched) -> None:
+    """rospy.init_node sends the root logger to its log file; serve's console keeps it."""
+    wait_for(
+        lambda: "serving /armor_interface_srv" in launched.serve.log_path.read_text(),
+        "the node's log line",
+        timeout_s=10,
+    )
