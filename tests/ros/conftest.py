@@ -123,6 +123,8 @@ def launched(tmp_path_factory: pytest.TempPathFactory) -> Iterator[Launched]:
         for node in nodes:
             node.wait()
         yield Launched(ros_master, nodes[0], serve_master, nodes[1], port)
+        for node in nodes:
+            node.interrupt()  # both stop at once
         codes = [node.stop() for node in nodes]
         assert codes == [0, 0], "a node did not stop cleanly on SIGINT: " + "".join(
             node.log_path.read_text() for node in nodes

@@ -120,6 +120,7 @@ class Engram:
         environment: dict[str, str] | None = None,
     ) -> None:
         self.master, self.home = master, home
+        self._interrupted = False
         self.log_path = home / "engram.log"
         self._log = self.log_path.open("wb")
         self.process = subprocess.Popen(
@@ -141,9 +142,21 @@ class Engram:
         wait_for(ready, "engram to register its services")
         return self
 
+    def interrupt(self) -> None:
+        """Send SIGINT, as Ctrl-C does (:meth:`stop` then waits for the end)."""
+        if self.process.poll() is None and not self._interrupted:
+            self._interrupted = True
+            self.process.send_signal(signal.SIGINT)
+
     def stop(self) -> int:
-        """Stop it with SIGINT, as Ctrl-C does; its exit code."""
-        stop_process(self.process)
+        """Stop it with SIGINT, as Ctrl-C does (once: a second one would hurry uvicorn); its
+        exit code."""
+        self.interrupt()
+        try:
+            self.process.wait(30)
+        except subprocess.TimeoutExpired:
+            self.process.kill()
+            self.process.wait()
         self._log.close()
         return self.process.returncode
 
