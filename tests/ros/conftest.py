@@ -21,13 +21,12 @@ from api.armor.models import (
     ArmorRequest,
 )
 from api.client import ArmorClient
+from api.ros._ros import rospy
 from api.ros.convert import response_of, ros_request
 from api.ros.messages import ArmorMsgs, armor_msgs
 from shapes.synthetic import Camera
 from tests.conftest import free_port
 from tests.ros.processes import Engram, Master
-
-import rospy  # isort: skip  (tests.ros.processes put ROS on the path)
 
 
 class RosArmor:

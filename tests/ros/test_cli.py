@@ -1,6 +1,7 @@
 """``engram ros``: what it refuses before it registers with a master."""
 
 import gc
+import logging
 from pathlib import Path
 
 import pytest
@@ -35,3 +36,10 @@ def test_engram_ros_refuses_a_store_another_process_holds(tmp_path: Path) -> Non
     assert "is open in another process" in " ".join(result.output.split())
     del store
     gc.collect()
+
+
+def test_importing_ros_leaves_the_class_of_new_loggers_alone() -> None:
+    from api.ros._ros import rosgraph
+
+    assert logging.getLoggerClass() is not rosgraph.roslogging.RospyLogger
+    assert rosgraph.roslogging.RospyLogger is not logging.Logger

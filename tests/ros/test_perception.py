@@ -8,16 +8,14 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from api.ros._ros import sensor_msgs
 from api.ros.perception import frame_of
-from api.ros.system import load_ros
 from shapes import SourceError
 from shapes.synthetic import TabletopScene, TruthObject
 from tests.ros.conftest import CLOUD_TOPIC, RESULT_TOPIC, RosArmor, directive
 from tests.ros.processes import Master, ros_env
 
-load_ros()
-
-from sensor_msgs.msg import PointCloud2, PointField  # noqa: E402
+PointCloud2, PointField = sensor_msgs.msg.PointCloud2, sensor_msgs.msg.PointField
 
 HERE = Path(__file__).parent
 SCENE = TabletopScene(

@@ -11,6 +11,7 @@ import pytest
 
 from api.armor.models import ArmorDirectiveListRes
 from api.client import ArmorClient
+from api.ros._ros import rosgraph, rospy
 from api.ros.convert import response_of
 from tests.conftest import LiveServer
 from tests.ros.conftest import MAX_LIST_LENGTH, RosArmor
@@ -19,9 +20,6 @@ from tests.ros.sequences import (
     directives,
     every_family,
 )
-
-import rosgraph.network  # isort: skip  (tests.ros.conftest put ROS on the path)
-import rospy  # isort: skip
 
 
 def test_every_family_answers_over_ros_as_over_http(
