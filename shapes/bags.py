@@ -94,15 +94,17 @@ def decode_pointcloud2_pixels(
                 for r in range(int(msg.height))
             ]
         )
-    rec = np.frombuffer(raw[: n * int(msg.point_step)].tobytes(), dtype=dtype, count=n)
-    points = np.column_stack([rec[a].astype(np.float64) for a in ("x", "y", "z")])
+    rec = np.frombuffer(raw, dtype=dtype, count=n)  # a view: no copy of the cloud's bytes
+    points = np.empty((n, 3))
+    for column, axis in enumerate("xyz"):
+        points[:, column] = rec[axis]
     colours = None
     colour_field = "rgb" if "rgb" in names else "rgba" if "rgba" in names else None
     if colour_field is not None:
         packed = rec[colour_field].astype(np.uint32)
         colours = np.column_stack(((packed >> 16) & 255, (packed >> 8) & 255, packed & 255))
         colours = colours.astype(np.float64) / 255.0
-    ok = np.isfinite(points).all(axis=1)
+    ok = np.isfinite(points[:, 0]) & np.isfinite(points[:, 1]) & np.isfinite(points[:, 2])
     return points[ok], None if colours is None else colours[ok], np.flatnonzero(ok)
 
 
