@@ -112,6 +112,7 @@ class MasterWatch:
         self.probe = probe
         self.period_s = period_s
         self.reregistrations = 0
+        self._master = rosgraph.masterapi.Master(rospy.get_caller_id())
         self._stop = threading.Event()
         self._thread = threading.Thread(target=self._run, name="ros-master-watch", daemon=True)
         self._thread.start()
@@ -126,12 +127,9 @@ class MasterWatch:
             except Exception:
                 log.exception("could not check the registration with the ROS master")
 
-    def _master(self) -> Any:
-        return rosgraph.masterapi.Master(rospy.get_caller_id())
-
     def _registered(self) -> bool:
         try:
-            uri = self._master().lookupService(self.probe)
+            uri = self._master.lookupService(self.probe)
         except rosgraph.masterapi.Error:  # the master does not know the service
             return False
         service = rospy.impl.registration.get_service_manager().get_service(self.probe)
@@ -139,7 +137,7 @@ class MasterWatch:
 
     def _register(self) -> None:
         """Every registration of this node, again (rospy's RegManager does it once, at start)."""
-        master = self._master()
+        master = self._master
         node_uri = rospy.get_node_uri()
         topics = rospy.impl.registration.get_topic_manager()
         services = rospy.impl.registration.get_service_manager()
