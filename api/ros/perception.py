@@ -28,6 +28,7 @@ from api.armor.models import ArmorDirectiveReq, ArmorDirectiveRes
 from api.perceive import scene_primitives
 from api.ros._ros import rospy, sensor_msgs
 from api.ros.convert import response_to_ros
+from api.ros.latest import Latest
 from api.ros.messages import armor_msgs
 from shapes import Frame, Perception, ShapesError, StableScene
 from shapes.bags import decode_pointcloud2_pixels
@@ -92,9 +93,8 @@ class CloudPerception:
         self.durations_s: collections.deque[float] = collections.deque(maxlen=1000)
         """How long perceiving (and storing) each of the last clouds took."""
         self._msg = armor_msgs().msg
-        self._newest: Any = None
-        self._ready = threading.Condition()
-        self._stopping = False
+        self._clouds: Latest[Any] = Latest()
+        self._counting = threading.Lock()
         self.publisher = rospy.Publisher(result_topic, self._msg.ArmorDirectiveRes, queue_size=10)
         self._worker = threading.Thread(target=self._run, name="ros-perception", daemon=True)
         self._worker.start()
@@ -108,21 +108,12 @@ class CloudPerception:
         log.info("perceiving %s, publishing scenes on %s", topic, result_topic)
 
     def _received(self, message: Any) -> None:
-        with self._ready:
+        with self._counting:  # rospy calls back from one thread per publisher
             self.counts.received += 1
-            if self._newest is not None:
-                self.counts.skipped += 1
-            self._newest = message
-            self._ready.notify()
+            self.counts.skipped += self._clouds.put(message)
 
     def _run(self) -> None:
-        while True:
-            with self._ready:
-                while self._newest is None and not self._stopping:
-                    self._ready.wait()
-                if self._stopping:
-                    return
-                message, self._newest = self._newest, None
+        while (message := self._clouds.take()) is not None:
             started = time.perf_counter()
             try:
                 self._perceive(message)
@@ -176,8 +167,6 @@ class CloudPerception:
     def stop(self) -> None:
         """Unsubscribe and end the worker (after the cloud it is perceiving)."""
         self.subscriber.unregister()
-        with self._ready:
-            self._stopping = True
-            self._ready.notify()
+        self._clouds.close()
         self._worker.join()
         self.publisher.unregister()
