@@ -2,7 +2,7 @@
 
 import copy
 from pathlib import Path
-from typing import TYPE_CHECKING, Annotated
+from typing import Annotated
 
 import typer
 from rich.console import Console
@@ -22,10 +22,8 @@ from api.cli_common import (
 )
 from api.cli_episodes import app as episodes_app
 from api.cli_perceive import perceive_command
+from api.cli_ros import ros_command, ros_options
 from api.config import Settings
-
-if TYPE_CHECKING:
-    pass
 
 app = typer.Typer(
     help="Engram: a human-like memory for robots, kept as a knowledge graph. Every command "
@@ -38,6 +36,7 @@ console = Console(soft_wrap=True)  # paths and URLs stay on one line
 app.add_typer(episodes_app, name="episodes")
 app.command("perceive")(perceive_command)
 app.command("ask")(ask_command)
+app.command("ros")(ros_command)
 
 HostOption = Annotated[str | None, typer.Option(help="Address to listen on.")]
 PortOption = Annotated[
@@ -66,7 +65,7 @@ def views_url(settings: Settings) -> str:
     return f"http://{settings.host}:{settings.port}/web/"
 
 
-def _serve(settings: Settings) -> None:
+def _serve(settings: Settings, *, ros: bool = False) -> None:
     import uvicorn
 
     from api.main import create_app
@@ -81,8 +80,13 @@ def _serve(settings: Settings) -> None:
         "(SPARQL at /sparql, OWL export at /export, API docs at /docs); Ctrl-C stops."
     )
     console.print(f"Web views (memory graph, scenes in 3D, episodes, query): {views_url(settings)}")
+    app = create_app(settings)
+    if ros:  # the ROS node on the app's engine (api/ros/serve.py)
+        from api.ros.serve import add_ros
+
+        add_ros(app, ros_options())
     uvicorn.run(
-        create_app(settings),
+        app,
         host=settings.host,
         port=settings.port,
         log_level="info",
@@ -148,8 +152,12 @@ def serve(
     init: Annotated[
         bool, typer.Option("--init", help="Create an empty memory if the directory has none.")
     ] = False,
+    ros: Annotated[
+        bool, typer.Option(help="Also serve ARMOR's ROS services (engram ros).")
+    ] = False,
 ) -> None:
-    """Serve the memory over HTTP: SPARQL, export, the ARMOR directive API, episodes, streams."""
+    """Serve the memory over HTTP: SPARQL, export, the ARMOR directive API, episodes, streams;
+    with --ros, ARMOR's ROS services on the same memory too."""
     settings = settings_for(data, host=host, port=port)
     if settings.store_url is None and not init and not settings.store_dir.is_dir():
         fail(
@@ -157,7 +165,7 @@ def serve(
             "there, `engram demo` one with a demo's life, or --data names another",
             1,
         )
-    _serve(settings)
+    _serve(settings, ros=ros)
 
 
 @app.command()

@@ -3,7 +3,6 @@
 import asyncio
 import gc
 import logging
-import time
 from collections.abc import AsyncIterator
 from contextlib import asynccontextmanager
 
@@ -11,13 +10,12 @@ from fastapi import FastAPI
 from starlette.concurrency import run_in_threadpool
 
 from api import fast_armor
-from api.armor.memory import sleep_if_due
 from api.config import Settings, get_settings
 from api.errors import install_error_handlers
 from api.finite_json import FiniteJsonBodies
 from api.openapi_errors import install_error_docs
 from api.routes import admin, armor, ask, episodes, export, health, history, sparql, streams, views
-from api.services import announce_server, open_services
+from api.services import Services, announce_server, open_services
 from reasoners.clock import SettableClock
 from reasoners.memory import SceneMemory
 
@@ -26,52 +24,11 @@ __all__ = ["create_app"]
 log = logging.getLogger(__name__)
 
 
-async def _sleep_when_due(memory: SceneMemory, period_s: float) -> None:
-    """Check every ``period_s`` whether the policy's sleep interval has passed, and sleep then;
-    then write the score view the updates since the last read left, and flush what the store
-    committed since the last check.
-
-    Updates also trigger the pass (every N of them); this covers a memory left alone. The flush
-    writes the store's in-memory tables to its files, so that opening it after a crash replays
-    only what came after (committed writes are safe either way, in the write-ahead log).
-    """
-    store = memory.store
-    flushed = store.generation
-    saved_at = time.monotonic()
+async def _upkeep(services: Services, period_s: float) -> None:
+    """:meth:`Services.upkeep` every ``period_s``, in a worker thread."""
     while True:
         await asyncio.sleep(period_s)
-        if not memory.ready:  # still opening in the background
-            continue
-        await run_in_threadpool(sleep_if_due, memory)
-        # the score view of the updates since the last read, so that the files converge
-        await run_in_threadpool(_settle_view, memory)
-        if store.generation != flushed:
-            flushed = store.generation
-            await run_in_threadpool(store.flush)
-        if time.monotonic() - saved_at >= INDEX_SAVE_INTERVAL_S:
-            saved_at = time.monotonic()
-            await run_in_threadpool(_save_index, memory)
-
-
-INDEX_SAVE_INTERVAL_S = 300.0
-"""How often the scene memory's index file is brought up to date (if the memory changed), so
-that a restart after a crash reads a recent one; a clean shutdown saves it too."""
-
-
-def _save_index(memory: SceneMemory) -> None:
-    """Save the memory's index file; a failure costs the next start a rebuild, nothing else."""
-    try:
-        memory.save_index()
-    except Exception:
-        log.exception("the scene memory's index file could not be saved")
-
-
-def _settle_view(memory: SceneMemory) -> None:
-    """Write the score view's pending changes; a failure is the next reader's to report."""
-    try:
-        memory.settle_view()
-    except Exception:
-        log.exception("the scene memory's score view could not be written")
+        await run_in_threadpool(services.upkeep)
 
 
 async def _freeze_once_loaded(memory: SceneMemory, poll_s: float = 0.5) -> None:
@@ -100,7 +57,7 @@ def create_app(settings: Settings | None = None) -> FastAPI:
         # the scene memory opens in the background (its index file, or a rebuild from the
         # store): /health and SPARQL answer meanwhile, memory directives answer "loading".
         # `engram serve` refuses a damaged store before this (reasoners.check)
-        services = open_services(settings, create=True, clock=clock, background=True)
+        services = open_services(settings, create=True, clock=clock, background=True, serving=True)
         log.info(
             "store %s: ontology %s %s",
             services.where,
@@ -109,13 +66,13 @@ def create_app(settings: Settings | None = None) -> FastAPI:
         )
         app.state.services = services
         scene_memory = services.scene_memory
-        services.runner  # noqa: B018 - started before the engine, so QUERY SPARQL uses it
+        services.runner  # noqa: B018 - the query workers start with the server, not on a first query
         withdraw = (
             announce_server(settings.data_dir, _local_url(settings))
             if services.remote is None
             else None
         )
-        sleeper = asyncio.create_task(_sleep_when_due(scene_memory, settings.sleep_check_s))
+        sleeper = asyncio.create_task(_upkeep(services, settings.sleep_check_s))
         warmer = asyncio.create_task(views.warm_up(scene_memory))  # the graph page's first list
         freezer = asyncio.create_task(_freeze_once_loaded(scene_memory))
         try:

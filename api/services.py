@@ -19,6 +19,7 @@ import datetime as dt
 import json
 import logging
 import os
+import time
 from collections.abc import Callable
 from functools import cached_property
 from pathlib import Path
@@ -69,8 +70,20 @@ class StoreBusyError(StoreLockedError):
         self.server = server
 
 
+INDEX_SAVE_INTERVAL_S = 300.0
+"""How often a serving process brings the scene memory's index file up to date (if the memory
+changed), so that a restart after a crash reads a recent one; closing saves it too."""
+
+
 def _utc_now() -> dt.datetime:
     return dt.datetime.now(dt.UTC)
+
+
+def _logged(action: Callable[[], object], failure: str) -> None:
+    try:
+        action()
+    except Exception:
+        log.exception(failure)
 
 
 class Services:
@@ -86,6 +99,7 @@ class Services:
         remote: "RemoteMemory | None" = None,
         clock: Clock | None = None,
         background: bool = False,
+        serving: bool = False,
     ) -> None:
         self.settings = settings
         self.store = store
@@ -94,8 +108,11 @@ class Services:
         self.remote = remote
         self.clock: Clock = clock or _utc_now
         self._background = background
+        self._serving = serving
         self.ontology: OntologyStatus = ensure_ontology(store)
         """The T-Box version in the store and what opening did to it."""
+        self._flushed = store.generation
+        self._index_saved_at = time.monotonic()
 
     @cached_property
     def scene_memory(self) -> "SceneMemory":
@@ -178,16 +195,38 @@ class Services:
 
     @cached_property
     def armor(self) -> "ArmorEngine":
-        """The ARMOR directive engine over the scene memory; QUERY SPARQL runs in the runner's
-        workers once the runner has been built (the server), in this process otherwise."""
+        """The ARMOR directive engine over the scene memory; in a serving process QUERY SPARQL
+        runs in the runner's sandboxed workers, elsewhere in this process."""
         from api.armor import ArmorEngine
 
         return ArmorEngine(
             self.store,
             scene_memory=self.scene_memory,
-            sandbox=self.__dict__.get("runner"),
+            sandbox=self.runner if self._serving else None,
             max_list_length=self.settings.armor_max_list_length,
         )
+
+    def upkeep(self) -> None:
+        """What a serving process does every ``sleep_check_s``: the sleep pass when the policy's
+        interval has passed (updates also trigger it, every N of them; this covers a memory left
+        alone), the score view the updates since the last read left (so that the store's files
+        converge on a memory nobody reads), a flush of what the store committed since the last
+        upkeep (so that opening it after a crash replays only what came after; committed writes
+        are safe either way, in the write-ahead log), and every ``INDEX_SAVE_INTERVAL_S`` the
+        scene memory's index file. A failing step is logged and tried again next time."""
+        memory = self.scene_memory
+        if not memory.ready:  # still opening in the background
+            return
+        from api.armor.memory import sleep_if_due
+
+        sleep_if_due(memory)
+        _logged(memory.settle_view, "the scene memory's score view could not be written")
+        if self.store.generation != self._flushed:
+            self._flushed = self.store.generation
+            _logged(self.store.flush, "the store could not be flushed")
+        if time.monotonic() - self._index_saved_at >= INDEX_SAVE_INTERVAL_S:
+            self._index_saved_at = time.monotonic()
+            _logged(memory.save_index, "the scene memory's index file could not be saved")
 
     def _watch(self, memory: "SceneMemory") -> None:
         """Bring ``memory``'s index up to date when the store changes behind it: the classes a
@@ -223,10 +262,8 @@ class Services:
             self.runner.close()
         memory = built.get("scene_memory")
         if memory is not None and memory.wait_ready(timeout_s=0):
-            try:
-                memory.save_index()
-            except Exception:  # a failure costs the next start a rebuild, nothing else
-                log.exception("the scene memory's index file could not be saved")
+            # a failure costs the next start a rebuild, nothing else
+            _logged(memory.save_index, "the scene memory's index file could not be saved")
         if self.remote is not None:
             self.store.flush()
             self.remote.close()
@@ -246,12 +283,15 @@ def open_services(
     create: bool = False,
     clock: Clock | None = None,
     background: bool = False,
+    serving: bool = False,
 ) -> Services:
     """Open the memory ``settings`` name: the embedded store in ``settings.data_dir``, or a
     memory on the SPARQL server at ``settings.store_url``.
 
     An embedded memory that does not exist yet is created only with ``create`` (the demo, a
-    server started with ``--init``); otherwise :class:`MemoryNotFoundError`. A store held by
+    server started with ``--init``); otherwise :class:`MemoryNotFoundError`. ``background`` opens
+    the scene memory in a thread; ``serving`` (the server, the ROS node) runs QUERY SPARQL in
+    the sandboxed query workers. A store held by
     another process raises :class:`StoreBusyError`, naming the server that announced itself in
     the data directory."""
     if settings.store_url is None:
@@ -269,7 +309,14 @@ def open_services(
             server = running_server(settings.data_dir)
             hint = f"; the Engram server at {server} holds it" if server else ""
             raise StoreBusyError(f"{error}{hint}", server) from None
-        return Services(settings, store, str(settings.data_dir), clock=clock, background=background)
+        return Services(
+            settings,
+            store,
+            str(settings.data_dir),
+            clock=clock,
+            background=background,
+            serving=serving,
+        )
     from kg.fleet import open_remote
 
     remote = open_remote(
@@ -284,7 +331,13 @@ def open_services(
     fleet = f", following {settings.fleet}" if settings.fleet_memories else ""
     where = f"memory {settings.memory} at {settings.store_url} ({role}{fleet})"
     return Services(
-        settings, remote.store, where, remote=remote, clock=clock, background=background
+        settings,
+        remote.store,
+        where,
+        remote=remote,
+        clock=clock,
+        background=background,
+        serving=serving,
     )
 
 

@@ -13,6 +13,7 @@ from pathlib import Path
 from typing import Any, Literal
 
 import numpy as np
+import numpy.typing as npt
 
 from shapes.errors import SourceError
 from shapes.frame import Frame
@@ -40,6 +41,17 @@ def decode_pointcloud2(msg: Any) -> tuple[FloatArray, FloatArray | None]:
 
     Raises SourceError if the message has no x, y, z fields or its data is too short.
     """
+    points, colours, _ = decode_pointcloud2_pixels(msg)
+    return points, colours
+
+
+def decode_pointcloud2_pixels(
+    msg: Any,
+) -> tuple[FloatArray, FloatArray | None, npt.NDArray[np.intp]]:
+    """:func:`decode_pointcloud2`, and the flat row-major pixel of each point kept (what an
+    organised cloud's :class:`~shapes.frame.Frame` carries). ``msg.data`` may be a sequence of
+    bytes (rosbags) or ``bytes`` (rospy).
+    """
     endian = ">" if msg.is_bigendian else "<"
     fields = {f.name: f for f in msg.fields}
     missing = [n for n in ("x", "y", "z") if n not in fields]
@@ -63,7 +75,12 @@ def decode_pointcloud2(msg: Any) -> tuple[FloatArray, FloatArray | None]:
         {"names": names, "formats": formats, "offsets": offsets, "itemsize": msg.point_step}
     )
     n = int(msg.width) * int(msg.height)
-    raw = np.asarray(msg.data, dtype=np.uint8)
+    data = msg.data
+    raw = (
+        np.frombuffer(data, dtype=np.uint8)
+        if isinstance(data, bytes | bytearray | memoryview)
+        else np.asarray(data, dtype=np.uint8)
+    )
     row_bytes = int(msg.width) * int(msg.point_step)
     if raw.size < int(msg.row_step) * (int(msg.height) - 1) + row_bytes:
         raise SourceError(
@@ -77,16 +94,18 @@ def decode_pointcloud2(msg: Any) -> tuple[FloatArray, FloatArray | None]:
                 for r in range(int(msg.height))
             ]
         )
-    rec = np.frombuffer(raw[: n * int(msg.point_step)].tobytes(), dtype=dtype, count=n)
-    points = np.column_stack([rec[a].astype(np.float64) for a in ("x", "y", "z")])
+    rec = np.frombuffer(raw, dtype=dtype, count=n)  # a view: no copy of the cloud's bytes
+    points = np.empty((n, 3))
+    for column, axis in enumerate("xyz"):
+        points[:, column] = rec[axis]
     colours = None
     colour_field = "rgb" if "rgb" in names else "rgba" if "rgba" in names else None
     if colour_field is not None:
         packed = rec[colour_field].astype(np.uint32)
         colours = np.column_stack(((packed >> 16) & 255, (packed >> 8) & 255, packed & 255))
         colours = colours.astype(np.float64) / 255.0
-    ok = np.isfinite(points).all(axis=1)
-    return points[ok], None if colours is None else colours[ok]
+    ok = np.isfinite(points[:, 0]) & np.isfinite(points[:, 1]) & np.isfinite(points[:, 2])
+    return points[ok], None if colours is None else colours[ok], np.flatnonzero(ok)
 
 
 def _connections(reader: Any, topic: str | None, path: Path) -> list[Any]:

@@ -1,0 +1,189 @@
+"""A real ROS master and ``engram ros`` per test module, and rospy clients of its services."""
+
+import gc
+import json
+import os
+import uuid
+import warnings
+from collections.abc import Iterator
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import httpx
+import numpy as np
+import pytest
+
+from api.armor.models import (
+    ArmorDirectiveListReq,
+    ArmorDirectiveReq,
+    ArmorDirectiveRes,
+    ArmorRequest,
+)
+from api.client import ArmorClient
+from api.ros._ros import rospy
+from api.ros.convert import response_of, ros_request
+from api.ros.messages import ArmorMsgs, armor_msgs
+from shapes.synthetic import Camera
+from tests.conftest import free_port
+from tests.ros.processes import Engram, Master
+
+
+class RosArmor:
+    """Calls ARMOR's two services with rospy's ServiceProxy, as ARMOR's clients do."""
+
+    def __init__(self, master_uri: str) -> None:
+        os.environ["ROS_MASTER_URI"] = master_uri  # read by rospy at each lookup
+        self.types: ArmorMsgs = armor_msgs()
+        self.single = rospy.ServiceProxy("/armor_interface_srv", self.types.srv.ArmorDirective)
+        self.list = rospy.ServiceProxy(
+            "/armor_interface_serialized_srv", self.types.srv.ArmorDirectiveList
+        )
+
+    def request(self, directive: ArmorDirectiveReq) -> Any:
+        return ros_request(directive, self.types.msg)
+
+    def execute(self, directive: ArmorDirectiveReq) -> ArmorDirectiveRes:
+        return response_of(self.single(self.request(directive)).armor_response)
+
+    def execute_list(self, directives: list[ArmorDirectiveReq]) -> Any:
+        return self.list([self.request(d) for d in directives])
+
+
+def directive(
+    command: str, first: str = "", second: str = "", args: list[str] | None = None, *, ref: str
+) -> ArmorDirectiveReq:
+    return ArmorDirectiveReq(
+        client_name="tester",
+        reference_name=ref,
+        command=command,
+        primary_command_spec=first,
+        secondary_command_spec=second,
+        args=args or [],
+    )
+
+
+@pytest.fixture(autouse=True)
+def _rospy_sockets() -> Iterator[None]:
+    """rospy leaves sockets of its XML-RPC connections unclosed (their warnings are ignored)."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", ResourceWarning)
+        yield
+
+
+@pytest.fixture(autouse=True, scope="module")
+def _collect_rospy_sockets() -> Iterator[None]:
+    """Those of them in reference cycles: collected before the next module's tests."""
+    yield
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", ResourceWarning)
+        gc.collect()
+
+
+CLOUD_TOPIC = "/engram_test/points"
+RESULT_TOPIC = "/engram_test/scenes"
+
+
+MAX_LIST_LENGTH = 2000
+"""ENGRAM_ARMOR_MAX_LIST_LENGTH of the ``engram ros`` under test."""
+
+
+@dataclass
+class Launched:
+    """The two nodes under test, each on its own master, started together (each takes seconds
+    to import Engram): ``engram ros`` and ``engram serve --ros`` (whose master a test restarts)."""
+
+    ros_master: Master
+    ros: Engram
+    serve_master: Master
+    serve: Engram
+    http_port: int
+
+
+@pytest.fixture(scope="session")
+def launched(tmp_path_factory: pytest.TempPathFactory) -> Iterator[Launched]:
+    ros_home = tmp_path_factory.mktemp("engram-ros")
+    serve_home = tmp_path_factory.mktemp("serve-ros")
+    ros_master = Master(free_port(), ros_home).start()
+    serve_master = Master(free_port(), serve_home).start()
+    pose = ros_home / "pose.txt"
+    np.savetxt(pose, Camera().world_from_camera)
+    arguments = ["ros", "--init", "--data", str(ros_home / "data"), "--cloud-topic", CLOUD_TOPIC]
+    arguments += ["--result-topic", RESULT_TOPIC, "--pose", str(pose)]
+    arguments += ["--scene-frames", "2", "--min-hits", "2"]
+    limit = {"ENGRAM_ARMOR_MAX_LIST_LENGTH": str(MAX_LIST_LENGTH)}
+    port = free_port()
+    serve_arguments = ["serve", "--ros", "--init", "--data", str(serve_home / "data")]
+    serve_arguments += ["--port", str(port)]
+    nodes = [
+        Engram(arguments, ros_master, ros_home, limit),
+        Engram(serve_arguments, serve_master, serve_home),
+    ]
+    try:
+        for node in nodes:
+            node.wait()
+        yield Launched(ros_master, nodes[0], serve_master, nodes[1], port)
+        for node in nodes:
+            node.interrupt()  # both stop at once
+        codes = [node.stop() for node in nodes]
+        assert codes == [0, 0], "a node did not stop cleanly on SIGINT: " + "".join(
+            node.log_path.read_text() for node in nodes
+        )
+    finally:
+        for node in nodes:
+            node.stop()
+        ros_master.stop()
+        serve_master.stop()
+
+
+@pytest.fixture(scope="session")
+def ros_master(launched: Launched) -> Master:
+    """The master of ``engram ros``."""
+    return launched.ros_master
+
+
+@pytest.fixture(scope="session")
+def engram_ros(launched: Launched) -> Path:
+    """``engram ros`` on a fresh data directory, perceiving ``CLOUD_TOPIC`` from the synthetic
+    tabletop camera's pose, lists limited to ``MAX_LIST_LENGTH``; its home directory."""
+    return launched.ros.home
+
+
+@pytest.fixture
+def ros_armor(engram_ros: Path, ros_master: Master) -> RosArmor:
+    return RosArmor(ros_master.uri)
+
+
+class RosTransport(httpx.BaseTransport):
+    """api.client's requests (armor_py_api's calls) carried by rospy's ServiceProxy."""
+
+    def __init__(self, ros: RosArmor) -> None:
+        self.ros = ros
+
+    def handle_request(self, request: httpx.Request) -> httpx.Response:
+        body = json.loads(request.read())
+        try:
+            if request.url.path.endswith("/armor_interface_srv"):
+                one = ArmorRequest.model_validate(body).armor_request
+                answer = {"armor_response": self.ros.execute(one).model_dump()}
+            else:
+                many = ArmorDirectiveListReq.model_validate(body).armor_requests
+                result = self.ros.execute_list(many)
+                answer = {
+                    "success": result.success,
+                    "is_consistent": result.is_consistent,
+                    "armor_responses": [
+                        response_of(r).model_dump() for r in result.armor_responses
+                    ],
+                }
+        except rospy.ServiceException as error:
+            return httpx.Response(500, json={"detail": str(error)})
+        return httpx.Response(200, json=answer)
+
+
+@pytest.fixture
+def py_api_client(ros_armor: RosArmor) -> Iterator[ArmorClient]:
+    """armor_py_api's ``ArmorClient("client", "reference")`` (as api.client), over ROS."""
+    http = httpx.Client(base_url="http://ros", transport=RosTransport(ros_armor))
+    with ArmorClient("client", "reference_" + uuid.uuid4().hex[:8], http=http) as client:
+        yield client
