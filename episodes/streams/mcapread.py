@@ -20,10 +20,10 @@ only the chunks holding wanted channels at or after the wanted time are read. An
 read forward, record by record.
 
 >>> import io
->>> McapFile(lambda: io.BytesIO(b"not an mcap file"), name="x.mcap")
+>>> McapFile(lambda: io.BytesIO(b"not an mcap file"), name="x")
 Traceback (most recent call last):
 ...
-episodes.streams.errors.CorruptRecordingError: x.mcap: not an MCAP file (bad magic bytes at offset 0)
+episodes.streams.errors.CorruptRecordingError: x: not an MCAP file (bad magic bytes) at offset 0
 """
 
 from __future__ import annotations
@@ -46,7 +46,6 @@ from mcap.records import (
     DataEnd,
     Footer,
     Message,
-    MessageIndex,
     Schema,
     Statistics,
 )
@@ -146,7 +145,9 @@ def decompress(
     ValueError: the chunk expands to more than the 10 bytes it declares
     """
     if size > limit_bytes:
-        raise ValueError(f"the chunk declares {size} bytes uncompressed, over the limit {limit_bytes}")
+        raise ValueError(
+            f"the chunk declares {size} bytes uncompressed, over the limit {limit_bytes}"
+        )
     if compression == "":
         out = data
     elif compression == "zstd":
@@ -196,7 +197,9 @@ class _Channels:
     def add_channel(self, body: bytes) -> None:
         channel = Channel.read(_parse(body))
         if channel.schema_id != 0 and channel.schema_id not in self.schemas:
-            raise ValueError(f"channel {channel.id} refers to undeclared schema {channel.schema_id}")
+            raise ValueError(
+                f"channel {channel.id} refers to undeclared schema {channel.schema_id}"
+            )
         self.channels[channel.id] = (channel.topic, self.schemas.get(channel.schema_id, ""))
 
 
@@ -246,6 +249,11 @@ class McapFile:
         """The file ends with its footer (not cut short by a crash)."""
         return self.footer is not None
 
+    @property
+    def indexed(self) -> bool:
+        """The summary locates every chunk and declares the channels they hold."""
+        return self._indexed
+
     def _error(self, offset: int, what: str) -> CorruptRecordingError:
         return CorruptRecordingError(f"{self.name}: {what} at offset {offset}")
 
@@ -260,7 +268,7 @@ class McapFile:
         tail = file.read(_FOOTER_RECORD + len(MAGIC))
         if tail[-len(MAGIC) :] != MAGIC or tail[0] != _OP_FOOTER:
             return self.size, None
-        op, length = _HEAD.unpack_from(tail)
+        _, length = _HEAD.unpack_from(tail)
         if length != _FOOTER_RECORD - _HEAD.size:
             raise self._error(at, f"a footer of {length} bytes, expected 20")
         footer = Footer.read(_parse(tail[_HEAD.size : -len(MAGIC)]))
@@ -366,39 +374,28 @@ class McapFile:
         return found
 
     def read_record(self, file: IO[bytes], at: int, opcode: int, end: int) -> bytes:
-        """The body of the record with ``opcode`` at offset ``at``, which ends by ``end``."""
+        """The body of the record with ``opcode`` at offset ``at``, which ends by ``end``
+        (read with one read of the file)."""
+        if not len(MAGIC) <= at <= end - _HEAD.size <= self.data_end - _HEAD.size or (
+            end - at > self.limit_bytes
+        ):
+            raise self._error(at, f"a record indexed up to offset {end}, outside the data section")
         file.seek(at)
-        head = file.read(_HEAD.size)
-        if len(head) < _HEAD.size:
-            raise self._error(at, "the file ends inside a record header")
-        op, length = _HEAD.unpack_from(head)
+        data = file.read(end - at)
+        if len(data) != end - at:
+            raise self._error(at, "the file ends inside a record")
+        op, length = _HEAD.unpack_from(data)
         if op != opcode:
             raise self._error(at, f"record {op:#04x} where the index says {opcode:#04x}")
-        if length > min(end - at - _HEAD.size, self.limit_bytes):
-            raise self._error(at, f"a record of {length} bytes runs past its bounds")
-        body = file.read(length)
-        if len(body) != length:
-            raise self._error(at, "the file ends inside a record")
-        return body
+        if length > len(data) - _HEAD.size:
+            raise self._error(at, f"a record of {length} bytes runs past its index")
+        return data[_HEAD.size : _HEAD.size + length]
 
     def chunk_records(self, file: IO[bytes], index: ChunkIndex) -> bytes:
         """The records of the chunk ``index`` locates, decompressed and CRC-checked."""
         at = index.chunk_start_offset
         body = self.read_record(file, at, _OP_CHUNK, at + index.chunk_length)
         return self._decompressed(body, at)
-
-    def message_index(self, file: IO[bytes], index: ChunkIndex, channel_id: int) -> MessageIndex:
-        """The message index of ``channel_id`` in the chunk ``index`` locates."""
-        at = index.message_index_offsets[channel_id]
-        end = index.chunk_start_offset + index.chunk_length + index.message_index_length
-        body = self.read_record(file, at, _OP_MESSAGE_INDEX, end)
-        try:
-            found = MessageIndex.read(_parse(body))
-        except _DAMAGE as error:
-            raise self._error(at, f"message index: {error}") from error
-        if found.channel_id != channel_id:
-            raise self._error(at, f"the message index of channel {found.channel_id}, not {channel_id}")
-        return found
 
     def _decompressed(self, body: bytes, at: int) -> bytes:
         try:
@@ -421,7 +418,14 @@ class McapFile:
         start_ns: int | None,
     ) -> Iterator[RawMessage]:
         for pos, op, body in self._records(records, 0, len(records), at):
-            yield from self._record(op, body, channels, wanted, start_ns, f"chunk at offset {at}, record at {pos} of its records")
+            yield from self._record(
+                op,
+                body,
+                channels,
+                wanted,
+                start_ns,
+                f"chunk at offset {at}, record at {pos} of its records",
+            )
 
     def _record(
         self,
@@ -473,7 +477,9 @@ class McapFile:
                 self.truncated_at = pos
                 return
             if length > self.limit_bytes:
-                raise self._error(pos, f"a record of {length} bytes, over the limit {self.limit_bytes}")
+                raise self._error(
+                    pos, f"a record of {length} bytes, over the limit {self.limit_bytes}"
+                )
             body = file.read(length)
             if len(body) != length:
                 raise self._error(pos, "the file ends inside a record")
@@ -492,7 +498,9 @@ class McapFile:
                 records = self._decompressed(body, pos)
                 yield from self._chunk_messages(records, pos, channels, wanted, start_ns)
             elif op in (_OP_MESSAGE, _OP_SCHEMA, _OP_CHANNEL):
-                yield from self._record(op, body, channels, wanted, start_ns, f"record at offset {pos}")
+                yield from self._record(
+                    op, body, channels, wanted, start_ns, f"record at offset {pos}"
+                )
             pos += _HEAD.size + length
 
 

@@ -32,7 +32,7 @@ from episodes.streams.errors import (
     RecordingNotFoundError,
     UnknownProviderError,
 )
-from episodes.streams.mcapscan import McapScan, RawMessage
+from episodes.streams.mcapread import McapFile, MessageSource, RawMessage
 from episodes.streams.messages import PROVIDER_TYPE, TICK_TYPE, Kind, ProviderSpec
 from episodes.streams.recorder import PROVIDERS_TOPIC, RECORDING_TOPIC, TICKS_TOPIC, mcap_file
 
@@ -84,7 +84,7 @@ class Replayer:
     Args:
         path: the bag directory or its ``.mcap`` file.
         clock: seconds, monotonic; with ``sleep`` injectable for tests of :meth:`play`.
-        scan: read the recording through this scan instead (``path`` then only names it): a
+        scan: read the recording from this source instead (``path`` then only names it): a
             recording in object storage read by ranges (:mod:`episodes.streams.ranged`).
 
     Raises:
@@ -98,7 +98,7 @@ class Replayer:
         *,
         clock: Callable[[], float] = time.monotonic,
         sleep: Callable[[float], None] = time.sleep,
-        scan: McapScan | None = None,
+        scan: MessageSource | None = None,
     ) -> None:
         path = Path(path)
         if scan is not None:
@@ -113,7 +113,7 @@ class Replayer:
         else:
             file = path
         self.path = file
-        self._scan = scan if scan is not None else McapScan(file)
+        self._scan = scan if scan is not None else McapFile.open(file)
         self._clock, self._sleep = clock, sleep
         self._ts = messages.typestore()
         self.episode_id = ""
