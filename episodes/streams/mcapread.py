@@ -69,6 +69,10 @@ __all__ = [
 LIMIT_BYTES = 1024**3
 """Default bound of one record read into memory and of one chunk decompressed (bytes)."""
 
+RUN_BYTES = 8 * 1024 * 1024
+"""The most bytes of neighbouring chunks read at once (one ranged read in object storage)."""
+GAP_BYTES = 32 * 1024
+"""Chunks at most this far apart (their message indexes between them) are read at once."""
 MAGIC = b"\x89MCAP0\r\n"
 _HEAD = struct.Struct("<BQ")  # a record's opcode and body length
 _FOOTER_RECORD = _HEAD.size + 8 + 8 + 4
@@ -349,11 +353,24 @@ class McapFile:
     ) -> Iterator[RawMessage]:
         assert self.summary is not None
         channels = _Channels(self.summary)
-        for index in self.chunk_indexes(wanted, start_ns):
-            records = self.chunk_records(file, index)
-            yield from self._chunk_messages(
-                records, index.chunk_start_offset, channels, wanted, start_ns
-            )
+        for run in _runs(self.chunk_indexes(wanted, start_ns)):
+            start = run[0].chunk_start_offset
+            span = self._span(file, start, run[-1].chunk_start_offset + run[-1].chunk_length)
+            for index in run:
+                records = self.chunk_records(file, index, span=span)
+                yield from self._chunk_messages(
+                    records, index.chunk_start_offset, channels, wanted, start_ns
+                )
+
+    def _span(self, file: IO[bytes], start: int, end: int) -> tuple[int, bytes]:
+        """The bytes from ``start`` to ``end`` of the data section, read at once."""
+        if not len(MAGIC) <= start < end <= self.data_end or end - start > self.limit_bytes:
+            raise self._error(start, f"chunks indexed up to offset {end}, outside the data section")
+        file.seek(start)
+        data = file.read(end - start)
+        if len(data) != end - start:
+            raise self._error(start, "the file ends inside a chunk")
+        return start, data
 
     def chunk_indexes(
         self, topics: Collection[str] | None = None, start_ns: int | None = None
@@ -373,17 +390,23 @@ class McapFile:
             found.append(index)
         return found
 
-    def read_record(self, file: IO[bytes], at: int, opcode: int, end: int) -> bytes:
-        """The body of the record with ``opcode`` at offset ``at``, which ends by ``end``
-        (read with one read of the file)."""
-        if not len(MAGIC) <= at <= end - _HEAD.size <= self.data_end - _HEAD.size or (
-            end - at > self.limit_bytes
-        ):
-            raise self._error(at, f"a record indexed up to offset {end}, outside the data section")
-        file.seek(at)
-        data = file.read(end - at)
-        if len(data) != end - at:
-            raise self._error(at, "the file ends inside a record")
+    def read_record(
+        self,
+        file: IO[bytes],
+        at: int,
+        opcode: int,
+        end: int,
+        *,
+        span: tuple[int, bytes] | None = None,
+    ) -> bytes:
+        """The body of the record with ``opcode`` at offset ``at``, which ends by ``end``:
+        taken from ``span`` (offset, bytes) when it holds them, else read with one read."""
+        if end - at < _HEAD.size:
+            raise self._error(at, f"a record indexed up to offset {end}, too short")
+        if span is not None and span[0] <= at and end <= span[0] + len(span[1]):
+            data = span[1][at - span[0] : end - span[0]]
+        else:
+            data = self._span(file, at, end)[1]
         op, length = _HEAD.unpack_from(data)
         if op != opcode:
             raise self._error(at, f"record {op:#04x} where the index says {opcode:#04x}")
@@ -391,10 +414,13 @@ class McapFile:
             raise self._error(at, f"a record of {length} bytes runs past its index")
         return data[_HEAD.size : _HEAD.size + length]
 
-    def chunk_records(self, file: IO[bytes], index: ChunkIndex) -> bytes:
-        """The records of the chunk ``index`` locates, decompressed and CRC-checked."""
+    def chunk_records(
+        self, file: IO[bytes], index: ChunkIndex, *, span: tuple[int, bytes] | None = None
+    ) -> bytes:
+        """The records of the chunk ``index`` locates, decompressed and CRC-checked (taken from
+        ``span`` when it holds them)."""
         at = index.chunk_start_offset
-        body = self.read_record(file, at, _OP_CHUNK, at + index.chunk_length)
+        body = self.read_record(file, at, _OP_CHUNK, at + index.chunk_length, span=span)
         return self._decompressed(body, at)
 
     def _decompressed(self, body: bytes, at: int) -> bytes:
@@ -502,6 +528,24 @@ class McapFile:
                     op, body, channels, wanted, start_ns, f"record at offset {pos}"
                 )
             pos += _HEAD.size + length
+
+
+def _runs(chunks: list[ChunkIndex]) -> Iterator[list[ChunkIndex]]:
+    """Chunks in runs read at once: a chunk joins the run before it when at most
+    ``GAP_BYTES`` (its message indexes) lie between them and the run stays within
+    ``RUN_BYTES``."""
+    run: list[ChunkIndex] = []
+    for chunk in chunks:
+        if run:
+            last_end = run[-1].chunk_start_offset + run[-1].chunk_length
+            gap = chunk.chunk_start_offset - last_end
+            end = chunk.chunk_start_offset + chunk.chunk_length
+            if not 0 <= gap <= GAP_BYTES or end - run[0].chunk_start_offset > RUN_BYTES:
+                yield run
+                run = []
+        run.append(chunk)
+    if run:
+        yield run
 
 
 def _usable(summary: Summary) -> bool:

@@ -11,8 +11,8 @@ reads a local file: footer and summary, then only the chunks a replay asks for.
 A replayer reads, when it opens, a few bytes from every chunk (the ticks). To open with one read
 instead, those messages are saved beside the file when it is stored (:func:`write_messages`,
 a small object fetched whole), with the end of the MCAP file from its summary on (the
-``tail``, which :class:`RangedFile` then holds from the start); :class:`SavedTopics` answers
-those topics from them and reads everything else from the file.
+``tail``, which :class:`RangedFile` then holds from the start, with the magic bytes);
+:class:`SavedTopics` answers those topics from them and reads everything else from the file.
 
 >>> import io
 >>> data = b"0123456789"
@@ -31,7 +31,7 @@ from pathlib import Path
 from typing import IO, cast
 
 from episodes.streams.errors import CorruptRecordingError
-from episodes.streams.mcapread import McapFile, MessageSource, RawMessage
+from episodes.streams.mcapread import MAGIC, McapFile, MessageSource, RawMessage
 
 __all__ = [
     "RangedFile",
@@ -51,9 +51,9 @@ MAX_AHEAD_BYTES = 16 * 1024 * 1024
 
 
 class RangedFile(io.RawIOBase):
-    """``size`` bytes read by ``read(start, length)``; ``tail`` (offset, bytes) is held from
-    the start. Counts its ranged reads (:attr:`requests`) and the bytes they brought
-    (:attr:`bytes_read`).
+    """``size`` bytes read by ``read(start, length)``; the ``known`` parts, (offset, bytes)
+    each, are held from the start. Counts its ranged reads (:attr:`requests`) and the bytes
+    they brought (:attr:`bytes_read`).
 
     Raises :class:`CorruptRecordingError` when a ranged read returns fewer bytes than asked.
     """
@@ -64,7 +64,7 @@ class RangedFile(io.RawIOBase):
         size: int,
         *,
         name: str = "",
-        tail: tuple[int, bytes] | None = None,
+        known: Collection[tuple[int, bytes]] = (),
         ahead_bytes: int = AHEAD_BYTES,
         max_ahead_bytes: int = MAX_AHEAD_BYTES,
         gap_bytes: int = GAP_BYTES,
@@ -75,7 +75,7 @@ class RangedFile(io.RawIOBase):
         self._ahead, self._min_ahead, self._max_ahead = 0, ahead_bytes, max_ahead_bytes
         self._gap = gap_bytes
         self._held: tuple[int, bytes] = (0, b"")
-        self._tail = tail if tail is not None and tail[0] + len(tail[1]) == size else (size, b"")
+        self._known = [part for part in known if part[1] and part[0] + len(part[1]) <= size]
         self.requests = self.bytes_read = 0
 
     def readable(self) -> bool:
@@ -107,12 +107,10 @@ class RangedFile(io.RawIOBase):
     def _bytes_at(self, start: int, length: int) -> bytes:
         """Some of the ``length`` bytes at ``start`` (at least one), from what is held or
         fetched now."""
-        for held_at, held in (self._tail, self._held):
+        for held_at, held in (*self._known, self._held):
             if held_at <= start < held_at + len(held):
                 return held[start - held_at : start - held_at + length]
-        end = min(self._tail[0], self._size)
-        if start >= end:  # inside the tail: cannot happen, the tail is held
-            end = self._size
+        end = min([self._size, *(at for at, _ in self._known if at > start)])
         last_end = self._held[0] + len(self._held[1])
         if self._held[1] and last_end <= start <= last_end + self._gap:  # reading forward
             self._ahead = min(max(2 * self._ahead, self._min_ahead), self._max_ahead)
@@ -164,10 +162,11 @@ def open_ranged(
 ) -> MessageSource:
     """The MCAP file of ``size`` bytes read by ``read``, with the ``saved`` messages of
     ``topics`` when given. Raises :class:`CorruptRecordingError`."""
-    tail = saved.tail if saved is not None else None
+    # the saved messages were written from this file, read whole (its magic bytes checked)
+    known = [(0, MAGIC), saved.tail] if saved is not None else []
 
     def opener() -> IO[bytes]:
-        return cast(IO[bytes], RangedFile(read, size, name=name, tail=tail))
+        return cast(IO[bytes], RangedFile(read, size, name=name, known=known))
 
     recording = McapFile(opener, name=name)
     return SavedTopics(recording, saved, topics) if saved is not None else recording
