@@ -111,7 +111,7 @@ class _Index:
 
 
 def _providers_of(recording: McapFile) -> dict[str, ProviderSpec]:
-    return _providers([m.data for m in recording.messages({PROVIDERS_TOPIC})])
+    return _providers(recording.path, [m.data for m in recording.messages({PROVIDERS_TOPIC})])
 
 
 _NUMERIC = (Kind.FLOAT_ARRAY, Kind.JOINT_STATE)
@@ -170,31 +170,41 @@ def _decoded(spec: ProviderSpec, data: bytes) -> NDArray[np.float64]:
 
 def _values(spec: ProviderSpec, rows: NDArray[np.uint8]) -> NDArray[np.float64] | None:
     """The values sliced out of the messages' bodies (rows of one length), or None when the
-    layout is not the one expected."""
+    layout is not the one expected (also when the messages do not decode: replay, which reads
+    them one by one, then says which is damaged)."""
     size = rows.shape[1]
     first = rows[0].tobytes()
-    if first[1] != 1:  # little-endian CDR only
+    if size < 2 or first[1] != 1:  # little-endian CDR only
         return None
-    layout = _layout(spec, first)
-    if layout is None:
-        return None
-    offset, count, dtype = layout
-    width = count * np.dtype(dtype).itemsize
-    if offset < 4 or offset + width > size:
-        return None
-    values = np.ascontiguousarray(rows[:, offset : offset + width]).view(dtype).astype(np.float64)
-    for index in (0, len(rows) - 1):  # the slices agree with the decoder
-        if not np.array_equal(values[index], _decoded(spec, rows[index].tobytes()), equal_nan=True):
+    try:
+        layout = _layout(spec, first)
+        if layout is None:
             return None
-    return values
+        offset, count, dtype = layout
+        width = count * np.dtype(dtype).itemsize
+        if offset < 4 or offset + width > size:
+            return None
+        values = np.ascontiguousarray(rows[:, offset : offset + width]).view(dtype)
+        for index in (0, len(rows) - 1):  # the slices agree with the decoder
+            decoded = _decoded(spec, rows[index].tobytes())
+            if not np.array_equal(values[index], decoded, equal_nan=True):
+                return None
+    except ros.DECODE_ERRORS:
+        return None
+    return values.astype(np.float64)
 
 
-def _providers(bodies: list[Any]) -> dict[str, ProviderSpec]:
+def _providers(file: Path, bodies: list[bytes]) -> dict[str, ProviderSpec]:
     store = ros.typestore()
     providers = {}
     for data in bodies:
-        p: Any = store.deserialize_cdr(data, PROVIDER_TYPE)
-        providers[p.name] = ProviderSpec.from_config(json.loads(p.config_json), bytes(p.baseline))
+        try:
+            p: Any = store.deserialize_cdr(data, PROVIDER_TYPE)
+            providers[p.name] = ProviderSpec.from_config(
+                json.loads(p.config_json), bytes(p.baseline)
+            )
+        except ros.DECODE_ERRORS as error:
+            raise CorruptRecordingError(f"{file}: a provider record is damaged: {error}") from error
     return providers
 
 
@@ -285,7 +295,7 @@ def scan_channel(file: Path, channel: str) -> ChannelScan:
                 start_ns = message.log_time
         else:
             provider_bodies.append(message.data)
-    providers = _providers(provider_bodies)
+    providers = _providers(file, provider_bodies)
     spec = providers.get(channel)
     found = ChannelScan(providers, start_ns)
     if spec is None or not _sliceable(spec):

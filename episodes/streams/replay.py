@@ -78,6 +78,12 @@ class TickInfo:
     stored: tuple[bool, ...]
 
 
+def _damaged(file: Path, raw: RawMessage, error: Exception) -> CorruptRecordingError:
+    return CorruptRecordingError(
+        f"{file}: the {raw.topic} message logged at {raw.log_time} ns cannot be decoded: {error}"
+    )
+
+
 class Replayer:
     """Reads one recording (a rosbag2 directory written by the recorder, or its MCAP file).
 
@@ -120,26 +126,10 @@ class Replayer:
         self.providers: dict[str, ProviderSpec] = {}
         self.ticks: list[TickInfo] = []
         for raw in self._scan.messages({RECORDING_TOPIC, PROVIDERS_TOPIC, TICKS_TOPIC}):
-            if raw.topic == TICKS_TOPIC:
-                t: Any = self._ts.deserialize_cdr(raw.data, TICK_TYPE)
-                self.ticks.append(
-                    TickInfo(
-                        int(t.frame),
-                        int(t.tick_time_ns),
-                        tuple(t.providers),
-                        tuple(int(x) for x in t.stamps_ns),
-                        tuple(bool(x) for x in t.stored),
-                    )
-                )
-            elif raw.topic == PROVIDERS_TOPIC:
-                p: Any = self._ts.deserialize_cdr(raw.data, PROVIDER_TYPE)
-                self.providers[p.name] = ProviderSpec.from_config(
-                    json.loads(p.config_json), bytes(p.baseline)
-                )
-            else:
-                text: Any = self._ts.deserialize_cdr(raw.data, "std_msgs/msg/String")
-                record = json.loads(text.data)
-                self.episode_id = str(record.get("episode", ""))
+            try:
+                self._read_opening(raw)
+            except messages.DECODE_ERRORS as error:
+                raise _damaged(file, raw, error) from error
         if not self.episode_id:
             raise CorruptRecordingError(f"{str(file)!r} has no /engram/recording record")
         self.complete = self._scan.complete
@@ -147,6 +137,33 @@ class Replayer:
         self._cursor = 0
         self.skipped = 0
         """Samples :meth:`play` did not send because a newer one of their channel was due."""
+
+    def _read_opening(self, raw: RawMessage) -> None:
+        """Take in one of the messages read when opening: a tick, a provider, the record."""
+        if raw.topic == TICKS_TOPIC:
+            t: Any = self._ts.deserialize_cdr(raw.data, TICK_TYPE)
+            tick = TickInfo(
+                int(t.frame),
+                int(t.tick_time_ns),
+                tuple(t.providers),
+                tuple(int(x) for x in t.stamps_ns),
+                tuple(bool(x) for x in t.stored),
+            )
+            if not len(tick.providers) == len(tick.stamps_ns) == len(tick.stored):
+                raise ValueError("a tick lists providers, stamps and flags of unequal lengths")
+            unknown = set(tick.providers) - self.providers.keys()
+            if unknown:
+                raise ValueError(f"a tick names providers never declared: {sorted(unknown)}")
+            self.ticks.append(tick)
+        elif raw.topic == PROVIDERS_TOPIC:
+            p: Any = self._ts.deserialize_cdr(raw.data, PROVIDER_TYPE)
+            self.providers[p.name] = ProviderSpec.from_config(
+                json.loads(p.config_json), bytes(p.baseline)
+            )
+        else:
+            text: Any = self._ts.deserialize_cdr(raw.data, "std_msgs/msg/String")
+            record = json.loads(text.data)
+            self.episode_id = str(record.get("episode", ""))
 
     # ------------------------------------------------------------------ info
 
@@ -246,9 +263,18 @@ class Replayer:
                     if raw is None:
                         log.warning("frame %d: sample of %s missing", tick.frame, name)
                         continue
-                    value = messages.decode(spec, self._ts.deserialize_cdr(raw.data, raw.msgtype))
+                    try:
+                        value = messages.decode(
+                            spec, self._ts.deserialize_cdr(raw.data, raw.msgtype)
+                        )
+                    except messages.DECODE_ERRORS as error:
+                        raise _damaged(self.path, raw, error) from error
+                elif spec.baseline is None:
+                    raise CorruptRecordingError(
+                        f"{self.path}: frame {tick.frame} leaves out a sample of {name}, "
+                        "which has no baseline to restore it from"
+                    )
                 else:
-                    assert spec.baseline is not None
                     value = spec.baseline.copy()
                 samples[name] = Sample(
                     self.episode_id,
