@@ -93,6 +93,8 @@ class Replayer:
         scan: read the recording from this source instead (``path`` then only names it): a
             recording in object storage read by ranges (:mod:`episodes.streams.ranged`).
 
+    A recording that holds no message (an episode that recorded nothing) has no frames.
+
     Raises:
         RecordingNotFoundError: nothing at ``path``.
         CorruptRecordingError: not a recording made by the recorder.
@@ -131,7 +133,11 @@ class Replayer:
             except messages.DECODE_ERRORS as error:
                 raise _damaged(file, raw, error) from error
         if not self.episode_id:
-            raise CorruptRecordingError(f"{str(file)!r} has no /engram/recording record")
+            if self.providers or self.ticks or next(self._scan.messages(), None) is not None:
+                raise CorruptRecordingError(f"{str(file)!r} has no /engram/recording record")
+            # a recording that holds no message at all (nothing was recorded) replays as
+            # empty; the recorder names its file after the episode
+            self.episode_id = file.stem
         self.complete = self._scan.complete
         self._times = [t.time_ns for t in self.ticks]
         self._cursor = 0
