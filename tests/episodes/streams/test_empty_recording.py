@@ -8,7 +8,6 @@ import numpy as np
 from rosbags.highlevel import AnyReader
 
 from episodes.streams.wire import encode_value
-
 from tests.conftest import LiveServer
 
 
