@@ -40,12 +40,16 @@ import lz4.frame  # type: ignore[import-untyped,unused-ignore]
 from mcap.data_stream import ReadDataStream
 from mcap.exceptions import McapError
 from mcap.records import (
+    Attachment,
     Channel,
     Chunk,
     ChunkIndex,
     DataEnd,
     Footer,
+    Header,
+    McapRecord,
     Message,
+    Metadata,
     Schema,
     Statistics,
 )
@@ -77,7 +81,8 @@ MAGIC = b"\x89MCAP0\r\n"
 _HEAD = struct.Struct("<BQ")  # a record's opcode and body length
 _FOOTER_RECORD = _HEAD.size + 8 + 8 + 4
 _OP_HEADER, _OP_FOOTER, _OP_SCHEMA, _OP_CHANNEL, _OP_MESSAGE, _OP_CHUNK = 1, 2, 3, 4, 5, 6
-_OP_MESSAGE_INDEX, _OP_CHUNK_INDEX, _OP_STATISTICS, _OP_DATA_END = 7, 8, 11, 15
+_OP_MESSAGE_INDEX, _OP_CHUNK_INDEX, _OP_ATTACHMENT, _OP_STATISTICS = 7, 8, 9, 11
+_OP_METADATA, _OP_DATA_END = 12, 15
 
 _DAMAGE = (
     McapError,
@@ -184,7 +189,8 @@ def _bounded(make: Callable[[], object], data: bytes, size: int) -> bytes:
 
 
 class _Channels:
-    """The schemas and channels declared so far, and the type name of each channel."""
+    """The schemas and channels declared so far: type names by schema id, (topic, type name)
+    by channel id."""
 
     def __init__(self, summary: Summary | None = None) -> None:
         self.schemas: dict[int, str] = {}
@@ -194,17 +200,16 @@ class _Channels:
             for channel in summary.channels.values():
                 self.channels[channel.id] = (channel.topic, self.schemas.get(channel.schema_id, ""))
 
-    def add_schema(self, body: bytes) -> None:
-        schema = Schema.read(_parse(body))
-        self.schemas[schema.id] = schema.name
 
-    def add_channel(self, body: bytes) -> None:
-        channel = Channel.read(_parse(body))
-        if channel.schema_id != 0 and channel.schema_id not in self.schemas:
-            raise ValueError(
-                f"channel {channel.id} refers to undeclared schema {channel.schema_id}"
-            )
-        self.channels[channel.id] = (channel.topic, self.schemas.get(channel.schema_id, ""))
+_READERS: dict[int, Callable[[ReadDataStream, int], McapRecord]] = {
+    _OP_HEADER: lambda stream, _: Header.read(stream),
+    _OP_SCHEMA: lambda stream, _: Schema.read(stream),
+    _OP_CHANNEL: lambda stream, _: Channel.read(stream),
+    _OP_MESSAGE: Message.read,
+    _OP_ATTACHMENT: lambda stream, _: Attachment.read(stream),
+    _OP_METADATA: lambda stream, _: Metadata.read(stream),
+}
+"""The library's reader of each record a copy of the data section keeps."""
 
 
 class McapFile:
@@ -358,9 +363,8 @@ class McapFile:
             span = self._span(file, start, run[-1].chunk_start_offset + run[-1].chunk_length)
             for index in run:
                 records = self.chunk_records(file, index, span=span)
-                yield from self._chunk_messages(
-                    records, index.chunk_start_offset, channels, wanted, start_ns
-                )
+                parsed = self._chunk_records(records, index.chunk_start_offset)
+                yield from self._messages_of(parsed, channels, wanted, start_ns)
 
     def _span(self, file: IO[bytes], start: int, end: int) -> tuple[int, bytes]:
         """The bytes from ``start`` to ``end`` of the data section, read at once."""
@@ -435,55 +439,68 @@ class McapFile:
             raise self._error(at, "chunk: its records do not match their CRC")
         return records
 
-    def _chunk_messages(
-        self,
-        records: bytes,
-        at: int,
-        channels: _Channels,
-        wanted: frozenset[str] | None,
-        start_ns: int | None,
-    ) -> Iterator[RawMessage]:
+    def _chunk_records(self, records: bytes, at: int) -> Iterator[tuple[str, McapRecord]]:
+        """(where, record) of the records of the chunk at offset ``at``."""
         for pos, op, body in self._records(records, 0, len(records), at):
-            yield from self._record(
-                op,
-                body,
-                channels,
-                wanted,
-                start_ns,
-                f"chunk at offset {at}, record at {pos} of its records",
-            )
+            where = f"chunk at offset {at}, record at {pos} of its records"
+            record = self._parsed(op, body, where)
+            if record is not None:
+                yield where, record
 
-    def _record(
-        self,
-        op: int,
-        body: bytes,
-        channels: _Channels,
-        wanted: frozenset[str] | None,
-        start_ns: int | None,
-        where: str,
-    ) -> Iterator[RawMessage]:
+    def _parsed(self, op: int, body: bytes, where: str) -> McapRecord | None:
+        """The record parsed by the library (None for records no reader here needs)."""
+        read = _READERS.get(op)
+        if read is None:
+            return None
         try:
-            if op == _OP_MESSAGE:
-                message = Message.read(_parse(body), len(body))
-                found = channels.channels.get(message.channel_id)
-                if found is None:
-                    raise ValueError(f"a message on undeclared channel {message.channel_id}")
-                topic, msgtype = found
-                if (wanted is None or topic in wanted) and (
-                    start_ns is None or message.log_time >= start_ns
-                ):
-                    yield RawMessage(topic, msgtype, message.log_time, message.data)
-            elif op == _OP_SCHEMA:
-                channels.add_schema(body)
-            elif op == _OP_CHANNEL:
-                channels.add_channel(body)
+            return read(_parse(body), len(body))
         except _DAMAGE as error:
             raise CorruptRecordingError(f"{self.name}: {where}: {error}") from error
+
+    def _messages_of(
+        self,
+        records: Iterator[tuple[str, McapRecord]],
+        channels: _Channels,
+        wanted: frozenset[str] | None,
+        start_ns: int | None,
+    ) -> Iterator[RawMessage]:
+        for where, record in records:
+            if isinstance(record, Message):
+                found = channels.channels.get(record.channel_id)
+                if found is None:
+                    raise CorruptRecordingError(
+                        f"{self.name}: {where}: a message on undeclared channel {record.channel_id}"
+                    )
+                topic, msgtype = found
+                if (wanted is None or topic in wanted) and (
+                    start_ns is None or record.log_time >= start_ns
+                ):
+                    yield RawMessage(topic, msgtype, record.log_time, record.data)
+            elif isinstance(record, Schema):
+                channels.schemas[record.id] = record.name
+            elif isinstance(record, Channel):
+                if record.schema_id != 0 and record.schema_id not in channels.schemas:
+                    raise CorruptRecordingError(
+                        f"{self.name}: {where}: channel {record.id} refers to undeclared "
+                        f"schema {record.schema_id}"
+                    )
+                schema = channels.schemas.get(record.schema_id, "")
+                channels.channels[record.id] = (record.topic, schema)
+
+    def records(self) -> Iterator[McapRecord]:
+        """The records of the data section in file order, the records of each chunk in its
+        place (Header, Schema, Channel, Message, Metadata, Attachment), read forward and
+        checked like :meth:`messages`: for a copy of the whole file."""
+        with self._opener() as file:
+            for _, record in self._forward_records(file):
+                yield record
 
     def _forward_messages(
         self, file: IO[bytes], wanted: frozenset[str] | None, start_ns: int | None
     ) -> Iterator[RawMessage]:
-        channels = _Channels()
+        yield from self._messages_of(self._forward_records(file), _Channels(), wanted, start_ns)
+
+    def _forward_records(self, file: IO[bytes]) -> Iterator[tuple[str, McapRecord]]:
         file.seek(0)
         crc = zlib.crc32(file.read(len(MAGIC)))
         pos, end = len(MAGIC), self.data_end
@@ -521,12 +538,12 @@ class McapFile:
                 return
             crc = zlib.crc32(body, zlib.crc32(head, crc))
             if op == _OP_CHUNK:
-                records = self._decompressed(body, pos)
-                yield from self._chunk_messages(records, pos, channels, wanted, start_ns)
-            elif op in (_OP_MESSAGE, _OP_SCHEMA, _OP_CHANNEL):
-                yield from self._record(
-                    op, body, channels, wanted, start_ns, f"record at offset {pos}"
-                )
+                yield from self._chunk_records(self._decompressed(body, pos), pos)
+            else:
+                where = f"record at offset {pos}"
+                record = self._parsed(op, body, where)
+                if record is not None:
+                    yield where, record
             pos += _HEAD.size + length
 
 

@@ -104,6 +104,32 @@ def test_topics_and_start_time_filter_like_the_suite(reader: str) -> None:
         assert _got(source.messages({"elsewhere"})) == [], path.name
 
 
+def _listed(path: Path) -> list[tuple[str, Any]]:
+    """(type, name or topic or log time) of each data-section record the suite lists."""
+    found = []
+    for record in json.loads(path.with_suffix(".json").read_text())["records"]:
+        if record["type"] == "DataEnd":
+            break
+        fields = dict(record["fields"])
+        key = fields.get("name", fields.get("topic", fields.get("log_time", "")))
+        found.append((record["type"], str(key)))
+    return found
+
+
+def test_the_records_of_every_conformance_file_are_the_suites() -> None:
+    def key(record: McapRecord) -> str:
+        return str(
+            getattr(record, "name", getattr(record, "topic", getattr(record, "log_time", "")))
+        )
+
+    wrong = [
+        p.name
+        for p in FILES
+        if [(type(r).__name__, key(r)) for r in McapFile.open(p).records()] != _listed(p)
+    ]
+    assert wrong == []
+
+
 def test_a_summary_without_schemas_still_names_the_type() -> None:
     # repeated channels, no repeated schemas: the type comes from the data section
     path = SUITE / "data/OneMessage/OneMessage-ch-chx-mx-pad-rch-st-sum.mcap"
