@@ -32,7 +32,7 @@ from episodes.streams.errors import (
     RecordingNotFoundError,
     UnknownProviderError,
 )
-from episodes.streams.mcapread import McapFile, MessageSource, RawMessage
+from episodes.streams.mcapread import LIMIT_BYTES, McapFile, MessageSource, RawMessage
 from episodes.streams.messages import PROVIDER_TYPE, TICK_TYPE, Kind, ProviderSpec
 from episodes.streams.recorder import PROVIDERS_TOPIC, RECORDING_TOPIC, TICKS_TOPIC, mcap_file
 
@@ -92,6 +92,8 @@ class Replayer:
         clock: seconds, monotonic; with ``sleep`` injectable for tests of :meth:`play`.
         scan: read the recording from this source instead (``path`` then only names it): a
             recording in object storage read by ranges (:mod:`episodes.streams.ranged`).
+        limit_bytes: the most bytes one record or one decompressed chunk may take
+            (:class:`~episodes.streams.mcapread.McapFile`); a file claiming more is corrupt.
 
     A recording that holds no message (an episode that recorded nothing) has no frames.
 
@@ -107,6 +109,7 @@ class Replayer:
         clock: Callable[[], float] = time.monotonic,
         sleep: Callable[[float], None] = time.sleep,
         scan: MessageSource | None = None,
+        limit_bytes: int = LIMIT_BYTES,
     ) -> None:
         path = Path(path)
         if scan is not None:
@@ -121,7 +124,7 @@ class Replayer:
         else:
             file = path
         self.path = file
-        self._scan = scan if scan is not None else McapFile.open(file)
+        self._scan = scan if scan is not None else McapFile.open(file, limit_bytes=limit_bytes)
         self._clock, self._sleep = clock, sleep
         self._ts = messages.typestore()
         self.episode_id = ""
