@@ -1,4 +1,5 @@
-"""An episode that recorded nothing replays and exports as empty (issue 29 item 7)."""
+"""What the stream endpoints answer for a recording that holds nothing (it replays and exports
+as empty, issue 29 item 7) and for a damaged one (409 naming the file and the offset)."""
 
 import io
 import tarfile
@@ -64,3 +65,30 @@ def test_a_run_whose_samples_were_refused_exports_with_the_recording(
         topics = {c.topic for c in reader.connections}
         assert "/arm" in topics
         assert sum(1 for c, _, _ in reader.messages() if c.topic == "/arm") == 3
+
+
+def test_a_damaged_recording_answers_409_naming_file_and_offset(live_server: LiveServer) -> None:
+    client = live_server.client
+    client.post("/episodes", json={"activity": "idle", "id": "ep-bad", "record": True})
+    provider = {"name": "arm", "kind": "float_array", "shape": [2]}
+    assert client.post("/episodes/ep-bad/streams/providers", json=provider).status_code == 201
+    ticks = [{"time_ns": 1_000 + i, "samples": {"arm": [i, i]}} for i in range(3)]
+    assert client.post("/episodes/ep-bad/streams/samples", json={"ticks": ticks}).status_code == 200
+    assert client.post("/episodes/ep-bad/end", json={}).status_code == 200
+    file = live_server.settings.data_dir / "streams" / "ep-bad" / "ep-bad.mcap"
+    data = bytearray(file.read_bytes())
+    footer = len(data) - 8 - 29
+    data[footer + 9 : footer + 17] = (len(data) * 2).to_bytes(8, "little")  # summary start
+    file.write_bytes(bytes(data))
+
+    for path in (
+        "/episodes/ep-bad/streams/replay",
+        "/episodes/ep-bad/streams/export",
+        "/views/episodes/ep-bad/plot?channel=arm",
+        "/views/episodes/ep-bad/channels",
+    ):
+        answer = client.get(path)
+        assert answer.status_code == 409, (path, answer.text)
+        assert answer.json()["error"] == "CorruptRecordingError"
+        assert "ep-bad.mcap" in answer.json()["detail"]
+        assert f"at offset {footer}" in answer.json()["detail"]
