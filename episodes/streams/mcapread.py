@@ -388,8 +388,8 @@ class McapFile:
             if start_ns is not None and index.message_end_time < start_ns:
                 continue
             if topics is not None and index.message_index_offsets:
-                held = {self.summary.channels[cid].topic for cid in index.message_index_offsets}
-                if not held & set(topics):
+                held = [self.summary.channels.get(cid) for cid in index.message_index_offsets]
+                if all(held) and not {c.topic for c in held if c} & set(topics):
                     continue
             found.append(index)
         return found
