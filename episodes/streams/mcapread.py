@@ -305,7 +305,9 @@ class McapFile:
             return None
         summary = Summary()
         end = self.footer_at - start
-        for at, op, body in self._records(memoryview(data), 0, end, start):
+        for at, op, body in self._records(
+            memoryview(data), 0, end, lambda pos: (start + pos, None)
+        ):
             try:
                 if op == _OP_SCHEMA:
                     schema = Schema.read(_parse(body))
@@ -326,18 +328,18 @@ class McapFile:
         return summary
 
     def _records(
-        self, data: memoryview, start: int, end: int, base: int
+        self, data: memoryview, start: int, end: int, where: Callable[[int], _Where]
     ) -> Iterator[tuple[int, int, memoryview]]:
         """(offset in ``data``, opcode, body) of the records laid end to end in
-        ``data[start:end]``; ``base`` is ``data``'s offset in the file, for messages."""
+        ``data[start:end]``; ``where`` places an offset in ``data`` for messages."""
         pos = start
         while pos < end:
             if pos + _HEAD.size > end:
-                raise self._error(base + pos, "a record header runs past its section")
+                raise self._damaged(where(pos), "a record header runs past its section")
             op, length = _HEAD.unpack_from(data, pos)
             body_at = pos + _HEAD.size
             if length > end - body_at:
-                raise self._error(base + pos, f"a record of {length} bytes runs past its section")
+                raise self._damaged(where(pos), f"a record of {length} bytes runs past its section")
             yield pos, op, data[body_at : body_at + length]
             pos = body_at + length
 
@@ -447,7 +449,7 @@ class McapFile:
     def _chunk_records(self, records: bytes, at: int) -> Iterator[tuple[_Where, McapRecord]]:
         """(where, record) of the records of the chunk at offset ``at``."""
         view = memoryview(records)
-        for pos, op, body in self._records(view, 0, len(view), at):
+        for pos, op, body in self._records(view, 0, len(view), lambda pos: (at, pos)):
             record = self._parsed(op, body, (at, pos))
             if record is not None:
                 yield (at, pos), record
