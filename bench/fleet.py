@@ -53,10 +53,10 @@ import numpy as np
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 from bench.scene_memory import random_scene
-from episodes.archive import REPLAY_TOPICS, StreamArchive
+from episodes.archive import StreamArchive
 from episodes.streams import Recorder, Replayer
 from episodes.streams.objects import PART_BYTES, ObjectStore
-from episodes.streams.ranged import RangedMcap
+from episodes.streams.ranged import open_ranged
 from kg import Store
 from kg.fleet import open_remote
 from kg.remote import Change
@@ -327,7 +327,7 @@ def streams(workdir: Path, args: argparse.Namespace) -> None:
             counted.reads = counted.bytes_read = 0
             began = time.perf_counter()
             read = functools.partial(counted.read_range, mcap.uri)
-            scan = RangedMcap(read, mcap.size, name=mcap.uri, small_topics=REPLAY_TOPICS)
+            scan = open_ranged(read, mcap.size, name=mcap.uri)
             next(iter(Replayer(mcap.uri, scan=scan).frames()))
             bare = f"{(time.perf_counter() - began) * 1e3:.0f} ms, {counted.reads} reads"
 

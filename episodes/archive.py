@@ -7,7 +7,7 @@ and ``engram:sha256`` on the object); the local copy is then removed. Deleting a
 deletes its objects.
 
 Replay opens a stored recording in place (:meth:`StreamArchive.replayer`): ranged reads of the
-MCAP file's summary and index, then of the chunks it replays (:mod:`episodes.streams.ranged`),
+MCAP file's summary, then of the chunks it replays (:mod:`episodes.streams.ranged`),
 never the whole file first. The messages a replayer reads when it opens (the recording record,
 providers and ticks, a few bytes in every chunk) are uploaded beside the MCAP file as a small
 ``<episode>.replay-messages`` object with the end of the MCAP file (its summary), read whole and
@@ -34,9 +34,8 @@ from pathlib import Path
 from pyoxigraph import Literal, NamedNode
 
 from episodes.streams.errors import CorruptRecordingError, StreamError
-from episodes.streams.mcapscan import McapScan
 from episodes.streams.objects import ObjectStore, StoredObject
-from episodes.streams.ranged import RangedMcap, SavedMessages, read_messages, write_messages
+from episodes.streams.ranged import SavedMessages, open_ranged, read_messages, write_messages
 from episodes.streams.recorder import PROVIDERS_TOPIC, RECORDING_TOPIC, TICKS_TOPIC, mcap_file
 from episodes.streams.registry import bag_path
 from episodes.streams.replay import Replayer
@@ -125,15 +124,8 @@ class StreamArchive:
             try:
                 saved = [s for s in stored if s.name.endswith(REPLAY_MESSAGES_SUFFIX)]
                 found = self._saved_messages(saved[0]) if saved else None
-                scan = RangedMcap(
-                    read,
-                    mcap[0].size,
-                    name=mcap[0].uri,
-                    workers=self.objects.workers,
-                    preloaded=found.messages if found else (),
-                    preloaded_topics=REPLAY_TOPICS if found else (),
-                    tail=found.tail if found else None,
-                    small_topics=REPLAY_TOPICS,
+                scan = open_ranged(
+                    read, mcap[0].size, name=mcap[0].uri, saved=found, topics=REPLAY_TOPICS
                 )
             except CorruptRecordingError as error:
                 log.info("episode %s: fetching the whole recording: %s", episode_id, error)
@@ -204,14 +196,7 @@ def _save_replay_messages(bag: Path) -> None:
     if not mcap.is_file() or target.exists():
         return
     try:
-        with mcap.open("rb") as file:
-
-            def read(start: int, length: int) -> bytes:
-                file.seek(start)
-                return file.read(length)
-
-            tail = RangedMcap(read, mcap.stat().st_size, name=str(mcap)).tail
-        write_messages(McapScan(mcap), REPLAY_TOPICS, target, tail)
+        write_messages(mcap, REPLAY_TOPICS, target)
     except CorruptRecordingError:
         target.unlink(missing_ok=True)  # no summary (a crashed recording): read whole anyway
     except (OSError, StreamError) as error:

@@ -3,7 +3,8 @@
 Replaying a channel decodes every tick record and every message one by one in Python (seconds
 for a 10-minute 100 Hz channel). For a plot only the channel's own messages and their log
 times (the tick times) are needed: a closed recording's summary and message indexes locate
-them (:mod:`api.views.mcapindex`), a recording cut short is scanned forward once. All messages
+them (:class:`_Index`), a recording cut short is read forward once
+(:class:`episodes.streams.mcapread.McapFile` reads both, checked and bounded). All messages
 of a provider without a baseline filter share one byte layout: a float array's elements are the
 message's last bytes, a joint state's positions sit at one offset (its names and frame never
 change). So the offset is computed once from the first message's CDR bytes and every value is
@@ -16,25 +17,103 @@ import json
 import struct
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
+from typing import IO, Any
 
 import numpy as np
+from mcap.records import ChunkIndex
 from numpy.typing import NDArray
 
-from api.views.mcapindex import open_index
 from episodes.streams import Kind
 from episodes.streams import messages as ros
 from episodes.streams.errors import CorruptRecordingError
-from episodes.streams.mcapscan import McapScan
+from episodes.streams.mcapread import McapFile
 from episodes.streams.messages import PROVIDER_TYPE, ProviderSpec
 from episodes.streams.recorder import PROVIDERS_TOPIC, TICKS_TOPIC
 
 __all__ = ["ChannelScan", "RecordingTimes", "recording_times", "scan_channel"]
 
-_BROKEN_INDEX = (ValueError, IndexError, struct.error, CorruptRecordingError)
-"""What reading an MCAP index that does not hold together raises: read by a scan instead."""
-
 _U32 = struct.Struct("<I")
+_MESSAGE_INDEX = 7
+_MESSAGE_HEADER = 1 + 8 + 2 + 4 + 8 + 8  # opcode, length, channel, sequence, two times
+_INDEX_ENTRY = np.dtype([("time", "<u8"), ("offset", "<u8")])
+
+
+class _Index:
+    """A closed recording's channels read through its summary's chunk indexes and the
+    chunks' message indexes. Message indexes are parsed with numpy, not the library's
+    ``MessageIndex`` (a Python loop per entry: far over ``bench/views.py``'s target at 60,000
+    samples); chunks are read by :meth:`McapFile.chunk_records`, bounded and CRC-checked."""
+
+    def __init__(self, recording: McapFile, file: IO[bytes]) -> None:
+        assert recording.summary is not None
+        self.recording, self.file = recording, file
+        self.summary = recording.summary
+        self.channels = {c.topic: c.id for c in self.summary.channels.values()}
+
+    def _chunks(self, channel: int) -> list[ChunkIndex]:
+        return [c for c in self.summary.chunk_indexes if channel in c.message_index_offsets]
+
+    def _entries(self, chunk: ChunkIndex, channel: int) -> NDArray[np.void]:
+        at = chunk.message_index_offsets[channel]
+        end = chunk.chunk_start_offset + chunk.chunk_length + chunk.message_index_length
+        body = self.recording.read_record(self.file, at, _MESSAGE_INDEX, end)
+        (length,) = _U32.unpack_from(body, 2) if len(body) >= 6 else (-1,)
+        if length < 0 or length % _INDEX_ENTRY.itemsize or 6 + length > len(body):
+            raise CorruptRecordingError(
+                f"{self.recording.name}: a damaged message index at offset {at}"
+            )
+        return np.frombuffer(
+            body, dtype=_INDEX_ENTRY, count=length // _INDEX_ENTRY.itemsize, offset=6
+        )
+
+    def times(self, topic: str) -> NDArray[np.int64]:
+        """The log times of the topic's messages, in file order (no chunk is decompressed)."""
+        channel = self.channels[topic]
+        parts = [self._entries(c, channel)["time"] for c in self._chunks(channel)]
+        return np.concatenate(parts).astype(np.int64) if parts else np.zeros(0, np.int64)
+
+    def messages(self, topic: str) -> tuple[NDArray[np.int64], NDArray[np.uint8]] | None:
+        """The topic's log times and message bodies (rows of one length); None when their
+        bodies differ in length."""
+        channel = self.channels[topic]
+        times, rows, width = [], [], None
+        for chunk in self._chunks(channel):
+            entries = self._entries(chunk, channel)
+            if not len(entries):
+                continue
+            records = np.frombuffer(self.recording.chunk_records(self.file, chunk), dtype=np.uint8)
+            offsets = entries["offset"].astype(np.int64)
+            if int(offsets.min()) < 0 or int(offsets.max()) + _MESSAGE_HEADER > len(records):
+                raise CorruptRecordingError(
+                    f"{self.recording.name}: the message index of the chunk at offset "
+                    f"{chunk.chunk_start_offset} points past its records"
+                )
+            lengths = records[offsets[:, None] + np.arange(1, 9)].copy().view("<u8").reshape(-1)
+            channels = records[offsets[:, None] + np.arange(9, 11)].copy().view("<u2").reshape(-1)
+            if np.any(records[offsets] != 5) or np.any(channels != channel):
+                raise CorruptRecordingError(
+                    f"{self.recording.name}: the message index of the chunk at offset "
+                    f"{chunk.chunk_start_offset} does not point at its channel's messages"
+                )
+            if np.any(lengths != lengths[0]) or (width is not None and lengths[0] - 22 != width):
+                return None
+            width = int(lengths[0]) - 22
+            if width < 0 or int(offsets.max()) + _MESSAGE_HEADER + width > len(records):
+                raise CorruptRecordingError(
+                    f"{self.recording.name}: a message runs past the chunk at offset "
+                    f"{chunk.chunk_start_offset}"
+                )
+            rows.append(records[(offsets + _MESSAGE_HEADER)[:, None] + np.arange(width)])
+            times.append(entries["time"].astype(np.int64))
+        if width is None:
+            return np.zeros(0, np.int64), np.zeros((0, 0), np.uint8)
+        return np.concatenate(times), np.concatenate(rows)
+
+
+def _providers_of(recording: McapFile) -> dict[str, ProviderSpec]:
+    return _providers(recording.path, [m.data for m in recording.messages({PROVIDERS_TOPIC})])
+
+
 _NUMERIC = (Kind.FLOAT_ARRAY, Kind.JOINT_STATE)
 
 
@@ -91,31 +170,41 @@ def _decoded(spec: ProviderSpec, data: bytes) -> NDArray[np.float64]:
 
 def _values(spec: ProviderSpec, rows: NDArray[np.uint8]) -> NDArray[np.float64] | None:
     """The values sliced out of the messages' bodies (rows of one length), or None when the
-    layout is not the one expected."""
+    layout is not the one expected (also when the messages do not decode: replay, which reads
+    them one by one, then says which is damaged)."""
     size = rows.shape[1]
     first = rows[0].tobytes()
-    if first[1] != 1:  # little-endian CDR only
+    if size < 2 or first[1] != 1:  # little-endian CDR only
         return None
-    layout = _layout(spec, first)
-    if layout is None:
-        return None
-    offset, count, dtype = layout
-    width = count * np.dtype(dtype).itemsize
-    if offset < 4 or offset + width > size:
-        return None
-    values = np.ascontiguousarray(rows[:, offset : offset + width]).view(dtype).astype(np.float64)
-    for index in (0, len(rows) - 1):  # the slices agree with the decoder
-        if not np.array_equal(values[index], _decoded(spec, rows[index].tobytes()), equal_nan=True):
+    try:
+        layout = _layout(spec, first)
+        if layout is None:
             return None
-    return values
+        offset, count, dtype = layout
+        width = count * np.dtype(dtype).itemsize
+        if offset < 4 or offset + width > size:
+            return None
+        values = np.ascontiguousarray(rows[:, offset : offset + width]).view(dtype)
+        for index in (0, len(rows) - 1):  # the slices agree with the decoder
+            decoded = _decoded(spec, rows[index].tobytes())
+            if not np.array_equal(values[index], decoded, equal_nan=True):
+                return None
+    except ros.DECODE_ERRORS:
+        return None
+    return values.astype(np.float64)
 
 
-def _providers(bodies: list[Any]) -> dict[str, ProviderSpec]:
+def _providers(file: Path, bodies: list[bytes]) -> dict[str, ProviderSpec]:
     store = ros.typestore()
     providers = {}
     for data in bodies:
-        p: Any = store.deserialize_cdr(data, PROVIDER_TYPE)
-        providers[p.name] = ProviderSpec.from_config(json.loads(p.config_json), bytes(p.baseline))
+        try:
+            p: Any = store.deserialize_cdr(data, PROVIDER_TYPE)
+            providers[p.name] = ProviderSpec.from_config(
+                json.loads(p.config_json), bytes(p.baseline)
+            )
+        except ros.DECODE_ERRORS as error:
+            raise CorruptRecordingError(f"{file}: a provider record is damaged: {error}") from error
     return providers
 
 
@@ -131,12 +220,15 @@ class RecordingTimes:
 def recording_times(file: Path) -> RecordingTimes | None:
     """From the file's indexes alone (no chunk of samples decompressed); None for a file
     without them, or with a baseline-filtered provider (whose restored samples only the tick
-    records list)."""
-    try:
-        index = open_index(file)
-        if index is None or PROVIDERS_TOPIC not in index.channels:
+    records list). Raises :class:`CorruptRecordingError` for a damaged file."""
+    recording = McapFile.open(file)
+    if not recording.indexed:
+        return None
+    with file.open("rb") as stream:
+        index = _Index(recording, stream)
+        if PROVIDERS_TOPIC not in index.channels:
             return None
-        providers = _providers([body for _, body in index.bodies(PROVIDERS_TOPIC)])
+        providers = _providers_of(recording)
         if any(spec.baseline is not None for spec in providers.values()):
             return None
         has = index.channels
@@ -145,8 +237,6 @@ def recording_times(file: Path) -> RecordingTimes | None:
             name: index.times(spec.topic) if spec.topic in has else np.zeros(0, np.int64)
             for name, spec in providers.items()
         }
-    except _BROKEN_INDEX:
-        return None
     return RecordingTimes(providers, ticks, samples)
 
 
@@ -154,13 +244,15 @@ def _sliceable(spec: ProviderSpec | None) -> bool:
     return spec is not None and spec.baseline is None and spec.kind in _NUMERIC
 
 
-def _from_index(file: Path, channel: str) -> ChannelScan | None:
+def _from_index(recording: McapFile, channel: str) -> ChannelScan | None:
     """Through the file's summary and message indexes (closed recordings)."""
-    try:
-        index = open_index(file)
-        if index is None or PROVIDERS_TOPIC not in index.channels:
+    if not recording.indexed:
+        return None
+    with recording.path.open("rb") as stream:
+        index = _Index(recording, stream)
+        if PROVIDERS_TOPIC not in index.channels:
             return None
-        providers = _providers([body for _, body in index.bodies(PROVIDERS_TOPIC)])
+        providers = _providers_of(recording)
         ticks = index.times(TICKS_TOPIC) if TICKS_TOPIC in index.channels else None
         start = int(ticks.min()) if ticks is not None and len(ticks) else None
         spec, topic = providers.get(channel), "/" + channel
@@ -169,31 +261,32 @@ def _from_index(file: Path, channel: str) -> ChannelScan | None:
         if topic not in index.channels:
             return ChannelScan(providers, start, np.zeros(0, np.int64), np.zeros((0, 0)))
         found = index.messages(topic)
-    except _BROKEN_INDEX:
-        return None
     if found is None:
         return ChannelScan(providers, start)
-    if not len(found.time_ns):
-        return ChannelScan(providers, start, found.time_ns, np.zeros((0, 0)))
-    values = _values(spec, found.data)
+    time_ns, rows = found
+    if not len(time_ns):
+        return ChannelScan(providers, start, time_ns, np.zeros((0, 0)))
+    values = _values(spec, rows)
     if values is None:
         return ChannelScan(providers, start)
-    return ChannelScan(providers, start, found.time_ns, values)
+    return ChannelScan(providers, start, time_ns, values)
 
 
 def scan_channel(file: Path, channel: str) -> ChannelScan:
     """The providers, the first tick time and ``channel``'s samples (``time_ns`` and
     ``values`` stay None when they cannot be sliced out), through the file's indexes when it
-    has them, else by one forward scan."""
-    indexed = _from_index(file, channel)
+    has them, else by one forward read. Raises :class:`CorruptRecordingError` for a damaged
+    file."""
+    recording = McapFile.open(file)
+    indexed = _from_index(recording, channel)
     if indexed is not None:
         return indexed
     start_ns: int | None = None
     times: list[int] = []
-    raw: list[memoryview] = []
-    provider_bodies: list[memoryview] = []
+    raw: list[bytes] = []
+    provider_bodies: list[bytes] = []
     topic = "/" + channel
-    for message in McapScan(file).messages({PROVIDERS_TOPIC, TICKS_TOPIC, topic}):
+    for message in recording.messages({PROVIDERS_TOPIC, TICKS_TOPIC, topic}):
         if message.topic == topic:
             times.append(message.log_time)
             raw.append(message.data)
@@ -202,7 +295,7 @@ def scan_channel(file: Path, channel: str) -> ChannelScan:
                 start_ns = message.log_time
         else:
             provider_bodies.append(message.data)
-    providers = _providers(provider_bodies)
+    providers = _providers(file, provider_bodies)
     spec = providers.get(channel)
     found = ChannelScan(providers, start_ns)
     if spec is None or not _sliceable(spec):

@@ -35,10 +35,7 @@ from io import StringIO
 from pathlib import Path
 from typing import Any
 
-from mcap.exceptions import McapError
-from mcap.reader import make_reader
-from mcap.records import Attachment, Channel, DataEnd, Header, Message, Metadata, Schema
-from mcap.stream_reader import StreamReader
+from mcap.records import Attachment, Channel, Header, Message, Metadata, Schema
 from mcap.writer import CompressionType, Writer
 from rosbags.rosbag2 import StoragePlugin
 from rosbags.rosbag2 import Writer as BagWriter
@@ -47,6 +44,7 @@ from rosbags.typesys.store import Typestore
 from ruamel.yaml import YAML
 
 from episodes.streams.errors import CorruptRecordingError
+from episodes.streams.mcapread import McapFile
 from episodes.streams.recorder import FORMAT_VERSION, RECORDING_TOPIC, mcap_file
 
 __all__ = [
@@ -355,7 +353,10 @@ def _extend_bag(bag: Path, updates: list[tuple[int, bytes]]) -> Path:
     partial = file.with_name(file.name + ".part")
     try:
         _copy_with_scenes(file, partial, updates, compression, serialized.getvalue().strip())
-    except (McapError, EOFError, ValueError, KeyError) as error:
+    except CorruptRecordingError:
+        partial.unlink(missing_ok=True)
+        raise
+    except (ValueError, KeyError) as error:
         partial.unlink(missing_ok=True)
         raise CorruptRecordingError(f"{str(file)!r} cannot be read: {error}") from error
     partial.replace(file)
@@ -367,11 +368,7 @@ def _extend_bag(bag: Path, updates: list[tuple[int, bytes]]) -> Path:
 
 def _chunk_compression(file: Path) -> CompressionType:
     """The compression of the file's chunks (from its summary; none when it has no summary)."""
-    try:
-        with file.open("rb") as stream:
-            summary = make_reader(stream).get_summary()
-    except (McapError, OSError, ValueError, EOFError) as error:
-        raise CorruptRecordingError(f"{str(file)!r} cannot be read: {error}") from error
+    summary = McapFile.open(file).summary
     found = {c.compression for c in summary.chunk_indexes} if summary is not None else set()
     return (
         CompressionType.LZ4
@@ -422,8 +419,11 @@ def _copy_with_scenes(
     compression: CompressionType,
     serialized_metadata: str,
 ) -> None:
+    """Copy ``source``'s records to ``dest`` with the scene updates among its messages, each
+    before the first message logged after it, so log times never go backwards in file order
+    (the recorder's own messages are in log-time order)."""
     store = scene_typestore()
-    with source.open("rb") as stream, dest.open("wb") as out:
+    with dest.open("wb") as out:
         writer = Writer(out, compression=compression)
         schemas: dict[int, int] = {0: 0}
         channels: dict[int, int] = {}
@@ -431,7 +431,27 @@ def _copy_with_scenes(
         metadata: dict[str, dict[str, str]] = {}
         qos = "[]"
         started = False
-        for record in StreamReader(stream, validate_crcs=True).records:
+        pending = list(reversed(updates))  # the earliest last
+        scenes: int | None = None
+
+        def scenes_until(time_ns: int | None) -> None:
+            nonlocal scenes
+            while pending and (time_ns is None or pending[-1][0] <= time_ns):
+                if scenes is None:
+                    definition, _ = store.generate_msgdef(SCENE_TYPE, ros_version=2)
+                    schema = writer.register_schema(SCENE_TYPE, "ros2msg", definition.encode())
+                    scenes = writer.register_channel(
+                        SCENE_TOPIC, "cdr", schema, {"offered_qos_profiles": qos}
+                    )
+                time_ns_, data = pending.pop()
+                writer.add_message(
+                    scenes, time_ns_, data, time_ns_, len(updates) - len(pending) - 1
+                )
+
+        recording = McapFile.open(source)
+        if not recording.complete:
+            raise CorruptRecordingError(f"{str(source)!r} is cut short (no footer)")
+        for record in recording.records():
             if isinstance(record, Header):
                 writer.start(profile=record.profile, library=record.library)
                 started = True
@@ -455,6 +475,7 @@ def _copy_with_scenes(
                 )
             elif isinstance(record, Message):
                 if record.channel_id not in dropped:
+                    scenes_until(record.log_time)
                     writer.add_message(
                         channels[record.channel_id],
                         record.log_time,
@@ -468,17 +489,9 @@ def _copy_with_scenes(
                 writer.add_attachment(
                     record.create_time, record.log_time, record.name, record.media_type, record.data
                 )
-            elif isinstance(record, DataEnd):
-                break
-        else:
-            raise EOFError("the file ends before its data section does (cut short?)")
         if not started:
             raise ValueError("no MCAP header")
-        definition, _ = store.generate_msgdef(SCENE_TYPE, ros_version=2)
-        schema = writer.register_schema(SCENE_TYPE, "ros2msg", definition.encode())
-        channel = writer.register_channel(SCENE_TOPIC, "cdr", schema, {"offered_qos_profiles": qos})
-        for sequence, (time_ns, data) in enumerate(updates):
-            writer.add_message(channel, time_ns, data, time_ns, sequence)
+        scenes_until(None)
         if "rosbag2" in metadata:
             metadata["rosbag2"]["serialized_metadata"] = serialized_metadata
         for name, values in metadata.items():

@@ -9,8 +9,8 @@ chunk (so records stay in log-time order and each channel's definition precedes 
 and writes the message as a one-message uncompressed chunk: its headers packed in one call and
 the payload written once, from the serialised buffer, to the file. The MCAP file is the same
 format: the message index and chunk index records are what rosbags would write, so its
-summary, rosbags' and the ``mcap`` package's readers and :mod:`episodes.streams.mcapscan` read
-it unchanged.
+summary, rosbags' and the ``mcap`` package's readers (and :mod:`episodes.streams.mcapread`)
+read it unchanged.
 """
 
 import struct

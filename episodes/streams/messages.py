@@ -34,6 +34,7 @@ import enum
 import json
 import math
 import re
+import struct
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from functools import lru_cache
@@ -41,6 +42,7 @@ from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
+from rosbags.serde.errors import SerdeError
 from rosbags.typesys import Stores, get_types_from_msg, get_typestore
 from rosbags.typesys.store import Typestore
 
@@ -48,6 +50,7 @@ from episodes.streams.errors import InvalidSampleError
 
 __all__ = [
     "AUDIO_TYPE",
+    "DECODE_ERRORS",
     "IMAGE_ENCODINGS",
     "PROVIDER_TYPE",
     "SPARSE_TYPE",
@@ -59,6 +62,17 @@ __all__ = [
     "encode",
     "typestore",
 ]
+
+DECODE_ERRORS = (
+    SerdeError,
+    ValueError,  # also JSON's, UnicodeDecodeError, InvalidSampleError (a provider's settings)
+    struct.error,
+    KeyError,
+    IndexError,
+    TypeError,
+    OverflowError,
+)
+"""What decoding a damaged message's bytes can raise."""
 
 TICK_TYPE = "engram_msgs/msg/Tick"
 PROVIDER_TYPE = "engram_msgs/msg/Provider"

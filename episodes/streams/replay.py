@@ -32,7 +32,7 @@ from episodes.streams.errors import (
     RecordingNotFoundError,
     UnknownProviderError,
 )
-from episodes.streams.mcapscan import McapScan, RawMessage
+from episodes.streams.mcapread import LIMIT_BYTES, McapFile, MessageSource, RawMessage
 from episodes.streams.messages import PROVIDER_TYPE, TICK_TYPE, Kind, ProviderSpec
 from episodes.streams.recorder import PROVIDERS_TOPIC, RECORDING_TOPIC, TICKS_TOPIC, mcap_file
 
@@ -78,14 +78,24 @@ class TickInfo:
     stored: tuple[bool, ...]
 
 
+def _damaged(file: Path, raw: RawMessage, error: Exception) -> CorruptRecordingError:
+    return CorruptRecordingError(
+        f"{file}: the {raw.topic} message logged at {raw.log_time} ns cannot be decoded: {error}"
+    )
+
+
 class Replayer:
     """Reads one recording (a rosbag2 directory written by the recorder, or its MCAP file).
 
     Args:
         path: the bag directory or its ``.mcap`` file.
         clock: seconds, monotonic; with ``sleep`` injectable for tests of :meth:`play`.
-        scan: read the recording through this scan instead (``path`` then only names it): a
+        scan: read the recording from this source instead (``path`` then only names it): a
             recording in object storage read by ranges (:mod:`episodes.streams.ranged`).
+        limit_bytes: the most bytes one record or one decompressed chunk may take
+            (:class:`~episodes.streams.mcapread.McapFile`); a file claiming more is corrupt.
+
+    A recording that holds no message (an episode that recorded nothing) has no frames.
 
     Raises:
         RecordingNotFoundError: nothing at ``path``.
@@ -98,7 +108,8 @@ class Replayer:
         *,
         clock: Callable[[], float] = time.monotonic,
         sleep: Callable[[float], None] = time.sleep,
-        scan: McapScan | None = None,
+        scan: MessageSource | None = None,
+        limit_bytes: int = LIMIT_BYTES,
     ) -> None:
         path = Path(path)
         if scan is not None:
@@ -113,40 +124,55 @@ class Replayer:
         else:
             file = path
         self.path = file
-        self._scan = scan if scan is not None else McapScan(file)
+        self._scan = scan if scan is not None else McapFile.open(file, limit_bytes=limit_bytes)
         self._clock, self._sleep = clock, sleep
         self._ts = messages.typestore()
         self.episode_id = ""
         self.providers: dict[str, ProviderSpec] = {}
         self.ticks: list[TickInfo] = []
         for raw in self._scan.messages({RECORDING_TOPIC, PROVIDERS_TOPIC, TICKS_TOPIC}):
-            if raw.topic == TICKS_TOPIC:
-                t: Any = self._ts.deserialize_cdr(raw.data, TICK_TYPE)
-                self.ticks.append(
-                    TickInfo(
-                        int(t.frame),
-                        int(t.tick_time_ns),
-                        tuple(t.providers),
-                        tuple(int(x) for x in t.stamps_ns),
-                        tuple(bool(x) for x in t.stored),
-                    )
-                )
-            elif raw.topic == PROVIDERS_TOPIC:
-                p: Any = self._ts.deserialize_cdr(raw.data, PROVIDER_TYPE)
-                self.providers[p.name] = ProviderSpec.from_config(
-                    json.loads(p.config_json), bytes(p.baseline)
-                )
-            else:
-                text: Any = self._ts.deserialize_cdr(raw.data, "std_msgs/msg/String")
-                record = json.loads(text.data)
-                self.episode_id = str(record.get("episode", ""))
+            try:
+                self._read_opening(raw)
+            except messages.DECODE_ERRORS as error:
+                raise _damaged(file, raw, error) from error
         if not self.episode_id:
-            raise CorruptRecordingError(f"{str(file)!r} has no /engram/recording record")
+            if self.providers or self.ticks or next(self._scan.messages(), None) is not None:
+                raise CorruptRecordingError(f"{str(file)!r} has no /engram/recording record")
+            # a recording that holds no message at all (nothing was recorded) replays as
+            # empty; the recorder names its file after the episode
+            self.episode_id = file.stem
         self.complete = self._scan.complete
         self._times = [t.time_ns for t in self.ticks]
         self._cursor = 0
         self.skipped = 0
         """Samples :meth:`play` did not send because a newer one of their channel was due."""
+
+    def _read_opening(self, raw: RawMessage) -> None:
+        """Take in one of the messages read when opening: a tick, a provider, the record."""
+        if raw.topic == TICKS_TOPIC:
+            t: Any = self._ts.deserialize_cdr(raw.data, TICK_TYPE)
+            tick = TickInfo(
+                int(t.frame),
+                int(t.tick_time_ns),
+                tuple(t.providers),
+                tuple(int(x) for x in t.stamps_ns),
+                tuple(bool(x) for x in t.stored),
+            )
+            if not len(tick.providers) == len(tick.stamps_ns) == len(tick.stored):
+                raise ValueError("a tick lists providers, stamps and flags of unequal lengths")
+            unknown = set(tick.providers) - self.providers.keys()
+            if unknown:
+                raise ValueError(f"a tick names providers never declared: {sorted(unknown)}")
+            self.ticks.append(tick)
+        elif raw.topic == PROVIDERS_TOPIC:
+            p: Any = self._ts.deserialize_cdr(raw.data, PROVIDER_TYPE)
+            self.providers[p.name] = ProviderSpec.from_config(
+                json.loads(p.config_json), bytes(p.baseline)
+            )
+        else:
+            text: Any = self._ts.deserialize_cdr(raw.data, "std_msgs/msg/String")
+            record = json.loads(text.data)
+            self.episode_id = str(record.get("episode", ""))
 
     # ------------------------------------------------------------------ info
 
@@ -246,9 +272,18 @@ class Replayer:
                     if raw is None:
                         log.warning("frame %d: sample of %s missing", tick.frame, name)
                         continue
-                    value = messages.decode(spec, self._ts.deserialize_cdr(raw.data, raw.msgtype))
+                    try:
+                        value = messages.decode(
+                            spec, self._ts.deserialize_cdr(raw.data, raw.msgtype)
+                        )
+                    except messages.DECODE_ERRORS as error:
+                        raise _damaged(self.path, raw, error) from error
+                elif spec.baseline is None:
+                    raise CorruptRecordingError(
+                        f"{self.path}: frame {tick.frame} leaves out a sample of {name}, "
+                        "which has no baseline to restore it from"
+                    )
                 else:
-                    assert spec.baseline is not None
                     value = spec.baseline.copy()
                 samples[name] = Sample(
                     self.episode_id,

@@ -24,6 +24,7 @@ from episodes.streams.foxglove import (
     scene_entity,
     scene_message,
 )
+from episodes.streams.mcapread import McapFile
 from episodes.streams.recorder import mcap_file
 from kg import Store
 from reasoners.memory import SceneMemory
@@ -165,4 +166,23 @@ def test_a_zstd_recording_keeps_its_compression_and_gains_the_channel(tmp_path: 
     assert topics.count(SCENE_TOPIC) == 1 and topics.count("/head") == 20
     with AnyReader([bag]) as rosbag:
         assert {c.topic for c in rosbag.connections} >= {SCENE_TOPIC, "/head"}
+    assert Replayer(bag).frame_count == 20
+
+
+def test_scenes_go_among_the_samples_so_log_times_never_go_backwards(tmp_path: Path) -> None:
+    bag = tmp_path / "ep"
+    recorder = Recorder(bag, episode_id="ep")
+    recorder.add_provider("head", "joint_state", names=["neck"])
+    for i in range(20):
+        recorder.tick({"head": [0.01 * i]}, time_ns=T0 + i * 10_000_000)
+    recorder.close()
+    ball = {"id": "ball", "kind": "Sphere", "centre": (0.0, 0.0, 0.05), "radius": 0.05}
+    times = [T0 + 35_000_000, T0 + 120_000_000, T0 + 500_000_000]  # the last after every tick
+    updates = [(t, scene_message(scene_entity("s", [ball], time_ns=t))) for t in times]
+    add_scene_channel(bag, updates, episode_id="ep")
+
+    in_file_order = [(m.topic, m.log_time) for m in McapFile.open(mcap_file(bag)).messages()]
+    logged = [t for _, t in in_file_order]
+    assert logged == sorted(logged)
+    assert [t for topic, t in in_file_order if topic == SCENE_TOPIC] == times
     assert Replayer(bag).frame_count == 20
