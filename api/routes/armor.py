@@ -108,7 +108,10 @@ def openapi_operation(service: Service) -> dict[str, Any]:
                 "schema": {**authorization, "title": "Authorization"},
             },
         ],
-        "requestBody": {"required": True, "content": {"application/json": {"schema": _ref(service.request)}}},
+        "requestBody": {
+            "required": True,
+            "content": {"application/json": {"schema": _ref(service.request)}},
+        },
         "responses": {
             "200": {
                 "description": "Successful Response",
