@@ -19,9 +19,10 @@ caller's error handling (``api/errors.py`` over HTTP).
 
 >>> from kg import Store
 >>> engine = ArmorEngine(Store())
->>> answer_blocking(engine, SINGLE, b'{"armor_request": {"command": "GET", '
-...                 b'"primary_command_spec": "ALL", "secondary_command_spec": "REFS"}}')[:30]
-b'{"armor_response":{"success":t'
+>>> body = (b'{"armor_request": {"reference_name": "r", "command": "GET", '
+...         b'"primary_command_spec": "ALL", "secondary_command_spec": "REFS"}}')
+>>> answer_blocking(engine, SINGLE, body)[:49]
+b'{"armor_response":{"success":true,"timeout":false'
 """
 
 import contextlib

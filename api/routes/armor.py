@@ -4,14 +4,14 @@
 opts out of ARMOR's string formats for query results.
 
 Directives are many and small, so each service is a plain ASGI endpoint rather than a FastAPI
-route: it checks the bearer token (:func:`api.deps.require_token`), reads the body and hands it
-to :func:`api.directives.answer`, which answers quick directives on the event loop and the rest
-in a worker thread, and writes the answer's bytes. It sits inside the app's middleware and
-exception handlers like any route, so a body size limit, the error answers (FastAPI's own 401,
-405 and 422 shapes, the domain errors of ``api/errors.py``) and the server error middleware
-apply to it. FastAPI cannot describe an ASGI endpoint, so :func:`install` adds its OpenAPI
-operations, built from the same pydantic models, to the app's description. Dependency overrides
-do not reach it: it has no FastAPI dependencies.
+route: it checks the bearer token (:func:`api.deps.require_token`, before reading the body),
+reads the body, hands it to :func:`api.directives.answer`, which answers quick directives on the
+event loop and the rest in a worker thread, and writes the answer's bytes. It sits inside the
+app's middleware and exception handlers like any route, so a body size limit, the error answers
+(FastAPI's own 401, 405 and 422 shapes, the domain errors of ``api/errors.py``) and the server
+error middleware apply to it. FastAPI cannot describe an ASGI endpoint, so :func:`install` adds
+its OpenAPI operations, built from the same pydantic models, to the app's description.
+Dependency overrides do not reach it: it has no FastAPI dependencies.
 """
 
 from collections.abc import Callable
@@ -48,10 +48,10 @@ class DirectiveEndpoint:
     async def __call__(self, scope: Scope, receive: Receive, send: Send) -> None:
         state = scope["app"].state
         content_type = authorization = None
-        for name, value in scope["headers"]:
-            if name == b"content-type":
+        for name, value in scope["headers"]:  # the first of each, as Starlette reads headers
+            if name == b"content-type" and content_type is None:
                 content_type = value.decode("latin-1")
-            elif name == b"authorization":
+            elif name == b"authorization" and authorization is None:
                 authorization = value.decode("latin-1")
         settings: Settings = state.settings
         if settings.token is not None:
