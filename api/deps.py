@@ -6,7 +6,6 @@ from typing import Annotated
 
 from fastapi import Depends, Header, HTTPException, Request, status
 
-from api.armor import ArmorEngine
 from api.config import Settings
 from api.services import Services
 from episodes import EpisodeMemory
@@ -16,7 +15,6 @@ from kg.sandbox import QueryRunner
 from reasoners.memory import SceneMemory
 
 __all__ = [
-    "ArmorDep",
     "EpisodesDep",
     "RecordingsDep",
     "RunnerDep",
@@ -46,10 +44,6 @@ async def _runner(request: Request) -> QueryRunner:
     return (await _services(request)).runner
 
 
-async def _armor(request: Request) -> ArmorEngine:
-    return (await _services(request)).armor
-
-
 async def _episodes(request: Request) -> EpisodeMemory:
     return (await _services(request)).episodes
 
@@ -67,7 +61,6 @@ ServicesDep = Annotated[Services, Depends(_services)]
 SceneMemoryDep = Annotated[SceneMemory, Depends(_scene_memory)]
 StoreDep = Annotated[Store, Depends(_store)]
 RunnerDep = Annotated[QueryRunner, Depends(_runner)]
-ArmorDep = Annotated[ArmorEngine, Depends(_armor)]
 EpisodesDep = Annotated[EpisodeMemory, Depends(_episodes)]
 RecordingsDep = Annotated[RecordingRegistry, Depends(_recordings)]
 

@@ -9,7 +9,6 @@ from contextlib import asynccontextmanager
 from fastapi import FastAPI
 from starlette.concurrency import run_in_threadpool
 
-from api import fast_armor
 from api.config import Settings, get_settings
 from api.errors import install_error_handlers
 from api.finite_json import FiniteJsonBodies
@@ -95,13 +94,12 @@ def create_app(settings: Settings | None = None) -> FastAPI:
     )
     app.state.settings = settings
     install_error_handlers(app)
-    # armor first: route matching is a sizeable share of a directive's time
-    for module in (armor, health, sparql, export, admin, episodes, streams, ask, history):
+    armor.install(app)  # the ARMOR services, ahead of the other routes (api/routes/armor.py)
+    for module in (health, sparql, export, admin, episodes, streams, ask, history):
         app.include_router(module.router)
     views.install(app)  # the web views: JSON under /views, pages under /web (api/web/)
     app.add_middleware(
         FiniteJsonBodies
     )  # NaN, Infinity, 1e999 in a JSON body: 422 (api/finite_json.py)
     install_error_docs(app)  # the 401/404/409/422 answers in /openapi.json (api/openapi_errors.py)
-    fast_armor.install(app)  # well-formed ARMOR requests skip the router (api/fast_armor.py)
     return app

@@ -5,12 +5,17 @@ directory), as in production; clients are threads of this process, each with one
 connection. A "simple directive" alternates ``ADD IND CLASS`` and ``QUERY IND`` on a reference
 with buffered reasoning (the RDS tutorial's advice), each directive its own request and
 transaction. Baselines in the same run: ``GET /health`` (HTTP with no work) and the same
-directives on an in-process ``ArmorEngine`` (no HTTP). Target: at least 2,000 simple
+directives on an in-process ``ArmorEngine`` (no HTTP). Target: at least 3,000 simple
 directives/s with 8 clients. The clients are threads of one process (``http.client``, about
 40 µs of client work a request): the bare endpoint's rate shows they are not what limits the
 server's. Since the machine may be shared, the server process's CPU time per request (from
 ``/proc``) is printed too, for the directives and for the bare endpoint: it moves much less
 with the other load than the rates do.
+
+**Against another checkout** (``--against DIR``): the same 8 clients against this checkout's
+server and the server of the checkout in ``DIR`` (its code, on the same Python environment), in
+turns, so that both see the same machine load; prints each run and the ratios of the medians of
+the rates and of the server CPU per request.
 
 **REASON.** On the synthetic scene ontologies of ``reasoners.owl_rl.synthetic`` (about 10k and
 50k triples), loaded with LOAD FILE into an engine on an on-disk store:
@@ -40,6 +45,7 @@ Run from the repository root::
     .venv/bin/python bench/directives.py --owlrl-50k     # owlrl at 50k too (slow)
     .venv/bin/python bench/directives.py --only throughput --seconds 5
     .venv/bin/python bench/directives.py --only lists
+    .venv/bin/python bench/directives.py --against ../other-checkout --seconds 3 --rounds 4
 """
 
 import argparse
@@ -104,13 +110,15 @@ def _load_average() -> str:
 
 
 class Server:
-    """``uvicorn`` serving the app in a child process, over a fresh data directory."""
+    """``uvicorn`` serving the app in a child process, over a fresh data directory; the app of
+    the checkout at ``root`` (this one by default)."""
 
-    def __init__(self, data: str, code: str = SERVER) -> None:
+    def __init__(self, data: str, code: str = SERVER, root: Path = ROOT) -> None:
         self.port = _free_port()
         self.url = f"http://127.0.0.1:{self.port}"
+        env = {**os.environ, "PYTHONPATH": str(root)}
         self.process = subprocess.Popen(
-            [sys.executable, "-c", code, data, str(self.port)], cwd=ROOT
+            [sys.executable, "-c", code, data, str(self.port)], cwd=root, env=env
         )
         deadline = time.monotonic() + 60
         while True:
@@ -227,18 +235,26 @@ def _cpu_seconds(pid: int) -> float | None:
 def run_measured(server: "Server", clients: int, seconds: float, path: str, lean: bool) -> str:
     """``run_clients``, with the server's CPU time per request: on a shared machine the rate
     depends on the other load, the CPU time much less."""
+    rate, cpu, share = _measure(server, clients, seconds, path, lean)
+    if cpu is None:
+        return f"{rate:.0f}/s"
+    return f"{rate:.0f}/s, server process {cpu:.0f} µs CPU a request ({share:.0%} of a core)"
+
+
+def _measure(
+    server: "Server", clients: int, seconds: float, path: str, lean: bool
+) -> tuple[float, float | None, float]:
+    """Requests per second, the server's CPU µs per request (None without /proc), and the
+    share of a core the server used."""
     before = _cpu_seconds(server.process.pid)
     start = time.perf_counter()
     rate = run_clients(server.url, clients, seconds, path, lean=lean)
     elapsed = time.perf_counter() - start
     after = _cpu_seconds(server.process.pid)
     if before is None or after is None:
-        return f"{rate:.0f}/s"
+        return rate, None, 0.0
     used = after - before
-    return (
-        f"{rate:.0f}/s, server process {1e6 * used / (rate * elapsed):.0f} µs CPU a request "
-        f"({used / elapsed:.0%} of a core)"
-    )
+    return rate, 1e6 * used / (rate * elapsed), used / elapsed
 
 
 def in_process(seconds: float) -> float:
@@ -279,8 +295,8 @@ def throughput(seconds: float, *, lean: bool) -> None:
     local = in_process(seconds)
     ceiling = statistics.mean(bare)
     print(f"  1 client : {one:8.0f} directives/s over HTTP")
-    verdict = "met" if eight >= 2000 else "NOT met"
-    print(f"  8 clients: {eight:8.0f} directives/s over HTTP (target >= 2000: {verdict})")
+    verdict = "met" if eight >= 3000 else "NOT met"
+    print(f"  8 clients: {eight:8.0f} directives/s over HTTP (target >= 3000: {verdict})")
     print(
         f"  baseline bare async endpoint, same uvicorn, 8 clients: {bare[0]:.0f} requests/s "
         f"before, {bare[1]:.0f} after (directives reach {eight / ceiling:.0%} of it)"
@@ -291,6 +307,48 @@ def throughput(seconds: float, *, lean: bool) -> None:
         f"  baseline in-process engine, no HTTP, 1 thread: {local:8.0f} directives/s "
         f"(HTTP with 8 clients = {eight / local:.2f}x)"
     )
+    print(f"  {_load_average()}")
+
+
+def against(other: Path, seconds: float, rounds: int, *, lean: bool) -> None:
+    """The simple directives, 8 clients, against this checkout's server and the server of the
+    checkout at ``other``, in turns (``rounds`` each), with the ratio of the medians."""
+    print(f"# ARMOR simple directives, 8 clients: this checkout against {other}")
+    print(f"  {_load_average()}")
+    figures: dict[str, list[tuple[float, float | None]]] = {"this": [], "other": []}
+    with tempfile.TemporaryDirectory(prefix="engram-bench-") as data:
+        servers = {
+            "this": Server(str(Path(data) / "this")),
+            "other": Server(str(Path(data) / "other"), root=other),
+        }
+        try:
+            for server in servers.values():
+                response = httpx.post(
+                    server.url + "/armor_interface_srv", json={"armor_request": _load("bench")}
+                )
+                assert response.json()["armor_response"]["success"], response.text
+                run_clients(server.url, 8, 0.5, lean=lean)  # warm-up
+            for _ in range(rounds):
+                for name, server in servers.items():
+                    rate, cpu, _ = _measure(server, 8, seconds, "/armor_interface_srv", lean)
+                    figures[name].append((rate, cpu))
+        finally:
+            for server in servers.values():
+                server.stop()
+    medians = {}
+    for name, runs in figures.items():
+        rates = [rate for rate, _ in runs]
+        cpus = [cpu for _, cpu in runs if cpu is not None]
+        medians[name] = (statistics.median(rates), statistics.median(cpus) if cpus else None)
+        shown = ", ".join(
+            f"{rate:.0f}/s" + ("" if cpu is None else f" ({cpu:.0f} µs CPU)") for rate, cpu in runs
+        )
+        print(f"  {name:5s}: {shown}")
+    (rate, cpu), (other_rate, other_cpu) = medians["this"], medians["other"]
+    line = f"  median rate this ÷ other: {rate / other_rate:.2f}"
+    if cpu is not None and other_cpu is not None:
+        line += f"; median server CPU a request this ÷ other: {cpu / other_cpu:.2f}"
+    print(line)
     print(f"  {_load_average()}")
 
 
@@ -511,7 +569,17 @@ def main() -> None:
     parser.add_argument("--runs", type=int, default=20, help="incremental REASONs to time")
     parser.add_argument("--sizes", default="10000,50000", help="ontology sizes in triples")
     parser.add_argument("--httpx", action="store_true", help="httpx clients, not http.client")
+    parser.add_argument(
+        "--against",
+        type=Path,
+        metavar="CHECKOUT",
+        help="throughput only: this checkout's server against the one of another checkout",
+    )
+    parser.add_argument("--rounds", type=int, default=4, help="turns each, with --against")
     options = parser.parse_args()
+    if options.against is not None:
+        against(options.against, options.seconds, options.rounds, lean=not options.httpx)
+        return
     if options.only in (None, "throughput"):
         throughput(options.seconds, lean=not options.httpx)
     if options.only in (None, "reason"):
