@@ -16,6 +16,7 @@ from api.armor.models import QueryItem
 from api.armor.names import is_true, jena_string, local_name, styled
 from api.armor.references import Reference
 from kg.errors import QueryError, QueryTimeoutError
+from kg.literals import from_store
 from kg.sandbox import QueryForm
 from kg.sparql_text import nesting_depth
 from ontologies.vocab import (
@@ -371,7 +372,9 @@ def _rows(
                 f"args: the query ran past its timeout of {int(timeout_s * 1000)} ms",  # type: ignore[operator]
                 timeout=True,
             )
-        rows.append([(n, t) for n in names if isinstance(t := solution[n], NamedNode | Literal)])
+        rows.append(
+            [(n, from_store(t)) for n in names if isinstance(t := solution[n], NamedNode | Literal)]
+        )
     return rows
 
 
