@@ -33,8 +33,8 @@ from reasoners.owl_rl._terms import (
     ANNOTATION_PROPERTY,
     ASYMMETRIC,
     CLASS,
+    DATATYPE,
     DATATYPE_PROPERTY,
-    DATATYPE_SUPERTYPES,
     DOMAIN,
     EQUIVALENT_CLASS,
     EQUIVALENT_PROPERTY,
@@ -57,7 +57,6 @@ from reasoners.owl_rl._terms import (
     PROPERTY_CHAIN,
     RANGE,
     REST,
-    RL_DATATYPES,
     SAME_AS,
     SOME_VALUES_FROM,
     SUB_CLASS_OF,
@@ -68,7 +67,9 @@ from reasoners.owl_rl._terms import (
     TYPE,
     UNION_OF,
     literal_datatype,
+    swrl,
 )
+from reasoners.owl_rl.datatypes import RL_DATATYPES, value_key, value_types
 from reasoners.owl_rl.schema import (
     ClassInfo,
     PropertyInfo,
@@ -79,6 +80,8 @@ from reasoners.owl_rl.schema import (
 )
 
 __all__ = ["AXIOMS", "Engine", "Fact"]
+
+_DATA_RANGE = swrl("dataRange")
 
 Fact = tuple[str, str, str]
 _EMPTY: frozenset[str] = frozenset()
@@ -126,6 +129,7 @@ AXIOMS: tuple[Fact, ...] = (
     (THING, TYPE, CLASS),  # cls-thing
     (NOTHING, TYPE, CLASS),  # cls-nothing1
     *((p, TYPE, ANNOTATION_PROPERTY) for p in ANNOTATION_PROPERTIES),  # prp-ap
+    *((dt, TYPE, DATATYPE) for dt in sorted(RL_DATATYPES)),  # dt-type1
 )
 """The body-less OWL 2 RL rules: facts that hold in every ontology."""
 
@@ -146,6 +150,10 @@ class Engine:
     queue: list[Fact] = field(default_factory=list)
     _log: list[Fact] = field(default_factory=list)
     _typed_literals: set[str] = field(default_factory=set)
+    ill_typed: set[str] = field(default_factory=set)
+    """Literals whose lexical form is not valid for their datatype (dt-not-type reports them)."""
+    _datatypes_in_use: set[str] = field(default_factory=set)
+    _literals_by_value: dict[object, set[str]] = field(default_factory=dict)
     _schema_generation: int = 0
     _cached_generation: int = -1
     _passed_generation: int = -1
@@ -207,8 +215,12 @@ class Engine:
         if p in SCHEMA_PREDICATES or (p == TYPE and o in SCHEMA_TYPES):
             self._schema_generation += 1
             self._schema_queue.append(fact)
+            if o in RL_DATATYPES and o not in self._datatypes_in_use:
+                self._use_datatype(o)
         else:
             self.queue.append(fact)
+            if p == _DATA_RANGE and o in RL_DATATYPES and o not in self._datatypes_in_use:
+                self._use_datatype(o)
         if o[0] == '"' and o not in self._typed_literals:
             self._type_literal(o)
         return True
@@ -219,24 +231,53 @@ class Engine:
         for s, p, o in facts:
             add(s, p, o)
 
+    def literals(self) -> set[str]:
+        """The literals seen as objects (every literal subject is one of them)."""
+        return self._typed_literals
+
     def take_log(self) -> list[Fact]:
         """The facts recorded since the last call, in order."""
         log, self._log = self._log, []
         return log
 
     def _type_literal(self, literal: str) -> None:
-        """dt-type2: a typed literal belongs to its datatype and the datatype's supertypes."""
+        """dt-type2 and dt-eq for a literal seen for the first time.
+
+        The literal is typed with every datatype of the map that holds its value and that the
+        schema mentions (only a rule that names a datatype can use such a fact, and literal
+        subjects never leave the engine; :meth:`_use_datatype` types the literals already seen
+        when the schema names a new one). An ill-typed literal is kept in :attr:`ill_typed`.
+        A literal with the same value as one seen before is ``owl:sameAs`` it (dt-eq).
+        """
         self._typed_literals.add(literal)
-        datatype = literal_datatype(literal)
-        if datatype in RL_DATATYPES:
+        types = value_types(literal)
+        if not types:
+            if literal_datatype(literal) in RL_DATATYPES:
+                self.ill_typed.add(literal)
+            return
+        for datatype in types & self._datatypes_in_use:
             self.add(literal, TYPE, datatype)
-            for parent in DATATYPE_SUPERTYPES.get(datatype, ()):
-                self.add(literal, TYPE, parent)
+        key = value_key(literal)
+        same = self._literals_by_value.setdefault(key, set())
+        for other in list(same):
+            self.add(literal, SAME_AS, other)
+        same.add(literal)
+
+    def _use_datatype(self, datatype: str) -> None:
+        """The schema names ``datatype``: type the literals seen so far that belong to it."""
+        self._datatypes_in_use.add(datatype)
+        for literal in list(self._typed_literals):
+            if datatype in value_types(literal):
+                self.add(literal, TYPE, datatype)
 
     def untype_literals(self, literals: Iterable[str]) -> None:
         """Forget that ``literals`` were typed (their type facts were taken out): the next
         fact that uses one types it again."""
-        self._typed_literals.difference_update(literals)
+        literals = set(literals)
+        self._typed_literals -= literals
+        self.ill_typed -= literals
+        for literal in literals:
+            self._literals_by_value.get(value_key(literal), set()).discard(literal)
 
     # Running ----------------------------------------------------------------------------------
 

@@ -42,8 +42,8 @@ Typed literals are leaves unless they are the subject of a non-type fact: their 
 from collections.abc import Iterable
 from dataclasses import dataclass
 
-from reasoners.owl_rl._terms import DATATYPE_SUPERTYPES, RL_DATATYPES, SAME_AS, SWRL, TYPE
-from reasoners.owl_rl._terms import literal_datatype as _datatype
+from reasoners.owl_rl._terms import SAME_AS, SWRL, TYPE
+from reasoners.owl_rl.datatypes import value_types
 from reasoners.owl_rl.engine import AXIOMS, SCHEMA_PREDICATES, SCHEMA_TYPES, Engine, Fact
 
 __all__ = ["Retraction", "inferred_delta", "retract"]
@@ -173,11 +173,7 @@ def _region(engine: Engine, seeds: Iterable[str], limit: int) -> set[str] | None
 
 def _only_datatype_types(literal: str, types: Iterable[str]) -> bool:
     """Does the literal have only the types ``dt-type2`` gives it (which depend on nothing)?"""
-    datatype = _datatype(literal)
-    expected: set[str] = set()
-    if datatype is not None and datatype in RL_DATATYPES:
-        expected = {datatype, *DATATYPE_SUPERTYPES.get(datatype, ())}
-    return set(types) <= expected
+    return set(types) <= value_types(literal)
 
 
 def _remove_region(engine: Engine, region: set[str]) -> list[Fact]:
