@@ -89,6 +89,7 @@ SOURCE_INDIVIDUAL = owl("sourceIndividual")
 ASSERTION_PROPERTY = owl("assertionProperty")
 TARGET_INDIVIDUAL = owl("targetIndividual")
 TARGET_VALUE = owl("targetValue")
+HAS_KEY = owl("hasKey")
 
 ANNOTATION_PROPERTIES = (
     rdfs("label"),

@@ -42,7 +42,7 @@ Typed literals are leaves unless they are the subject of a non-type fact: their 
 from collections.abc import Iterable
 from dataclasses import dataclass
 
-from reasoners.owl_rl._terms import SAME_AS, SWRL, TYPE
+from reasoners.owl_rl._terms import HAS_KEY, SAME_AS, SWRL, TYPE
 from reasoners.owl_rl.datatypes import value_types
 from reasoners.owl_rl.engine import AXIOMS, SCHEMA_PREDICATES, SCHEMA_TYPES, Engine, Fact
 
@@ -129,7 +129,7 @@ def _schema_or_swrl(fact: Fact) -> bool:
     _, p, o = fact
     if p in SCHEMA_PREDICATES or (p == TYPE and o in SCHEMA_TYPES):
         return True
-    return p.startswith(_SWRL_PREFIX) or o.startswith(_SWRL_PREFIX)
+    return p == HAS_KEY or p.startswith(_SWRL_PREFIX) or o.startswith(_SWRL_PREFIX)
 
 
 def _region(engine: Engine, seeds: Iterable[str], limit: int) -> set[str] | None:
