@@ -15,9 +15,12 @@ False
 True
 """
 
+import math
 import re
+from datetime import datetime
 from fractions import Fraction
 from functools import lru_cache
+from xml.etree import ElementTree
 
 from reasoners.owl_rl._terms import rdf, rdfs, unescape, xsd
 
@@ -58,6 +61,8 @@ _LEXICAL = {
     xsd("time"): re.compile(r"\d\d:\d\d:\d\d(\.\d+)?(Z|[+-]\d\d:\d\d)?"),
 }
 _OTHER = (xsd("anyURI"), rdf("XMLLiteral"), rdf("HTML"), rdf("langString"))
+_LANGUAGE_TAG = re.compile(r"[a-zA-Z]{1,8}(-[a-zA-Z0-9]{1,8})*")
+_URI = re.compile(r"([A-Za-z][A-Za-z0-9+.-]*:)?[^\s<>\"{}|\\^`]*")
 _INTEGER = re.compile(r"[+-]?\d+")
 _DECIMAL = re.compile(r"[+-]?(\d+(\.\d*)?|\.\d+)")
 _FLOAT = re.compile(r"[+-]?(\d+(\.\d*)?|\.\d+)([eE][+-]?\d+)?|[+-]?INF|NaN")
@@ -109,10 +114,24 @@ def _value(term: str) -> tuple[str, object] | None:
     if datatype == xsd("decimal"):
         return ("real", Fraction(lexical)) if _DECIMAL.fullmatch(lexical) else None
     if datatype in (xsd("double"), xsd("float")):
-        if not _FLOAT.fullmatch(lexical):
+        return _floating(lexical, datatype == xsd("float"))
+    if datatype == rdf("PlainLiteral"):
+        text, at, tag = lexical.rpartition("@")
+        if not at or (tag and not _LANGUAGE_TAG.fullmatch(tag)):
             return None
-        kind = "double" if datatype == xsd("double") else "float"
-        return (kind, float(lexical.replace("INF", "inf")))
+        return ("lang", (text, tag.lower())) if tag else ("string", text)
+    if datatype == xsd("anyURI"):
+        return (datatype, lexical) if _is_uri(lexical) else None
+    if datatype == rdf("XMLLiteral"):
+        try:
+            ElementTree.fromstring(f"<r>{lexical}</r>")
+        except ElementTree.ParseError:
+            return None
+        return (datatype, lexical)
+    if datatype in (xsd("dateTime"), xsd("dateTimeStamp")):
+        if not _LEXICAL[datatype].fullmatch(lexical):
+            return None
+        return ("dateTime", _instant(lexical))
     if datatype in _STRINGS or datatype in _STRING_SUBTYPES:
         pattern = _STRING_SUBTYPES.get(datatype or "")
         if pattern is not None and not pattern.fullmatch(lexical):
@@ -127,6 +146,39 @@ def _value(term: str) -> tuple[str, object] | None:
     if datatype in _OTHER:
         return (datatype, lexical)
     return None
+
+
+def _floating(lexical: str, single: bool) -> tuple[str, object] | None:
+    """An xsd:double or xsd:float value; None when malformed or out of the type's range."""
+    if not _FLOAT.fullmatch(lexical):
+        return None
+    number = float(lexical.replace("INF", "inf"))
+    if math.isfinite(number) or "INF" in lexical:
+        limit, smallest = (3.4028235e38, 1.4e-45) if single else (math.inf, 0.0)
+        mantissa = lexical.lower().split("e")[0].strip("+-").replace(".", "").strip("0")
+        if math.isfinite(number) and abs(number) > limit:
+            return None
+        if mantissa and (number == 0 or abs(number) < smallest):
+            return None  # underflow: a non-zero lexical form the type cannot hold
+        return ("float" if single else "double", number)
+    return None
+
+
+def _is_uri(text: str) -> bool:
+    if not _URI.fullmatch(text):
+        return False
+    scheme_less = not re.match(r"[A-Za-z][A-Za-z0-9+.-]*:", text)
+    return not (scheme_less and ":" in text.split("/")[0])
+
+
+def _instant(lexical: str) -> object:
+    """A dateTime's value: equal for equal instants (``12:30:15`` and ``12:30:15.00``)."""
+    text = lexical.replace("Z", "+00:00")
+    try:
+        moment = datetime.fromisoformat(text)
+    except ValueError:
+        return lexical  # years outside 1..9999: compared by lexical form
+    return (moment.tzinfo is None, moment)
 
 
 def is_valid(term: str) -> bool:

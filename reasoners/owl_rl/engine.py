@@ -35,6 +35,7 @@ from reasoners.owl_rl._terms import (
     CLASS,
     DATATYPE,
     DATATYPE_PROPERTY,
+    DIFFERENT_FROM,
     DOMAIN,
     EQUIVALENT_CLASS,
     EQUIVALENT_PROPERTY,
@@ -154,6 +155,7 @@ class Engine:
     """Literals whose lexical form is not valid for their datatype (dt-not-type reports them)."""
     _datatypes_in_use: set[str] = field(default_factory=set)
     _literals_by_value: dict[object, set[str]] = field(default_factory=dict)
+    _equated_literals: set[str] = field(default_factory=set)
     _schema_generation: int = 0
     _cached_generation: int = -1
     _passed_generation: int = -1
@@ -263,6 +265,22 @@ class Engine:
             self.add(literal, SAME_AS, other)
         same.add(literal)
 
+    def _equate_literal(self, literal: str) -> None:
+        """A literal is the same as some term, so its types and its differences pass to that
+        term (eq-rep): type it with every datatype of its value (dt-type2), and make it
+        different from every other such literal of another value (dt-diff)."""
+        self._equated_literals.add(literal)
+        for datatype in value_types(literal):
+            self.add(literal, TYPE, datatype)
+        key = value_key(literal)
+        if key is None:
+            return
+        for other in list(self._equated_literals):
+            other_key = value_key(other)
+            if other_key is not None and other_key != key:
+                self.add(literal, DIFFERENT_FROM, other)
+                self.add(other, DIFFERENT_FROM, literal)
+
     def _use_datatype(self, datatype: str) -> None:
         """The schema names ``datatype``: type the literals seen so far that belong to it."""
         self._datatypes_in_use.add(datatype)
@@ -275,6 +293,7 @@ class Engine:
         fact that uses one types it again."""
         literals = set(literals)
         self._typed_literals -= literals
+        self._equated_literals -= literals
         self.ill_typed -= literals
         for literal in literals:
             self._literals_by_value.get(value_key(literal), set()).discard(literal)
@@ -418,6 +437,8 @@ class Engine:
     def _same_as(self, x: str, y: str) -> None:
         self._quiet = False  # from now on every type fact is processed (eq-rep)
         add = self.add
+        if x[0] == '"' and x not in self._equated_literals:
+            self._equate_literal(x)
         add(y, SAME_AS, x)  # eq-sym
         for z in list(self.objects(y, SAME_AS)):  # eq-trans
             if z != x:

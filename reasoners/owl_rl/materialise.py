@@ -225,6 +225,21 @@ def _closure(facts: list[Fact]) -> Engine:
     return engine
 
 
+def closure(triples: Iterable[Fact]) -> tuple[set[Fact], ConsistencyReport]:
+    """Every fact entailed by ``triples`` (N-Triples terms), literal subjects and the axioms
+    included, and the consistency report, computed in memory: no store, no canonicalisation.
+
+    What conformance tests compare (a conclusion graph may type a literal). Raises
+    :class:`SwrlRuleError` for a SWRL rule the engine cannot run.
+
+    >>> facts, report = closure([("<a>", "<http://www.w3.org/2002/07/owl#differentFrom>", "<a>")])
+    >>> report.consistent, report.clashes[0].rule
+    (False, 'eq-diff1')
+    """
+    engine = _closure(list(triples))
+    return set(engine.facts()), _report_consistency(engine)
+
+
 def _outputs(engine: Engine, asserted: set[Fact]) -> set[Fact]:
     return set(_stream_outputs(engine, asserted))
 
