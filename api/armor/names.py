@@ -111,9 +111,7 @@ def to_literal(type_name: str, value: str, *, field: str) -> Literal:
             raise InvalidArgumentsError(
                 f"{field}: got {value!r}, out of range for type {type_name} ({bits}-bit)"
             )
-        # The store keeps xsd:long as xsd:integer (its canonical form), so build that directly;
-        # the reference remembers LONG properties to print them as xsd:long again.
-        return Literal(str(number), datatype=_XSD["integer"])
+        return Literal(str(number), datatype=_XSD[local])
     if local == "float":
         return Literal(_java_float(value, field=field, type_name=type_name), datatype=_XSD[local])
     if local == "boolean":
@@ -204,15 +202,12 @@ def _datatype(iri: str) -> str:
     return f"<{iri}>"
 
 
-def armor_string(term: NamedNode | BlankNode | Literal | Triple, *, datatype: str = "") -> str:
-    """ARMOR's (OWLAPI's) string for a term: ``<iri>`` or ``"lex"^^xsd:type``.
-
-    ``datatype`` overrides the literal's datatype IRI (the store turns xsd:long into xsd:integer).
-    """
+def armor_string(term: NamedNode | BlankNode | Literal | Triple) -> str:
+    """ARMOR's (OWLAPI's) string for a term: ``<iri>`` or ``"lex"^^xsd:type``."""
     if isinstance(term, Literal):
         if term.language:
             return f'"{_escape(term.value)}"@{term.language}'
-        return f'"{_escape(term.value)}"^^{_datatype(datatype or term.datatype.value)}'
+        return f'"{_escape(term.value)}"^^{_datatype(term.datatype.value)}'
     if isinstance(term, NamedNode):
         return f"<{term.value}>"
     return str(term)
@@ -225,12 +220,10 @@ def plain_string(term: NamedNode | BlankNode | Literal | Triple) -> str:
     return str(term)
 
 
-def styled(
-    term: NamedNode | BlankNode | Literal | Triple, style: ValueStyle, *, datatype: str = ""
-) -> str:
+def styled(term: NamedNode | BlankNode | Literal | Triple, style: ValueStyle) -> str:
     """A query result in the chosen :data:`ValueStyle`."""
     if style == "armor":
-        return armor_string(term, datatype=datatype)
+        return armor_string(term)
     if style == "short" and isinstance(term, NamedNode):
         return local_name(term.value)
     return plain_string(term)
