@@ -39,3 +39,46 @@ def test_long_values_of_a_loaded_file_stay_long(armor: Armor, ref: str, tmp_path
     stamp = armor.call("QUERY", "DATAPROP", "IND", ["stamp", "r"], ref=ref)["queried_objects"]
     age = armor.call("QUERY", "DATAPROP", "IND", ["age", "r"], ref=ref)["queried_objects"]
     assert (stamp, age) == ([LONG], ['"7"^^xsd:byte'])
+
+
+def test_floats_print_as_java_prints_them(armor: Armor, loaded: Callable[..., str]) -> None:
+    ref = loaded()
+    for prop, value in [("a", "2"), ("b", "1e10"), ("c", "0.0001"), ("d", "0.5")]:
+        assert armor.call("ADD", "DATAPROP", "IND", [prop, "r", "DOUBLE", value], ref=ref)[
+            "success"
+        ]
+    got = [
+        armor.call("QUERY", "DATAPROP", "IND", [prop, "r"], ref=ref)["queried_objects"]
+        for prop in "abcd"
+    ]
+    assert got == [
+        ['"2.0"^^xsd:float'],
+        ['"1.0E10"^^xsd:float'],
+        ['"1.0E-4"^^xsd:float'],
+        ['"0.5"^^xsd:float'],
+    ]
+    sparql = "SELECT ?v WHERE { ?i <http://ex.org/" + ref + "#a> ?v }"
+    assert armor.call("QUERY", "SPARQL", "", [sparql], ref=ref)["queried_objects"] == [
+        "{v=2.0^^http://www.w3.org/2001/XMLSchema#float}"
+    ]
+
+
+def test_owl_nothing_prints_as_the_owl_api_prints_it(
+    armor: Armor, loaded: Callable[..., str]
+) -> None:
+    ref = loaded()
+    assert armor.call("ADD", "CLASS", "", ["Room"], ref=ref)["success"]
+    subclasses = armor.call("QUERY", "CLASS", "CLASS", ["Room"], ref=ref)["queried_objects"]
+    assert subclasses == ["owl:Nothing"]
+
+
+def test_a_name_with_a_space_is_accepted_and_printed_as_given(
+    armor: Armor, loaded: Callable[..., str]
+) -> None:
+    ref = loaded()
+    added = armor.call("ADD", "IND", "CLASS", ["living room", "Room"], ref=ref)
+    assert added["success"], added
+    members = armor.call("QUERY", "IND", "CLASS", ["Room"], ref=ref)["queried_objects"]
+    assert members == [f"<http://ex.org/{ref}#living room>"]
+    short = armor.call("QUERY", "IND", "CLASS", ["Room"], ref=ref, values="short")
+    assert short["queried_objects"] == ["living room"]
