@@ -153,6 +153,10 @@ class Engine:
     _typed_literals: set[str] = field(default_factory=set)
     ill_typed: set[str] = field(default_factory=set)
     """Literals whose lexical form is not valid for their datatype (dt-not-type reports them)."""
+    mistyped: set[tuple[str, str]] = field(default_factory=set)
+    """(literal, datatype) type facts the datatype's value space does not hold (dt-not-type)."""
+    unequal_same: set[tuple[str, str]] = field(default_factory=set)
+    """Literals of different values found ``owl:sameAs`` (dt-diff), each pair sorted."""
     _datatypes_in_use: set[str] = field(default_factory=set)
     _literals_by_value: dict[object, set[str]] = field(default_factory=dict)
     _equated_literals: set[str] = field(default_factory=set)
@@ -221,7 +225,10 @@ class Engine:
                 self._use_datatype(o)
         else:
             self.queue.append(fact)
-            if p == _DATA_RANGE and o in RL_DATATYPES and o not in self._datatypes_in_use:
+            if p == TYPE and s[0] == '"' and o in RL_DATATYPES and o not in value_types(s):
+                if s not in self.ill_typed:
+                    self.mistyped.add((s, o))
+            elif p == _DATA_RANGE and o in RL_DATATYPES and o not in self._datatypes_in_use:
                 self._use_datatype(o)
         if o[0] == '"' and o not in self._typed_literals:
             self._type_literal(o)
@@ -295,6 +302,8 @@ class Engine:
         self._typed_literals -= literals
         self._equated_literals -= literals
         self.ill_typed -= literals
+        self.mistyped = {pair for pair in self.mistyped if pair[0] not in literals}
+        self.unequal_same = {pair for pair in self.unequal_same if literals.isdisjoint(pair)}
         for literal in literals:
             self._literals_by_value.get(value_key(literal), set()).discard(literal)
 
@@ -439,6 +448,10 @@ class Engine:
         add = self.add
         if x[0] == '"' and x not in self._equated_literals:
             self._equate_literal(x)
+        if x[0] == '"' and y[0] == '"':
+            kx, ky = value_key(x), value_key(y)
+            if kx is not None and ky is not None and kx != ky:
+                self.unequal_same.add((min(x, y), max(x, y)))
         add(y, SAME_AS, x)  # eq-sym
         for z in list(self.objects(y, SAME_AS)):  # eq-trans
             if z != x:
@@ -542,11 +555,12 @@ class Engine:
                     self._max_one(u, prop, c)
 
     def _split_supers(self, info: ClassInfo) -> None:
-        """Split a class's super-classes into those with no rule of their own and the rest."""
+        """Split a class's super-classes into those with no rule of their own and the rest (a
+        datatype has one: dt-not-type checks each literal typed with it)."""
         quiet = set()
         for d in info.supers:
             other = self.class_cache.get(d) or class_info(self, d)
-            if not other.more and d not in SCHEMA_TYPES:
+            if not other.more and d not in SCHEMA_TYPES and d not in RL_DATATYPES:
                 quiet.add(d)
         info.quiet_supers = frozenset(quiet)
         info.loud_supers = tuple(d for d in info.supers if d not in quiet)

@@ -83,6 +83,10 @@ def test_every_datatype_of_the_map_is_a_datatype(load: Loader) -> None:  # dt-ty
         (':a :v "abc"^^xsd:integer .', "dt-not-type"),
         (":v rdfs:range xsd:nonNegativeInteger . :a :v -3 .", "dt-not-type"),
         (":v rdfs:range xsd:string . :a :v 3 .", "dt-not-type"),
+        (
+            ":Age owl:equivalentClass xsd:nonNegativeInteger . :v rdfs:range :Age . :a :v -3 .",
+            "dt-not-type",
+        ),
         (":v a owl:FunctionalProperty . :a :v 5 , 6 .", "dt-diff"),
         (':v a owl:FunctionalProperty . :a :v "5"^^xsd:integer , "5.0E0"^^xsd:double .', "dt-diff"),
     ],
