@@ -82,3 +82,21 @@ def test_a_name_with_a_space_is_accepted_and_printed_as_given(
     assert members == [f"<http://ex.org/{ref}#living room>"]
     short = armor.call("QUERY", "IND", "CLASS", ["Room"], ref=ref, values="short")
     assert short["queried_objects"] == ["living room"]
+
+
+def test_a_buffered_reasoner_answers_from_the_ontology_as_loaded(
+    armor: Armor, ref: str, tmp_path: Path
+) -> None:
+    source = tmp_path / "rooms.ttl"
+    iri = "http://ex.org/rooms"
+    source.write_text(
+        f"@prefix : <{iri}#> . @prefix owl: <http://www.w3.org/2002/07/owl#> . "
+        "@prefix rdfs: <http://www.w3.org/2000/01/rdf-schema#> . "
+        f"<{iri}> a owl:Ontology . :Room a owl:Class . :Robot a owl:Class . "
+        ":isIn a owl:ObjectProperty ; rdfs:domain :Robot ; rdfs:range :Room . "
+        ":r1 a owl:NamedIndividual ; :isIn :k1 . :k1 a owl:NamedIndividual ."
+    )
+    args = [str(source), iri, "false", "PELLET", "true"]  # buffered reasoner
+    assert armor.call("LOAD", "FILE", "", args, ref=ref)["success"]
+    members = armor.call("QUERY", "IND", "CLASS", ["Room"], ref=ref)["queried_objects"]
+    assert members == [f"<{iri}#k1>"]
