@@ -33,6 +33,7 @@ __all__ = [
     "from_store",
     "kept_text",
     "ntriples_to_store",
+    "quad_from_store",
     "quads_to_store",
     "to_store",
 ]
@@ -84,6 +85,14 @@ def from_store(term: _Term) -> _Term:
             original = Literal(term.value, datatype=NamedNode(XSD + datatype[len(KEPT) :]))
             return original  # type: ignore[return-value]
     return term
+
+
+def quad_from_store(quad: Quad) -> Quad:
+    """The quad as written: its literal object through :func:`from_store`."""
+    obj = quad.object
+    if type(obj) is Literal and obj.datatype.value.startswith(KEPT):
+        return Quad(quad.subject, quad.predicate, from_store(obj), quad.graph_name)
+    return quad
 
 
 def quads_to_store(quads: Iterable[Quad]) -> list[Quad]:

@@ -42,7 +42,14 @@ from kg.errors import (
     StoreLockedError,
     TransactionError,
 )
-from kg.literals import from_store, kept_text, ntriples_to_store, quads_to_store, to_store
+from kg.literals import (
+    from_store,
+    kept_text,
+    ntriples_to_store,
+    quad_from_store,
+    quads_to_store,
+    to_store,
+)
 from kg.sparql_text import bind_table, bind_values, mentions_keyword
 from kg.transaction import Transaction
 from ontologies.vocab import BULK_WRITES, RDF_TYPE, UNFINISHED_BULK_WRITE
@@ -263,12 +270,7 @@ class Store:
         (:mod:`kg.literals`)."""
         self.settle_reads()
         found = self._store.quads_for_pattern(subject, predicate, to_store(obj), graph)
-        return (
-            q
-            if type(q.object) is not Literal
-            else Quad(q.subject, q.predicate, from_store(q.object), q.graph_name)
-            for q in found
-        )
+        return map(quad_from_store, found)
 
     def settle(self) -> None:
         """On a SPARQL server, after a failed write: read the revision back and let the
