@@ -33,6 +33,7 @@ import pyoxigraph
 from pyoxigraph import NamedNode, QueryBoolean, QueryResultsFormat, QuerySolutions, RdfFormat
 
 from kg._no_network import forbid_network
+from kg.literals import kept_text, ntriples_to_store
 from kg.sparql_text import disable_keyword, nesting_depth
 
 log = logging.getLogger(__name__)
@@ -118,7 +119,7 @@ def _open(job: dict[str, Any], opened: dict[str, pyoxigraph.Store]) -> pyoxigrap
     if job.get("graph_data") is not None:
         store = pyoxigraph.Store()
         for iri, data in job["graph_data"].items():
-            store.load(data, format=RdfFormat.N_TRIPLES, to_graph=NamedNode(iri))
+            store.load(ntriples_to_store(data), format=RdfFormat.N_TRIPLES, to_graph=NamedNode(iri))
         return store
     path = job["path"]
     if path not in opened:
@@ -164,7 +165,7 @@ def answer(store: pyoxigraph.Store, job: dict[str, Any]) -> Answer:
         if sink.overflowed:
             return ("too_large", form, None)
         raise
-    return ("ok", form, sink.getvalue())
+    return ("ok", form, kept_text(sink.getvalue()))
 
 
 def handle(job: dict[str, Any], opened: dict[str, pyoxigraph.Store]) -> Answer:

@@ -42,6 +42,14 @@ from kg.errors import (
     StoreLockedError,
     TransactionError,
 )
+from kg.literals import (
+    from_store,
+    kept_text,
+    ntriples_to_store,
+    quad_from_store,
+    quads_to_store,
+    to_store,
+)
 from kg.sparql_text import bind_table, bind_values, mentions_keyword
 from kg.transaction import Transaction
 from ontologies.vocab import BULK_WRITES, RDF_TYPE, UNFINISHED_BULK_WRITE
@@ -196,7 +204,9 @@ class Store:
         if not isinstance(result, QuerySolutions):
             raise TypeError(f"query {name!r} is not a SELECT query")
         names = [variable.value for variable in result.variables]
-        return [{n: term for n in names if (term := row[n]) is not None} for row in result]
+        return [
+            {n: from_store(term) for n in names if (term := row[n]) is not None} for row in result
+        ]
 
     def ask(self, name: str, **bindings: Binding) -> bool:
         """Run the ASK query ``sparql/<name>.rq`` with ``bindings``."""
@@ -210,11 +220,11 @@ class Store:
         result = self._query(sparql.load(name), bindings)
         if not isinstance(result, QueryTriples):
             raise TypeError(f"query {name!r} is not a CONSTRUCT or DESCRIBE query")
-        return list(result)
+        return [Triple(t.subject, t.predicate, from_store(t.object)) for t in result]
 
     def _query(self, text: str, bindings: Mapping[str, Binding]) -> Any:
         self.settle_reads()
-        text = bind_values(text, bindings)
+        text = bind_values(text, {name: to_store(term) for name, term in bindings.items()})
         self._trace("query", text, bindings)
         return self._store.query(text, use_default_graph_as_union=True)
 
@@ -256,9 +266,11 @@ class Store:
         obj: NamedNode | Literal | None = None,
         graph: NamedNode | None = None,
     ) -> Iterator[Quad]:
-        """The stored quads matching a pattern (``None`` matches anything)."""
+        """The stored quads matching a pattern (``None`` matches anything), literals as written
+        (:mod:`kg.literals`)."""
         self.settle_reads()
-        return self._store.quads_for_pattern(subject, predicate, obj, graph)
+        found = self._store.quads_for_pattern(subject, predicate, to_store(obj), graph)
+        return map(quad_from_store, found)
 
     def settle(self) -> None:
         """On a SPARQL server, after a failed write: read the revision back and let the
@@ -294,7 +306,8 @@ class Store:
             raise TypeError(f"graph must be a NamedNode naming an Engram graph, got {graph!r}")
         self.settle_reads()
         self._trace("query", f"DUMP GRAPH {graph} AS N-Triples", {})
-        return self._store.dump(format=pyoxigraph.RdfFormat.N_TRIPLES, from_graph=graph) or b""
+        dumped = self._store.dump(format=pyoxigraph.RdfFormat.N_TRIPLES, from_graph=graph) or b""
+        return kept_text(dumped)
 
     # Writes ------------------------------------------------------------------------------------
 
@@ -341,24 +354,25 @@ class Store:
         """The write that commits ``tx``, with every read and every Python step done first."""
         if tx.is_empty:
             return lambda: None
-        deletes = list(tx.deletes)
+        inserts = quads_to_store(tx.inserts)
+        deletes = quads_to_store(tx.deletes)
         for pattern in tx.patterns:
             deletes.extend(
                 self._store.quads_for_pattern(
-                    pattern.subject, pattern.predicate, pattern.object, pattern.graph
+                    pattern.subject, pattern.predicate, to_store(pattern.object), pattern.graph
                 )
             )
         text: str | None = None
         if self.remote is not None:
-            self._trace("update", f"REMOTE {len(deletes)} deletions, {len(tx.inserts)} inserts", {})
+            self._trace("update", f"REMOTE {len(deletes)} deletions, {len(inserts)} inserts", {})
             apply: Callable[[], None] = functools.partial(
-                self.remote.commit, tx.cleared, deletes, tx.inserts
+                self.remote.commit, tx.cleared, deletes, inserts
             )
         elif not (deletes or tx.cleared):
-            self._trace("extend", f"INSERT {len(tx.inserts)} quads", {})
-            apply = functools.partial(self._store.extend, tx.inserts)
+            self._trace("extend", f"INSERT {len(inserts)} quads", {})
+            apply = functools.partial(self._store.extend, inserts)
         else:
-            text = update_text(tx.cleared, deletes, tx.inserts)
+            text = update_text(tx.cleared, deletes, inserts)
             self._trace("update", text, {})
             apply = functools.partial(self._store.update, text)
 
@@ -373,11 +387,11 @@ class Store:
                 if self.remote is not None:
                     self._commit_log.unrecorded(self._generation + 1)
                 elif text is None:
-                    self._commit_log.record(self._generation + 1, inserts=tx.inserts)
+                    self._commit_log.record(self._generation + 1, inserts=inserts)
                 else:
                     self._commit_log.record(self._generation + 1, update=text)
             self._generation += 1
-            log.debug("committed %d deletions, %d insertions", len(deletes), len(tx.inserts))
+            log.debug("committed %d deletions, %d insertions", len(deletes), len(inserts))
 
         return write
 
@@ -433,10 +447,12 @@ class Store:
                 if isinstance(ntriples, bytes) or self.remote is not None:
                     data = ntriples if isinstance(ntriples, bytes) else b"".join(ntriples)
                     self._store.bulk_load(
-                        data, format=pyoxigraph.RdfFormat.N_TRIPLES, to_graph=graph
+                        ntriples_to_store(data),
+                        format=pyoxigraph.RdfFormat.N_TRIPLES,
+                        to_graph=graph,
                     )
                 else:
-                    self._bulk_load_streamed(graph, ntriples)
+                    self._bulk_load_streamed(graph, map(ntriples_to_store, ntriples))
                 self._end_bulk_write(marker)
             except BaseException as error:
                 self._undo_bulk_write(marker)

@@ -279,9 +279,6 @@ ARMOR_BUFFERED_REASONER = NamedNode(ARMOR_NS + "bufferedReasoner")
 ARMOR_REASONER = NamedNode(ARMOR_NS + "reasoner")
 ARMOR_SOURCE = NamedNode(ARMOR_NS + "source")
 ARMOR_SOURCE_FORMAT = NamedNode(ARMOR_NS + "sourceFormat")
-ARMOR_LONG_PROPERTY = NamedNode(ARMOR_NS + "longProperty")
-"""A data property given LONG values: the store canonicalises xsd:long to xsd:integer, and ARMOR
-clients expect ``"…"^^xsd:long`` back."""
 OWL_THING = NamedNode(OWL_NS + "Thing")
 OWL_NOTHING = NamedNode(OWL_NS + "Nothing")
 

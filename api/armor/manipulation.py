@@ -36,7 +36,6 @@ from ontologies.vocab import (
     RDFS_SUBCLASSOF,
     SKOLEM_PREFIX,
     XSD_NON_NEGATIVE_INTEGER,
-    XSD_NS,
 )
 
 __all__ = ["HANDLERS"]
@@ -47,7 +46,6 @@ OWL_DISTINCT_MEMBERS = NamedNode(OWL_NS + "distinctMembers")
 OWL_DISJOINT_WITH = NamedNode(OWL_NS + "disjointWith")
 OWL_ALL_DISJOINT_CLASSES = NamedNode(OWL_NS + "AllDisjointClasses")
 OWL_MEMBERS = NamedNode(OWL_NS + "members")
-XSD_LONG = XSD_NS + "long"
 _OK = Outcome
 
 
@@ -94,15 +92,6 @@ def _unsupported(ctx: Context, prop: str, ind: str, verb: str, *, success: bool)
         exit_code=UNSUPPORTED_TYPE,
         error_description=f"Value type {type_name} not supported. {prop}not {verb} {ind}.",
     )
-
-
-def _remember_long(ctx: Context, prop: NamedNode) -> None:
-    if ctx.args[2].upper() == "LONG":
-        reference = ctx.reference()
-        if prop.value not in reference.long_properties:
-            ctx.session.update(
-                reference.with_changes(long_properties=reference.long_properties | {prop.value})
-            )
 
 
 # ADD -------------------------------------------------------------------------------------------
@@ -161,7 +150,6 @@ def add_dataprop_ind(ctx: Context) -> Outcome:
         return _unsupported(ctx, ctx.args[0], ctx.args[1], "added to", success=True)
     if ctx.buffered():
         return _OK()
-    _remember_long(ctx, prop)
     ctx.write(
         insert=[
             ctx.quad(ind, prop, value),
@@ -439,7 +427,6 @@ def replace_dataprop_ind(ctx: Context) -> Outcome:
     old = to_literal(ctx.args[2], ctx.args[4], field="args[4]")
     if ctx.buffered():
         return _OK()
-    _remember_long(ctx, prop)
     ctx.write(
         delete=[ctx.quad(ind, prop, old)],
         insert=[ctx.quad(ind, prop, new), *_declare(ctx, prop, OWL_DATATYPE_PROPERTY)],

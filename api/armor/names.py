@@ -59,6 +59,7 @@ _TYPES = {
     "BOOL": "boolean",
 }
 _PREFIXES = (("xsd", XSD_NS), ("rdf", RDF_NS), ("rdfs", RDFS_NS), ("owl", OWL_NS))
+_XSD_FLOAT, _XSD_DOUBLE = XSD_NS + "float", XSD_NS + "double"
 
 
 def resolve(name: str, prefix: str, *, field: str = "args") -> NamedNode:
@@ -73,12 +74,14 @@ def resolve(name: str, prefix: str, *, field: str = "args") -> NamedNode:
     else:
         if not name:
             raise InvalidArgumentsError(f"{field}: got an empty name, expected an entity name")
-        iri = f"{prefix}#{name}"
+        # The OWL API takes any text after the '#' ("living room"); an RDF IRI cannot hold
+        # these characters, so they are stored percent-encoded and printed back as given.
+        iri = f"{prefix}#{_UNSAFE.sub(lambda m: _ENCODED[m.group()], name)}"
     try:
         return NamedNode(iri)
     except ValueError:
         raise InvalidArgumentsError(
-            f"{field}: got {name!r}, which cannot be part of an IRI (no spaces, <, >, quotes)"
+            f"{field}: got {name!r}, which cannot be part of an IRI (a control character?)"
         ) from None
 
 
@@ -111,9 +114,7 @@ def to_literal(type_name: str, value: str, *, field: str) -> Literal:
             raise InvalidArgumentsError(
                 f"{field}: got {value!r}, out of range for type {type_name} ({bits}-bit)"
             )
-        # The store keeps xsd:long as xsd:integer (its canonical form), so build that directly;
-        # the reference remembers LONG properties to print them as xsd:long again.
-        return Literal(str(number), datatype=_XSD["integer"])
+        return Literal(str(number), datatype=_XSD[local])
     if local == "float":
         return Literal(_java_float(value, field=field, type_name=type_name), datatype=_XSD[local])
     if local == "boolean":
@@ -185,52 +186,114 @@ def _java_float(value: str, *, field: str, type_name: str) -> str:
     return positional or "0"
 
 
+_ENCODED = {c: f"%{ord(c):02X}" for c in ' <>"{}|\\^`'}
+_DECODED = {code: c for c, code in _ENCODED.items()}
+_UNSAFE = re.compile("[" + re.escape("".join(_ENCODED)) + "]")
+_ESCAPED = re.compile("|".join(_DECODED))
+
+
+def _as_given(iri: str) -> str:
+    """The IRI with the characters :func:`resolve` percent-encoded written as given again."""
+    return _ESCAPED.sub(lambda m: _DECODED[m.group()], iri) if "%" in iri else iri
+
+
 def local_name(iri: str) -> str:
     """The part after ``#`` (or the last ``/``): ARMOR's short name."""
+    iri = _as_given(iri)
     for separator in ("#", "/"):
         if separator in iri:
             return iri.rsplit(separator, 1)[1]
     return iri
 
 
+def java_decimal(lexical: str, *, single: bool) -> str:
+    """Java's ``Float.toString`` (``single``) or ``Double.toString`` of a stored value: ``2.0``
+    for 2, ``1.0E10`` for 10000000000, ``1.0E-4`` for 0.0001; the lexical form if it is not a
+    number.
+
+    >>> java_decimal("10000000000", single=True), java_decimal("0.5", single=False)
+    ('1.0E10', '0.5')
+    """
+    try:
+        number = float(lexical.replace("INF", "inf"))
+    except ValueError:
+        return lexical
+    if math.isnan(number):
+        return "NaN"
+    if math.isinf(number):
+        return "Infinity" if number > 0 else "-Infinity"
+    if number == 0:
+        return "-0.0" if math.copysign(1, number) < 0 else "0.0"
+    text = repr(number)
+    if single:
+        single_value = struct.unpack("f", struct.pack("f", number))[0]
+        for precision in range(1, 10):
+            text = f"{single_value:.{precision}g}"
+            if struct.unpack("f", struct.pack("f", float(text)))[0] == single_value:
+                break
+    sign, digits, exponent = decimal.Decimal(text).normalize().as_tuple()
+    assert isinstance(exponent, int)
+    mantissa = "".join(str(digit) for digit in digits)
+    point = len(mantissa) + exponent  # the decimal point sits after this many digits
+    if 1e-3 <= abs(number) < 1e7:
+        if point <= 0:
+            body = "0." + "0" * -point + mantissa
+        elif point >= len(mantissa):
+            body = mantissa + "0" * (point - len(mantissa)) + ".0"
+        else:
+            body = mantissa[:point] + "." + mantissa[point:]
+    else:
+        body = f"{mantissa[0]}.{mantissa[1:] or '0'}E{point - 1}"
+    return ("-" if sign else "") + body
+
+
 def _escape(text: str) -> str:
     return text.replace("\\", "\\\\").replace('"', '\\"')
 
 
-def _datatype(iri: str) -> str:
+def _prefixed(iri: str) -> str:
+    """The OWL API's rendering of an IRI: ``owl:Nothing`` in the built-in namespaces, else
+    ``<iri>``."""
     for prefix, namespace in _PREFIXES:
         if iri.startswith(namespace):
             return f"{prefix}:{iri[len(namespace) :]}"
-    return f"<{iri}>"
+    return f"<{_as_given(iri)}>"
 
 
-def armor_string(term: NamedNode | BlankNode | Literal | Triple, *, datatype: str = "") -> str:
-    """ARMOR's (OWLAPI's) string for a term: ``<iri>`` or ``"lex"^^xsd:type``.
+def _lexical(term: Literal) -> str:
+    """The lexical form the OWL API holds: Java's text for floats and doubles (the store keeps
+    them positional, ``2`` for ``2.0``)."""
+    datatype = term.datatype.value
+    if datatype in (_XSD_FLOAT, _XSD_DOUBLE):
+        return java_decimal(term.value, single=datatype == _XSD_FLOAT)
+    return term.value
 
-    ``datatype`` overrides the literal's datatype IRI (the store turns xsd:long into xsd:integer).
-    """
+
+def armor_string(term: NamedNode | BlankNode | Literal | Triple) -> str:
+    """ARMOR's (the OWL API's ``toString``) string for a term: ``<iri>``, ``owl:Nothing``,
+    ``"lex"^^xsd:type``."""
     if isinstance(term, Literal):
         if term.language:
             return f'"{_escape(term.value)}"@{term.language}'
-        return f'"{_escape(term.value)}"^^{_datatype(datatype or term.datatype.value)}'
+        return f'"{_escape(_lexical(term))}"^^{_prefixed(term.datatype.value)}'
     if isinstance(term, NamedNode):
-        return f"<{term.value}>"
+        return _prefixed(term.value)
     return str(term)
 
 
 def plain_string(term: NamedNode | BlankNode | Literal | Triple) -> str:
     """The IRI without brackets, or the literal's lexical value."""
-    if isinstance(term, NamedNode | Literal):
-        return term.value
+    if isinstance(term, Literal):
+        return _lexical(term)
+    if isinstance(term, NamedNode):
+        return _as_given(term.value)
     return str(term)
 
 
-def styled(
-    term: NamedNode | BlankNode | Literal | Triple, style: ValueStyle, *, datatype: str = ""
-) -> str:
+def styled(term: NamedNode | BlankNode | Literal | Triple, style: ValueStyle) -> str:
     """A query result in the chosen :data:`ValueStyle`."""
     if style == "armor":
-        return armor_string(term, datatype=datatype)
+        return armor_string(term)
     if style == "short" and isinstance(term, NamedNode):
         return local_name(term.value)
     return plain_string(term)
@@ -243,9 +306,9 @@ def jena_string(term: NamedNode | BlankNode | Literal | Triple) -> str:
             return f"{term.value}@{term.language}"
         if term.datatype.value == XSD_NS + "string":
             return term.value
-        return f"{term.value}^^{term.datatype.value}"
+        return f"{_lexical(term)}^^{term.datatype.value}"
     if isinstance(term, NamedNode):
         if term.value.startswith(SKOLEM_PREFIX):
             return term.value[len(SKOLEM_PREFIX) :]  # Jena prints a blank node as its label
-        return term.value
+        return _as_given(term.value)
     return str(term)

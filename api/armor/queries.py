@@ -16,6 +16,7 @@ from api.armor.models import QueryItem
 from api.armor.names import is_true, jena_string, local_name, styled
 from api.armor.references import Reference
 from kg.errors import QueryError, QueryTimeoutError
+from kg.literals import from_store
 from kg.sandbox import QueryForm
 from kg.sparql_text import nesting_depth
 from ontologies.vocab import (
@@ -32,30 +33,15 @@ from ontologies.vocab import (
     RDF_TYPE,
     RDFS_SUBCLASSOF,
     SKOLEM_PREFIX,
-    XSD_NS,
 )
 
 __all__ = ["HANDLERS"]
 
 _SKOLEM = Literal(SKOLEM_PREFIX)
-_XSD_INTEGER = XSD_NS + "integer"
-_XSD_LONG = XSD_NS + "long"
 
 
-def _strings(
-    ctx: Context, terms: list[NamedNode | Literal], prop: NamedNode | None = None
-) -> list[str]:
-    reference = ctx.reference()
-    as_long = prop is not None and prop.value in reference.long_properties
-    out = []
-    for term in terms:
-        datatype = (
-            _XSD_LONG
-            if as_long and isinstance(term, Literal) and term.datatype.value == _XSD_INTEGER
-            else ""
-        )
-        out.append(styled(term, ctx.style, datatype=datatype))
-    return sorted(set(out))
+def _strings(ctx: Context, terms: list[NamedNode | Literal]) -> list[str]:
+    return sorted({styled(term, ctx.style) for term in terms})
 
 
 def _class_bindings(cls: NamedNode) -> dict[str, NamedNode | Literal]:
@@ -122,7 +108,7 @@ def _values(ctx: Context, *, literal: bool) -> Outcome:
         for v in _column(rows, "value")
         if isinstance(v, Literal) == literal and not v.value.startswith(SKOLEM_PREFIX)
     ]
-    return Outcome(queried_objects=_strings(ctx, values, prop))
+    return Outcome(queried_objects=_strings(ctx, values))
 
 
 def query_dataprop_ind(ctx: Context) -> Outcome:
@@ -371,7 +357,9 @@ def _rows(
                 f"args: the query ran past its timeout of {int(timeout_s * 1000)} ms",  # type: ignore[operator]
                 timeout=True,
             )
-        rows.append([(n, t) for n in names if isinstance(t := solution[n], NamedNode | Literal)])
+        rows.append(
+            [(n, from_store(t)) for n in names if isinstance(t := solution[n], NamedNode | Literal)]
+        )
     return rows
 
 

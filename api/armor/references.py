@@ -29,7 +29,6 @@ from kg import Store
 from ontologies.vocab import (
     ARMOR_BUFFERED_MANIPULATION,
     ARMOR_BUFFERED_REASONER,
-    ARMOR_LONG_PROPERTY,
     ARMOR_NAME,
     ARMOR_NS,
     ARMOR_PREFIX,
@@ -82,7 +81,6 @@ class Reference:
     buffered_reasoner: bool = False
     source: str = ""
     source_format: str = ""
-    long_properties: frozenset[str] = frozenset()
     mounted: str = NOBODY
     buffer: tuple[ArmorDirectiveReq, ...] = ()
     consistent: bool = True
@@ -122,10 +120,6 @@ class Reference:
             Quad(node, ARMOR_BUFFERED_REASONER, Literal(self.buffered_reasoner), graph),
             Quad(node, ARMOR_SOURCE, Literal(self.source), graph),
             Quad(node, ARMOR_SOURCE_FORMAT, Literal(self.source_format), graph),
-        ]
-        quads += [
-            Quad(node, ARMOR_LONG_PROPERTY, NamedNode(iri), graph)
-            for iri in sorted(self.long_properties)
         ]
         return quads
 
@@ -167,9 +161,6 @@ class Registry:
                 buffered_reasoner=one(ARMOR_BUFFERED_REASONER) == "true",
                 source=one(ARMOR_SOURCE),
                 source_format=one(ARMOR_SOURCE_FORMAT),
-                long_properties=frozenset(
-                    term.value for term in fields.get(ARMOR_LONG_PROPERTY.value, [])
-                ),
             )
 
     def get(self, name: str) -> Reference | None:

@@ -28,6 +28,7 @@ from api.armor import reasoning
 from api.armor.errors import MEMORY_ERROR, DirectiveError, SparqlError
 from api.armor.references import Reference, Registry
 from kg import QueryError, Store
+from kg.literals import from_store
 from kg.transaction import Transaction
 
 __all__ = ["ChangeSet", "MemoryWorkFailed", "Row", "Session"]
@@ -290,7 +291,8 @@ class Session:
             raise TypeError(f"query {name!r} is not a SELECT query")
         names = [variable.value for variable in result.variables]
         return [
-            {n: t for n in names if isinstance(t := row[n], NamedNode | Literal)} for row in result
+            {n: from_store(t) for n in names if isinstance(t := row[n], NamedNode | Literal)}
+            for row in result
         ]
 
     def query(

@@ -91,7 +91,9 @@ def _load(ctx: Context, *, web: bool, mounted: bool) -> Outcome:
         if not source:
             quads.append(Quad(NamedNode(prefix), RDF_TYPE, OWL_ONTOLOGY, reference.asserted))
         session.write(reference, insert=quads)
-        if not buffered_reasoner:
+        if source or not buffered_reasoner:
+            # ARMOR's reasoner, buffered or not, starts on the ontology as loaded: its
+            # inferences are there before the first REASON; later changes wait for REASON.
             session.reason_later(reference)
         log.info("LOAD %s: %d triples from %r", name, len(quads), source)
     if mounted:

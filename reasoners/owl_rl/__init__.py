@@ -12,23 +12,24 @@ uncommitted changes without writing it (the writer commits it with its own trans
 :mod:`reasoners.owl_rl.pending`). ARMOR's reasoner names (``PELLET``,
 ``HERMIT``, ``FACT``, ``SNOROCKET``, any case, and ``OWL2RL``) are aliases of this one engine.
 
-What is inferred: the rules of the OWL 2 RL/RDF profile (W3C OWL 2 Profiles, section 4.3):
+What is inferred: every rule of the OWL 2 RL/RDF tables (W3C OWL 2 Profiles, section 4.3):
 equality (eq-sym, eq-trans, eq-rep-s/p/o), property axioms (prp-dom, prp-rng, prp-fp, prp-ifp,
-prp-symp, prp-trp, prp-spo1, prp-spo2 chains, prp-eqp1/2, prp-inv1/2), class expressions
+prp-symp, prp-trp, prp-spo1, prp-spo2 chains, prp-eqp1/2, prp-inv1/2, prp-key), class expressions
 (cls-thing, cls-nothing1, cls-int1/2, cls-uni, cls-svf1/2, cls-avf, cls-hv1/2, cls-maxc2,
 cls-maxqc3/4, cls-oo), class axioms (cax-sco, cax-eqc1/2), the schema rules (scm-cls, scm-sco,
 scm-eqc1/2, scm-op, scm-dp, scm-spo, scm-eqp1/2, scm-dom1/2, scm-rng1/2, scm-hv, scm-svf1/2,
-scm-avf1/2, scm-int, scm-uni), prp-ap, and dt-type2 for literals of the OWL 2 RL datatypes
-(kept inside the engine so that data-range restrictions such as ``∃hasScore.xsd:integer``
-classify individuals). Consistency: cls-nothing2, cax-dw, cax-adc, cls-com, eq-diff1/2/3,
-prp-irp, prp-asyp, prp-pdw, prp-adp, prp-npa1/2, cls-maxc1, cls-maxqc1/2. Plus the DL-safe SWRL
-rules in the asserted graph, with the built-ins listed in :mod:`reasoners.owl_rl.swrl`.
+scm-avf1/2, scm-int, scm-uni), prp-ap, and the datatype rules (dt-type1, dt-type2 by value space,
+dt-eq; :mod:`reasoners.owl_rl.datatypes`). Consistency: cls-nothing2, cax-dw, cax-adc, cls-com,
+eq-diff1/2/3, prp-irp, prp-asyp, prp-pdw, prp-adp, prp-npa1/2, cls-maxc1, cls-maxqc1/2,
+dt-diff, dt-not-type. Plus the DL-safe SWRL rules in the asserted graph, with the built-ins
+listed in :mod:`reasoners.owl_rl.swrl`.
 
-Not written to the inferred graph: triples with a literal subject (RDF cannot hold them),
-``x owl:sameAs x`` (true of every term), and the datatype axioms ``xsd:… rdf:type rdfs:Datatype``.
-Not implemented although in OWL 2 RL: prp-key (``owl:hasKey``), dt-eq / dt-diff / dt-not-type
-(literal value equality and validity). These are also what owlrl leaves out or the comparison
-tests filter (see ``tests/reasoners/owl_rl``).
+Not written to the inferred graph, by design (docs/owl-rl.md lists each with its test): triples
+with a literal subject (RDF cannot hold them; dt-type2's ``"1"^^xsd:integer rdf:type
+xsd:integer`` and dt-eq's literal ``owl:sameAs`` stay inside the engine, where the rules use
+them), ``x owl:sameAs x`` (eq-ref, true of every term), and dt-diff's ``owl:differentFrom``
+between every two literals of different values (quadratic; checked as a clash instead).
+A literal typed only for the rules is typed with the datatypes the schema names.
 
 Outside OWL 2 RL, so never inferred (a DL reasoner such as Pellet or HermiT would):
 membership from a minimum or exact cardinality (``≥ 3 hasObject.Graspable``), existentials on
@@ -51,6 +52,7 @@ from reasoners.owl_rl.materialise import (
     AssertedChanges,
     ConsistencyReport,
     ReasonReport,
+    closure,
     forget,
     is_consistent,
     materialise,
@@ -69,6 +71,7 @@ __all__ = [
     "ReasonerError",
     "SwrlRuleError",
     "UnknownReasonerError",
+    "closure",
     "forget",
     "is_consistent",
     "materialise",

@@ -89,6 +89,7 @@ SOURCE_INDIVIDUAL = owl("sourceIndividual")
 ASSERTION_PROPERTY = owl("assertionProperty")
 TARGET_INDIVIDUAL = owl("targetIndividual")
 TARGET_VALUE = owl("targetValue")
+HAS_KEY = owl("hasKey")
 
 ANNOTATION_PROPERTIES = (
     rdfs("label"),
@@ -102,63 +103,6 @@ ANNOTATION_PROPERTIES = (
     owl("incompatibleWith"),
 )
 """OWL 2 RL rule prp-ap: the built-in annotation properties."""
-
-# Datatypes whose literals are typed (rule dt-type2) and their supertypes, as owlrl has them.
-_INTEGERS = [xsd("integer"), xsd("decimal")]
-DATATYPE_SUPERTYPES: dict[str, tuple[str, ...]] = {
-    xsd("dateTimeStamp"): (xsd("dateTime"),),
-    xsd("integer"): (xsd("decimal"),),
-    xsd("long"): tuple(_INTEGERS),
-    xsd("int"): (xsd("long"), *_INTEGERS),
-    xsd("short"): (xsd("int"), xsd("long"), *_INTEGERS),
-    xsd("byte"): (xsd("short"), xsd("int"), xsd("long"), *_INTEGERS),
-    xsd("nonNegativeInteger"): tuple(_INTEGERS),
-    xsd("positiveInteger"): (xsd("nonNegativeInteger"), *_INTEGERS),
-    xsd("unsignedLong"): (xsd("nonNegativeInteger"), *_INTEGERS),
-    xsd("unsignedInt"): (xsd("unsignedLong"), xsd("nonNegativeInteger"), *_INTEGERS),
-    xsd("unsignedShort"): (
-        xsd("unsignedInt"),
-        xsd("unsignedLong"),
-        xsd("nonNegativeInteger"),
-        *_INTEGERS,
-    ),
-    xsd("unsignedByte"): (
-        xsd("unsignedShort"),
-        xsd("unsignedInt"),
-        xsd("unsignedLong"),
-        xsd("nonNegativeInteger"),
-        *_INTEGERS,
-    ),
-    xsd("nonPositiveInteger"): tuple(_INTEGERS),
-    xsd("negativeInteger"): (xsd("nonPositiveInteger"), *_INTEGERS),
-    xsd("normalizedString"): (xsd("string"),),
-    xsd("token"): (xsd("normalizedString"), xsd("string")),
-    xsd("language"): (xsd("token"), xsd("normalizedString"), xsd("string")),
-    xsd("Name"): (xsd("token"), xsd("normalizedString"), xsd("string")),
-    xsd("NCName"): (xsd("Name"), xsd("token"), xsd("normalizedString"), xsd("string")),
-    xsd("NMTOKEN"): (xsd("Name"), xsd("token"), xsd("normalizedString"), xsd("string")),
-}
-RL_DATATYPES = frozenset(
-    [
-        *DATATYPE_SUPERTYPES,
-        xsd("decimal"),
-        xsd("float"),
-        xsd("double"),
-        xsd("string"),
-        xsd("boolean"),
-        xsd("hexBinary"),
-        xsd("base64Binary"),
-        xsd("anyURI"),
-        xsd("dateTime"),
-        xsd("time"),
-        xsd("date"),
-        rdfs("Literal"),
-        rdf("XMLLiteral"),
-        rdf("HTML"),
-        rdf("langString"),
-        rdf("PlainLiteral"),
-    ]
-)
 
 
 def literal_datatype(term: str) -> str | None:

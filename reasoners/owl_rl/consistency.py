@@ -31,7 +31,6 @@ from reasoners.owl_rl._terms import (
     MAX_CARDINALITY,
     MAX_QUALIFIED_CARDINALITY,
     MEMBERS,
-    NEGATIVE_PROPERTY_ASSERTION,
     NOTHING,
     ON_CLASS,
     ON_PROPERTY,
@@ -110,8 +109,8 @@ def _clashes(e: Engine) -> Iterator[Clash]:
             yield Clash(
                 "cls-com", f"{x} is a member of {c1} and of its complement {c2}", (x, c1, c2)
             )
-    for x, y in _pairs(e, SAME_AS):  # eq-diff1
-        if y in e.objects(x, DIFFERENT_FROM) or x in e.objects(y, DIFFERENT_FROM):
+    for x, y in _pairs(e, DIFFERENT_FROM):  # eq-diff1 (x owl:sameAs x holds for every x)
+        if x == y or y in e.objects(x, SAME_AS):
             yield Clash(
                 "eq-diff1", f"{x} and {y} are both the same and different", tuple(sorted((x, y)))
             )
@@ -142,9 +141,13 @@ def _clashes(e: Engine) -> Iterator[Clash]:
         yield from _shared_pairs(e, "prp-pdw", p1, p2)
     for axiom in e.subjects(TYPE, ALL_DISJOINT_PROPERTIES):  # prp-adp
         for head in e.objects(axiom, MEMBERS):
-            for p1, p2 in combinations(e.list_items(head), 2):
-                yield from _shared_pairs(e, "prp-adp", p1, p2)
-    for npa in e.subjects(TYPE, NEGATIVE_PROPERTY_ASSERTION):  # prp-npa1, prp-npa2
+            # Positions, not distinct items: a property listed twice is disjoint with itself.
+            for ps1, ps2 in combinations(e.list_positions(head), 2):
+                for p1, p2 in sorted((p1, p2) for p1 in ps1 for p2 in ps2):
+                    yield from _shared_pairs(e, "prp-adp", p1, p2)
+    # prp-npa1/2 match on the three properties alone; the owl:NegativePropertyAssertion type is
+    # not part of the rule's body.
+    for npa in list(e.sp.get(SOURCE_INDIVIDUAL, {})):
         for x in e.objects(npa, SOURCE_INDIVIDUAL):
             for p in e.objects(npa, ASSERTION_PROPERTY):
                 for target, rule in ((TARGET_INDIVIDUAL, "prp-npa1"), (TARGET_VALUE, "prp-npa2")):
@@ -154,11 +157,24 @@ def _clashes(e: Engine) -> Iterator[Clash]:
                                 rule, f"{x} {p} {y} holds but is asserted not to", (x, p, y)
                             )
     yield from _max_zero(e)
+    yield from _datatype_clashes(e)
+
+
+def _datatype_clashes(e: Engine) -> Iterator[Clash]:
+    """dt-not-type (an ill-typed literal, or a literal typed with a datatype that cannot hold its
+    value) and dt-diff (two literals with different values that are the same). The engine
+    notes each as the fact appears, so this reads three small sets."""
+    for x in e.ill_typed:
+        yield Clash("dt-not-type", f"{x} is not a valid literal of its datatype", (x,))
+    for x, dt in e.mistyped:
+        yield Clash("dt-not-type", f"{x} is not a value of the datatype {dt}", (x, dt))
+    for x, y in e.unequal_same:
+        yield Clash(
+            "dt-diff", f"the literals {x} and {y} have different values but are the same", (x, y)
+        )
 
 
 def _shared_pairs(e: Engine, rule: str, p1: str, p2: str) -> Iterator[Clash]:
-    if p1 == p2:
-        return
     for x, y in _pairs(e, p1):
         if y in e.objects(x, p2):
             yield Clash(

@@ -33,8 +33,9 @@ from reasoners.owl_rl._terms import (
     ANNOTATION_PROPERTY,
     ASYMMETRIC,
     CLASS,
+    DATATYPE,
     DATATYPE_PROPERTY,
-    DATATYPE_SUPERTYPES,
+    DIFFERENT_FROM,
     DOMAIN,
     EQUIVALENT_CLASS,
     EQUIVALENT_PROPERTY,
@@ -57,7 +58,6 @@ from reasoners.owl_rl._terms import (
     PROPERTY_CHAIN,
     RANGE,
     REST,
-    RL_DATATYPES,
     SAME_AS,
     SOME_VALUES_FROM,
     SUB_CLASS_OF,
@@ -68,7 +68,9 @@ from reasoners.owl_rl._terms import (
     TYPE,
     UNION_OF,
     literal_datatype,
+    swrl,
 )
+from reasoners.owl_rl.datatypes import RL_DATATYPES, value_key, value_types
 from reasoners.owl_rl.schema import (
     ClassInfo,
     PropertyInfo,
@@ -79,6 +81,8 @@ from reasoners.owl_rl.schema import (
 )
 
 __all__ = ["AXIOMS", "Engine", "Fact"]
+
+_DATA_RANGE = swrl("dataRange")
 
 Fact = tuple[str, str, str]
 _EMPTY: frozenset[str] = frozenset()
@@ -126,6 +130,7 @@ AXIOMS: tuple[Fact, ...] = (
     (THING, TYPE, CLASS),  # cls-thing
     (NOTHING, TYPE, CLASS),  # cls-nothing1
     *((p, TYPE, ANNOTATION_PROPERTY) for p in ANNOTATION_PROPERTIES),  # prp-ap
+    *((dt, TYPE, DATATYPE) for dt in sorted(RL_DATATYPES)),  # dt-type1
 )
 """The body-less OWL 2 RL rules: facts that hold in every ontology."""
 
@@ -146,6 +151,15 @@ class Engine:
     queue: list[Fact] = field(default_factory=list)
     _log: list[Fact] = field(default_factory=list)
     _typed_literals: set[str] = field(default_factory=set)
+    ill_typed: set[str] = field(default_factory=set)
+    """Literals whose lexical form is not valid for their datatype (dt-not-type reports them)."""
+    mistyped: set[tuple[str, str]] = field(default_factory=set)
+    """(literal, datatype) type facts the datatype's value space does not hold (dt-not-type)."""
+    unequal_same: set[tuple[str, str]] = field(default_factory=set)
+    """Literals of different values found ``owl:sameAs`` (dt-diff), each pair sorted."""
+    _datatypes_in_use: set[str] = field(default_factory=set)
+    _literals_by_value: dict[object, set[str]] = field(default_factory=dict)
+    _equated_literals: set[str] = field(default_factory=set)
     _schema_generation: int = 0
     _cached_generation: int = -1
     _passed_generation: int = -1
@@ -207,8 +221,15 @@ class Engine:
         if p in SCHEMA_PREDICATES or (p == TYPE and o in SCHEMA_TYPES):
             self._schema_generation += 1
             self._schema_queue.append(fact)
+            if o in RL_DATATYPES and o not in self._datatypes_in_use:
+                self._use_datatype(o)
         else:
             self.queue.append(fact)
+            if p == TYPE and s[0] == '"' and o in RL_DATATYPES and o not in value_types(s):
+                if s not in self.ill_typed:
+                    self.mistyped.add((s, o))
+            elif p == _DATA_RANGE and o in RL_DATATYPES and o not in self._datatypes_in_use:
+                self._use_datatype(o)
         if o[0] == '"' and o not in self._typed_literals:
             self._type_literal(o)
         return True
@@ -219,24 +240,72 @@ class Engine:
         for s, p, o in facts:
             add(s, p, o)
 
+    def literals(self) -> set[str]:
+        """The literals seen as objects (every literal subject is one of them)."""
+        return self._typed_literals
+
     def take_log(self) -> list[Fact]:
         """The facts recorded since the last call, in order."""
         log, self._log = self._log, []
         return log
 
     def _type_literal(self, literal: str) -> None:
-        """dt-type2: a typed literal belongs to its datatype and the datatype's supertypes."""
+        """dt-type2 and dt-eq for a literal seen for the first time.
+
+        The literal is typed with every datatype of the map that holds its value and that the
+        schema mentions (only a rule that names a datatype can use such a fact, and literal
+        subjects never leave the engine; :meth:`_use_datatype` types the literals already seen
+        when the schema names a new one). An ill-typed literal is kept in :attr:`ill_typed`.
+        A literal with the same value as one seen before is ``owl:sameAs`` it (dt-eq).
+        """
         self._typed_literals.add(literal)
-        datatype = literal_datatype(literal)
-        if datatype in RL_DATATYPES:
+        types = value_types(literal)
+        if not types:
+            if literal_datatype(literal) in RL_DATATYPES:
+                self.ill_typed.add(literal)
+            return
+        for datatype in types & self._datatypes_in_use:
             self.add(literal, TYPE, datatype)
-            for parent in DATATYPE_SUPERTYPES.get(datatype, ()):
-                self.add(literal, TYPE, parent)
+        key = value_key(literal)
+        same = self._literals_by_value.setdefault(key, set())
+        for other in list(same):
+            self.add(literal, SAME_AS, other)
+        same.add(literal)
+
+    def _equate_literal(self, literal: str) -> None:
+        """A literal is the same as some term, so its types and its differences pass to that
+        term (eq-rep): type it with every datatype of its value (dt-type2), and make it
+        different from every other such literal of another value (dt-diff)."""
+        self._equated_literals.add(literal)
+        for datatype in value_types(literal):
+            self.add(literal, TYPE, datatype)
+        key = value_key(literal)
+        if key is None:
+            return
+        for other in list(self._equated_literals):
+            other_key = value_key(other)
+            if other_key is not None and other_key != key:
+                self.add(literal, DIFFERENT_FROM, other)
+                self.add(other, DIFFERENT_FROM, literal)
+
+    def _use_datatype(self, datatype: str) -> None:
+        """The schema names ``datatype``: type the literals seen so far that belong to it."""
+        self._datatypes_in_use.add(datatype)
+        for literal in list(self._typed_literals):
+            if datatype in value_types(literal):
+                self.add(literal, TYPE, datatype)
 
     def untype_literals(self, literals: Iterable[str]) -> None:
         """Forget that ``literals`` were typed (their type facts were taken out): the next
         fact that uses one types it again."""
-        self._typed_literals.difference_update(literals)
+        literals = set(literals)
+        self._typed_literals -= literals
+        self._equated_literals -= literals
+        self.ill_typed -= literals
+        self.mistyped = {pair for pair in self.mistyped if pair[0] not in literals}
+        self.unequal_same = {pair for pair in self.unequal_same if literals.isdisjoint(pair)}
+        for literal in literals:
+            self._literals_by_value.get(value_key(literal), set()).discard(literal)
 
     # Running ----------------------------------------------------------------------------------
 
@@ -377,6 +446,12 @@ class Engine:
     def _same_as(self, x: str, y: str) -> None:
         self._quiet = False  # from now on every type fact is processed (eq-rep)
         add = self.add
+        if x[0] == '"' and x not in self._equated_literals:
+            self._equate_literal(x)
+        if x[0] == '"' and y[0] == '"':
+            kx, ky = value_key(x), value_key(y)
+            if kx is not None and ky is not None and kx != ky:
+                self.unequal_same.add((min(x, y), max(x, y)))
         add(y, SAME_AS, x)  # eq-sym
         for z in list(self.objects(y, SAME_AS)):  # eq-trans
             if z != x:
@@ -480,11 +555,12 @@ class Engine:
                     self._max_one(u, prop, c)
 
     def _split_supers(self, info: ClassInfo) -> None:
-        """Split a class's super-classes into those with no rule of their own and the rest."""
+        """Split a class's super-classes into those with no rule of their own and the rest (a
+        datatype has one: dt-not-type checks each literal typed with it)."""
         quiet = set()
         for d in info.supers:
             other = self.class_cache.get(d) or class_info(self, d)
-            if not other.more and d not in SCHEMA_TYPES:
+            if not other.more and d not in SCHEMA_TYPES and d not in RL_DATATYPES:
                 quiet.add(d)
         info.quiet_supers = frozenset(quiet)
         info.loud_supers = tuple(d for d in info.supers if d not in quiet)

@@ -58,10 +58,11 @@ from pyoxigraph import Literal, NamedNode, Quad
 
 from kg import Store
 from reasoners.collector import collector_paused
-from reasoners.owl_rl._terms import SWRL, to_term
+from reasoners.owl_rl._terms import HAS_KEY, SWRL, to_term
 from reasoners.owl_rl.consistency import Clash, clashes
 from reasoners.owl_rl.engine import AXIOMS, Engine, Fact
 from reasoners.owl_rl.errors import UnknownReasonerError
+from reasoners.owl_rl.keys import add_key_rules
 from reasoners.owl_rl.retract import Retraction, inferred_delta, retract
 from reasoners.owl_rl.swrl import SwrlRunner, parse_rules
 
@@ -213,6 +214,7 @@ def _engine(facts: list[Fact]) -> Engine:
     rules = parse_rules(engine)
     if rules:
         engine.fact_hooks.append(SwrlRunner(rules))
+    add_key_rules(engine)
     return engine
 
 
@@ -221,6 +223,21 @@ def _closure(facts: list[Fact]) -> Engine:
     engine.run()
     engine.take_log()
     return engine
+
+
+def closure(triples: Iterable[Fact]) -> tuple[set[Fact], ConsistencyReport]:
+    """Every fact entailed by ``triples`` (N-Triples terms), literal subjects and the axioms
+    included, and the consistency report, computed in memory: no store, no canonicalisation.
+
+    What conformance tests compare (a conclusion graph may type a literal). Raises
+    :class:`SwrlRuleError` for a SWRL rule the engine cannot run.
+
+    >>> facts, report = closure([("<a>", "<http://www.w3.org/2002/07/owl#differentFrom>", "<a>")])
+    >>> report.consistent, report.clashes[0].rule
+    (False, 'eq-diff1')
+    """
+    engine = _closure(list(triples))
+    return set(engine.facts()), _report_consistency(engine)
 
 
 def _outputs(engine: Engine, asserted: set[Fact]) -> set[Fact]:
@@ -238,8 +255,10 @@ def _stream_outputs(engine: Engine, asserted: set[Fact]) -> Iterator[Fact]:
 
 
 def _touches_swrl(facts: list[Fact]) -> bool:
+    """Does a fact belong to a rule run as a fact hook (SWRL, ``owl:hasKey``)? Those are
+    attached when the engine is built, so such a change needs a full run."""
     prefix = f"<{SWRL}"
-    return any(f[1].startswith(prefix) or f[2].startswith(prefix) for f in facts)
+    return any(f[1].startswith(prefix) or f[2].startswith(prefix) or f[1] == HAS_KEY for f in facts)
 
 
 def _report_consistency(engine: Engine) -> ConsistencyReport:

@@ -42,8 +42,8 @@ Typed literals are leaves unless they are the subject of a non-type fact: their 
 from collections.abc import Iterable
 from dataclasses import dataclass
 
-from reasoners.owl_rl._terms import DATATYPE_SUPERTYPES, RL_DATATYPES, SAME_AS, SWRL, TYPE
-from reasoners.owl_rl._terms import literal_datatype as _datatype
+from reasoners.owl_rl._terms import HAS_KEY, SAME_AS, SWRL, TYPE
+from reasoners.owl_rl.datatypes import value_types
 from reasoners.owl_rl.engine import AXIOMS, SCHEMA_PREDICATES, SCHEMA_TYPES, Engine, Fact
 
 __all__ = ["Retraction", "inferred_delta", "retract"]
@@ -129,7 +129,7 @@ def _schema_or_swrl(fact: Fact) -> bool:
     _, p, o = fact
     if p in SCHEMA_PREDICATES or (p == TYPE and o in SCHEMA_TYPES):
         return True
-    return p.startswith(_SWRL_PREFIX) or o.startswith(_SWRL_PREFIX)
+    return p == HAS_KEY or p.startswith(_SWRL_PREFIX) or o.startswith(_SWRL_PREFIX)
 
 
 def _region(engine: Engine, seeds: Iterable[str], limit: int) -> set[str] | None:
@@ -173,11 +173,7 @@ def _region(engine: Engine, seeds: Iterable[str], limit: int) -> set[str] | None
 
 def _only_datatype_types(literal: str, types: Iterable[str]) -> bool:
     """Does the literal have only the types ``dt-type2`` gives it (which depend on nothing)?"""
-    datatype = _datatype(literal)
-    expected: set[str] = set()
-    if datatype is not None and datatype in RL_DATATYPES:
-        expected = {datatype, *DATATYPE_SUPERTYPES.get(datatype, ())}
-    return set(types) <= expected
+    return set(types) <= value_types(literal)
 
 
 def _remove_region(engine: Engine, region: set[str]) -> list[Fact]:

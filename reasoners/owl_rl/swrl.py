@@ -10,7 +10,9 @@ A rule runs inside the engine's semi-naive loop: every processed fact that match
 is joined with the rest of the body against the facts known so far, and the head is added.
 
 Supported atoms: class, individual-property, datavalued-property, same-individual,
-different-individuals, data-range and built-in atoms. Built-ins: ``equal``, ``notEqual``,
+different-individuals, data-range and built-in atoms. ``sameAs(?x, ?y)`` holds for every term and
+itself; ``differentFrom(?x, ?y)`` holds both ways for an ``owl:differentFrom`` in either direction
+and for every two members of an ``owl:AllDifferent``. Built-ins: ``equal``, ``notEqual``,
 ``lessThan``, ``lessThanOrEqual``, ``greaterThan``, ``greaterThanOrEqual``, ``add``,
 ``subtract``, ``multiply``, ``divide``, ``integerDivide``, ``mod``, ``pow``, ``unaryPlus``,
 ``unaryMinus``, ``abs``, ``ceiling``, ``floor``, ``round``, ``stringConcat``, ``stringLength``,
@@ -30,7 +32,10 @@ from decimal import Decimal, InvalidOperation
 from pyoxigraph import Literal, NamedNode
 
 from reasoners.owl_rl._terms import (
+    ALL_DIFFERENT,
     DIFFERENT_FROM,
+    DISTINCT_MEMBERS,
+    MEMBERS,
     SAME_AS,
     SWRLB,
     TYPE,
@@ -336,17 +341,68 @@ class SwrlRunner:
         triggered = triggered + self._by_predicate.get(p, [])
         for rule, index in triggered:
             atom = rule.body[index]
-            binding: dict[str, str] = {}
             if atom.kind in ("class", "datarange"):
-                ok = _unify(atom.args[0], s, binding)
+                self._complete(engine, rule, index, (s,))
+            elif atom.kind == "different":  # differentFrom is symmetric
+                self._complete(engine, rule, index, (s, o))
+                self._complete(engine, rule, index, (o, s))
             else:
-                ok = _unify(atom.args[0], s, binding) and _unify(atom.args[1], o, binding)
-            if not ok:
-                continue
-            rest = [a for i, a in enumerate(rule.body) if i != index]
-            for solution in _join(engine, rest, binding):
-                for head in rule.head:
-                    _fire(engine, head, solution)
+                self._complete(engine, rule, index, (s, o))
+        if self._by_predicate.get(DIFFERENT_FROM) and _declares_all_different(engine, s, p, o):
+            for x, y in _all_different_pairs(engine, s):
+                for rule, index in self._by_predicate[DIFFERENT_FROM]:
+                    self._complete(engine, rule, index, (x, y))
+
+    def _complete(self, engine: Engine, rule: Rule, index: int, terms: tuple[str, ...]) -> None:
+        """Fire ``rule`` for every solution where body atom ``index`` matches ``terms``."""
+        binding: dict[str, str] = {}
+        pairs = zip(rule.body[index].args, terms, strict=True)
+        if not all(_unify(arg, term, binding) for arg, term in pairs):
+            return
+        rest = [a for i, a in enumerate(rule.body) if i != index]
+        for solution in _join(engine, rest, binding):
+            for head in rule.head:
+                _fire(engine, head, solution)
+
+
+def _declares_all_different(engine: Engine, s: str, p: str, o: str) -> bool:
+    """Is the fact the last piece of an ``owl:AllDifferent`` axiom (its type or its list)?"""
+    if p == TYPE and o == ALL_DIFFERENT:
+        return True
+    return p in (MEMBERS, DISTINCT_MEMBERS) and ALL_DIFFERENT in engine.objects(s, TYPE)
+
+
+def _all_different_pairs(engine: Engine, axiom: str) -> set[tuple[str, str]]:
+    """Every ordered pair of distinct members of one ``owl:AllDifferent`` axiom."""
+    pairs: set[tuple[str, str]] = set()
+    for list_predicate in (MEMBERS, DISTINCT_MEMBERS):
+        for head in engine.objects(axiom, list_predicate):
+            positions = engine.list_positions(head)
+            for i, xs in enumerate(positions):
+                for j, ys in enumerate(positions):
+                    if i != j:
+                        pairs.update((x, y) for x in xs for y in ys if x != y)
+    return pairs
+
+
+def different_from(engine: Engine, x: str) -> set[str]:
+    """The terms stated different from ``x``: ``owl:differentFrom`` in either direction, and the
+    other members of every ``owl:AllDifferent`` that lists ``x`` (SWRL's DifferentIndividuals
+    atom holds for all of them)."""
+    found = set(engine.objects(x, DIFFERENT_FROM)) | engine.subjects(DIFFERENT_FROM, x)
+    for axiom in engine.subjects(TYPE, ALL_DIFFERENT):
+        found.update(y for a, y in _all_different_pairs(engine, axiom) if a == x)
+    return found
+
+
+def _stated_different_pairs(engine: Engine) -> set[tuple[str, str]]:
+    pairs: set[tuple[str, str]] = set()
+    for s, objects in engine.sp.get(DIFFERENT_FROM, {}).items():
+        for o in objects:
+            pairs.update(((s, o), (o, s)))
+    for axiom in engine.subjects(TYPE, ALL_DIFFERENT):
+        pairs |= _all_different_pairs(engine, axiom)
+    return pairs
 
 
 def _unify(arg: str, term: str, binding: dict[str, str]) -> bool:
@@ -395,24 +451,38 @@ def _candidates(engine: Engine, atom: Atom, binding: dict[str, str]) -> list[dic
     p = atom.predicate
     x, y = args
     pairs: list[tuple[str, str]]
-    if not x.startswith("?"):
+    if atom.kind == "different":
+        if not x.startswith("?"):
+            pairs = [(x, o) for o in different_from(engine, x)]
+        elif not y.startswith("?"):
+            pairs = [(s, y) for s in different_from(engine, y)]
+        else:
+            pairs = sorted(_stated_different_pairs(engine))
+    elif not x.startswith("?"):
         objects = set(engine.objects(x, p))
-        if atom.kind == "different":
-            objects |= engine.subjects(p, x)
+        if atom.kind == "same":  # x owl:sameAs x holds for every x (eq-ref)
+            objects.add(x)
         pairs = [(x, o) for o in objects]
     elif not y.startswith("?"):
         subjects = set(engine.subjects(p, y))
-        if atom.kind == "different":
-            subjects |= engine.objects(y, p)
+        if atom.kind == "same":
+            subjects.add(y)
         pairs = [(s, y) for s in subjects]
     else:
         pairs = [(s, o) for s, objects in engine.sp.get(p, {}).items() for o in objects]
+        if atom.kind == "same":
+            pairs += [(s, s) for s in _individuals(engine)]
     results = []
     for s, o in pairs:
         candidate = dict(binding)
         if _unify(x, s, candidate) and _unify(y, o, candidate):
             results.append(candidate)
     return results
+
+
+def _individuals(engine: Engine) -> set[str]:
+    """The terms typed by some class, literals excluded (what a DL-safe variable binds to)."""
+    return {x for x in engine.sp.get(TYPE, {}) if x[0] != '"'}
 
 
 def _fire(engine: Engine, atom: Atom, binding: dict[str, str]) -> None:

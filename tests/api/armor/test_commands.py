@@ -341,7 +341,7 @@ def test_sparql_errors(
             208,
             "expected an integer",
         ),
-        ({"command": "ADD", "primary_command_spec": "IND", "args": ["bad name"]}, 208, "IRI"),
+        ({"command": "ADD", "primary_command_spec": "IND", "args": ["bad\tname"]}, 208, "IRI"),
         (
             {
                 "command": "LOAD",

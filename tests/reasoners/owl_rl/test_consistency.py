@@ -69,6 +69,29 @@ CLASHES = [
         ),
         "asserted not to",
     ),
+    ("eq-diff1", ":x owl:differentFrom :x .", "same and different"),
+    ("prp-pdw", ":near owl:propertyDisjointWith :near . :a :near :b .", "disjoint properties"),
+    (
+        "prp-adp",
+        "[] a owl:AllDisjointProperties ; owl:members ( :p :q :p ) . :a :p :b .",
+        "disjoint properties",
+    ),
+    (
+        "prp-npa1",
+        (
+            "[] owl:sourceIndividual :a ; owl:assertionProperty :near ; "
+            "owl:targetIndividual :b . :a :near :b ."
+        ),
+        "asserted not to",
+    ),
+    (
+        "prp-npa2",
+        (
+            "[] owl:sourceIndividual :a ; owl:assertionProperty :level ; owl:targetValue 2 . "
+            ":a :level 2 ."
+        ),
+        "asserted not to",
+    ),
     (
         "cls-maxc1",
         (

@@ -271,3 +271,91 @@ def test_comparison_builtins_filter(
     store = load(_builtin_rule(builtin, a, b, compare=True))
     materialise(store, asserted=ASSERTED, inferred=INFERRED)
     assert (f"<{NS}x> <{RDF}type> <{NS}Yes>" in graph_triples(store)) is holds
+
+
+def _rule(body: str, head: str, variables: str) -> str:
+    """A Turtle SWRL rule; atoms are written ``Class(?x)``, ``prop(?x, ?y)``,
+    ``sameAs(?x, ?y)`` or ``differentFrom(?x, ?y)`` over variables named in ``variables``."""
+
+    def atom(text: str) -> str:
+        name, args = text.strip().rstrip(")").split("(")
+        terms = [f"<urn:swrl:var#{a.strip()[1:]}>" for a in args.split(",")]
+        if len(terms) == 1:
+            return f"[ a swrl:ClassAtom ; swrl:classPredicate :{name} ; swrl:argument1 {terms[0]} ]"
+        kind = {"sameAs": "SameIndividualAtom", "differentFrom": "DifferentIndividualsAtom"}
+        pair = f"swrl:argument1 {terms[0]} ; swrl:argument2 {terms[1]}"
+        if name in kind:
+            return f"[ a swrl:{kind[name]} ; {pair} ]"
+        return f"[ a swrl:IndividualPropertyAtom ; swrl:propertyPredicate :{name} ; {pair} ]"
+
+    declared = " ".join(f"<urn:swrl:var#{v}> a swrl:Variable ." for v in variables.split())
+    atoms = [
+        " ".join(atom(a.strip(" ,") + ")") for a in part.split(")") if a.strip(" ,"))
+        for part in (body, head)
+    ]
+    return (
+        f"@prefix : <{NS}> . @prefix swrl: <{SWRL}> . "
+        f"@prefix owl: <http://www.w3.org/2002/07/owl#> . {declared} "
+        f"[ a swrl:Imp ; swrl:body ( {atoms[0]} ) ; swrl:head ( {atoms[1]} ) ] .\n"
+    )
+
+
+CONNECTED_RULE = _rule(
+    "hasDoor(?r, ?d), hasDoor(?s, ?d), differentFrom(?r, ?s)", "connectedTo(?r, ?s)", "r s d"
+)
+"""The connectivity rule of the robot-surveillance assignments written for ARMOR."""
+ROOMS = ":r1 :hasDoor :d1 . :r2 :hasDoor :d1 , :d2 . :r3 :hasDoor :d2 .\n"
+
+
+def _connected(store) -> set[tuple[str, str]]:  # type: ignore[no-untyped-def]
+    materialise(store, asserted=ASSERTED, inferred=INFERRED)
+    found = [t.split() for t in graph_triples(store) if f"<{NS}connectedTo>" in t]
+    return {(s[len(NS) + 1 : -1], o[len(NS) + 1 : -1]) for s, _, o in found}
+
+
+@pytest.mark.parametrize(
+    "different",
+    [
+        "[] a owl:AllDifferent ; owl:distinctMembers ( :r1 :r2 :r3 ) .",
+        "[] a owl:AllDifferent ; owl:members ( :r1 :r2 :r3 ) .",
+        ":r1 owl:differentFrom :r2 . :r3 owl:differentFrom :r2 .",
+    ],
+)
+def test_different_individuals_atom_holds_for_all_different_and_both_directions(
+    load: Loader, different: str
+) -> None:
+    store = load(CONNECTED_RULE + ROOMS + different)
+    pairs = {("r1", "r2"), ("r2", "r1"), ("r2", "r3"), ("r3", "r2")}
+    assert _connected(store) == pairs
+
+
+@pytest.mark.parametrize(
+    ("different", "pairs"),
+    [
+        (
+            "[] a owl:AllDifferent ; owl:distinctMembers ( :r1 :r2 :r3 ) .",
+            {("r1", "r2"), ("r2", "r1"), ("r2", "r3"), ("r3", "r2")},
+        ),
+        (":r1 owl:differentFrom :r2 .", {("r1", "r2"), ("r2", "r1")}),
+    ],
+)
+def test_differences_added_after_a_reason_fire_the_rule_incrementally(
+    load: Loader, different: str, pairs: set[tuple[str, str]]
+) -> None:
+    store = load(CONNECTED_RULE + ROOMS)
+    assert _connected(store) == set()
+    with store.transaction() as tx:
+        tx.load(
+            f"@prefix : <{NS}> . @prefix owl: <http://www.w3.org/2002/07/owl#> . {different}",
+            format=RdfFormat.TURTLE,
+            graph=ASSERTED,
+        )
+    assert _connected(store) == pairs
+
+
+def test_same_individual_atom_holds_for_a_term_and_itself(load: Loader) -> None:
+    rule = _rule("isIn(?r, ?l), owns(?o, ?m), sameAs(?l, ?m)", "visits(?r, ?o)", "r l o m")
+    store = load(rule + ":robot :isIn :room1 . :ann :owns :room1 . :bob :owns :room2 .")
+    materialise(store, asserted=ASSERTED, inferred=INFERRED)
+    visits = {t for t in graph_triples(store) if f"<{NS}visits>" in t}
+    assert visits == {f"<{NS}robot> <{NS}visits> <{NS}ann>"}
