@@ -222,10 +222,12 @@ def record(
     kind: str,
     at: dt.datetime,
 ) -> None:
-    """Record that ``kind`` happened to a class or experienced scene at ``at``, with the score
-    and level its record holds now (call it once the change is made)."""
+    """Record that ``kind`` happened to a class or experienced scene at ``at``, with its ζ as
+    of its last update or sleep pass and the level of its last pass (call it once the change
+    is made)."""
     if isinstance(item, ClassRecord):
-        _write(tx, model, item.iri, kind, at, scene=False, score=item.score, level=item.level)
+        score = model.scored.get(item.iri, item.score)
+        _write(tx, model, item.iri, kind, at, scene=False, score=score, level=item.level)
     else:
         _write(tx, model, item.iri, kind, at, scene=True, score=None, level=item.level)
 

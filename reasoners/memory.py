@@ -68,6 +68,7 @@ from ontologies.vocab import (
     RDFS_LABEL,
     RETRIEVE_COUNT,
     SCORE,
+    SCORE_TERM_PROPERTIES,
     SCORE_TERMS,
     SKOS_NOTATION,
     SLEEP_LEVELS,
@@ -321,6 +322,10 @@ class SceneMemory:
         if not (legacy or migrate or m.unwritten or factors_stale or unlabelled):
             return
         with self._write(view=True) as tx:
+            for record in m.classes.values():  # terms missing, partial or damaged: rewritten
+                if record.written_z is None:
+                    for prop in SCORE_TERM_PROPERTIES:
+                        tx.delete_matching(record.iri, prop, None, graph=MEMORY)
             if migrate:
                 self._migrate(tx)
             for record in unlabelled:  # learned before labels spelt out the definition

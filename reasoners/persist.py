@@ -583,8 +583,7 @@ def write_view(tx: Transaction, model: MemoryModel, policy: NamedNode) -> int:
             continue
         old, new = record.written_z, record.z
         for x, prop in enumerate(SCORE_TERM_PROPERTIES):  # only the terms that changed
-            if old is None:  # a new class, or a view damaged or written before typed terms
-                tx.delete_matching(iri, prop, None, graph=MEMORY)
+            if old is None:  # none stored (what a damaged view held is deleted when it opens)
                 tx.insert(iri, prop, term_literal(new[x]), MEMORY)
             elif old[x] != new[x]:
                 set_value(tx, iri, prop, term_literal(old[x]), term_literal(new[x]), MEMORY)
