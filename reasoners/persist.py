@@ -534,12 +534,12 @@ def term_literal(z: int) -> Literal:
 def levels_literal(model: MemoryModel) -> Literal:
     """The level the last sleep pass gave each live class and experienced scene, as
     :data:`~ontologies.vocab.SLEEP_LEVELS` holds it ("<level> <IRI>" lines, zlib + base64)."""
-    lines = [
+    lines = sorted(
         f"{record.level} {iri.value}"
         for records in (model.classes, model.items)
         for iri, record in records.items()
         if record.level is not None
-    ]
+    )
     packed = zlib.compress("\n".join(lines).encode(), 6)
     return Literal(base64.b64encode(packed).decode())
 
