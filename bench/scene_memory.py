@@ -399,7 +399,14 @@ def against_targets(r: dict[str, object], ms: dict[str, list[float]]) -> list[st
         ("learn", "median", learn, learn_write, None, "<"),
         ("learn", "p99", percentile(ms["learn"], 0.99), learn_write, None, "<"),
         ("learn", "med/write", learn / learn_write, learn_write, None, "<="),
-        ("reinforce", "median", statistics.median(ms["repeat"]), 1000 * r["repeat_write"], None, "<"),  # type: ignore[operator]
+        (
+            "reinforce",
+            "median",
+            statistics.median(ms["repeat"]),
+            1000 * r["repeat_write"],
+            None,
+            "<",
+        ),  # type: ignore[operator]
         ("sleep", "pass", 1000 * r["sleep_s"], 1000 * r["sleep_write"], None, "<"),  # type: ignore[operator]
         ("learn+slp", "median", after, 1000 * r["learn_after_sleep_write"], learn, "<="),  # type: ignore[operator]
     ]

@@ -161,9 +161,10 @@ def _apply(store: Store, m: MemoryModel, touched: set[NamedNode]) -> None:
         m.sleep_passes = persist._int(now, SLEEP_PASS_COUNT)
         if SLEEP_LEVELS in now:  # a sleep pass: the levels it gave
             levels = persist.read_levels(now[SLEEP_LEVELS])
-            for records in (m.classes, m.items):
-                for iri, record in records.items():  # type: ignore[attr-defined]
-                    record.level = levels.get(iri)
+            for cls, record in m.classes.items():
+                record.level = levels.get(cls)
+            for item, scene_record in m.items.items():
+                scene_record.level = levels.get(item)
     m.refresh()
 
 

@@ -199,9 +199,7 @@ def _write(
     return event
 
 
-def _entry(
-    event: str, kind: str, level: str | None, score: float | None, about: NamedNode
-) -> str:
+def _entry(event: str, kind: str, level: str | None, score: float | None, about: NamedNode) -> str:
     value = "-" if score is None else repr(float(score))
     return f"{event} {kind} {level or '-'} {value} {about.value}"
 
@@ -370,7 +368,7 @@ def events(store: Store, about: NamedNode) -> list[Event]:
     start = len(HISTORY_NS)
     found = [
         (
-            row["event"].value[start:],  # type: ignore[union-attr]
+            row["event"].value[start:],
             Event(
                 time=_utc_text(row["time"]),
                 kind=str(_text(row["kind"])),

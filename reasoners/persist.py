@@ -20,9 +20,10 @@ Layout (DESIGN.md, "Store layout"):
   (:func:`restriction_iri`) shared by every class that uses it, written with the first such
   class and deleted with the last; the export gives each use its own blank node.
 - ``episodic``: each experienced scene ``e a engram:ExperiencedScene, C`` with created,
-  lastAccessed, complexity, consecutiveWeakCount and pinned when not 0 / false, optional ``engram:happenedDuring`` episode, ``engram:hasPrimitive``
-  links to its primitives, which carry their type, id and attributes and the primary relations
-  (the scene's time is the primitives' time; the export declares the individuals).
+  lastAccessed, complexity, consecutiveWeakCount and pinned when not 0 / false, optional
+  ``engram:happenedDuring`` episode, ``engram:hasPrimitive`` links to its primitives, which
+  carry their type, id and attributes and the primary relations (the scene's time is the
+  primitives' time; the export declares the individuals).
 - ``trash``: forgotten classes as ``C rdfs:subClassOf engram:Trash`` with their annotations
   (the consecutive WEAK count that forgot them, and ``sleepLevel`` WEAK),
   ``engram:forgottenAt`` and ``engram:forgottenSignature`` (no definition, so nothing is
@@ -668,7 +669,7 @@ def _one(values: dict[NamedNode, list[Term]], prop: NamedNode) -> Literal:
 def _fixed(values: dict[NamedNode, list[Term]]) -> tuple[int, int, int] | None:
     """The Z terms a class's view holds, in fixed point; None unless it holds exactly one each
     (the view is then rewritten whole)."""
-    found = [values.get(prop, ()) for prop in SCORE_TERM_PROPERTIES]
+    found: list[Sequence[Term]] = [values.get(prop, []) for prop in SCORE_TERM_PROPERTIES]
     if any(len(terms) != 1 for terms in found):
         return None
     try:

@@ -121,10 +121,7 @@ def test_a_learned_class_records_its_parents_in_one_literal(memory: SceneMemory)
     other = memory.store_scene(BIG).stored_as
     both = memory.store_scene([*SMALL, *BIG])
     assert set(both.parents) == {small, other}
-    [learned] = [
-        q.subject
-        for q in memory.store.quads(None, EVENT_CLASS, both.stored_as, HISTORY)
-    ]
+    [learned] = [q.subject for q in memory.store.quads(None, EVENT_CLASS, both.stored_as, HISTORY)]
     [listed] = memory.store.quads(learned, EVENT_PARENTS, None, HISTORY)  # type: ignore[arg-type]
     assert sorted(listed.object.value.split()) == sorted([small.value, other.value])
     assert not list(memory.store.quads(None, EVENT_PARENT, None, HISTORY))
@@ -173,7 +170,9 @@ def test_an_old_store_is_migrated_once_when_the_memory_opens(clock: FakeClock) -
     assert memory.trashed(small) is not None
     expected_scores = analyst_scores(memory.store)
     expected_classes = memory.classes()
-    expected_items = {i: memory.item_scores(i) for c in expected_classes for i in memory.items_of(c.iri)}
+    expected_items = {
+        i: memory.item_scores(i) for c in expected_classes for i in memory.items_of(c.iri)
+    }
     parents = history.learned_decision(memory.store, both)
     as_of = history.as_of(memory.store, clock.now)
     new_layout = {g: quads(memory.store, g) for g in (MEMORY, EPISODIC, TRASH)}

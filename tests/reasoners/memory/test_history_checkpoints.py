@@ -111,7 +111,9 @@ def pass_events(packed: object) -> list[tuple[NamedNode, str]]:
     """The lines of a pass's literal, each with an event IRI of its own that sorts where the
     pass's does."""
     lines = history._unpack(packed)
-    return [(NamedNode(f"{HISTORY_NS}{line.split()[0]}-{n:06d}"), line) for n, line in enumerate(lines)]
+    return [
+        (NamedNode(f"{HISTORY_NS}{line.split()[0]}-{n:06d}"), line) for n, line in enumerate(lines)
+    ]
 
 
 def write_event(
