@@ -277,17 +277,14 @@ def forgetting(
     zetas: Mapping[NamedNode, float],
     at: dt.datetime,
 ) -> None:
-    """Record a sleep pass's forgetting before it happens (the records are still live):
-    ``classes`` with their experienced scenes, and ``items`` alone; each WEAK."""
-    doomed = set(classes)
-    scenes = [i for c in classes for i in model.items_of.get(c, ())]
-    if doomed:  # as forgetting.move_to_trash finds them
-        scenes += [i for i, r in model.items.items() if r.cls in doomed]
+    """Record a sleep pass's forgetting before it happens (the records are still live, with
+    the level this pass gave them): ``classes`` (WEAK) and ``items``, every experienced scene
+    that leaves with them or alone (reasoners.forgetting.leaving_items)."""
     for cls in classes:
         _write(tx, model, cls, "forgotten", at, scene=False, score=zetas.get(cls), level=WEAK)
-    for item in dict.fromkeys([*scenes, *items]):
-        if item in model.items:
-            _write(tx, model, item, "forgotten", at, scene=True, score=None, level=WEAK)
+    for item in items:
+        level = model.items[item].level
+        _write(tx, model, item, "forgotten", at, scene=True, score=None, level=level)
 
 
 def sleep_levels(

@@ -898,7 +898,7 @@ class SceneMemory:
                 self._set_level(tx, m.classes[cls], WEAK, plan.weak_counts[cls], MEMORY)
             for iri in leaving:
                 self._set_level(tx, m.items[iri], item_levels[iri], plan.item_weak[iri], EPISODIC)
-            history.forgetting(tx, m, doomed_classes, plan.doomed_items, plan.zetas, now)
+            history.forgetting(tx, m, doomed_classes, leaving, plan.zetas, now)
             forgotten_items = forgetting.move_to_trash(
                 tx, m, self._reader, doomed_classes, plan.doomed_items, now
             )

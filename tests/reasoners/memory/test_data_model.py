@@ -114,6 +114,7 @@ def test_the_weak_count_that_forgot_a_class_is_the_same_everywhere(
     assert explain_forgetting(memory, item).weak_passes == int(
         scene.get(CONSECUTIVE_WEAK_COUNT, Literal(0)).value
     )
+    assert history.events(memory.store, item)[-1].level == scene[LEVEL].value
 
 
 def test_a_learned_class_records_its_parents_in_one_literal(memory: SceneMemory) -> None:
