@@ -205,7 +205,8 @@ def _entry(event: str, kind: str, level: str | None, score: float | None, about:
 
 
 def _pack(lines: Iterable[str]) -> Literal:
-    return Literal(base64.b64encode(zlib.compress("\n".join(lines).encode(), 6)).decode())
+    """Journal lines in one literal, zlib (level 1: a sleep pass's time) + base64."""
+    return Literal(base64.b64encode(zlib.compress("\n".join(lines).encode(), 1)).decode())
 
 
 def _unpack(term: object) -> list[str]:

@@ -535,13 +535,13 @@ def term_literal(z: int) -> Literal:
 def levels_literal(model: MemoryModel) -> Literal:
     """The level the last sleep pass gave each live class and experienced scene, as
     :data:`~ontologies.vocab.SLEEP_LEVELS` holds it ("<level> <IRI>" lines, zlib + base64)."""
-    lines = sorted(
+    lines = [
         f"{record.level} {iri.value}"
         for records in (model.classes, model.items)
         for iri, record in records.items()
         if record.level is not None
-    )
-    packed = zlib.compress("\n".join(lines).encode(), 6)
+    ]
+    packed = zlib.compress("\n".join(lines).encode(), 1)  # level 1: a pass's time, not bytes
     return Literal(base64.b64encode(packed).decode())
 
 
