@@ -29,14 +29,14 @@ from pyoxigraph import Literal, NamedNode
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
-import scene_memory as bench  # noqa: E402
+import scene_memory as bench
 
-from kg import Store  # noqa: E402
-from kg.transaction import Transaction  # noqa: E402
-from ontologies.vocab import MEMORY, SCORE_TERMS  # noqa: E402
-from reasoners import persist  # noqa: E402
-from reasoners.memory import SceneMemory  # noqa: E402
-from reasoners.model import SCALE, MemoryModel  # noqa: E402
+from kg import Store
+from kg.transaction import Transaction
+from ontologies.vocab import MEMORY, SCORE_TERMS
+from reasoners import persist
+from reasoners.memory import SceneMemory
+from reasoners.model import SCALE, MemoryModel
 
 TYPED = persist.write_view
 
