@@ -69,14 +69,12 @@ from ontologies.vocab import (
     RETRIEVE_COUNT,
     SCORE,
     SCORE_TERM_PROPERTIES,
-    SCORE_TERMS,
     SKOS_NOTATION,
-    SLEEP_LEVELS,
     STORE_COUNT,
     TRASH,
     UPDATES_SINCE_SLEEP,
 )
-from reasoners import forgetting, history, index_file, persist
+from reasoners import forgetting, history, index_file, migration, persist
 from reasoners.batch import PendingWrites, QuadReader
 from reasoners.clock import SettableClock
 from reasoners.collector import collector_paused
@@ -302,7 +300,7 @@ class SceneMemory:
         """Write the score view where the store lacks it or it is stale (a store written by an
         older Engram, or by hand), and drop the annotations the view replaced; migrate a store
         written before the data model stored only what cannot be derived
-        (:meth:`_migrate`). One transaction, only when needed."""
+        (:mod:`reasoners.migration`). One transaction, only when needed."""
         m = self._model
         legacy = any(
             True
@@ -313,7 +311,7 @@ class SceneMemory:
             )
             for _ in self.store.quads(None, prop, None, graph)
         )
-        migrate = self._needs_migration()
+        migrate = migration.needed(self.store, m)
         factors_stale = bool(m.classes) and m.written_factors != (*m.coefficients(), m.max_score)
         unlabelled: list[ClassRecord] = []
         if self.loaded_from != "index file":  # a file is saved only by a repaired memory
@@ -327,7 +325,7 @@ class SceneMemory:
                     for prop in SCORE_TERM_PROPERTIES:
                         tx.delete_matching(record.iri, prop, None, graph=MEMORY)
             if migrate:
-                self._migrate(tx)
+                migration.migrate(tx, self.store, m)
             for record in unlabelled:  # learned before labels spelt out the definition
                 tx.delete_matching(record.iri, RDFS_LABEL, None, graph=MEMORY)
                 persist.write_label(tx, record)
@@ -338,53 +336,6 @@ class SceneMemory:
             if factors_stale:
                 m.written_factors = None  # rewritten whole
         log.info("scene memory: score view written for %d classes", len(m.classes))
-
-    def _needs_migration(self) -> bool:
-        """Whether the store holds what a memory before docs/data-model.md wrote: levels and
-        packed score terms per class, zero WEAK counts, or sleep passes without the levels
-        literal."""
-        store, m = self.store, self._model
-        found = (
-            (None, LEVEL, None, MEMORY),
-            (None, LEVEL, None, EPISODIC),
-            (None, SCORE_TERMS, None, MEMORY),
-            (None, CONSECUTIVE_WEAK_COUNT, Literal(0), MEMORY),
-            (None, CONSECUTIVE_WEAK_COUNT, Literal(0), EPISODIC),
-        )
-        if any(True for pattern in found for _ in store.quads(*pattern)):
-            return True
-        levels = store.quads(MEMORY_STATE_INDIVIDUAL, SLEEP_LEVELS, None, MEMORY)
-        return m.sleep_passes > 0 and not any(True for _ in levels)
-
-    def _migrate(self, tx: Transaction) -> None:
-        """Bring a store written before docs/data-model.md to it, in ``tx``: the levels of the
-        last sleep pass move from each item (``engram:sleepLevel``) to the memory state's one
-        literal; packed score terms become typed ones (the view is rewritten whole); zero WEAK
-        counts go; a trash entry forgotten then (which held the WEAK count of the pass before
-        the one that forgot it) gets the count and level that forgot it."""
-        m = self._model
-        levels_kept = any(
-            True for _ in self.store.quads(MEMORY_STATE_INDIVIDUAL, SLEEP_LEVELS, None, MEMORY)
-        )
-        if not levels_kept and m.sleep_passes > 0:
-            for entry in sorted([*m.trashed_classes, *m.trashed_items], key=str):
-                count = next(self.store.quads(entry, CONSECUTIVE_WEAK_COUNT, None, TRASH), None)
-                before = int(persist.text(count.object)) if count is not None else 0
-                tx.delete_matching(entry, CONSECUTIVE_WEAK_COUNT, None, graph=TRASH)
-                tx.insert(entry, CONSECUTIVE_WEAK_COUNT, Literal(before + 1), TRASH)
-                tx.delete_matching(entry, LEVEL, None, graph=TRASH)
-                tx.insert(entry, LEVEL, Literal(WEAK), TRASH)
-        for graph in (MEMORY, EPISODIC):
-            tx.delete_matching(None, LEVEL, None, graph=graph)
-            tx.delete_matching(None, CONSECUTIVE_WEAK_COUNT, Literal(0), graph=graph)
-        if m.sleep_passes > 0:
-            persist.write_levels(tx, m)
-        if any(True for _ in self.store.quads(None, SCORE_TERMS, None, MEMORY)):
-            tx.delete_matching(None, SCORE_TERMS, None, graph=MEMORY)
-            for record in m.classes.values():
-                record.written_z = None
-            m.unwritten.update(m.classes)
-        log.info("scene memory: store migrated to the data model of docs/data-model.md")
 
     def _now(self) -> dt.datetime:
         now = self._clock()

@@ -133,7 +133,8 @@ def test_a_learned_class_records_its_parents_in_one_literal(memory: SceneMemory)
 def to_old_layout(memory: SceneMemory) -> None:
     """Rewrite ``memory``'s store as the memory before docs/data-model.md left it: levels on
     each item, packed score terms, zero WEAK counts written, the trash holding the WEAK count
-    of the pass before the one that forgot, parents one triple each."""
+    of the pass before the one that forgot (a scene forgotten with its class: its own),
+    parents one triple each."""
     store, m = memory.store, memory._model
     with store.transaction() as tx:
         tx.delete_matching(MEMORY_STATE_INDIVIDUAL, SLEEP_LEVELS, None, graph=MEMORY)
@@ -148,7 +149,8 @@ def to_old_layout(memory: SceneMemory) -> None:
                 tx.delete_matching(cls, prop, None, graph=MEMORY)
             packed = " ".join(repr(z / SCALE) for z in record.z)
             tx.insert(cls, SCORE_TERMS, Literal(packed), MEMORY)
-        for entry in [*m.trashed_classes, *m.trashed_items]:
+        alone = [i for i, t in m.trashed_items.items() if t.cls not in m.trashed_classes]
+        for entry in [*m.trashed_classes, *alone]:
             [count] = store.quads(entry, CONSECUTIVE_WEAK_COUNT, None, TRASH)
             tx.delete(entry, CONSECUTIVE_WEAK_COUNT, count.object, TRASH)  # type: ignore[arg-type]
             before = int(count.object.value) - 1
