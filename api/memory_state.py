@@ -1,7 +1,7 @@
 """The episodes' snapshots of the scene memory, ranked by the live scores of the running memory.
 
 ``episodes`` reads the memory's state from the graph by default, where a class's
-``engram:rawScore`` is the one its last update or the last sleep pass consolidated; the server
+``engram:rawScore`` is the one its own last update consolidated; the server
 holds the live memory, whose scores are current, and hands this reader to ``EpisodeMemory``.
 """
 

@@ -141,16 +141,27 @@ COMPLEXITY = engram("complexity")
 STORE_COUNT = engram("storeCount")
 RETRIEVE_COUNT = engram("retrieveCount")
 SCORE = engram("rawScore")
-"""Raw ζ as of the class's last update or sleep pass (bookkeeping; the live values: the view)."""
+"""Raw ζ as of the class's last learn, store, retrieval or restore (a sleep pass leaves it; the
+live values: the view)."""
 CLASS_SIGNATURE = engram("signature")
 LEVEL = engram("sleepLevel")
-"""The level the last sleep pass gave (what forgetting counts); the live level: the view."""
+"""On a class or experienced scene in the trash: its level when it was forgotten (WEAK); on live
+ones, in stores written before :data:`SLEEP_LEVELS` (migrated when the memory opens)."""
+SLEEP_LEVELS = engram("sleepLevels")
+"""On the memory state: the level the last sleep pass gave each live class and experienced
+scene (what the next pass compares with), "<level> <IRI>" lines, zlib + base64."""
 LEGACY_SCORE, LEGACY_LEVEL = engram("score"), engram("level")
 """Their names before the view: a store written then loses them when the memory opens."""
 SCORE_TERMS = engram("scoreTerms")
-"""Z_d, Z_s, Z_r of a class (reasoners.model), its raw terms kept exact by every update, as
-one string of three xsd:double lexical forms ("Z_d Z_s Z_r": one triple to rewrite per class of
-a branch, not three)."""
+"""Z_d, Z_s, Z_r packed in one string ("Z_d Z_s Z_r"), in stores written before
+:data:`SCORE_TERM_PROPERTIES` (migrated when the memory opens)."""
+SCORE_TERM_PROPERTIES = (
+    engram("scoreTermComplexity"),
+    engram("scoreTermStore"),
+    engram("scoreTermRetrieve"),
+)
+"""Z_d, Z_s, Z_r of a class (reasoners.model), its raw terms kept exact by every update, each
+an xsd:double."""
 SCORE_FACTORS = (
     engram("scoreFactorComplexity"),
     engram("scoreFactorStore"),
@@ -365,6 +376,9 @@ EVENT_LEVEL = engram("eventLevel")
 EVENT_STATE = engram("eventState")
 """On an event about a class, in histories written before checkpoints: "<kind> <level or ->
 <score or -> <class IRI>" (now a journal entry, :data:`HISTORY_ENTRY`)."""
+HISTORY_PASS_ENTRIES = engram("historyPassEntries")
+"""On an epoch node of the history: one sleep pass's class events (its level changes and
+periodic re-scorings), as :data:`HISTORY_ENTRY` lines sharing one event IRI, zlib + base64."""
 HISTORY_ENTRY = engram("historyEntry")
 """On an epoch node of the history (``<HISTORY_NS>epoch-<k>``): one class event written in epoch
 k, "<event IRI after HISTORY_NS> <kind> <level or -> <score or -> <class IRI>"."""
@@ -378,5 +392,9 @@ EVENT_CONFIDENCE = engram("eventConfidence")
 EVENT_BEST_MATCH = engram("eventBestMatch")
 """On a learned event: the best class the scene belonged to, then (a reinforced class is it)."""
 EVENT_PARENT = engram("eventParent")
-"""On a learned event: a direct parent the new class was placed under."""
+"""On a learned event written before :data:`EVENT_PARENTS`: a direct parent the new class was
+placed under (one triple each)."""
+EVENT_PARENTS = engram("eventParents")
+"""On a learned event: the direct parents the new class was placed under, their IRIs separated
+by spaces in one literal ("" for none)."""
 PROV_AT_TIME = prov("atTime")

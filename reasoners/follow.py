@@ -28,7 +28,6 @@ from ontologies.vocab import (
     EXPERIENCED_SCENE,
     LAST_ACCESSED,
     LAST_SLEEP_AT,
-    LEVEL,
     MEMORY,
     MEMORY_STATE_INDIVIDUAL,
     PINNED,
@@ -37,6 +36,7 @@ from ontologies.vocab import (
     RETRIEVE_COUNT,
     SCENE,
     SCORE,
+    SLEEP_LEVELS,
     SLEEP_PASS_COUNT,
     STORE_COUNT,
     UPDATES_SINCE_SLEEP,
@@ -143,7 +143,7 @@ def _apply(store: Store, m: MemoryModel, touched: set[NamedNode]) -> None:
             last_accessed=persist.parse_time(persist._one(values, LAST_ACCESSED)),
             weak_count=persist._int(values, CONSECUTIVE_WEAK_COUNT),
             pinned=persist._bool(values, PINNED),
-            level=values[LEVEL][0].value if LEVEL in values else None,
+            level=m.items[item].level if item in m.items else None,
         )
         if item in m.items:
             m.remove_item(item)
@@ -159,6 +159,12 @@ def _apply(store: Store, m: MemoryModel, touched: set[NamedNode]) -> None:
             m.last_sleep_at = persist.parse_time(now[LAST_SLEEP_AT][0])
         m.updates_since_sleep = persist._int(now, UPDATES_SINCE_SLEEP)
         m.sleep_passes = persist._int(now, SLEEP_PASS_COUNT)
+        if SLEEP_LEVELS in now:  # a sleep pass: the levels it gave
+            levels = persist.read_levels(now[SLEEP_LEVELS])
+            for cls, record in m.classes.items():
+                record.level = levels.get(cls)
+            for item, scene_record in m.items.items():
+                scene_record.level = levels.get(item)
     m.refresh()
 
 
@@ -167,4 +173,3 @@ def _annotations(record: ClassRecord, values: dict[NamedNode, list[Term]]) -> No
     record.last_accessed = persist.parse_time(persist._one(values, LAST_ACCESSED))
     record.weak_count = persist._int(values, CONSECUTIVE_WEAK_COUNT)
     record.pinned = persist._bool(values, PINNED)
-    record.level = values[LEVEL][0].value if LEVEL in values else None

@@ -7,7 +7,8 @@ passes, is older than ``forgetGracePeriodSeconds`` and is not pinned; a class wi
 experienced scene is kept, and a pinned class keeps its experienced scenes.
 :func:`move_to_trash` then moves the forgotten classes (their experienced scenes with them)
 and scenes into the ``trash`` graph, in the sleep pass's transaction
-(:meth:`reasoners.memory.SceneMemory.sleep`).
+(:meth:`reasoners.memory.SceneMemory.sleep`), each with the level and consecutive WEAK count of
+the pass that forgot it (a class forgotten at its k-th WEAK pass holds k).
 """
 
 import dataclasses
@@ -22,6 +23,7 @@ from ontologies.vocab import (
     FORGOTTEN_AT,
     FORGOTTEN_SIGNATURE,
     HAS_PRIMITIVE,
+    LEVEL,
     OWL_EQUIVALENT_CLASS,
     RDFS_SUBCLASSOF,
     TRASH,
@@ -33,7 +35,7 @@ from reasoners.model import ItemRecord, MemoryModel, TrashedClass, TrashedItem
 from reasoners.policy import Policy
 from reasoners.scoring import WEAK, episodic_score, level_of, log_ratio
 
-__all__ = ["SleepPlan", "item_raw", "move_to_trash", "plan"]
+__all__ = ["SleepPlan", "item_raw", "leaving_items", "move_to_trash", "plan"]
 
 
 @dataclasses.dataclass(frozen=True)
@@ -120,6 +122,18 @@ def plan(model: MemoryModel, policy: Policy, now: dt.datetime) -> SleepPlan:
     )
 
 
+def leaving_items(
+    model: MemoryModel, classes: Sequence[NamedNode], items: Sequence[NamedNode]
+) -> list[NamedNode]:
+    """The experienced scenes that :func:`move_to_trash` moves with ``classes`` and ``items``,
+    each once."""
+    doomed = set(classes)
+    own = [i for c in classes for i in model.items_of.get(c, ())]
+    if doomed:
+        own += [i for i, r in model.items.items() if r.cls in doomed]
+    return [i for i in dict.fromkeys([*own, *items]) if i in model.items]
+
+
 def move_to_trash(
     tx: Transaction,
     model: MemoryModel,
@@ -129,7 +143,8 @@ def move_to_trash(
     now: dt.datetime,
 ) -> list[NamedNode]:
     """Move ``classes`` (with their experienced scenes) and ``items`` to the trash, in the model
-    and in ``tx``; return the experienced scenes moved, each once."""
+    and in ``tx``, each with the level its record holds; return the experienced scenes moved,
+    each once."""
     moved: list[NamedNode] = []
     stamp = persist.time_literal(now)
     added: set[tuple[NamedNode, NamedNode]] = set()
@@ -143,6 +158,8 @@ def move_to_trash(
                 persist.insert_quad(tx, quad, TRASH)
         tx.insert(cls, RDFS_SUBCLASSOF, TRASH_CLASS, TRASH)
         tx.insert(cls, FORGOTTEN_AT, stamp, TRASH)
+        if record.level is not None:
+            tx.insert(cls, LEVEL, Literal(record.level), TRASH)
         tx.insert(cls, FORGOTTEN_SIGNATURE, Literal(record.signature.to_json()), TRASH)
         added |= model.remove_class(cls)
         added = {(c, p) for c, p in added if c in model.classes and p in model.classes}
@@ -160,6 +177,8 @@ def move_to_trash(
         removed = model.remove_item(item)
         persist.move(tx, reader, [item], EPISODIC, TRASH, follow=HAS_PRIMITIVE)
         tx.insert(item, FORGOTTEN_AT, stamp, TRASH)
+        if removed.level is not None:
+            tx.insert(item, LEVEL, Literal(removed.level), TRASH)
         model.trashed_items[item] = TrashedItem(item, removed.cls, now)
         moved.append(item)
     return moved

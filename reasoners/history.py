@@ -22,9 +22,12 @@ cue recalled; its ancestors' counts rise too, unrecorded), ``rescored``, ``level
 **Compaction rule.** A sleep pass re-scores every class; recording each would add a node per
 class per pass. A pass records a ``level`` event for each class whose level changed (with its
 new score), and, every :data:`RESCORE_EVERY_PASSES` passes, a ``rescored`` event for each other
-class whose ζ changed since the pass before. So the history grows with the updates (one event
-each) and with the level changes, and by at most ``classes / RESCORE_EVERY_PASSES`` events per
-pass. The score "as of T" is the score the class's last event before T recorded.
+class whose ζ changed since the last update or pass that scored it. These events of one pass
+are not nodes: they are journal lines (below) that share one event IRI, packed in one literal,
+``engram:historyPassEntries`` on the epoch node (:func:`sleep_levels`), so a pass that changes
+the level of every class writes one quad. :func:`as_of` and :func:`events` read them as they
+read the other events; the SPARQL of ``sparql/history_*.rq`` reads only event nodes. The score
+"as of T" is the score the class's last event before T recorded.
 
 Event IRIs sort as strings in the order the events happened (the memory clock's time in ms, then
 a sequence that rises across restarts), which the queries use: ``MAX(STR(?event))`` is the last.
@@ -48,10 +51,10 @@ checkpoint, the full scan of every class event. At 10,000 classes after 100 pass
 takes 41-60 ms (the full scan 225 ms; 256-308 ms before checkpoints; ``bench/history.py``).
 
 **Growth.** The journal line replaces the ``eventState`` quad (the same quads per event, ~33
-bytes more). A checkpoint costs ~19 bytes per class (compressed), and comes only after at least
-``max(1000, classes / 4)`` events (each ≥ 8 quads, ~600 bytes as N-Triples), so checkpoints add
-at most ~13 % to the history; passes where nothing happens add nothing. Measured at 10,000
-classes, 100 passes: 4 checkpoints of 193 kB, 7.7 kB per pass, 4 % of the 19.4 MB written.
+bytes more). A sleep pass adds one literal (its events' lines, zlib level 1 + base64), none
+when nothing changed. A checkpoint costs ~24 bytes per class (zlib level 1: 100,000 lines
+compress in a quarter of the time level 6 takes, for ~20 bytes a class), and comes only after
+at least ``max(1000, classes / 4)`` class events.
 """
 
 import base64
@@ -75,12 +78,14 @@ from ontologies.vocab import (
     EVENT_KIND,
     EVENT_LEVEL,
     EVENT_PARENT,
+    EVENT_PARENTS,
     EVENT_SCENE,
     EVENT_SCORE,
     EVENT_STATE,
     HISTORY,
     HISTORY_ENTRY,
     HISTORY_NS,
+    HISTORY_PASS_ENTRIES,
     PROV_AT_TIME,
     PROV_USED,
     XSD_DATETIME,
@@ -189,10 +194,24 @@ def _write(
     if level is not None:
         tx.insert(event, EVENT_LEVEL, Literal(level), HISTORY)
     if not scene:  # what "as of" reads: the epoch's journal (see as_of)
-        value = "-" if score is None else repr(float(score))
-        entry = f"{event.value[len(HISTORY_NS) :]} {kind} {level or '-'} {value} {about.value}"
+        entry = _entry(event.value[len(HISTORY_NS) :], kind, level, score, about)
         tx.insert(_epoch_node(_epoch(model)), HISTORY_ENTRY, Literal(entry), HISTORY)
     return event
+
+
+def _entry(event: str, kind: str, level: str | None, score: float | None, about: NamedNode) -> str:
+    value = "-" if score is None else repr(float(score))
+    return f"{event} {kind} {level or '-'} {value} {about.value}"
+
+
+def _pack(lines: Iterable[str]) -> Literal:
+    """Journal lines in one literal, zlib (level 1: a sleep pass's time) + base64."""
+    return Literal(base64.b64encode(zlib.compress("\n".join(lines).encode(), 1)).decode())
+
+
+def _unpack(term: object) -> list[str]:
+    text = zlib.decompress(base64.b64decode(term.value)).decode()  # type: ignore[attr-defined]
+    return text.split("\n") if text else []
 
 
 def record(
@@ -202,10 +221,12 @@ def record(
     kind: str,
     at: dt.datetime,
 ) -> None:
-    """Record that ``kind`` happened to a class or experienced scene at ``at``, with the score
-    and level its record holds now (call it once the change is made)."""
+    """Record that ``kind`` happened to a class or experienced scene at ``at``, with its ζ as
+    of its last update or sleep pass and the level of its last pass (call it once the change
+    is made)."""
     if isinstance(item, ClassRecord):
-        _write(tx, model, item.iri, kind, at, scene=False, score=item.score, level=item.level)
+        score = model.scored.get(item.iri, item.score)
+        _write(tx, model, item.iri, kind, at, scene=False, score=score, level=item.level)
     else:
         _write(tx, model, item.iri, kind, at, scene=True, score=None, level=item.level)
 
@@ -233,8 +254,8 @@ def stored(
     if learned is not None:  # a reinforced class is itself the best match
         if best is not None:
             tx.insert(event, EVENT_BEST_MATCH, best.cls, HISTORY)
-        for parent in sorted(model.parents[learned], key=str):
-            tx.insert(event, EVENT_PARENT, parent, HISTORY)
+        parents = " ".join(sorted(parent.value for parent in model.parents[learned]))
+        tx.insert(event, EVENT_PARENTS, Literal(parents), HISTORY)
 
 
 def record_all(
@@ -257,17 +278,14 @@ def forgetting(
     zetas: Mapping[NamedNode, float],
     at: dt.datetime,
 ) -> None:
-    """Record a sleep pass's forgetting before it happens (the records are still live):
-    ``classes`` with their experienced scenes, and ``items`` alone; each WEAK."""
-    doomed = set(classes)
-    scenes = [i for c in classes for i in model.items_of.get(c, ())]
-    if doomed:  # as forgetting.move_to_trash finds them
-        scenes += [i for i, r in model.items.items() if r.cls in doomed]
+    """Record a sleep pass's forgetting before it happens (the records are still live, with
+    the level this pass gave them): ``classes`` (WEAK) and ``items``, every experienced scene
+    that leaves with them or alone (reasoners.forgetting.leaving_items)."""
     for cls in classes:
         _write(tx, model, cls, "forgotten", at, scene=False, score=zetas.get(cls), level=WEAK)
-    for item in dict.fromkeys([*scenes, *items]):
-        if item in model.items:
-            _write(tx, model, item, "forgotten", at, scene=True, score=None, level=WEAK)
+    for item in items:
+        level = model.items[item].level
+        _write(tx, model, item, "forgotten", at, scene=True, score=None, level=level)
 
 
 def sleep_levels(
@@ -276,16 +294,24 @@ def sleep_levels(
     levels: Mapping[NamedNode, str],
     zetas: Mapping[NamedNode, float],
     at: dt.datetime,
-) -> None:
-    """Record a sleep pass's re-scoring under the compaction rule (module docstring). Call it
-    before the pass writes the new levels and scores: the records still hold the old ones."""
+) -> int:
+    """Record a sleep pass's re-scoring under the compaction rule (module docstring), as one
+    ``engram:historyPassEntries`` literal; return the number of events it holds (none: nothing
+    written). Call it before the pass sets the new levels: the records still hold the old ones.
+    """
     periodic = (model.sleep_passes + 1) % RESCORE_EVERY_PASSES == 0
+    scored = model.scored
+    event = event_iri(at).value[len(HISTORY_NS) :]
+    lines = []
     for cls, record_ in model.classes.items():
         level, zeta = levels[cls], zetas[cls]
         if record_.level != level:
-            _write(tx, model, cls, "level", at, scene=False, score=zeta, level=level)
-        elif periodic and record_.score != zeta:
-            _write(tx, model, cls, "rescored", at, scene=False, score=zeta, level=level)
+            lines.append(_entry(event, "level", level, zeta, cls))
+        elif periodic and scored.get(cls, record_.score) != zeta:
+            lines.append(_entry(event, "rescored", level, zeta, cls))
+    if lines:
+        tx.insert(_epoch_node(_epoch(model)), HISTORY_PASS_ENTRIES, _pack(lines), HISTORY)
+    return len(lines)
 
 
 # Reading ---------------------------------------------------------------------------------------
@@ -335,17 +361,39 @@ def _text(term: object) -> str | None:
 
 
 def events(store: Store, about: NamedNode) -> list[Event]:
-    """The history of a class or experienced scene, oldest first (empty if it has none)."""
-    rows = store.select("history_events", about=about)
-    return [
-        Event(
-            time=_utc_text(row["time"]),
-            kind=str(_text(row["kind"])),
-            score=_float(row.get("score")),
-            level=_text(row.get("level")),
+    """The history of a class or experienced scene, oldest first (empty if it has none): its
+    event nodes and the sleep passes' events about it."""
+    start = len(HISTORY_NS)
+    found = [
+        (
+            row["event"].value[start:],
+            Event(
+                time=_utc_text(row["time"]),
+                kind=str(_text(row["kind"])),
+                score=_float(row.get("score")),
+                level=_text(row.get("level")),
+            ),
         )
-        for row in rows
+        for row in store.select("history_events", about=about)
     ]
+    suffix = f" {about.value}"
+    for quad in store.quads(None, HISTORY_PASS_ENTRIES, None, HISTORY):
+        for entry in _unpack(quad.object):
+            if entry.endswith(suffix):
+                event, kind, level, score, _ = entry.split(" ", 4)
+                time_ = dt.datetime.fromtimestamp(int(event[:13]) / 1000, dt.UTC)
+                found.append(
+                    (
+                        event,
+                        Event(
+                            time=time_.isoformat(timespec="milliseconds"),
+                            kind=kind,
+                            score=None if score == "-" else float(score),
+                            level=None if level == "-" else level,
+                        ),
+                    )
+                )
+    return [e for _, e in sorted(found, key=lambda pair: pair[0])]
 
 
 @dataclasses.dataclass(frozen=True, slots=True)
@@ -377,7 +425,9 @@ def learned_decision(store: Store, cls: NamedNode) -> Decision | None:
         values.setdefault(quad.predicate, []).append(quad.object)
     scene = (values.get(PROV_USED) or [None])[0]
     best = (values.get(EVENT_BEST_MATCH) or [None])[0]
-    parents = [p for p in values.get(EVENT_PARENT, []) if isinstance(p, NamedNode)]
+    parents = [p for p in values.get(EVENT_PARENT, []) if isinstance(p, NamedNode)]  # before
+    for listed in values.get(EVENT_PARENTS, []):  # eventParents
+        parents += [NamedNode(iri) for iri in _text(listed).split()]  # type: ignore[union-attr]
     return Decision(
         scene=scene if isinstance(scene, NamedNode) else None,
         best=best if isinstance(best, NamedNode) else None,
@@ -418,8 +468,12 @@ def current_epoch(reader: QuadReader) -> int:
 
 
 def _entries(reader: QuadReader, epoch: int) -> Iterable[str]:
-    for quad in reader.quads(_epoch_node(epoch), HISTORY_ENTRY, None, HISTORY):
+    """The journal of ``epoch``: its events' lines and those of its sleep passes."""
+    node = _epoch_node(epoch)
+    for quad in reader.quads(node, HISTORY_ENTRY, None, HISTORY):
         yield quad.object.value  # type: ignore[union-attr]
+    for quad in reader.quads(node, HISTORY_PASS_ENTRIES, None, HISTORY):
+        yield from _unpack(quad.object)
 
 
 def _legacy(reader: QuadReader, last: _Last, bound: str) -> None:
@@ -489,7 +543,7 @@ class _Written:
 
     @classmethod
     def of(cls, tx: Transaction, store: QuadReader) -> "_Written":
-        kept = (HISTORY_ENTRY, CHECKPOINT_SUMMARY, CHECKPOINT_STATE)
+        kept = (HISTORY_ENTRY, HISTORY_PASS_ENTRIES, CHECKPOINT_SUMMARY, CHECKPOINT_STATE)
         return cls(store, [q for q in tx.inserts if q.predicate in kept])
 
     def quads(
@@ -526,7 +580,7 @@ def checkpoint(tx: Transaction, model: MemoryModel, store: QuadReader, at: dt.da
     low, high = _fold(entries, last, _NONE)
     covers = max(covers, high)
     text = "\n".join(entry for _, entry in sorted(last.values()))
-    state = base64.b64encode(zlib.compress(text.encode(), 6)).decode()
+    state = base64.b64encode(zlib.compress(text.encode(), 1)).decode()
     node = _checkpoint_node(epoch + 1)
     tx.insert(node, CHECKPOINT_SUMMARY, Literal(f"{epoch + 1} {covers} {low}"), HISTORY)
     tx.insert(node, CHECKPOINT_STATE, Literal(state), HISTORY)

@@ -15,8 +15,10 @@ experienced scene). The score view (the Z terms of the classes whose Z changed a
 values on the memory state, :func:`reasoners.persist.write_view`), from which a SPARQL reader
 derives every class's live normalised score and level, is written by :meth:`~SceneMemory.
 settle_view` before the store is next read, once for all the updates since the last read; on a
-shared fleet server, which other robots read directly, in each update's transaction. The
-sleep pass also records each item's level (``engram:sleepLevel``), which forgetting counts.
+shared fleet server, which other robots read directly, in each update's transaction. A sleep
+pass writes only what the view cannot give: the consecutive WEAK counts that changed, what it
+forgot, the level it gave each item (one literal, ``engram:sleepLevels``, the next pass's
+reference) and its level changes in the history (one literal); not a class's level or ζ.
 
 >>> import datetime as dt
 >>> from kg import Store
@@ -66,12 +68,13 @@ from ontologies.vocab import (
     RDFS_LABEL,
     RETRIEVE_COUNT,
     SCORE,
+    SCORE_TERM_PROPERTIES,
     SKOS_NOTATION,
     STORE_COUNT,
     TRASH,
     UPDATES_SINCE_SLEEP,
 )
-from reasoners import forgetting, history, index_file, persist
+from reasoners import forgetting, history, index_file, migration, persist
 from reasoners.batch import PendingWrites, QuadReader
 from reasoners.clock import SettableClock
 from reasoners.collector import collector_paused
@@ -97,7 +100,7 @@ from reasoners.results import (
     StoreResult,
     TrashEntry,
 )
-from reasoners.scoring import level_of
+from reasoners.scoring import WEAK, level_of
 from reasoners.signature import Signature
 
 __all__ = ["LOADING_WAIT_S", "Clock", "Cue", "SceneMemory"]
@@ -295,8 +298,9 @@ class SceneMemory:
 
     def _repair_view(self) -> None:
         """Write the score view where the store lacks it or it is stale (a store written by an
-        older Engram, or by hand), and drop the annotations the view replaced; one transaction,
-        only when needed."""
+        older Engram, or by hand), and drop the annotations the view replaced; migrate a store
+        written before the data model stored only what cannot be derived
+        (:mod:`reasoners.migration`). One transaction, only when needed."""
         m = self._model
         legacy = any(
             True
@@ -307,14 +311,21 @@ class SceneMemory:
             )
             for _ in self.store.quads(None, prop, None, graph)
         )
+        migrate = migration.needed(self.store, m)
         factors_stale = bool(m.classes) and m.written_factors != (*m.coefficients(), m.max_score)
         unlabelled: list[ClassRecord] = []
         if self.loaded_from != "index file":  # a file is saved only by a repaired memory
             named = {q.subject for q in self.store.quads(None, SKOS_NOTATION, None, MEMORY)}
             unlabelled = [record for cls, record in m.classes.items() if cls not in named]
-        if not (legacy or m.unwritten or factors_stale or unlabelled):
+        if not (legacy or migrate or m.unwritten or factors_stale or unlabelled):
             return
         with self._write(view=True) as tx:
+            for record in m.classes.values():  # terms missing, partial or damaged: rewritten
+                if record.written_z is None:
+                    for prop in SCORE_TERM_PROPERTIES:
+                        tx.delete_matching(record.iri, prop, None, graph=MEMORY)
+            if migrate:
+                migration.migrate(tx, self.store, m)
             for record in unlabelled:  # learned before labels spelt out the definition
                 tx.delete_matching(record.iri, RDFS_LABEL, None, graph=MEMORY)
                 persist.write_label(tx, record)
@@ -545,11 +556,13 @@ class SceneMemory:
             self._write_score(tx, m.classes[cls])
         for cls in fresh:
             m.classes[cls].score = m.zeta(m.classes[cls])
+            m.scored.pop(cls, None)
 
     def _write_score(
         self, tx: Transaction, record: ClassRecord, value: float | None = None
     ) -> None:
         new = self._model.zeta(record) if value is None else value
+        self._model.scored.pop(record.iri, None)
         if new != record.score:
             persist.set_value(tx, record.iri, SCORE, Literal(record.score), Literal(new), MEMORY)
             record.score = new
@@ -829,7 +842,14 @@ class SceneMemory:
             plan = forgetting.plan(m, self.policy, now)
             class_levels, item_levels = plan.class_levels, plan.item_levels
             doomed_classes = plan.doomed_classes
-            history.forgetting(tx, m, doomed_classes, plan.doomed_items, plan.zetas, now)
+            # one truth: what is forgotten goes to the trash with this pass's level and WEAK
+            # count (the count that forgot it), as the history and /explain give them
+            leaving = forgetting.leaving_items(m, doomed_classes, plan.doomed_items)
+            for cls in doomed_classes:
+                self._set_level(tx, m.classes[cls], WEAK, plan.weak_counts[cls], MEMORY)
+            for iri in leaving:
+                self._set_level(tx, m.items[iri], item_levels[iri], plan.item_weak[iri], EPISODIC)
+            history.forgetting(tx, m, doomed_classes, leaving, plan.zetas, now)
             forgotten_items = forgetting.move_to_trash(
                 tx, m, self._reader, doomed_classes, plan.doomed_items, now
             )
@@ -837,15 +857,16 @@ class SceneMemory:
             zetas = m.zetas() if doomed_classes else plan.zetas
             history.sleep_levels(tx, m, class_levels, zetas, now)
             history.checkpoint(tx, m, self.store, now)
-            # systems consolidation: every class's stored ζ brought up to date
+            # a class's ζ and level are the view's: only the WEAK counts that changed are written
             for cls, record in m.classes.items():
-                self._write_score(tx, record, zetas[cls])
                 self._set_level(tx, record, class_levels[cls], plan.weak_counts[cls], MEMORY)
             for iri, item in m.items.items():
                 self._set_level(tx, item, item_levels[iri], plan.item_weak[iri], EPISODIC)
+            m.scored = zetas
             m.last_sleep_at = now
             m.updates_since_sleep = 0
             m.sleep_passes += 1
+            persist.write_levels(tx, m)
             persist.write_state(tx, m)
         report = SleepReport(
             at=now,
@@ -876,20 +897,14 @@ class SceneMemory:
         weak: int,
         graph: NamedNode,
     ) -> None:
-        if record.level != level:
-            persist.set_value(
-                tx, record.iri, LEVEL, _maybe_str(record.level), Literal(level), graph
-            )
-            record.level = level
+        """Give ``record`` a sleep pass's level (kept in the model; the pass writes them all in
+        one literal) and WEAK count (written where it changed, absent when 0)."""
+        record.level = level
         if record.weak_count != weak:
-            persist.set_value(
-                tx,
-                record.iri,
-                CONSECUTIVE_WEAK_COUNT,
-                Literal(record.weak_count),
-                Literal(weak),
-                graph,
-            )
+            if record.weak_count:
+                tx.delete(record.iri, CONSECUTIVE_WEAK_COUNT, Literal(record.weak_count), graph)
+            if weak:
+                tx.insert(record.iri, CONSECUTIVE_WEAK_COUNT, Literal(weak), graph)
             record.weak_count = weak
 
     def maybe_sleep(self) -> SleepReport | None:

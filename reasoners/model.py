@@ -56,7 +56,8 @@ Derived = tuple[dict[Key, list[int]], dict[int, int], list[tuple[tuple[int, int,
 @dataclass
 class ClassRecord:
     """A learned scene class: its signature, the raw terms of its score, and the ζ last
-    written to the store (``score``; the live ζ is :meth:`MemoryModel.zeta`)."""
+    written to the store (``score``, as of its last update; the live ζ is
+    :meth:`MemoryModel.zeta`)."""
 
     iri: NamedNode
     signature: Signature
@@ -68,6 +69,7 @@ class ClassRecord:
     weak_count: int = 0
     pinned: bool = False
     level: str | None = None
+    """The level the last sleep pass gave it (None before its first pass)."""
     z: tuple[int, int, int] = (0, 0, 0)
     """Z_d, Z_s, Z_r in fixed point (SCALE)."""
     sums: list[int] = field(default_factory=lambda: [0, 0, 0])
@@ -154,6 +156,10 @@ class MemoryModel:
     the memory reads it from the store, once per model."""
     has_state: bool = False
     """Whether the ``memory`` graph holds the memory-state individual."""
+    scored: dict[NamedNode, float] = field(default_factory=dict)
+    """Each class's ζ as of the last sleep pass, for those no update re-scored since (the
+    others': ``ClassRecord.score``); kept in memory only, for the history's periodic
+    re-scoring (reasoners.history.sleep_levels)."""
     unwritten: set[NamedNode] = field(default_factory=set)
     """Classes whose Z changed since the score view was last written."""
     written_factors: tuple[float, float, float, float] | None = None

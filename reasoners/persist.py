@@ -7,28 +7,34 @@ Layout (DESIGN.md, "Store layout"):
   ``owl:minQualifiedCardinality`` and ``owl:onClass``, or the single restriction itself), its
   direct ``rdfs:subClassOf`` edges to other learned classes, a label spelling out the
   definition and the short name as ``skos:notation``, and its annotations (complexity,
-  storeCount, retrieveCount, rawScore = raw ζ as of the class's last update or sleep pass,
-  created, lastAccessed, consecutiveWeakCount and pinned when not 0 / false, sleepLevel = the
-  level of the last sleep pass); the *score view*: ``scoreTerms`` ("Z_d Z_s Z_r", exact
-  whenever the store is read: :meth:`reasoners.memory.SceneMemory.settle_view`) on each class, and
-  ``scoreFactor*``, ``maxRawScore`` and ``usesPolicy`` on ``engram:memoryState`` (with the last
-  sleep and the updates since), from which ``sparql/memory_class_scores.rq`` derives every
-  class's live normalised score and level (:func:`write_view`). A restriction ``≥n p.T`` is one node
+  storeCount, retrieveCount, rawScore = raw ζ as of the class's last learn, store, retrieval
+  or restore, created, lastAccessed, consecutiveWeakCount and pinned when not 0 / false); the
+  *score view*: ``scoreTermComplexity``, ``scoreTermStore``, ``scoreTermRetrieve`` (Z_d, Z_s,
+  Z_r as xsd:double, exact whenever the store is read:
+  :meth:`reasoners.memory.SceneMemory.settle_view`) on each class, and ``scoreFactor*``,
+  ``maxRawScore`` and ``usesPolicy`` on ``engram:memoryState`` (with the last sleep, the
+  updates since, and ``sleepLevels``, the level the last sleep pass gave each live class and
+  experienced scene: :func:`write_levels`), from which ``sparql/memory_class_scores.rq`` derives
+  every class's live raw and normalised score and level (:func:`write_view`). What the view
+  derives is not stored per class (docs/data-model.md). A restriction ``≥n p.T`` is one node
   (:func:`restriction_iri`) shared by every class that uses it, written with the first such
   class and deleted with the last; the export gives each use its own blank node.
 - ``episodic``: each experienced scene ``e a engram:ExperiencedScene, C`` with created,
-  lastAccessed, complexity, optional ``engram:happenedDuring`` episode, ``engram:hasPrimitive``
-  links to its primitives, which carry their type, id and attributes and the primary relations
-  (the scene's time is the primitives' time; the export declares the individuals).
-- ``trash``: forgotten classes as ``C rdfs:subClassOf engram:Trash`` with their annotations,
+  lastAccessed, complexity, consecutiveWeakCount and pinned when not 0 / false, optional
+  ``engram:happenedDuring`` episode, ``engram:hasPrimitive`` links to its primitives, which
+  carry their type, id and attributes and the primary relations (the scene's time is the
+  primitives' time; the export declares the individuals).
+- ``trash``: forgotten classes as ``C rdfs:subClassOf engram:Trash`` with their annotations
+  (the consecutive WEAK count that forgot them, and ``sleepLevel`` WEAK),
   ``engram:forgottenAt`` and ``engram:forgottenSignature`` (no definition, so nothing is
   recognised as them), and forgotten experienced scenes with their primitives.
 """
 
+import base64
 import datetime as dt
-import functools
 import hashlib
 import re
+import zlib
 from collections import defaultdict
 from collections.abc import Iterable, Mapping, Sequence
 
@@ -82,9 +88,11 @@ from ontologies.vocab import (
     SCENE,
     SCORE,
     SCORE_FACTORS,
+    SCORE_TERM_PROPERTIES,
     SCORE_TERMS,
     SKOLEM_PREFIX,
     SKOS_NOTATION,
+    SLEEP_LEVELS,
     SLEEP_PASS_COUNT,
     STORE_COUNT,
     TRACKING_ID,
@@ -120,6 +128,7 @@ __all__ = [
     "write_class",
     "write_edges",
     "write_item",
+    "write_levels",
 ]
 
 Term = NamedNode | Literal
@@ -280,8 +289,6 @@ def class_annotations(record: ClassRecord) -> dict[NamedNode, Term]:
         values[CONSECUTIVE_WEAK_COUNT] = Literal(record.weak_count)
     if record.pinned:
         values[PINNED] = Literal(record.pinned)
-    if record.level is not None:
-        values[LEVEL] = Literal(record.level)
     return values
 
 
@@ -486,7 +493,7 @@ def load_model(
                 last_accessed=parse_time(_one(values, LAST_ACCESSED)),
                 weak_count=_int(values, CONSECUTIVE_WEAK_COUNT),
                 pinned=_bool(values, PINNED),
-                level=values[LEVEL][0].value if LEVEL in values else None,
+                level=values[LEVEL][0].value if LEVEL in values else None,  # before sleepLevels
                 written_z=_fixed(values),
             )
         )
@@ -507,6 +514,7 @@ def load_model(
     view = (*SCORE_FACTORS, MAX_RAW_SCORE)
     if all(len(state.get(prop, ())) == 1 for prop in view):
         model.written_factors = tuple(float(state[prop][0].value) for prop in view)  # type: ignore[assignment]
+    levels = read_levels(state.get(SLEEP_LEVELS, ()))
 
     items = store.select("memory_load_items", g=EPISODIC)
     for subject, values in _rows_by_subject(items, "item").items():
@@ -520,9 +528,13 @@ def load_model(
                 last_accessed=parse_time(_one(values, LAST_ACCESSED)),
                 weak_count=_int(values, CONSECUTIVE_WEAK_COUNT),
                 pinned=_bool(values, PINNED),
-                level=values[LEVEL][0].value if LEVEL in values else None,
+                level=values[LEVEL][0].value if LEVEL in values else None,  # before sleepLevels
             )
         )
+    for iri, level in levels.items():
+        record_ = model.classes.get(iri) or model.items.get(iri)
+        if record_ is not None:
+            record_.level = level
     trash = _rows_by_subject(store.select("memory_load_trash", g=TRASH), "subject")
     for subject, values in trash.items():
         if TRASH_CLASS in values[_KIND]:
@@ -562,12 +574,44 @@ def write_state(tx: Transaction, model: MemoryModel, previous: MemoryModel | Non
         tx.insert(node, LAST_SLEEP_AT, time_literal(model.last_sleep_at), MEMORY)
 
 
-@functools.lru_cache(maxsize=1 << 15)
-def terms_literal(z: tuple[int, int, int]) -> Literal:
-    """Z_d, Z_s, Z_r in fixed point as the view stores them: "Z_d Z_s Z_r", each the shortest
-    lexical form of its double (exact: SCALE is 2**40; SPARQL's xsd:double() reads it back).
-    Cached: the literal an update deletes is the one an earlier update wrote."""
-    return Literal(f"{z[0] / SCALE!r} {z[1] / SCALE!r} {z[2] / SCALE!r}")
+def term_literal(z: int) -> Literal:
+    """One of Z_d, Z_s, Z_r in fixed point as the view stores it: an xsd:double (exact: SCALE
+    is 2**40)."""
+    return Literal(z / SCALE)
+
+
+def levels_literal(model: MemoryModel) -> Literal:
+    """The level the last sleep pass gave each live class and experienced scene, as
+    :data:`~ontologies.vocab.SLEEP_LEVELS` holds it ("<level> <IRI>" lines, zlib + base64)."""
+    lines = [
+        f"{record.level} {iri.value}"
+        for records in (model.classes, model.items)
+        for iri, record in records.items()
+        if record.level is not None
+    ]
+    packed = zlib.compress("\n".join(lines).encode(), 1)  # level 1: a pass's time, not bytes
+    return Literal(base64.b64encode(packed).decode())
+
+
+def read_levels(terms: Iterable[Term]) -> dict[NamedNode, str]:
+    """The levels a :func:`levels_literal` holds (those of several literals merged; a literal
+    that does not decode is left out, and the next sleep pass writes the levels again)."""
+    levels: dict[NamedNode, str] = {}
+    for term in terms:
+        try:
+            text = zlib.decompress(base64.b64decode(term.value, validate=True)).decode()
+        except (ValueError, zlib.error):
+            continue
+        for line in text.split("\n") if text else ():
+            level, _, iri = line.partition(" ")
+            levels[NamedNode(iri)] = level
+    return levels
+
+
+def write_levels(tx: Transaction, model: MemoryModel) -> None:
+    """Replace the levels of the last sleep pass on the memory state (:func:`levels_literal`)."""
+    tx.delete_matching(MEMORY_STATE_INDIVIDUAL, SLEEP_LEVELS, None, graph=MEMORY)
+    tx.insert(MEMORY_STATE_INDIVIDUAL, SLEEP_LEVELS, levels_literal(model), MEMORY)
 
 
 def write_view(tx: Transaction, model: MemoryModel, policy: NamedNode) -> int:
@@ -586,10 +630,13 @@ def write_view(tx: Transaction, model: MemoryModel, policy: NamedNode) -> int:
         record = classes.get(iri)
         if record is None or record.written_z == record.z:
             continue
-        old = record.written_z
-        previous = None if old is None else terms_literal(old)
-        set_value(tx, iri, SCORE_TERMS, previous, terms_literal(record.z), MEMORY)
-        record.written_z = record.z
+        old, new = record.written_z, record.z
+        for x, prop in enumerate(SCORE_TERM_PROPERTIES):  # only the terms that changed
+            if old is None:  # none stored (what a damaged view held is deleted when it opens)
+                tx.insert(iri, prop, term_literal(new[x]), MEMORY)
+            elif old[x] != new[x]:
+                set_value(tx, iri, prop, term_literal(old[x]), term_literal(new[x]), MEMORY)
+        record.written_z = new
         rewritten += 1
     model.unwritten.clear()
     node = MEMORY_STATE_INDIVIDUAL
@@ -615,7 +662,7 @@ def _iri_text(iri: NamedNode) -> str:
     return iri.value
 
 
-VIEW_PREDICATES = frozenset({SCORE_TERMS})
+VIEW_PREDICATES = frozenset({*SCORE_TERM_PROPERTIES, SCORE_TERMS})
 """The score view's triples on a class (not moved to the trash with it)."""
 
 
@@ -640,7 +687,9 @@ _COLUMNS: dict[str, NamedNode] = {
     "forgottenSignature": FORGOTTEN_SIGNATURE,
     "forgottenAt": FORGOTTEN_AT,
     "kind": _KIND,
-    "terms": SCORE_TERMS,
+    "zd": SCORE_TERM_PROPERTIES[0],
+    "zs": SCORE_TERM_PROPERTIES[1],
+    "zr": SCORE_TERM_PROPERTIES[2],
 }
 """The ``memory_load_*`` query columns, as the properties whose values they hold."""
 
@@ -666,14 +715,16 @@ def _one(values: dict[NamedNode, list[Term]], prop: NamedNode) -> Literal:
 
 
 def _fixed(values: dict[NamedNode, list[Term]]) -> tuple[int, int, int] | None:
-    """The Z terms a class's view holds, in fixed point; None unless it holds exactly one each."""
-    found = values.get(SCORE_TERMS, ())
-    parts = found[0].value.split() if len(found) == 1 else []
-    try:
-        z = [round(float(part) * SCALE) for part in parts]
-    except ValueError:  # damaged by hand: the view is rewritten
+    """The Z terms a class's view holds, in fixed point; None unless it holds exactly one each
+    (the view is then rewritten whole)."""
+    found: list[Sequence[Term]] = [values.get(prop, []) for prop in SCORE_TERM_PROPERTIES]
+    if any(len(terms) != 1 for terms in found):
         return None
-    return (z[0], z[1], z[2]) if len(z) == 3 else None
+    try:
+        z = [round(float(terms[0].value) * SCALE) for terms in found]
+    except ValueError:  # damaged by hand
+        return None
+    return (z[0], z[1], z[2])
 
 
 def _int(values: dict[NamedNode, list[Term]], prop: NamedNode) -> int:

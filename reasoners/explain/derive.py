@@ -322,7 +322,7 @@ def explain_forgetting(memory: SceneMemory, iri: NamedNode) -> ForgettingExplana
         item_kind=entry.kind,
         forgotten_at=entry.forgotten_at,
         created=dt.datetime.fromisoformat(created.value) if created is not None else None,
-        weak_passes=int(weak or 0) + 1,
+        weak_passes=int(weak or 0),
         passes_to_forget=p.weakPassesToForget,
         grace_s=p.forgetGracePeriodSeconds,
         pinned=(values.get(PINNED) is not None and values[PINNED].value == "true"),

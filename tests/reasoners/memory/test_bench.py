@@ -23,7 +23,7 @@ def test_bench_quick_prints_a_row_per_size() -> None:
     assert len(rows) == 2, done.stdout
     # and where a learn's time and quads go, per size: write vs own work, quads by part
     after = done.stdout.split("Where a committed update's time goes")[1]
-    breakdown, targets = after.split("Against the targets of issue 15")
+    breakdown, targets = after.split("Against the targets of issue 31")
     parts = [
         line.split() for line in breakdown.splitlines() if line.split()[:1] in (["20"], ["60"])
     ]
@@ -37,13 +37,29 @@ def test_bench_quick_prints_a_row_per_size() -> None:
         view, _edges, new_class, scene, _ = quads
         assert new_class > 0 and scene > 0 and view > 0, row
         sleep_write, sleep_quads = (float(x) for x in row[-2:])
-        assert sleep_write > 0 and sleep_quads > 0, row  # the pass writes every class's level
+        assert sleep_write > 0 and sleep_quads > 0, row  # the pass writes its own record
     # each measure beside the store write it commits, which cannot exceed the measure itself
     lines = [line.split() for line in targets.splitlines() if line.split()[:1] in (["20"], ["60"])]
-    assert [line[1] for line in lines] == ["learn", "reinforce", "sleep"] * 2, targets
+    measures = [(line[1], line[2]) for line in lines if line[1] != "load"]
+    expected = [
+        ("learn", "median"),
+        ("learn", "p99"),
+        ("learn", "med/write"),
+        ("reinforce", "median"),
+        ("sleep", "pass"),
+        ("learn+slp", "median"),
+    ]
+    assert measures == expected * 2, targets
     for line in lines:
-        median, write = float(line[2]), float(line[3])
-        assert 0 < write <= median, line
+        if line[1] == "load":
+            assert float(line[2]) >= 0, line
+            continue
+        if line[2] == "med/write":
+            assert float(line[3]) >= 1, line
+        else:
+            figure, write = float(line[3]), float(line[4])
+            assert 0 < write <= figure, line
+        assert line[-1] in ("yes", "no", "-"), line  # every target beside its figure
 
 
 UPDATE_COSTS = BENCH.with_name("update_costs.py")

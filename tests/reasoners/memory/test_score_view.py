@@ -15,7 +15,12 @@ from hypothesis import strategies as st
 from pyoxigraph import Literal, NamedNode
 
 from kg import Store
-from ontologies.vocab import LEGACY_LEVEL, LEGACY_SCORE, MEMORY, SCORE_TERMS
+from ontologies.vocab import (
+    LEGACY_LEVEL,
+    LEGACY_SCORE,
+    MEMORY,
+    SCORE_TERM_PROPERTIES,
+)
 from reasoners.errors import InvalidSceneError
 from reasoners.memory import SceneMemory
 from reasoners.scoring import rounded
@@ -92,8 +97,11 @@ def test_untouched_classes_read_their_live_scores_between_sleep_passes() -> None
     assert {level for _, level in view.values()} <= {"HIGH", "LOW", "WEAK"}
 
 
+TERMS = "|".join(re.escape(p.value) for p in SCORE_TERM_PROPERTIES)
+
+
 def _terms_written(texts: list[str]) -> set[NamedNode]:
-    found = re.findall(f"<([^>]+)> <{re.escape(SCORE_TERMS.value)}>", "\n".join(texts))
+    found = re.findall(f"<([^>]+)> <(?:{TERMS})>", "\n".join(texts))
     return {NamedNode(iri) for iri in found}
 
 
@@ -129,8 +137,8 @@ def test_the_updates_between_two_reads_write_each_changed_class_once() -> None:
             with contextlib.suppress(InvalidSceneError):
                 memory.store_scene(scene)
         view = analyst_scores(memory.store)
-    writes = re.findall(f"<{re.escape(SCORE_TERMS.value)}>", "\n".join(written))
-    assert len(writes) == len(memory.classes()) == len(_terms_written(written))
+    writes = re.findall(f"<(?:{TERMS})>", "\n".join(written))
+    assert len(writes) == 3 * len(memory.classes()) == 3 * len(_terms_written(written))
     assert view == api_scores(memory)
 
 
@@ -156,7 +164,8 @@ os._exit(0)  # no read, no shutdown: the view was never written
 """
     subprocess.run([sys.executable, "-c", script], check=True, cwd=REPO, timeout=120)
     store = Store(tmp_path / "store")
-    terms = {q.subject for q in store._store.quads_for_pattern(None, SCORE_TERMS, None, MEMORY)}
+    found = store._store.quads_for_pattern(None, SCORE_TERM_PROPERTIES[0], None, MEMORY)
+    terms = {q.subject for q in found}
     memory = SceneMemory(store)
     assert len(terms) < len(memory.classes()), "the crash left the view behind"
     assert analyst_scores(store) == api_scores(memory)
@@ -171,7 +180,8 @@ def test_a_store_written_before_the_view_gets_it_when_the_memory_opens() -> None
     expected = api_scores(memory)
     memory.settle_view()
     with store.transaction() as tx:  # as an older Engram left it
-        tx.delete_matching(None, SCORE_TERMS, None, graph=MEMORY)
+        for prop in SCORE_TERM_PROPERTIES:
+            tx.delete_matching(None, prop, None, graph=MEMORY)
         tx.insert(memory.classes()[0].iri, LEGACY_SCORE, Literal(0.5), MEMORY)
         tx.insert(memory.classes()[0].iri, LEGACY_LEVEL, Literal("HIGH"), MEMORY)
     assert analyst_scores(store) == {}
