@@ -14,7 +14,7 @@ from rich.progress import Progress
 from api.armor import ArmorEngine
 from api.client import ArmorClient, ArmorPyException, LocalTransport
 from api.config import Settings
-from api.perceive import PerceivedScene, perceive
+from api.perceive import PerceivedScene, PerceiveExit, exit_status, perceive
 from kg import EngramError, Store, ensure_ontology
 from shapes import Frame, Perception, PerceptionParams, ShapesError, open_source, source_length
 
@@ -25,6 +25,8 @@ console = Console()
 
 def _describe(result: PerceivedScene) -> str:
     kinds = ", ".join(sorted(p.kind.value for p in result.scene.primitives))
+    if result.scene.supports:
+        kinds += " on " + ", ".join(p.kind.value for p in result.scene.supports)
     how = "learned" if result.learned else "recognised as"
     confidence = result.answer.details.get("confidence", ["?"])[0]
     frames = result.scene.frames
@@ -50,7 +52,8 @@ def perceive_command(
     pose: Annotated[
         Path | None,
         typer.Option(
-            help="Text file with the 4x4 world-from-sensor matrix (world z up); default identity."
+            help="Text file with the 4x4 world-from-sensor matrix (world z up); by default up "
+            "is the normal of the scene's dominant support."
         ),
     ] = None,
     episode: Annotated[str | None, typer.Option(help="Episode IRI the scenes belong to.")] = None,
@@ -80,14 +83,14 @@ def perceive_command(
         frames = open_source(source, topic=topic, world_from_sensor=world_from_sensor)
     except (ShapesError, OSError, ValueError) as error:
         console.print(f"[red]{escape(str(error))}[/red]")
-        raise typer.Exit(2) from None
+        raise typer.Exit(PerceiveExit.BAD_INPUT) from None
     if local:
         settings = Settings(data_dir=data) if data else Settings()
         try:
             store = Store(settings.store_dir)
         except EngramError as error:
             console.print(f"[red]{escape(str(error))}[/red]")
-            raise typer.Exit(1) from None
+            raise typer.Exit(PerceiveExit.MEMORY_ERROR) from None
         ensure_ontology(store)
         http = httpx.Client(base_url="http://local", transport=LocalTransport(ArmorEngine(store)))
         client = ArmorClient(client_id, "engram", http=http)
@@ -103,7 +106,9 @@ def perceive_command(
                     yield frame
                     progress.advance(task)
 
-            params = PerceptionParams(stable_frames=scene_frames, min_hits=min_hits)
+            params = PerceptionParams(
+                stable_frames=scene_frames, min_hits=min_hits, gravity_from_scene=pose is None
+            )
             perception = Perception(params, seed=seed)
             for result in perceive(
                 counted(), client, perception=perception, episode=episode, finish=not wait_stable
@@ -112,11 +117,14 @@ def perceive_command(
                 progress.console.print(_describe(result))
     except ShapesError as error:  # the source is bad: an input error
         console.print(f"[red]{escape(str(error))}[/red]")
-        raise typer.Exit(2) from None
+        raise typer.Exit(PerceiveExit.BAD_INPUT) from None
     except ArmorPyException as error:  # the memory refused or could not be reached
         console.print(f"[red]{escape(str(error))}[/red]")
-        raise typer.Exit(1) from None
-    console.print(f"{stored} scene(s) stored from {escape(str(source))}")
+        raise typer.Exit(PerceiveExit.MEMORY_ERROR) from None
+    up = f"the pose in {pose}" if pose else perception.gravity
+    console.print(f"{stored} scene(s) stored from {escape(str(source))}; up: {escape(up)}")
     if not stored:
         for line in perception.why_no_scene() or ["no frame in the source"]:
             console.print(f"no scene: {escape(line)}")
+    if exit_status(stored) is not PerceiveExit.STORED:
+        raise typer.Exit(exit_status(stored))

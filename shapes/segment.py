@@ -387,9 +387,15 @@ def segment(frame: Frame, params: SegmentationParams | None = None, seed: int = 
     owner = np.full(len(voxels), -1)
     margins, supports = [], []
     for k, p in enumerate(horizontal):
-        support = SupportPlane(vec3(p.normal), p.offset)
-        supports.append(support)
         table = voxels[alive_idx[p.inliers]]
+        span = np.ptp(table[:, :2], axis=0)
+        support = SupportPlane(
+            vec3(p.normal),
+            p.offset,
+            vec3(table.mean(axis=0) - (table.mean(axis=0) @ p.normal + p.offset) * p.normal),
+            (float(span[0]), float(span[1])),
+        )
+        supports.append(support)
         sigma_vox = _robust_sigma(support.signed_distance(table))
         margin = max(params.above_margin_m, 3 * sigma_vox)
         margins.append(margin)

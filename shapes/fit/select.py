@@ -60,6 +60,7 @@ from shapes.types import FloatArray, Primitive, ShapeKind, SupportPlane, vec3
 __all__ = [
     "ClusterFit",
     "FitParams",
+    "bounded",
     "estimate_normals",
     "fit_cluster",
     "normals_at",
@@ -317,7 +318,7 @@ def _choose(
     choice = {k: c for k, c in costs.items() if k is not ShapeKind.PLANE}
     if support is not None:
         for kind in (ShapeKind.CYLINDER, ShapeKind.CONE):
-            if kind in fitted and not _can_rest(kind, fitted[kind], support, fp):
+            if kind in choice and not _can_rest(kind, fitted[kind], support, fp):
                 choice[kind] += fp.oblique_penalty
     candidates = {ShapeKind.PLANE: costs[ShapeKind.PLANE]} if ShapeKind.PLANE in costs else {}
     if choice:
@@ -326,6 +327,31 @@ def _choose(
         candidates[curved] = costs[curved]
     best = min(candidates.values())
     return next(k for k in ORDER if k in candidates and candidates[k] <= best + fp.tie_margin)
+
+
+def bounded(primitive: Primitive, points: FloatArray, *, margin_m: float) -> bool:
+    """Whether a primitive stays within its own points: its radius and height no longer than
+    the diagonal of their bounding box (plus ``margin_m``), its centre inside that box grown by
+    ``margin_m`` and, for a curved primitive, by its radius (the centre of a sphere or a can
+    lies behind the surface the sensor sees).
+
+    >>> pts = np.array([[0.0, 0, 0], [0.1, 0, 0], [0, 0.1, 0], [0, 0, 0.1]])
+    >>> ball = Primitive(ShapeKind.SPHERE, centre=(0.05, 0.05, 0.05), radius=0.05)
+    >>> bounded(ball, pts, margin_m=0.01), bounded(replace(ball, radius=2.0), pts, margin_m=0.01)
+    (True, False)
+    """
+    lo, hi = points.min(axis=0), points.max(axis=0)
+    diagonal = float(np.linalg.norm(hi - lo)) + margin_m
+    radius, height = primitive.radius or 0.0, primitive.height or 0.0
+    if not (math.isfinite(radius) and math.isfinite(height)):
+        return False
+    if radius > diagonal or height > diagonal:
+        return False
+    grow = margin_m + radius
+    centre = np.asarray(primitive.centre)
+    return bool(
+        np.all(np.isfinite(centre)) and np.all((centre >= lo - grow) & (centre <= hi + grow))
+    )
 
 
 def fit_cluster(
@@ -337,7 +363,9 @@ def fit_cluster(
 ) -> ClusterFit | None:
     """Fit sphere, cylinder, cone and plane(s) to one cluster and choose one (rule above).
 
-    Returns None if the cluster has too few points (fewer than 10) for any model.
+    Every candidate is held to :func:`bounded` (a fit outside its own points is never
+    output): when the chosen one is not, the next by the rule is taken. Returns None if the
+    cluster has too few points (fewer than 10) for any model, or if no bounded fit remains.
     Deterministic for a given ``rng`` state.
     """
     fp = params or FitParams()
@@ -509,17 +537,23 @@ def fit_cluster(
         if costs[kind] <= best + fp.refine_margin:
             model, thr = models[kind]
             score(kind, refine_if_better(model, fitted[kind], sample, thr))
-    kind = _choose(costs, fitted, support, fp)
+    while True:
+        kind = _choose(costs, fitted, support, fp)
+        if kind is ShapeKind.SPHERE:
+            c = fitted[kind]
+            prim = Primitive(ShapeKind.SPHERE, centre=vec3(c[:3]), radius=float(c[3]))
+        elif kind is ShapeKind.CYLINDER:
+            prim = _build_cylinder(fitted[kind], points, support, fp)
+        elif kind is ShapeKind.CONE:
+            prim = _build_cone(fitted[kind], points, support, fp)
+        else:
+            plane, inl = max(planes, key=lambda p: len(p[1]))
+            prim = _build_plane(plane, sample, inl)
+        if bounded(prim, points, margin_m=t_sel + fp.snap_distance_m):
+            break
+        del costs[kind]  # a fit that leaves its own points is never output
+        if not costs:
+            return None
     ratio = float((surface[kind] < t_sel).mean())
-    if kind is ShapeKind.SPHERE:
-        c = fitted[kind]
-        prim = Primitive(ShapeKind.SPHERE, centre=vec3(c[:3]), radius=float(c[3]))
-    elif kind is ShapeKind.CYLINDER:
-        prim = _build_cylinder(fitted[kind], points, support, fp)
-    elif kind is ShapeKind.CONE:
-        prim = _build_cone(fitted[kind], points, support, fp)
-    else:
-        plane, inl = max(planes, key=lambda p: len(p[1]))
-        prim = _build_plane(plane, sample, inl)
     prim = Primitive(**{**prim.__dict__, "inlier_ratio": ratio})
     return ClusterFit(prim, costs, counts)
