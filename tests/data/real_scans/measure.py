@@ -74,7 +74,8 @@ def measure(name: str) -> dict[str, object]:
         item: dict[str, object] = {"points": len(pts), "height_m": round(top, 4)}
         if round_:
             a, b = pts @ e1, pts @ e2
-            sol = np.linalg.lstsq(np.column_stack((a, b, np.ones_like(a))), a**2 + b**2, rcond=None)[0]
+            design = np.column_stack((a, b, np.ones_like(a)))
+            sol = np.linalg.lstsq(design, a**2 + b**2, rcond=None)[0]
             ca, cb = sol[0] / 2, sol[1] / 2
             radius = float(np.sqrt(sol[2] + ca**2 + cb**2))
             foot = ca * e1 + cb * e2 - offset * normal  # the axis meets the support here

@@ -1,0 +1,86 @@
+"""Perception on real organised scans (PCL's test data, tests/data/real_scans/README.md).
+
+The expected values were measured by hand, independently of ``shapes``
+(tests/data/real_scans/measure.py); all comparisons are in the sensor's optical frame.
+"""
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from shapes import FrameResult, Perception, PerceptionParams, ShapeKind, open_source
+
+SCANS = Path(__file__).parents[1] / "data" / "real_scans"
+
+# Ground truth (README there): support normal towards the camera, its distance from the camera.
+SUPPORTS = {
+    "mug_stereo": ((0.0169, -0.8345, -0.5507), 0.5316),
+    "bottles_kinect": ((0.0077, -0.8275, -0.5614), 0.4589),
+    "laptop_box_kinect_0": ((0.077, -0.6879, -0.7217), 0.7164),
+}
+MUG_CENTRE = np.array([0.0542, 0.0691, 0.7676])
+MUG_RADIUS = 0.0392
+
+
+def _run(name: str, pose: np.ndarray | None = None) -> FrameResult:
+    frame = next(open_source(SCANS / f"{name}.npz", world_from_sensor=pose))
+    params = PerceptionParams(gravity_from_scene=pose is None)
+    return Perception(params, seed=0).process(frame)
+
+
+def _in_sensor(result: FrameResult, point: tuple[float, float, float]) -> np.ndarray:
+    pose = np.linalg.inv(result.world_from_sensor)
+    return np.asarray(pose[:3, :3] @ np.asarray(point) + pose[:3, 3])
+
+
+@pytest.fixture(scope="module")
+def mug() -> FrameResult:
+    return _run("mug_stereo")
+
+
+@pytest.mark.parametrize("name", sorted(SUPPORTS))
+def test_without_a_pose_up_is_the_normal_of_the_support(name: str) -> None:
+    result = _run(name)
+    assert result.gravity.startswith("gravity from the scene"), result.gravity
+    assert result.support is not None, result.reason
+    normal, distance = SUPPORTS[name]
+    up = result.world_from_sensor[:3, :3].T @ np.asarray(result.support.normal)
+    angle = np.degrees(np.arccos(np.clip(up @ np.asarray(normal), -1.0, 1.0)))
+    assert angle < 5.0
+    camera = result.world_from_sensor[:3, 3]
+    height = float(camera @ np.asarray(result.support.normal) + result.support.offset)
+    assert abs(height - distance) < 0.02
+
+
+def test_one_mug_on_a_table_is_a_cylinder_standing_on_a_plane(mug: FrameResult) -> None:
+    assert [p.kind for p in mug.primitives] == [ShapeKind.CYLINDER]
+    assert [p.kind for p in mug.supports] == [ShapeKind.PLANE]
+    cylinder, table = mug.primitives[0], mug.supports[0]
+    assert cylinder.radius is not None
+    assert abs(cylinder.radius - MUG_RADIUS) < 0.25 * MUG_RADIUS
+    assert np.linalg.norm(_in_sensor(mug, cylinder.centre) - MUG_CENTRE) < 0.03
+    assert table.axis is not None and table.axis[2] > 0.999  # the table's normal is up
+    assert cylinder.axis is not None and abs(cylinder.axis[2]) > 0.99  # the mug stands
+
+
+@pytest.mark.parametrize("name", ["laptop_box_kinect_1", "laptop_box_kinect_2", "bottles_kinect"])
+def test_no_primitive_leaves_its_own_points(name: str) -> None:
+    result = _run(name)
+    assert result.primitives
+    for primitive, centroid in zip(result.primitives, result.centroids, strict=True):
+        reach = (primitive.radius or 0.0) + 0.3  # no object here is 60 cm across
+        assert np.linalg.norm(np.asarray(primitive.centre) - centroid) < reach, primitive
+        assert (primitive.radius or 0.0) < 0.3 and (primitive.height or 0.0) < 0.6, primitive
+
+
+def test_a_pose_changed_by_a_millionth_gives_the_same_primitives(mug: FrameResult) -> None:
+    pose = mug.world_from_sensor.copy()
+    nudged = pose.copy()
+    nudged[:3, 3] += 1e-6
+    results = [_run("mug_stereo", pose=p) for p in (pose, nudged)]
+    kinds = [[p.kind for p in r.primitives + r.supports] for r in results]
+    assert kinds[0] == kinds[1] == [ShapeKind.CYLINDER, ShapeKind.PLANE]
+    np.testing.assert_allclose(
+        results[0].primitives[0].centre, results[1].primitives[0].centre, atol=1e-4
+    )
