@@ -105,6 +105,28 @@ def test_a_scan_of_an_empty_table_says_why_no_scene(tmp_path: Path) -> None:
     assert "no scene: no clusters above the support" in output
 
 
+def test_an_empty_table_over_http_exits_with_nothing_stored(
+    tmp_path: Path, live_server: LiveServer
+) -> None:
+    scan = _scan(tmp_path / "empty.ply", ())
+    result = runner.invoke(app, ["perceive", str(scan), "--server", live_server.url])
+    assert result.exit_code == PerceiveExit.NOTHING_STORED, result.output
+    assert "no scene: no clusters above the support" in " ".join(result.output.split())
+
+
+REAL_SCANS = Path(__file__).parents[1] / "data" / "real_scans"
+
+
+def test_a_real_tilted_scan_with_no_pose_stores_a_mug_on_a_table(tmp_path: Path) -> None:
+    scan = REAL_SCANS / "mug_stereo.npz"
+    result = runner.invoke(app, ["perceive", str(scan), "--local", "--data", str(tmp_path)])
+    assert result.exit_code == PerceiveExit.STORED, result.output
+    output = " ".join(result.output.split())
+    assert "(Cylinder on Plane; 1 frame(s) averaged, end of the source): learned" in output
+    assert "1 scene(s) stored" in output
+    assert "up: gravity from the scene" in output
+
+
 def test_a_malformed_cloud_file_is_refused_with_its_bracketed_values(tmp_path: Path) -> None:
     bad = tmp_path / "flat.ply"
     bad.write_text(

@@ -84,3 +84,55 @@ def test_a_pose_changed_by_a_millionth_gives_the_same_primitives(mug: FrameResul
     np.testing.assert_allclose(
         results[0].primitives[0].centre, results[1].primitives[0].centre, atol=1e-4
     )
+
+
+# Hand-measured centroids of the visible points of objects that are none of the four shapes.
+OBJECTS = {
+    "bottles_kinect": {
+        "detergent": (-0.2211, -0.0178, 0.6478),
+        "milk carton": (-0.0564, -0.1381, 0.7728),
+        "bleach bottle": (0.1722, -0.0874, 0.6974),
+    },
+    "laptop_box_kinect_0": {"laptop": (-0.0998, -0.0206, 0.8214), "box": (0.19, 0.0106, 0.8968)},
+}
+
+
+@pytest.mark.parametrize("name", sorted(OBJECTS))
+def test_each_object_is_one_primitive_on_one_support(name: str) -> None:
+    result = _run(name)
+    assert len(result.supports) == 1  # a box's top or a rug is no second table
+    seen = [_in_sensor(result, tuple(c)) for c in result.centroids]
+    for label, truth in OBJECTS[name].items():
+        near = [k for k, c in enumerate(seen) if np.linalg.norm(c - truth) < 0.08]
+        assert len(near) == 1, (label, [result.primitives[k] for k in near])
+        assert np.linalg.norm(seen[near[0]] - truth) < 0.03, label
+
+
+def test_the_open_laptop_on_the_floor_is_a_plane_and_its_lid_no_wall() -> None:
+    result = _run("laptop_box_kinect_0")
+    laptop = OBJECTS["laptop_box_kinect_0"]["laptop"]
+    planes = [
+        p
+        for p in result.primitives
+        if p.kind is ShapeKind.PLANE
+        and np.linalg.norm(_in_sensor(result, p.centre) - laptop) < 0.03
+    ]
+    assert len(planes) == 1
+    assert planes[0].axis is not None and abs(planes[0].axis[2]) < 0.9  # the lid leans back
+
+
+def test_a_static_scene_keeps_the_ids_of_its_objects_over_consecutive_frames() -> None:
+    perception = Perception(PerceptionParams(gravity_from_scene=True), seed=0)
+    ids = []
+    for k in range(3):
+        frame = next(open_source(SCANS / f"laptop_box_kinect_{k}.npz"))
+        result = perception.process(frame)
+        near = {}
+        for label, truth in OBJECTS["laptop_box_kinect_0"].items():
+            centres = [_in_sensor(result, tuple(c)) for c in result.centroids]
+            k_near = int(np.argmin([np.linalg.norm(c - truth) for c in centres]))
+            near[label] = result.primitives[k_near].tracking_id
+        near["floor"] = result.supports[0].tracking_id
+        ids.append(near)
+    assert ids[0] == ids[1] == ids[2]
+    assert len(set(ids[0].values())) == 3

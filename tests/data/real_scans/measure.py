@@ -60,8 +60,12 @@ def measure(name: str) -> dict[str, object]:
     offset = float(-normal @ centre)
     rms = float(np.sqrt(np.mean((floor @ normal + offset) ** 2)))
     out: dict[str, object] = {
-        "support": {"normal": normal.round(4).tolist(), "distance_m": round(offset, 4),
-                    "rms_m": round(rms, 4), "points": len(floor)}
+        "support": {
+            "normal": normal.round(4).tolist(),
+            "distance_m": round(offset, 4),
+            "rms_m": round(rms, 4),
+            "points": len(floor),
+        }
     }
     e1 = np.cross(normal, [1.0, 0.0, 0.0])
     e1 /= np.linalg.norm(e1)
