@@ -7,7 +7,7 @@ and 40 cm above that plane, and a round object's axis and radius come from an al
 least-squares circle (Kasa) through its points in the plane's coordinates. Everything is in
 the sensor's optical frame (x right, y down, z forward), in metres.
 
-    python tests/data/real_scans/measure.py
+    python tests/data/real_scans/measure.py > tests/data/real_scans/truth.json
 """
 
 import json
