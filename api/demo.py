@@ -80,6 +80,9 @@ SCRIPT: tuple[tuple[float, str], ...] = (
     (5.0, "breakfast"),
     (6.0, "breakfast"),
     (7.0, "breakfast"),
+    (8.0, "breakfast"),
+    (9.0, "breakfast"),
+    (10.0, "breakfast"),
 )
 """(hours after the start of day one, scene): what the robot sees, in order. Breakfast is a
 routine; a ball alone on the table is seen once and never asked about, so it fades."""

@@ -26,7 +26,7 @@ from shapes.frame import Frame
 from shapes.gravity import gravity_from_scene
 from shapes.segment import Cluster, SegmentationParams, segment
 from shapes.track import Tracker
-from shapes.types import FloatArray, Primitive, ShapeKind, SupportPlane, vec3
+from shapes.types import FloatArray, Primitive, ShapeKind, SupportPlane
 
 __all__ = ["FrameResult", "Perception", "PerceptionParams"]
 
@@ -81,26 +81,22 @@ def _signature(primitive: Primitive) -> tuple[str, float]:
 def _supports_under(fitted: list[tuple[Cluster, Primitive]]) -> list[tuple[Cluster, Primitive]]:
     """The supports the fitted objects stand on, each as a Plane primitive of the scene.
 
-    The plane's ``centre`` is the mean of its objects' centres dropped onto it, so the
-    relations between the support and what stands on it depend on the objects' places, not on
-    how much of the table the camera sees; its cluster (what the tracker and the averager
-    follow) is the support's own centre, which holds still while objects come and go.
+    The plane's ``centre`` is the mean of the support's own points (on the plane): an object
+    added to the scene or taken away leaves the relations of the others to the support as
+    they were, so a scene with one more object is a specialisation of the scene without it.
     """
     out: list[tuple[Cluster, Primitive]] = []
     for support in dict.fromkeys(c.support for c, _ in fitted if c.support is not None):
         if support.centre is None:
             continue
-        normal = np.asarray(support.normal)
-        under = np.mean([p.centre for c, p in fitted if c.support == support], axis=0)
-        centre = under - support.signed_distance(under[None, :])[0] * normal
-        anchor = np.asarray([support.centre])
+        centre = np.asarray(support.centre)
         primitive = Primitive(
             ShapeKind.PLANE,
-            vec3(centre),
+            support.centre,
             axis=support.normal,
-            hessian_offset=-float(normal @ centre),
+            hessian_offset=-float(np.asarray(support.normal) @ centre),
         )
-        out.append((Cluster(anchor, None, anchor, support), primitive))
+        out.append((Cluster(centre[None, :], None, centre[None, :], support), primitive))
     return out
 
 

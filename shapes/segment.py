@@ -19,7 +19,11 @@ Steps (PITT's, with its quirks fixed; see ``shared/reference/pitt-perception.md`
    voxels all lie above a horizontal one, less than ``max_height_m`` over it, in pieces none of
    which spans ``min_plane_extent_m``, is the fronts of objects standing in a row or the tops
    of objects of one height (seen on clean scans), not a wall or a shelf: its voxels stay free
-   (``_faces_on``);
+   (``_faces_on``). Likewise a plane standing on a larger horizontal one, inside it and lower
+   than ``min_support_rise_m`` (horizontal) or ``max_height_m`` (tilted) over it, is part of
+   an object (a box's top, a laptop's open lid) and its voxels stay free, except a horizontal
+   one less than ``floor_step_m`` over it (a rug, a seam of the floor), which joins the support
+   (``_standing_on``);
 4. **the support rule**: a support is a *horizontal* plane (normal within
    ``max_support_tilt_deg`` of world z, i.e. of gravity) *with objects on it*. Every voxel that
    belongs to no plane and lies between ``above_margin`` and ``max_height_m`` above a horizontal
@@ -34,7 +38,8 @@ Steps (PITT's, with its quirks fixed; see ``shared/reference/pitt-perception.md`
    the image, or from the support's residuals on an unorganised cloud; a cloud that is not in
    a camera frame, with points at z <= 0.1 m, gets one sigma for every range);
 6. statistical outlier removal and DBSCAN (open3d) on those voxels; each cluster is cut along
-   its concave seams, which separates objects that touch (:mod:`shapes.split`); clusters with
+   its concave seams, which separates objects that touch (:mod:`shapes.split`) when every part
+   reaches down to the support (a handle or a shoulder hangs above it); clusters with
    fewer than ``min_cluster_voxels`` voxels are dropped;
 7. each cluster gets its full-resolution points (and colours) back through the voxel index.
 
