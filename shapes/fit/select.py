@@ -364,8 +364,10 @@ def fit_cluster(
     """Fit sphere, cylinder, cone and plane(s) to one cluster and choose one (rule above).
 
     Every candidate is held to :func:`bounded` (a fit outside its own points is never
-    output): when the chosen one is not, the next by the rule is taken. Returns None if the
-    cluster has too few points (fewer than 10) for any model, or if no bounded fit remains.
+    output): an unbounded sphere, cylinder or cone is not kept, so each model competes with
+    its best bounded candidate, and unbounded planes give way to the next model by the rule.
+    Returns None if the cluster has too few points (fewer than 10) for any model, or if no
+    bounded fit remains.
     Deterministic for a given ``rng`` state.
     """
     fp = params or FitParams()
@@ -406,7 +408,19 @@ def fit_cluster(
     fitted: dict[ShapeKind, FloatArray] = {}
     surface: dict[ShapeKind, FloatArray] = {}
 
+    margin = t_sel + fp.snap_distance_m
+
+    def curved(kind: ShapeKind, params: FloatArray) -> Primitive:
+        if kind is ShapeKind.SPHERE:
+            return Primitive(ShapeKind.SPHERE, centre=vec3(params[:3]), radius=float(params[3]))
+        if kind is ShapeKind.CYLINDER:
+            return _build_cylinder(params, points, support, fp)
+        return _build_cone(params, points, support, fp)
+
     def score(kind: ShapeKind, params: FloatArray) -> None:
+        """Keep a candidate (in place of the model's last one) if it is bounded."""
+        if not bounded(curved(kind, params), points, margin_m=margin):
+            return  # a fit that leaves its own points is never a candidate
         model = models[kind][0]
         d = model.distances(params[None, :], sample)[0]
         fitted[kind], surface[kind], costs[kind] = params, d, _cost(d, t_sel)
@@ -539,17 +553,12 @@ def fit_cluster(
             score(kind, refine_if_better(model, fitted[kind], sample, thr))
     while True:
         kind = _choose(costs, fitted, support, fp)
-        if kind is ShapeKind.SPHERE:
-            c = fitted[kind]
-            prim = Primitive(ShapeKind.SPHERE, centre=vec3(c[:3]), radius=float(c[3]))
-        elif kind is ShapeKind.CYLINDER:
-            prim = _build_cylinder(fitted[kind], points, support, fp)
-        elif kind is ShapeKind.CONE:
-            prim = _build_cone(fitted[kind], points, support, fp)
-        else:
+        if kind is ShapeKind.PLANE:
             plane, inl = max(planes, key=lambda p: len(p[1]))
             prim = _build_plane(plane, sample, inl)
-        if bounded(prim, points, margin_m=t_sel + fp.snap_distance_m):
+        else:
+            prim = curved(kind, fitted[kind])
+        if bounded(prim, points, margin_m=margin):
             break
         del costs[kind]  # a fit that leaves its own points is never output
         if not costs:
