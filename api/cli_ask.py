@@ -1,62 +1,51 @@
 """``engram ask``: ask the memory a question in words or in speech.
 
-With ``--server`` it asks a running Engram over HTTP (``POST /ask``, ``POST /ask/audio``);
-otherwise it opens the data directory itself (the server must not be running on it).
+It opens the data directory, or asks the server that holds it (or ``--server``) over HTTP
+(``POST /ask``, ``POST /ask/audio``).
 """
 
 import json
 from pathlib import Path
-from typing import Annotated, Any
+from typing import TYPE_CHECKING, Annotated, Any
 
-import httpx
 import typer
 from rich.console import Console
 
-from api.ask import Asker
-from api.ask.speech import Recogniser, speak, synthesise
-from api.config import Settings
-from episodes import EpisodeMemory
-from kg import EngramError, Store
-from reasoners.memory import SceneMemory
+from api.cli_common import DataOption, ServerOption, TokenOption, call, fail, reach, settings_for
+
+if TYPE_CHECKING:
+    import httpx
+
+    from api.services import Services
 
 __all__ = ["ask_command"]
 
 console = Console()
 
 
-def _local(text: str | None, audio: Path | None, data: Path | None) -> dict[str, Any]:
-    try:
-        settings = Settings(data_dir=data) if data is not None else Settings()
-        store = Store(settings.store_dir)
-    except (EngramError, ValueError) as error:
-        console.print(f"[red]{error}[/red]")
-        raise typer.Exit(1) from None
-    asker = Asker(SceneMemory(store), EpisodeMemory(store, data_dir=settings.data_dir))
+def _local(services: "Services", text: str | None, audio: Path | None) -> dict[str, Any]:
+    from api.ask import Asker
+
+    asker = Asker(services.scene_memory, services.episodes)
     if audio is None:
         return asker.ask(text or "").to_json()
+    from api.ask.speech import Recogniser
+
     heard, answer = asker.ask_audio(audio.read_bytes(), Recogniser())
     return {"heard": heard.text, "audio_s": heard.audio_s, **answer.to_json()}
 
 
-def _remote(text: str | None, audio: Path | None, server: str, token: str | None) -> dict[str, Any]:
-    headers = {"Authorization": f"Bearer {token}"} if token else {}
-    try:
-        if audio is None:
-            response = httpx.post(f"{server}/ask", json={"text": text}, headers=headers, timeout=60)
-        else:
-            response = httpx.post(
-                f"{server}/ask/audio",
-                content=audio.read_bytes(),
-                headers={**headers, "Content-Type": "audio/wav"},
-                timeout=120,
-            )
-    except httpx.HTTPError as error:
-        console.print(f"[red]cannot reach {server}: {error}[/red]")
-        raise typer.Exit(1) from None
-    if response.status_code != 200:
-        console.print(f"[red]{response.status_code}: {response.text}[/red]")
-        raise typer.Exit(1)
-    body: dict[str, Any] = response.json()
+def _remote(client: "httpx.Client", text: str | None, audio: Path | None) -> dict[str, Any]:
+    if audio is None:
+        body: dict[str, Any] = call(client, "POST", "/ask", json={"text": text})
+    else:
+        body = call(
+            client,
+            "POST",
+            "/ask/audio",
+            content=audio.read_bytes(),
+            headers={"Content-Type": "audio/wav"},
+        )
     body.pop("speech", None)
     return body
 
@@ -75,29 +64,25 @@ def ask_command(
         bool, typer.Option("--json", help="Print the whole answer as JSON.")
     ] = False,
     sparql: Annotated[bool, typer.Option(help="Print the SPARQL the answer ran.")] = False,
-    server: Annotated[
-        str | None, typer.Option(help="Ask this Engram server instead of the data directory.")
-    ] = None,
-    token: Annotated[
-        str | None, typer.Option(envvar="ENGRAM_TOKEN", help="Bearer token for the server.")
-    ] = None,
-    data: Annotated[
-        Path | None, typer.Option("--data", help="Data directory (default: $ENGRAM_DATA_DIR).")
-    ] = None,
+    server: ServerOption = None,
+    token: TokenOption = None,
+    data: DataOption = None,
 ) -> None:
     """Ask the memory: "when did Anna last show you motor babbling?", "have you seen a cone
     behind a sphere?", "why did you forget Scene-4?". ``--audio FILE.wav`` asks in speech."""
+    from api.services import Services
+    from kg import EngramError
+
     if (text is None) == (audio is None):
-        console.print("[red]give a question, or --audio FILE.wav, but not both[/red]")
-        raise typer.Exit(2)
-    try:
-        if server is not None:
-            body = _remote(text, audio, server.rstrip("/"), token)
-        else:
-            body = _local(text, audio, data)
-    except EngramError as error:
-        console.print(f"[red]{error}[/red]")
-        raise typer.Exit(1) from None
+        fail("give a question, or --audio FILE.wav, but not both", 2)
+    with reach(settings_for(data), server, token) as memory:
+        try:
+            if isinstance(memory, Services):
+                body = _local(memory, text, audio)
+            else:
+                body = _remote(memory, text, audio)
+        except EngramError as error:
+            fail(str(error), 1)
     if as_json:
         print(json.dumps(body, indent=2))
     else:
@@ -110,7 +95,10 @@ def ask_command(
         if sparql:
             for query in body.get("sparql", []):
                 print(query)
-    if wav_out is not None:
-        wav_out.write_bytes(synthesise(body["words"]))
-    if say:
-        speak(body["words"])
+    if wav_out is not None or say:
+        from api.ask.speech import speak, synthesise
+
+        if wav_out is not None:
+            wav_out.write_bytes(synthesise(body["words"]))
+        if say:
+            speak(body["words"])

@@ -1,30 +1,24 @@
 """``engram episodes ...``: the autobiographical memory from the command line.
 
-Each command opens the on-disk store (stop ``engram serve`` first, or use the HTTP API), does
-one thing and prints JSON. Bad input exits with status 2 and a message naming the field, the
-value and what was expected; something not found exits with status 1.
+Each command does one thing and prints JSON: on the data directory opened here, or through the
+server that holds it (or ``--server``), with the same request the HTTP API takes. Bad input
+exits with status 2 and a message naming the field, the value and what was expected; something
+not found exits with status 1.
 """
 
+import io
 import json
-from collections.abc import Iterator
-from contextlib import contextmanager
+import tarfile
+from collections.abc import Callable
 from pathlib import Path
-from typing import Annotated, Any
+from typing import TYPE_CHECKING, Annotated, Any
 
 import typer
 
-from api.config import Settings
-from episodes import (
-    ArgumentSpec,
-    Cue,
-    EpisodeError,
-    EpisodeMemory,
-    InvalidInputError,
-    NotFoundError,
-    to_jsonable,
-)
-from episodes.times import parse_time
-from kg import EngramError, Store, ensure_ontology
+from api.cli_common import DataOption, ServerOption, TokenOption, call, fail, reach, settings_for
+
+if TYPE_CHECKING:
+    from episodes import ArgumentSpec, EpisodeMemory
 
 __all__ = ["app"]
 
@@ -34,9 +28,6 @@ app = typer.Typer(
     pretty_exceptions_enable=False,
 )
 
-DataOption = Annotated[
-    Path | None, typer.Option("--data", help="Data directory (default: $ENGRAM_DATA_DIR).")
-]
 AgentOption = Annotated[str | None, typer.Option(help="Who is in the role 'agent' (name or IRI).")]
 ObjectOption = Annotated[
     str | None, typer.Option("--object", help="What is in the role 'object' (name or IRI).")
@@ -51,54 +42,74 @@ NowOption = Annotated[
     str | None, typer.Option(help="Reference time for 'one month ago' (ISO 8601, with zone).")
 ]
 
-
-def _fail(message: str, code: int) -> typer.Exit:
-    typer.echo(f"error: {message}", err=True)
-    return typer.Exit(code)
+Local = Callable[["EpisodeMemory"], Any]
 
 
-@contextmanager
-def _memory(data: Path | None) -> Iterator[EpisodeMemory]:
-    try:
-        overrides: dict[str, Any] = {"data_dir": data} if data is not None else {}
-        settings = Settings(**overrides)
-    except ValueError as error:
-        raise _fail(f"invalid setting: {error}", 2) from None
-    try:
-        store = Store(settings.store_dir)
-    except EngramError as error:
-        raise _fail(str(error), 1) from None
-    ensure_ontology(store)
-    memory = EpisodeMemory(store, data_dir=settings.data_dir)
-    try:
-        yield memory
-    except InvalidInputError as error:
-        raise _fail(str(error), 2) from None
-    except NotFoundError as error:
-        raise _fail(str(error), 1) from None
-    except EpisodeError as error:
-        raise _fail(str(error), 1) from None
-    finally:
-        memory.close()
-        store.flush()
+def _run(
+    data: Path | None,
+    server: str | None,
+    token: str | None,
+    local: Local,
+    method: str,
+    path: str,
+    **request: Any,
+) -> Any:
+    """``local`` on the episodes of the data directory, or ``method path`` with ``request``
+    on the server that holds it; the answer as JSON values."""
+    from api.services import Services
+    from episodes import EpisodeError, InvalidInputError, NotFoundError, to_jsonable
+
+    with reach(settings_for(data), server, token) as memory:
+        if not isinstance(memory, Services):
+            return call(memory, method, path, **request)
+        try:
+            return to_jsonable(local(memory.episodes))
+        except InvalidInputError as error:
+            fail(str(error), 2)
+        except (NotFoundError, EpisodeError) as error:
+            fail(str(error), 1)
 
 
 def _print(value: Any) -> None:
-    typer.echo(json.dumps(to_jsonable(value), indent=2, ensure_ascii=False))
+    typer.echo(json.dumps(value, indent=2, ensure_ascii=False))
 
 
-def _arguments(values: list[str] | None) -> list[ArgumentSpec]:
+def _arguments(values: list[str] | None) -> list["ArgumentSpec"]:
+    from episodes import ArgumentSpec
+
     specs = []
     for i, text in enumerate(values or []):
         role, sep, value = text.partition("=")
         if not sep:
-            raise _fail(f"argument[{i}]: got {text!r}, expected ROLE=VALUE", 2)
+            fail(f"argument[{i}]: got {text!r}, expected ROLE=VALUE", 2)
         specs.append(ArgumentSpec(role.strip(), value.strip()))
     return specs
 
 
+def _cue(
+    activity: str,
+    agent: str | None,
+    obj: str | None,
+    role: str | None,
+    participant: str | None,
+) -> tuple[Any, dict[str, str]]:
+    """The cue, and the same as query parameters."""
+    from episodes import Cue
+
+    cue = Cue(activity, agent=agent, obj=obj, role=role, participant=participant)
+    given = {"activity": activity, "agent": agent, "object": obj}
+    given |= {"role": role, "participant": participant}
+    return cue, {key: value for key, value in given.items() if value is not None}
+
+
 def _now(now: str | None) -> Any:
+    from episodes.times import parse_time
+
     return parse_time(now, "now") if now is not None else None
+
+
+def _given(**values: Any) -> dict[str, Any]:
+    return {key: value for key, value in values.items() if value is not None}
 
 
 @app.command()
@@ -111,11 +122,36 @@ def begin(
     at: Annotated[str | None, typer.Option(help="Begin time (ISO 8601); default now.")] = None,
     id: Annotated[str | None, typer.Option(help="Episode id; default a new one.")] = None,
     data: DataOption = None,
+    server: ServerOption = None,
+    token: TokenOption = None,
 ) -> None:
     """Begin an episode."""
     specs = _arguments(argument)
-    with _memory(data) as memory:
-        _print(memory.begin(activity, activity_type=type, arguments=specs, begin=at, episode_id=id))
+    body = _given(activity=activity, type=type, begin=at, id=id)
+    body["arguments"] = [{"role": s.role, "value": s.value} for s in specs]
+    _print(
+        _run(
+            data,
+            server,
+            token,
+            lambda m: m.begin(
+                activity, activity_type=type, arguments=specs, begin=at, episode_id=id
+            ),
+            "POST",
+            "/episodes",
+            json=body,
+        )
+    )
+
+
+def _bag_body(bag: Path) -> bytes:
+    """A ROS 1 bag file as it is, a ROS 2 bag directory as a tar (what the upload takes)."""
+    if not bag.is_dir():
+        return bag.read_bytes()
+    buffer = io.BytesIO()
+    with tarfile.open(fileobj=buffer, mode="w") as tar:
+        tar.add(bag, arcname=bag.name)
+    return buffer.getvalue()
 
 
 @app.command("import")
@@ -128,26 +164,48 @@ def import_command(
     ] = None,
     id: Annotated[str | None, typer.Option(help="Episode id; default a new one.")] = None,
     data: DataOption = None,
+    server: ServerOption = None,
+    token: TokenOption = None,
 ) -> None:
     """Import a ROS bag as a finished episode (channels mapped, times kept); prints the
     episode and the topics skipped (type and count), and warns about them on stderr."""
     from episodes.streams import StreamError
 
+    if not bag.exists():
+        fail(f"bag: {str(bag)!r} does not exist", 2)
     specs = _arguments(argument)
-    with _memory(data) as memory:
+
+    def local(memory: "EpisodeMemory") -> Any:
+        from episodes import to_jsonable
+
         try:
             report = memory.import_bag_report(
                 bag, activity, activity_type=type, arguments=specs, episode_id=id
             )
         except StreamError as error:
-            raise _fail(str(error), 1) from None
-        for topic in report.skipped:
-            typer.echo(
-                f"skipped {topic.topic}: {topic.count} messages of {topic.message_type}"
-                " (no channel kind for this type)",
-                err=True,
-            )
-        _print({**to_jsonable(report.episode), "skipped": report.skipped})
+            fail(str(error), 1)
+        return {**to_jsonable(report.episode), "skipped": to_jsonable(report.skipped)}
+
+    params = _given(activity=activity, type=type, id=id)
+    params["argument"] = [f"{s.role}={s.value}" for s in specs]
+    found = _run(
+        data,
+        server,
+        token,
+        local,
+        "POST",
+        "/episodes/import/upload",
+        params=params,
+        content=_bag_body(bag),
+        headers={"Content-Type": "application/octet-stream"},
+    )
+    for topic in found.get("skipped", []):
+        typer.echo(
+            f"skipped {topic['topic']}: {topic['count']} messages of {topic['message_type']}"
+            " (no channel kind for this type)",
+            err=True,
+        )
+    _print(found)
 
 
 @app.command()
@@ -155,25 +213,38 @@ def end(
     episode: str,
     at: Annotated[str | None, typer.Option(help="End time (ISO 8601); default now.")] = None,
     data: DataOption = None,
+    server: ServerOption = None,
+    token: TokenOption = None,
 ) -> None:
     """End a running episode."""
-    with _memory(data) as memory:
-        _print(memory.end(episode, end=at))
+    _print(
+        _run(
+            data,
+            server,
+            token,
+            lambda m: m.end(episode, end=at),
+            "POST",
+            f"/episodes/{episode}/end",
+            json=_given(end=at),
+        )
+    )
 
 
 @app.command()
-def show(episode: str, data: DataOption = None) -> None:
+def show(
+    episode: str, data: DataOption = None, server: ServerOption = None, token: TokenOption = None
+) -> None:
     """Show everything about one episode."""
-    with _memory(data) as memory:
-        _print(memory.get(episode))
+    _print(_run(data, server, token, lambda m: m.get(episode), "GET", f"/episodes/{episode}"))
 
 
 @app.command()
-def delete(episode: str, data: DataOption = None) -> None:
+def delete(
+    episode: str, data: DataOption = None, server: ServerOption = None, token: TokenOption = None
+) -> None:
     """Delete an episode everywhere (triples, stream and derived files)."""
-    with _memory(data) as memory:
-        memory.delete(episode)
-        typer.echo(f"deleted episode {episode}")
+    _run(data, server, token, lambda m: m.delete(episode), "DELETE", f"/episodes/{episode}")
+    typer.echo(f"deleted episode {episode}")
 
 
 @app.command("export-rdf")
@@ -181,28 +252,49 @@ def export_rdf(
     episode: str,
     output: Annotated[Path, typer.Option("-o", "--output", help="TriG file to write.")],
     data: DataOption = None,
+    server: ServerOption = None,
+    token: TokenOption = None,
 ) -> None:
     """Write one episode's triples (graph nodes, participants, scene links) as TriG."""
-    with _memory(data) as memory:
-        body = memory.export_rdf(episode)
+    body = _run(
+        data,
+        server,
+        token,
+        lambda m: m.export_rdf(episode).decode(),
+        "GET",
+        f"/episodes/{episode}/rdf",
+    )
+    content = body if isinstance(body, bytes) else body.encode()
     partial = output.with_name(output.name + ".part")
-    partial.write_bytes(body)
+    partial.write_bytes(content)
     partial.replace(output)  # a reader never sees half a file
-    typer.echo(f"wrote {len(body)} bytes to {output}")
+    typer.echo(f"wrote {len(content)} bytes to {output}")
 
 
 @app.command("import-rdf")
 def import_rdf(
     source: Annotated[Path, typer.Argument(help="A TriG file written by export-rdf.")],
     data: DataOption = None,
+    server: ServerOption = None,
+    token: TokenOption = None,
 ) -> None:
     """Load one episode's triples exported by export-rdf."""
     try:
         body = source.read_bytes()
     except OSError as error:
-        raise _fail(f"source: cannot read {str(source)!r}: {error.strerror}", 1) from None
-    with _memory(data) as memory:
-        _print(memory.import_rdf(body))
+        fail(f"source: cannot read {str(source)!r}: {error.strerror}", 1)
+    _print(
+        _run(
+            data,
+            server,
+            token,
+            lambda m: m.import_rdf(body),
+            "POST",
+            "/episodes/rdf",
+            content=body,
+            headers={"Content-Type": "application/trig"},
+        )
+    )
 
 
 @app.command()
@@ -215,11 +307,17 @@ def annotate(
     start: Annotated[str | None, typer.Option(help="Range start inside the episode.")] = None,
     stop: Annotated[str | None, typer.Option("--end", help="Range end inside the episode.")] = None,
     data: DataOption = None,
+    server: ServerOption = None,
+    token: TokenOption = None,
 ) -> None:
     """Annotate an episode, optionally over a time range inside it."""
-    with _memory(data) as memory:
-        _print(
-            memory.annotate(
+    fields = _given(author=author, confidence=confidence, start=start, end=stop)
+    _print(
+        _run(
+            data,
+            server,
+            token,
+            lambda m: m.annotate(
                 episode,
                 key=key,
                 value=value,
@@ -227,8 +325,12 @@ def annotate(
                 confidence=confidence,
                 start=start,
                 end=stop,
-            )
+            ),
+            "POST",
+            f"/episodes/{episode}/annotations",
+            json={"key": key, "value": value, **fields},
         )
+    )
 
 
 @app.command()
@@ -242,16 +344,22 @@ def recall(
     participant: ParticipantOption = None,
     now: NowOption = None,
     data: DataOption = None,
+    server: ServerOption = None,
+    token: TokenOption = None,
 ) -> None:
     """The first / last / n-th time <agent> did <activity> (with <object>), and when."""
-    with _memory(data) as memory:
-        found = memory.recall(
-            Cue(activity, agent=agent, obj=obj, role=role, participant=participant),
-            which=which,  # type: ignore[arg-type]
-            n=n,
-            now=_now(now),
+    cue, params = _cue(activity, agent, obj, role, participant)
+    _print(
+        _run(
+            data,
+            server,
+            token,
+            lambda m: m.recall(cue, which=which, n=n, now=_now(now)),  # type: ignore[arg-type]
+            "GET",
+            "/episodes/recall",
+            params={**params, "which": which, "n": n, **_given(now=now)},
         )
-        _print(found)
+    )
 
 
 @app.command("list")
@@ -263,11 +371,22 @@ def list_command(
     participant: ParticipantOption = None,
     now: NowOption = None,
     data: DataOption = None,
+    server: ServerOption = None,
+    token: TokenOption = None,
 ) -> None:
     """All episodes of an activity, oldest first."""
-    cue = Cue(activity, agent=agent, obj=obj, role=role, participant=participant)
-    with _memory(data) as memory:
-        _print(memory.all(cue, now=_now(now)))
+    cue, params = _cue(activity, agent, obj, role, participant)
+    _print(
+        _run(
+            data,
+            server,
+            token,
+            lambda m: m.all(cue, now=_now(now)),
+            "GET",
+            "/episodes",
+            params={**params, **_given(now=now)},
+        )
+    )
 
 
 @app.command()
@@ -278,11 +397,22 @@ def count(
     role: RoleOption = None,
     participant: ParticipantOption = None,
     data: DataOption = None,
+    server: ServerOption = None,
+    token: TokenOption = None,
 ) -> None:
     """How many times <agent> did <activity> (with <object>, <participant> as <role>)."""
-    cue = Cue(activity, agent=agent, obj=obj, role=role, participant=participant)
-    with _memory(data) as memory:
-        _print({"count": memory.count(cue)})
+    cue, params = _cue(activity, agent, obj, role, participant)
+    _print(
+        _run(
+            data,
+            server,
+            token,
+            lambda m: {"count": m.count(cue)},
+            "GET",
+            "/episodes/count",
+            params=params,
+        )
+    )
 
 
 @app.command("argument")
@@ -297,41 +427,88 @@ def argument_command(
     replace: Annotated[bool, typer.Option(help="Replace the arguments in this role.")] = False,
     remove: Annotated[bool, typer.Option(help="Retract instead of adding.")] = False,
     data: DataOption = None,
+    server: ServerOption = None,
+    token: TokenOption = None,
 ) -> None:
     """Add, replace (--replace) or remove (--remove) an argument after the fact."""
-    with _memory(data) as memory:
-        if remove:
-            _print(memory.remove_argument(episode, role=role, value=value, author=author))
-            return
-        if value is None:
-            raise _fail("value: got nothing, expected who or what takes the role", 2)
+    if remove:
         _print(
-            memory.add_argument(
+            _run(
+                data,
+                server,
+                token,
+                lambda m: m.remove_argument(episode, role=role, value=value, author=author),
+                "DELETE",
+                f"/episodes/{episode}/arguments/{role}",
+                params=_given(value=value, author=author),
+            )
+        )
+        return
+    if value is None:
+        fail("value: got nothing, expected who or what takes the role", 2)
+    body = _given(role=role, value=value, author=author, confidence=confidence)
+    _print(
+        _run(
+            data,
+            server,
+            token,
+            lambda m: m.add_argument(
                 episode,
                 role=role,
                 value=value,
                 author=author,
                 confidence=confidence,
                 replace=replace,
-            )
+            ),
+            "POST",
+            f"/episodes/{episode}/arguments",
+            json={**body, "replace": replace},
         )
+    )
 
 
 @app.command()
-def between(start: str, stop: str, now: NowOption = None, data: DataOption = None) -> None:
+def between(
+    start: str,
+    stop: str,
+    now: NowOption = None,
+    data: DataOption = None,
+    server: ServerOption = None,
+    token: TokenOption = None,
+) -> None:
     """What happened between two times (ISO 8601 with zones)."""
-    with _memory(data) as memory:
-        _print(memory.between(start, stop, now=_now(now)))
+    _print(
+        _run(
+            data,
+            server,
+            token,
+            lambda m: m.between(start, stop, now=_now(now)),
+            "GET",
+            "/episodes/between",
+            params={"start": start, "end": stop, **_given(now=now)},
+        )
+    )
 
 
 @app.command()
 def knowledge(
     activity: Annotated[str | None, typer.Argument(help="One activity; default all.")] = None,
     data: DataOption = None,
+    server: ServerOption = None,
+    token: TokenOption = None,
 ) -> None:
     """What the episodes say about each activity: how often, first and last, with whom."""
-    with _memory(data) as memory:
-        _print(memory.knowledge(activity))
+    _print(
+        _run(
+            data,
+            server,
+            token,
+            lambda m: m.knowledge(activity),
+            "GET",
+            "/episodes/knowledge",
+            params=_given(activity=activity),
+        )
+    )
 
 
 @app.command()
@@ -340,18 +517,32 @@ def lacking(
     augmentation: str,
     versions: Annotated[int, typer.Option(help="Fewer runs than this count as lacking.")] = 1,
     data: DataOption = None,
+    server: ServerOption = None,
+    token: TokenOption = None,
 ) -> None:
     """Which episodes of <activity> lack <augmentation>."""
-    with _memory(data) as memory:
-        found = memory.lacking(activity, augmentation, versions=versions)
-        _print([{"episode": summary, "runs": runs} for summary, runs in found])
+    _print(
+        _run(
+            data,
+            server,
+            token,
+            lambda m: [
+                {"episode": summary, "runs": runs}
+                for summary, runs in m.lacking(activity, augmentation, versions=versions)
+            ],
+            "GET",
+            "/episodes/lacking",
+            params={"activity": activity, "augmentation": augmentation, "versions": versions},
+        )
+    )
 
 
 @app.command()
-def runs(episode: str, data: DataOption = None) -> None:
+def runs(
+    episode: str, data: DataOption = None, server: ServerOption = None, token: TokenOption = None
+) -> None:
     """The augmentation runs of an episode."""
-    with _memory(data) as memory:
-        _print(memory.runs(episode))
+    _print(_run(data, server, token, lambda m: m.runs(episode), "GET", f"/episodes/{episode}/runs"))
 
 
 @app.command()
@@ -366,11 +557,17 @@ def rate(
         str | None, typer.Option(help="The feedback episode it is given in (see `feedback`).")
     ] = None,
     data: DataOption = None,
+    server: ServerOption = None,
+    token: TokenOption = None,
 ) -> None:
     """Store a person's 1-10 rating of an augmentation run (one answer per question)."""
-    with _memory(data) as memory:
-        _print(
-            memory.rate(
+    body = {"person": person, "value": value, "replace": replace}
+    _print(
+        _run(
+            data,
+            server,
+            token,
+            lambda m: m.rate(
                 episode,
                 run,
                 person=person,
@@ -378,8 +575,12 @@ def rate(
                 question=question,
                 replace=replace,
                 session=session,
-            )
+            ),
+            "POST",
+            f"/episodes/{episode}/runs/{run}/ratings",
+            json={**body, **_given(question=question, session=session)},
         )
+    )
 
 
 @app.command()
@@ -391,17 +592,38 @@ def feedback(
     at: Annotated[str | None, typer.Option(help="Begin time (ISO 8601); default now.")] = None,
     id: Annotated[str | None, typer.Option(help="Episode id; default a new one.")] = None,
     data: DataOption = None,
+    server: ServerOption = None,
+    token: TokenOption = None,
 ) -> None:
     """Begin a rating session, recorded as a feedback episode; end it with `end`."""
-    with _memory(data) as memory:
-        _print(memory.begin_feedback(person, rated=rated or [], begin=at, episode_id=id))
+    _print(
+        _run(
+            data,
+            server,
+            token,
+            lambda m: m.begin_feedback(person, rated=rated or [], begin=at, episode_id=id),
+            "POST",
+            "/feedback-sessions",
+            json={"person": person, "rated": rated or [], **_given(begin=at, id=id)},
+        )
+    )
 
 
 @app.command("session-ratings")
-def session_ratings(session: str, data: DataOption = None) -> None:
+def session_ratings(
+    session: str, data: DataOption = None, server: ServerOption = None, token: TokenOption = None
+) -> None:
     """The ratings given in a feedback episode, in the order given."""
-    with _memory(data) as memory:
-        _print(memory.session_ratings(session))
+    _print(
+        _run(
+            data,
+            server,
+            token,
+            lambda m: m.session_ratings(session),
+            "GET",
+            f"/feedback-sessions/{session}/ratings",
+        )
+    )
 
 
 @app.command()
@@ -411,7 +633,18 @@ def rank(
     alpha: Annotated[float, typer.Option(help="Significance level (Wilcoxon).")] = 0.05,
     question: Annotated[str | None, typer.Option(help="Rank by this question.")] = None,
     data: DataOption = None,
+    server: ServerOption = None,
+    token: TokenOption = None,
 ) -> None:
     """Rank the rated runs of an augmentation (quartile heuristic, Wilcoxon signed-rank)."""
-    with _memory(data) as memory:
-        _print(memory.rank(augmentation, episode_id=episode, alpha=alpha, question=question))
+    _print(
+        _run(
+            data,
+            server,
+            token,
+            lambda m: m.rank(augmentation, episode_id=episode, alpha=alpha, question=question),
+            "GET",
+            f"/augmentations/{augmentation}/ranking",
+            params={"alpha": alpha, **_given(episode=episode, question=question)},
+        )
+    )

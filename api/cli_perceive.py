@@ -1,29 +1,29 @@
 """``engram perceive``: point clouds or bags in, scenes stored in the memory, results printed."""
 
+import itertools
 from collections.abc import Iterator
 from pathlib import Path
-from typing import Annotated
+from typing import TYPE_CHECKING, Annotated
 
 import httpx
-import numpy as np
 import typer
 from rich.console import Console
 from rich.markup import escape
 from rich.progress import Progress
 
-from api.armor import ArmorEngine
-from api.client import ArmorClient, ArmorPyException, LocalTransport
-from api.config import Settings
-from api.perceive import PerceivedScene, PerceiveExit, exit_status, perceive
-from kg import EngramError, Store, ensure_ontology
-from shapes import Frame, Perception, PerceptionParams, ShapesError, open_source, source_length
+from api.cli_common import DataOption, TokenOption, reach, settings_for
+from api.client import ArmorClient, ArmorPyException
+
+if TYPE_CHECKING:  # perception (open3d, scipy) is imported when a command perceives
+    from api.perceive import PerceivedScene
+    from shapes import Frame
 
 __all__ = ["perceive_command"]
 
 console = Console()
 
 
-def _describe(result: PerceivedScene) -> str:
+def _describe(result: "PerceivedScene") -> str:
     kinds = ", ".join(sorted(p.kind.value for p in result.scene.primitives))
     if result.scene.supports:
         kinds += " on " + ", ".join(p.kind.value for p in result.scene.supports)
@@ -40,14 +40,18 @@ def _describe(result: PerceivedScene) -> str:
 
 def perceive_command(
     source: Annotated[Path, typer.Argument(help="PLY/PCD/NumPy file, ROS 1 .bag or ROS 2 bag.")],
-    server: Annotated[str, typer.Option(help="Engram server URL.")] = "http://127.0.0.1:8000",
-    token: Annotated[
-        str | None, typer.Option(envvar="ENGRAM_TOKEN", help="Bearer token for writes.")
+    server: Annotated[
+        str | None,
+        typer.Option(
+            help="Store through this Engram server (default: the data directory, or the server "
+            "that holds it)."
+        ),
     ] = None,
+    token: TokenOption = None,
     local: Annotated[
-        bool, typer.Option(help="Store into the local data directory, with no server.")
+        bool, typer.Option(help="Open the data directory here; never talk to a server.")
     ] = False,
-    data: Annotated[Path | None, typer.Option(help="Data directory for --local.")] = None,
+    data: DataOption = None,
     topic: Annotated[str | None, typer.Option(help="PointCloud2 topic of a bag.")] = None,
     pose: Annotated[
         Path | None,
@@ -77,25 +81,66 @@ def perceive_command(
     ] = False,
 ) -> None:
     """Perceive SOURCE and store every stable scene; print what the memory recognised or learned."""
+    import numpy as np
+
+    try:
+        from shapes import ShapesError, open_source, source_length
+    except ImportError as error:
+        console.print(
+            f"[red]perception is not installed ({error}): pip install 'engram-kg[perception]'[/red]"
+        )
+        raise typer.Exit(1) from None
+
     try:
         world_from_sensor = np.loadtxt(pose).reshape(4, 4) if pose else None
         total = source_length(source, topic=topic)
         frames = open_source(source, topic=topic, world_from_sensor=world_from_sensor)
+        # the first frame is read now, so that a bad source says so before the memory opens
+        first = next(frames, None)
+        if first is not None:
+            frames = itertools.chain([first], frames)
     except (ShapesError, OSError, ValueError) as error:
         console.print(f"[red]{escape(str(error))}[/red]")
-        raise typer.Exit(PerceiveExit.BAD_INPUT) from None
-    if local:
-        settings = Settings(data_dir=data) if data else Settings()
-        try:
-            store = Store(settings.store_dir)
-        except EngramError as error:
-            console.print(f"[red]{escape(str(error))}[/red]")
-            raise typer.Exit(PerceiveExit.MEMORY_ERROR) from None
-        ensure_ontology(store)
-        http = httpx.Client(base_url="http://local", transport=LocalTransport(ArmorEngine(store)))
-        client = ArmorClient(client_id, "engram", http=http)
-    else:
-        client = ArmorClient(client_id, "engram", base_url=server, token=token, timeout=60)
+        raise typer.Exit(2) from None
+    if local and server is not None:
+        console.print("[red]--local and --server exclude each other[/red]")
+        raise typer.Exit(2)
+    with reach(settings_for(data), server, token) as memory:
+        if isinstance(memory, httpx.Client):
+            if local:
+                console.print(
+                    f"[red]the server at {memory.base_url} holds the data directory; stop it, "
+                    "or leave out --local to store through it[/red]"
+                )
+                raise typer.Exit(1)
+            client = ArmorClient(client_id, "engram", http=memory)
+        else:
+            from api.client import LocalTransport
+
+            transport = LocalTransport(memory.armor)
+            client = ArmorClient(
+                client_id, "engram", http=httpx.Client(base_url="http://local", transport=transport)
+            )
+        _perceive_into(
+            client, source, frames, total, scene_frames, min_hits, seed, episode, wait_stable, pose
+        )
+
+
+def _perceive_into(
+    client: ArmorClient,
+    source: Path,
+    frames: Iterator["Frame"],
+    total: int,
+    scene_frames: int,
+    min_hits: int,
+    seed: int,
+    episode: str | None,
+    wait_stable: bool,
+    pose: Path | None,
+) -> None:
+    from api.perceive import PerceiveExit, exit_status, perceive
+    from shapes import Frame, Perception, PerceptionParams, ShapesError
+
     stored = 0
     try:
         with client, Progress(console=console, transient=True) as progress:
@@ -117,10 +162,10 @@ def perceive_command(
                 progress.console.print(_describe(result))
     except ShapesError as error:  # the source is bad: an input error
         console.print(f"[red]{escape(str(error))}[/red]")
-        raise typer.Exit(PerceiveExit.BAD_INPUT) from None
+        raise typer.Exit(2) from None
     except ArmorPyException as error:  # the memory refused or could not be reached
         console.print(f"[red]{escape(str(error))}[/red]")
-        raise typer.Exit(PerceiveExit.MEMORY_ERROR) from None
+        raise typer.Exit(1) from None
     up = f"the pose in {pose}" if pose else perception.gravity
     console.print(f"{stored} scene(s) stored from {escape(str(source))}; up: {escape(up)}")
     if not stored:

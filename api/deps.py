@@ -1,5 +1,5 @@
-"""FastAPI dependencies: the services the app opened at start-up, the settings and the write
-guard. Every service lives on ``app.state`` for the app's lifetime (see ``api/main.py``)."""
+"""FastAPI dependencies: the services the app opened at start-up (``app.state.services``, from
+:func:`api.services.open_services`), the settings and the write guard."""
 
 import secrets
 from typing import Annotated
@@ -8,16 +8,20 @@ from fastapi import Depends, Header, HTTPException, Request, status
 
 from api.armor import ArmorEngine
 from api.config import Settings
+from api.services import Services
 from episodes import EpisodeMemory
 from episodes.streams import RecordingRegistry
 from kg import Store
 from kg.sandbox import QueryRunner
+from reasoners.memory import SceneMemory
 
 __all__ = [
     "ArmorDep",
     "EpisodesDep",
     "RecordingsDep",
     "RunnerDep",
+    "SceneMemoryDep",
+    "ServicesDep",
     "SettingsDep",
     "StoreDep",
     "require_token",
@@ -29,32 +33,38 @@ async def _settings(request: Request) -> Settings:
     return settings
 
 
+async def _services(request: Request) -> Services:
+    services: Services = request.app.state.services
+    return services
+
+
 async def _store(request: Request) -> Store:
-    store: Store = request.app.state.store
-    return store
+    return (await _services(request)).store
 
 
 async def _runner(request: Request) -> QueryRunner:
-    runner: QueryRunner = request.app.state.runner
-    return runner
+    return (await _services(request)).runner
 
 
 async def _armor(request: Request) -> ArmorEngine:
-    engine: ArmorEngine = request.app.state.armor
-    return engine
+    return (await _services(request)).armor
 
 
 async def _episodes(request: Request) -> EpisodeMemory:
-    memory: EpisodeMemory = request.app.state.episodes
-    return memory
+    return (await _services(request)).episodes
 
 
 async def _recordings(request: Request) -> RecordingRegistry:
-    registry: RecordingRegistry = request.app.state.recordings
-    return registry
+    return (await _services(request)).recordings
+
+
+async def _scene_memory(request: Request) -> SceneMemory:
+    return (await _services(request)).scene_memory
 
 
 SettingsDep = Annotated[Settings, Depends(_settings)]
+ServicesDep = Annotated[Services, Depends(_services)]
+SceneMemoryDep = Annotated[SceneMemory, Depends(_scene_memory)]
 StoreDep = Annotated[Store, Depends(_store)]
 RunnerDep = Annotated[QueryRunner, Depends(_runner)]
 ArmorDep = Annotated[ArmorEngine, Depends(_armor)]

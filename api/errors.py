@@ -10,11 +10,8 @@ from typing import Any
 from fastapi import FastAPI, Request
 from fastapi.responses import JSONResponse
 
-from api.ask.errors import SpeechUnavailableError
 from api.negotiation import NotAcceptable
 from episodes import to_jsonable
-from episodes.errors import EpisodeStateError
-from episodes.streams.errors import CorruptRecordingError, StreamError
 from kg.errors import (
     ConflictError,
     EngramError,
@@ -29,12 +26,13 @@ from kg.errors import (
     UnavailableError,
     UnsupportedQueryError,
 )
-from reasoners.errors import MemoryLoadingError, UnknownItemError
 
 __all__ = ["install_error_handlers"]
 
-# Most specific first: the first matching class decides the status. The four kinds of
-# kg.errors close the list, so any error of the tree has an answer, and EngramError itself last.
+# By kind: every error Engram raises on purpose is an EngramError of one of kg.errors' four kinds
+# (invalid input, not found, conflict, unavailable). The SPARQL protocol's own answers for a
+# query (400, 403, 413) and HTTP content negotiation (406) come first; the first matching class
+# decides the status.
 _STATUS: list[tuple[type[Exception], int]] = [
     (QuerySyntaxError, 400),
     (QueryTooDeepError, 400),
@@ -44,17 +42,11 @@ _STATUS: list[tuple[type[Exception], int]] = [
     (ResultTooLargeError, 400),
     (ReadOnlyStoreError, 409),
     (NotAcceptable, 406),
-    (EpisodeStateError, 409),
-    (CorruptRecordingError, 409),
     (InvalidInputError, 422),
     (NotFoundError, 404),
     (ConflictError, 409),
     (UnavailableError, 503),
-    (StreamError, 400),
-    (UnknownItemError, 404),
-    (SpeechUnavailableError, 503),
-    (MemoryLoadingError, 503),
-    (EngramError, 400),
+    (EngramError, 400),  # an error of no kind: a bug to fix, answered as a bad request
 ]
 
 

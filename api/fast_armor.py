@@ -155,7 +155,7 @@ class ArmorFastPath:
             await self.app(scope, _replay(messages, receive), send)
             return
         try:
-            content = await answer(state.armor, parsed, values)
+            content = await answer(state.services.armor, parsed, values)
         except Exception as error:
             await self._error(error, scope, _replay(messages, receive), send)
             return

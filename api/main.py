@@ -1,7 +1,6 @@
 """The FastAPI application over one on-disk store."""
 
 import asyncio
-import datetime as dt
 import gc
 import logging
 import time
@@ -12,18 +11,13 @@ from fastapi import FastAPI
 from starlette.concurrency import run_in_threadpool
 
 from api import fast_armor
-from api.armor import ArmorEngine
 from api.armor.memory import sleep_if_due
-from api.backend import open_archive, open_store
 from api.config import Settings, get_settings
 from api.errors import install_error_handlers
 from api.finite_json import FiniteJsonBodies
-from api.memory_state import live_memory_state
 from api.openapi_errors import install_error_docs
 from api.routes import admin, armor, ask, episodes, export, health, history, sparql, streams, views
-from episodes import EpisodeMemory
-from episodes.streams import RecordingRegistry
-from kg import ensure_ontology
+from api.services import announce_server, open_services
 from reasoners.clock import SettableClock
 from reasoners.memory import SceneMemory
 
@@ -83,17 +77,17 @@ def _settle_view(memory: SceneMemory) -> None:
 async def _freeze_once_loaded(memory: SceneMemory, poll_s: float = 0.5) -> None:
     """Once the scene memory has loaded, hand the process's heap so far (the memory model
     above all: millions of objects at 100,000 classes) to the collector's permanent generation
-    (``gc.freeze``), so that its full collections stop walking it. Unfrozen at shutdown.
-
-    At 100,000 classes a full collection during an update walks the whole model: the slowest
-    reinforce of 80 took 392 ms with it and 70 ms without (median 57 against 52 ms)."""
+    (``gc.freeze``), so that its full collections stop walking it during updates. Unfrozen at
+    shutdown (bench/README.md has what it saves)."""
     while not memory.wait_ready(timeout_s=0):
         await asyncio.sleep(poll_s)
     gc.freeze()
 
 
-def _utc_now() -> dt.datetime:
-    return dt.datetime.now(dt.UTC)
+def _local_url(settings: Settings) -> str:
+    """The URL a process on this machine reaches the server at."""
+    host = "127.0.0.1" if settings.host in ("0.0.0.0", "::") else settings.host
+    return f"http://{host}:{settings.port}"
 
 
 def create_app(settings: Settings | None = None) -> FastAPI:
@@ -102,34 +96,24 @@ def create_app(settings: Settings | None = None) -> FastAPI:
 
     @asynccontextmanager
     async def lifespan(app: FastAPI) -> AsyncIterator[None]:
-        opened = open_store(settings)  # embedded, or a memory on a SPARQL server (issue 19)
-        store = opened.store
-        status = ensure_ontology(store)
-        log.info("store %s: ontology %s %s", opened.where, status.version.value, status.action)
-        runner = opened.runner(settings)
-        recordings = RecordingRegistry()
-        state = app.state
-        state.settings, state.store, state.runner = settings, store, runner
-        state.ontology_version = status.version  # the TBOX changes only here while serving
-        state.recordings = recordings
-        # Opened in the background (reading its index file, or rebuilding it from the store):
-        # /health and SPARQL answer meanwhile, memory directives answer "loading".
-        clock = SettableClock() if settings.clock_settable else _utc_now
+        clock = SettableClock() if settings.clock_settable else None
+        # the scene memory opens in the background (its index file, or a rebuild from the
+        # store): /health and SPARQL answer meanwhile, memory directives answer "loading".
         # `engram serve` refuses a damaged store before this (reasoners.check)
-        state.scene_memory = scene_memory = SceneMemory(store, clock=clock, background=True)
-        opened.watch(scene_memory)
-        state.armor = ArmorEngine(
-            store,
-            scene_memory=scene_memory,
-            sandbox=runner,
-            max_list_length=settings.armor_max_list_length,
+        services = open_services(settings, create=True, clock=clock, background=True)
+        log.info(
+            "store %s: ontology %s %s",
+            services.where,
+            services.ontology.version.value,
+            services.ontology.action,
         )
-        state.episodes = EpisodeMemory(
-            store,
-            data_dir=settings.data_dir,
-            recordings=recordings,
-            memory_state=live_memory_state(scene_memory),
-            archive=open_archive(settings),
+        app.state.services = services
+        scene_memory = services.scene_memory
+        services.runner  # noqa: B018 - started before the engine, so QUERY SPARQL uses it
+        withdraw = (
+            announce_server(settings.data_dir, _local_url(settings))
+            if services.remote is None
+            else None
         )
         sleeper = asyncio.create_task(_sleep_when_due(scene_memory, settings.sleep_check_s))
         warmer = asyncio.create_task(views.warm_up(scene_memory))  # the graph page's first list
@@ -141,14 +125,10 @@ def create_app(settings: Settings | None = None) -> FastAPI:
             warmer.cancel()
             freezer.cancel()
             gc.unfreeze()  # what closed with this app must be collectable again (the store's lock)
-            recordings.close_all()  # a recording still open at shutdown ends as a complete file
-            runner.close()
-            if scene_memory.wait_ready(timeout_s=0):
-                await run_in_threadpool(_save_index, scene_memory)
-            store.flush()
-            opened.close()
-            # release the store's directory lock
-            state.store = state.runner = state.armor = state.episodes = state.scene_memory = None
+            if withdraw is not None:
+                withdraw()
+            await run_in_threadpool(services.close)
+            app.state.services = None
 
     app = FastAPI(
         title="Engram",
@@ -156,6 +136,7 @@ def create_app(settings: Settings | None = None) -> FastAPI:
         version="0.2.0",
         lifespan=lifespan,
     )
+    app.state.settings = settings
     install_error_handlers(app)
     # armor first: route matching is a sizeable share of a directive's time
     for module in (armor, health, sparql, export, admin, episodes, streams, ask, history):

@@ -2,13 +2,12 @@
 
 EngramError (kg), each error also of one of kg.errors' kinds
 └── EpisodeError
-    ├── InvalidInputError       bad value (HTTP 422): names field, value, expected
+    ├── InvalidInputError       bad value (HTTP 422): names field, value, expected (kg's
+    │                           InvalidValueError)
     ├── NotFoundError           no such episode, run or cue match (HTTP 404)
     │   └── EpisodeNotFoundError
     └── EpisodeStateError       does not fit the state, e.g. ending twice (HTTP 409)
 """
-
-from typing import Any
 
 from kg import errors as kinds
 from kg.errors import EngramError
@@ -26,12 +25,8 @@ class EpisodeError(EngramError):
     """Base of the errors of the autobiographical memory."""
 
 
-class InvalidInputError(EpisodeError, kinds.InvalidInputError):
+class InvalidInputError(EpisodeError, kinds.InvalidValueError):
     """A value is malformed or out of range; nothing was written."""
-
-    def __init__(self, field: str, value: Any, expected: str) -> None:
-        self.field, self.value, self.expected = field, value, expected
-        super().__init__(f"{field}: got {value!r}, expected {expected}")
 
 
 class NotFoundError(EpisodeError, kinds.NotFoundError):

@@ -24,6 +24,7 @@ a tuple ``(status, form, payload)``, ``status`` being one of ``ok`` (payload: th
 import io
 import logging
 import shutil
+import signal
 import sys
 from multiprocessing.connection import Connection
 from typing import Any
@@ -199,8 +200,10 @@ def serve(connection: Connection) -> None:
 
 
 def main(fd: int) -> None:
-    """Forbid the network, then serve the socket ``fd``."""
+    """Forbid the network, then serve the socket ``fd``. Ctrl-C at the server's terminal
+    reaches its workers too: they ignore it and end when the server closes their socket."""
     global _guarded
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
     try:
         forbid_network()
         _guarded = True

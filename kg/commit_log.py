@@ -2,8 +2,8 @@
 
 The SPARQL query workers (:mod:`kg.sandbox`) each hold a private copy of the store (a
 hard-linked backup) and, before a query, replay the commits made since their copy's generation:
-a few quads per commit instead of a new backup and a fresh open (30-400 ms under load) each
-time a writer has committed.
+a few quads per commit instead of a new backup and a fresh open each time a writer has
+committed.
 
 A commit is recorded as what was applied: the quads inserted (a write with no deletion), or the
 SPARQL update text (``CLEAR`` / ``DELETE DATA`` / ``INSERT DATA``, terms written out). Each

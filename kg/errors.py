@@ -5,6 +5,7 @@ decide its HTTP answer (``api/errors.py`` maps by kind, so a new error cannot be
 
     EngramError
     ├── InvalidInputError (ValueError)     the request is malformed or out of range   4xx
+    │   ├── InvalidValueError               one named field's value: field, value, expected 422
     │   ├── QuerySyntaxError (SyntaxError)  the SPARQL text does not parse            400
     │   ├── QueryTooDeepError               the text nests too deeply to be parsed     400
     │   ├── QueryTooLongError               the text is longer than the limit          413
@@ -30,6 +31,7 @@ __all__ = [
     "ConflictError",
     "EngramError",
     "InvalidInputError",
+    "InvalidValueError",
     "LeaseHeldError",
     "NotFoundError",
     "QueryError",
@@ -56,6 +58,18 @@ class EngramError(Exception):
 
 class InvalidInputError(EngramError, ValueError):
     """The request is malformed or out of range; nothing was changed."""
+
+
+class InvalidValueError(InvalidInputError):
+    """One named field has a value that is not what was expected.
+
+    >>> str(InvalidValueError("n", 0, "a whole number from 1"))
+    'n: got 0, expected a whole number from 1'
+    """
+
+    def __init__(self, field: str, value: object, expected: str) -> None:
+        self.field, self.value, self.expected = field, value, expected
+        super().__init__(f"{field}: got {value!r}, expected {expected}")
 
 
 class NotFoundError(EngramError, LookupError):

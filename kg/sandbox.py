@@ -6,8 +6,8 @@ processes, each over its own copy of the on-disk store (a hard-linked backup, ta
 worker starts); a query past its limit is stopped by killing its worker, which is then replaced.
 Before a query the worker replays into its copy the commits made since (the store's
 :meth:`~kg.Store.commit_log`: a few quads each), so every query sees every commit made before
-it at the cost of the replay, not of a backup and a fresh open per commit (which, with 8
-writers committing, put 380 ms of waiting before each query). A copy too far behind to replay
+it at the cost of the replay, not of a backup and a fresh open per commit. A copy too far
+behind to replay
 (a bulk load since, or more than :data:`_REPLAY_MAX` quads) is taken afresh.
 
 Nothing of a caller's text is parsed in the server: the worker (:mod:`kg._query_worker`) checks

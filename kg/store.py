@@ -548,8 +548,29 @@ class Store:
         """Make sure every committed write is on disk."""
         self._store.flush()
 
+    def close(self) -> None:
+        """Flush and let go of the store: an embedded store's directory is free for another
+        process at once, whoever still holds this object; any later call raises StoreError."""
+        if isinstance(self._store, _ClosedStore):
+            return
+        self._store.flush()
+        self._store = _ClosedStore(self.path)  # type: ignore[assignment]
+
     def __len__(self) -> int:
         return len(self._store)
+
+
+class _ClosedStore:
+    """What a closed :class:`Store` holds instead of the store it let go of."""
+
+    def __init__(self, path: Path | None) -> None:
+        self.path = path
+
+    def __getattr__(self, name: str) -> Any:
+        raise StoreError(f"the store at {self.path} was closed")
+
+    def __len__(self) -> int:
+        raise StoreError(f"the store at {self.path} was closed")
 
 
 def update_text(cleared: list[NamedNode], deletes: list[Quad], inserts: list[Quad]) -> str:

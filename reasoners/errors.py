@@ -4,14 +4,14 @@ EngramError (kg), each error also of one of kg.errors' kinds
 └── MemoryReasonerError
     ├── InvalidPrimitiveError   a primitive's field is missing or out of range (ValueError)
     ├── InvalidSceneError       the primitives cannot form a scene, or a bad cue (ValueError)
-    ├── MemoryLoadingError      the memory is still being opened (or opening it failed)
+    ├── MemoryLoadingError      the memory is still being opened, or opening it failed (503)
     ├── PolicyError             the memory policy in the store lacks a value or holds a bad one
     ├── UnknownItemError        no live class or experienced scene has this IRI (KeyError)
     │   └── NotInTrashError     restore was asked for an IRI that is not in the trash
     └── RestoreConflictError    a live class already has the signature of the class to restore
 """
 
-from kg.errors import ConflictError, EngramError, InvalidInputError, NotFoundError
+from kg.errors import ConflictError, EngramError, InvalidInputError, NotFoundError, UnavailableError
 
 __all__ = [
     "InvalidPrimitiveError",
@@ -37,11 +37,11 @@ class InvalidSceneError(MemoryReasonerError, InvalidInputError):
     """The primitives cannot form a scene (duplicate ids, no relation), or a cue is malformed."""
 
 
-class MemoryLoadingError(MemoryReasonerError):
+class MemoryLoadingError(MemoryReasonerError, UnavailableError):
     """The scene memory is still being opened in the background (or opening it failed)."""
 
 
-class PolicyError(MemoryReasonerError):
+class PolicyError(MemoryReasonerError, ConflictError):
     """The memory policy in the store lacks a value or holds one of the wrong kind."""
 
 

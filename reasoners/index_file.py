@@ -55,6 +55,7 @@ import numpy as np
 from numpy.typing import NDArray
 from pyoxigraph import Literal, NamedNode
 
+from kg.errors import EngramError
 from kg.store import Store
 from kg.transaction import Transaction
 from ontologies.vocab import MEMORY_REVISION, MEMORY_REVISION_GRAPH, MEMORY_STATE_INDIVIDUAL
@@ -98,7 +99,7 @@ SUFFIX = ".memory-index"
 Weights = tuple[float, float, float, float]
 
 
-class IndexFileError(ValueError):
+class IndexFileError(EngramError, ValueError):
     """The index file is missing, stale, truncated or corrupt (the message says which)."""
 
 

@@ -97,6 +97,7 @@ from ontologies.vocab import (
 )
 from reasoners.batch import QuadReader
 from reasoners.encode import Relation
+from reasoners.errors import InvalidPrimitiveError
 from reasoners.labels import label
 from reasoners.model import (
     SCALE,
@@ -106,13 +107,14 @@ from reasoners.model import (
     TrashedClass,
     TrashedItem,
 )
-from reasoners.primitives import Primitive
+from reasoners.primitives import KINDS, Kind, Primitive
 from reasoners.signature import Key, Signature
 
 __all__ = [
     "class_iri",
     "item_iri",
     "load_model",
+    "read_primitive",
     "set_value",
     "time_literal",
     "write_class",
@@ -370,6 +372,52 @@ def write_item(
     for relation in relations:
         tx.insert(iris[relation.subject], relation.relation, iris[relation.object], graph)
     return iris
+
+
+def read_primitive(store: QuadReader, iri: NamedNode, graph: NamedNode) -> Primitive | None:
+    """The primitive ``iri`` as :func:`write_item` wrote it into ``graph`` (the episodic graph,
+    or the trash after forgetting); None when ``graph`` holds no readable primitive there."""
+    values: dict[NamedNode, Literal] = {}
+    kind = None
+    for quad in store.quads(iri, None, None, graph):
+        if quad.predicate == RDF_TYPE and isinstance(quad.object, NamedNode):
+            kind = _PRIMITIVE_KINDS.get(quad.object.value, kind)
+        elif isinstance(quad.object, Literal):
+            values.setdefault(quad.predicate, quad.object)
+
+    def vector(props: tuple[NamedNode, NamedNode, NamedNode]) -> tuple[float, float, float] | None:
+        if not all(p in values for p in props):
+            return None
+        x, y, z = (float(values[p].value) for p in props)
+        return (x, y, z)
+
+    def number(prop: NamedNode) -> float | None:
+        return float(values[prop].value) if prop in values else None
+
+    centre = vector(CENTRE)
+    if kind is None or centre is None:
+        return None
+    label = values.get(RDFS_LABEL)
+    tracking = values.get(TRACKING_ID)
+    try:
+        return Primitive(
+            id=label.value if label is not None else iri.value.rsplit("#", 1)[-1],
+            kind=kind,
+            centre=centre,
+            axis=vector(AXIS),
+            radius=number(RADIUS),
+            height=number(HEIGHT),
+            apex=vector(APEX),
+            point_on_axis=vector(POINT_ON_AXIS),
+            hessian=number(HESSIAN_OFFSET),
+            colour=vector(COLOUR),
+            tracking_id=int(tracking.value) if tracking is not None else None,
+        )
+    except (InvalidPrimitiveError, ValueError):
+        return None
+
+
+_PRIMITIVE_KINDS: dict[str, Kind] = {engram(kind).value: kind for kind in KINDS}
 
 
 def move(

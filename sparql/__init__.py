@@ -11,6 +11,8 @@ True
 from functools import cache
 from importlib.resources import files
 
+from sparql.cue import CUE_NAME, cue_query
+
 __all__ = ["load", "names"]
 
 
@@ -25,11 +27,14 @@ def names() -> list[str]:
 
 @cache
 def load(name: str) -> str:
-    """The text of the query stored as ``<name>.rq``.
+    """The text of the query stored as ``<name>.rq``, or of a cue query built from its
+    template (:mod:`sparql.cue`).
 
     Raises ``KeyError`` naming the known queries when there is no such file.
     """
     resource = files(__name__).joinpath(f"{name}.rq")
+    if not resource.is_file() and (cue := CUE_NAME.fullmatch(name)):
+        return cue_query(cue[1], int(cue[2]))
     if not resource.is_file():
         raise KeyError(f"no SPARQL query named {name!r}; known: {', '.join(names())}")
     return resource.read_text(encoding="utf-8")

@@ -12,7 +12,7 @@ ARMOR's codes (``armor-protocol.md`` §7) and Engram's extensions, all answered 
     └── ReasonerFailure         214  REASON cannot run: no reasoner, or a rule it cannot use
 """
 
-from kg.errors import InvalidInputError
+from kg.errors import EngramError, InvalidInputError
 
 __all__ = [
     "ABORTED",
@@ -60,8 +60,9 @@ INTERNAL_ERROR = 213
 REASONER_ERROR = 214
 
 
-class DirectiveError(Exception):
-    """A directive that cannot be carried out; the message becomes ``error_description``."""
+class DirectiveError(EngramError):
+    """A directive that cannot be carried out; the message becomes ``error_description``.
+    The engine answers it with its ARMOR exit code; it never reaches the HTTP layer."""
 
     exit_code = 205
     success = False

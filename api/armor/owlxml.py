@@ -19,6 +19,8 @@ from urllib.parse import urljoin
 
 from pyoxigraph import BlankNode, Literal, NamedNode, Triple
 
+from kg.errors import InvalidInputError
+
 __all__ = ["OwlXmlError", "owlxml_triples"]
 
 OWL = "http://www.w3.org/2002/07/owl#"
@@ -31,7 +33,7 @@ Term = NamedNode | BlankNode | Literal
 Node = NamedNode | BlankNode
 
 
-class OwlXmlError(ValueError):
+class OwlXmlError(InvalidInputError):
     """The document is not OWL/XML, or holds an element this reader cannot map."""
 
 

@@ -19,9 +19,10 @@ from pyoxigraph import Literal, NamedNode
 from api.ask.grammar import FORMS, Parsed, closest, parse, parse_thing
 from api.ask.vocabulary import NameCache, time_window
 from episodes import Cue, EpisodeMemory, say_when, to_jsonable
-from episodes.errors import InvalidInputError, NotFoundError
+from episodes.errors import NotFoundError
 from episodes.times import to_literal
 from kg import Store
+from kg.errors import InvalidValueError
 from ontologies.vocab import TRASH, engram
 from reasoners import history
 from reasoners.errors import MemoryReasonerError
@@ -134,13 +135,13 @@ class Asker:
     def ask(self, text: str) -> Answer:
         """Answer ``text``; a question outside the grammar gets the closest forms it knows.
 
-        Raises :class:`InvalidInputError` for text that is not a string, is empty or is longer
-        than 500 characters.
+        Raises :class:`~kg.errors.InvalidValueError` for text that is not a string, is empty or
+        is longer than 500 characters.
         """
         if not isinstance(text, str) or not text.strip():
-            raise InvalidInputError("text", text, "a question in words")
+            raise InvalidValueError("text", text, "a question in words")
         if len(text) > MAX_QUESTION:
-            raise InvalidInputError(
+            raise InvalidValueError(
                 "text", text[:40] + "...", f"a question of at most {MAX_QUESTION} characters"
             )
         parsed = parse(text)

@@ -1,16 +1,16 @@
 """The errors of asking the memory.
 
 EngramError (kg)
-└── SpeechUnavailableError   espeak-ng or pocketsphinx is missing (HTTP 503)
+└── SpeechUnavailableError   espeak-ng or pocketsphinx is missing (UnavailableError, HTTP 503)
 
-Bad questions and bad audio raise ``episodes.errors.InvalidInputError`` (HTTP 422), naming the
+Bad questions and bad audio raise ``kg.errors.InvalidValueError`` (HTTP 422), naming the
 field, the value and what was expected.
 """
 
-from kg.errors import EngramError
+from kg.errors import UnavailableError
 
 __all__ = ["SpeechUnavailableError"]
 
 
-class SpeechUnavailableError(EngramError):
+class SpeechUnavailableError(UnavailableError):
     """espeak-ng or pocketsphinx is not installed."""

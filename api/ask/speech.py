@@ -10,7 +10,7 @@ espeak-ng's phonemes. Audio is any PCM WAV; it is mixed to mono, resampled to 16
 trimmed of leading and trailing silence.
 
 Raises :class:`SpeechUnavailableError` when espeak-ng or pocketsphinx is missing, and
-``episodes.errors.InvalidInputError`` for audio that is not a readable PCM WAV.
+``kg.errors.InvalidValueError`` for audio that is not a readable PCM WAV.
 """
 
 import functools
@@ -32,7 +32,7 @@ from scipy.signal import resample_poly
 from api.ask.errors import SpeechUnavailableError
 from api.ask.grammar import jsgf
 from api.ask.vocabulary import Names
-from episodes.errors import InvalidInputError
+from kg.errors import InvalidValueError
 
 __all__ = [
     "Heard",
@@ -86,14 +86,14 @@ def pcm16k(wav: bytes) -> NDArray[np.int16]:
             # a streamed WAV (espeak-ng --stdout) says it is 2**31 frames long: read what is there
             raw = reader.readframes(int(MAX_AUDIO_S * rate) + 1)
     except (wave.Error, EOFError) as error:
-        raise InvalidInputError("audio", f"{len(wav)} bytes", f"a PCM WAV file ({error})") from None
+        raise InvalidValueError("audio", f"{len(wav)} bytes", f"a PCM WAV file ({error})") from None
     if width not in (1, 2, 4) or rate < 4000 or channels < 1:
-        raise InvalidInputError(
+        raise InvalidValueError(
             "audio", f"{width * 8}-bit, {rate} Hz", "8, 16 or 32-bit PCM at 4 kHz or more"
         )
     frames = len(raw) // max(width * channels, 1)
     if frames / rate > MAX_AUDIO_S:
-        raise InvalidInputError("audio", f"{frames / rate:.1f} s", f"at most {MAX_AUDIO_S:g} s")
+        raise InvalidValueError("audio", f"{frames / rate:.1f} s", f"at most {MAX_AUDIO_S:g} s")
     kind = {1: np.uint8, 2: np.int16, 4: np.int32}[width]
     samples = np.frombuffer(raw[: frames * width * channels], dtype=kind).astype(np.float64)
     if width == 1:
@@ -101,7 +101,7 @@ def pcm16k(wav: bytes) -> NDArray[np.int16]:
     elif width == 4:
         samples /= 65536
     if samples.size == 0:
-        raise InvalidInputError("audio", "0 samples", "a recording of a spoken question")
+        raise InvalidValueError("audio", "0 samples", "a recording of a spoken question")
     samples = samples.reshape(-1, channels).mean(axis=1)
     if rate != RATE:
         g = np.gcd(rate, RATE)

@@ -18,7 +18,7 @@ from api.ask.speech import MAX_AUDIO_S, Recogniser, synthesise
 from api.deps import require_token
 from api.openapi_errors import error_responses
 from api.routes.names import memory_iri
-from episodes.errors import InvalidInputError
+from kg.errors import InvalidValueError
 from reasoners.explain import explain, to_jsonable
 
 router = APIRouter(tags=["ask"])
@@ -39,8 +39,9 @@ def _asker(request: Request) -> Asker:
     state = request.app.state
     with _LOCK:
         asker: Asker | None = getattr(state, "asker", None)
-        if asker is None or asker.scenes is not state.scene_memory:
-            asker = state.asker = Asker(state.scene_memory, state.episodes)
+        services = state.services
+        if asker is None or asker.scenes is not services.scene_memory:
+            asker = state.asker = Asker(services.scene_memory, services.episodes)
         return asker
 
 
@@ -85,7 +86,7 @@ async def ask_audio(
     spoken answer, with what was heard in the ``X-Engram-Heard`` header."""
     wav = await request.body()
     if len(wav) > MAX_AUDIO_BYTES:
-        raise InvalidInputError("body", f"{len(wav)} bytes", f"a WAV of at most {MAX_AUDIO_S:g} s")
+        raise InvalidValueError("body", f"{len(wav)} bytes", f"a WAV of at most {MAX_AUDIO_S:g} s")
     recogniser = await run_in_threadpool(_recogniser, request)
     heard, answer = await run_in_threadpool(asker.ask_audio, wav, recogniser)
     speech = await run_in_threadpool(synthesise, answer.words)
@@ -114,5 +115,5 @@ def explain_about(
     """``about`` is a learned class, an experienced scene or something forgotten: a short name
     in Engram's namespace (``Scene-4``) or a full IRI. Unknown IRIs answer 404."""
     iri = memory_iri(about, "about")
-    explanations = explain(request.app.state.scene_memory, iri)
+    explanations = explain(request.app.state.services.scene_memory, iri)
     return {"about": iri.value, "explanations": [to_jsonable(e) for e in explanations]}

@@ -17,10 +17,10 @@ async def health(store: StoreDep, request: Request) -> dict[str, Any]:
 
     Answered on the event loop from what the server holds in memory (the ontology version that
     opening the store ensured, the store's transaction count, the memory's state), never from
-    the store: beside 8 writers and 8 SPARQL readers, a store query and a hop through the thread
-    pool made it 30 ms (median) instead of a few."""
-    version = request.app.state.ontology_version
-    memory = request.app.state.scene_memory
+    the store, so that it stays quick beside busy writers and readers."""
+    services = request.app.state.services
+    version = services.ontology.version
+    memory = services.scene_memory
     if memory.ready:
         state = "ready"
     elif memory.wait_ready(timeout_s=0):

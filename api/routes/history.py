@@ -9,7 +9,7 @@ from pyoxigraph import NamedNode
 
 from api.openapi_errors import error_responses
 from api.routes.names import memory_iri
-from episodes.errors import InvalidInputError, NotFoundError
+from kg.errors import InvalidValueError, NotFoundError
 from reasoners import history
 from reasoners.errors import UnknownItemError
 
@@ -30,7 +30,7 @@ def class_history(
     rescored, level, forgotten, restored, pinned, unpinned), and the ``score`` (raw score ζ) and
     ``level`` it left (null where there is none). A name the memory never held answers 404."""
     iri = memory_iri(cls, "class")
-    memory = request.app.state.scene_memory
+    memory = request.app.state.services.scene_memory
     events = history.events(memory.store, iri)
     if not events and not _known(memory, iri):
         raise NotFoundError(
@@ -52,7 +52,7 @@ def memory_as_of(
     (its end, UTC). Each class comes with its last event by then and the score (ζ) and level
     that event left."""
     at = _parse_time(time)
-    states = history.as_of(request.app.state.scene_memory.store, at)
+    states = history.as_of(request.app.state.services.scene_memory.store, at)
     return {
         "time": at.astimezone(dt.UTC).isoformat(timespec="milliseconds"),
         "classes": [s.to_json() for s in states],
@@ -67,11 +67,11 @@ def _parse_time(text: str) -> dt.datetime:
             return dt.datetime.combine(day, dt.time(23, 59, 59, 999000), tzinfo=dt.UTC)
         at = dt.datetime.fromisoformat(value)
     except ValueError:
-        raise InvalidInputError(
+        raise InvalidValueError(
             "time", text, "an ISO 8601 time such as 2026-01-01T12:00:00Z, or a date"
         ) from None
     if at.tzinfo is None:
-        raise InvalidInputError(
+        raise InvalidValueError(
             "time", text, "a time with a time zone, such as 2026-01-01T12:00:00Z"
         )
     return at

@@ -2,7 +2,7 @@
 
 from pyoxigraph import NamedNode
 
-from episodes.errors import InvalidInputError
+from kg.errors import InvalidValueError
 from ontologies.vocab import ENGRAM_NS
 
 __all__ = ["memory_iri"]
@@ -11,7 +11,7 @@ __all__ = ["memory_iri"]
 def memory_iri(text: str, field: str) -> NamedNode:
     """A short name in Engram's namespace (``Scene-4``) or a full IRI, angle brackets allowed.
 
-    Raises :class:`InvalidInputError` naming ``field`` for text that is not an IRI.
+    Raises :class:`~kg.errors.InvalidValueError` naming ``field`` for text that is not an IRI.
 
     >>> memory_iri("Scene-4", "class").value
     'https://w3id.org/engram/ontology#Scene-4'
@@ -22,4 +22,4 @@ def memory_iri(text: str, field: str) -> NamedNode:
     try:
         return NamedNode(value)
     except ValueError:
-        raise InvalidInputError(field, text, "a class or scene name, or an IRI") from None
+        raise InvalidValueError(field, text, "a class or scene name, or an IRI") from None

@@ -53,7 +53,7 @@ LIVE_RETRY_MS = 500
 
 
 def _memory(request: Request) -> SceneMemory:
-    memory: SceneMemory = request.app.state.scene_memory
+    memory: SceneMemory = request.app.state.services.scene_memory
     return memory
 
 

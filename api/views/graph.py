@@ -24,6 +24,7 @@ from api.views.models import (
 from api.views.scenes import scene_entries
 from api.views.words import relation_of, words
 from kg import Store
+from kg.errors import NotFoundError
 from ontologies.vocab import (
     CREATED,
     EPISODIC,
@@ -54,7 +55,7 @@ SCENES_SHOWN = 50
 """The stored scenes a class's detail lists, newest first."""
 
 
-class UnknownClassError(LookupError):
+class UnknownClassError(NotFoundError):
     """No live or forgotten class has that name."""
 
 

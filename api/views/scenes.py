@@ -14,25 +14,20 @@ from pyoxigraph import Literal, NamedNode
 
 from api.views.models import Relation, SceneDetail, SceneEntry, SceneList, ScenePrimitive
 from kg import Store
+from kg.errors import NotFoundError
 from ontologies.vocab import (
-    APEX,
-    AXIS,
-    CENTRE,
-    COLOUR,
     CREATED,
     ENGRAM_NS,
     EPISODIC,
     EXPERIENCED_SCENE,
     HAPPENED_DURING,
     HAS_PRIMITIVE,
-    HEIGHT,
     OWL_NAMED_INDIVIDUAL,
-    RADIUS,
     RDF_TYPE,
-    RDFS_LABEL,
     SPATIAL_INVERSES,
     TRASH,
 )
+from reasoners.persist import read_primitive
 
 __all__ = [
     "UnknownSceneError",
@@ -46,7 +41,7 @@ _KINDS = {ENGRAM_NS + k: k for k in ("Sphere", "Cylinder", "Cone", "Plane")}
 _RELATIONS = {p.value: p.value.rsplit("#", 1)[-1] for p in SPATIAL_INVERSES}
 
 
-class UnknownSceneError(LookupError):
+class UnknownSceneError(NotFoundError):
     """No stored scene has that name."""
 
 
@@ -116,38 +111,19 @@ def scene_list(
     )
 
 
-def _vector(values: dict[NamedNode, Any], props: tuple[NamedNode, ...]) -> Any:
-    if not all(isinstance(values.get(p), Literal) for p in props):
-        return None
-    return tuple(float(values[p].value) for p in props)
-
-
-def _number(values: dict[NamedNode, Any], prop: NamedNode) -> float | None:
-    term = values.get(prop)
-    return float(term.value) if isinstance(term, Literal) else None
-
-
 def _primitive(store: Store, iri: NamedNode, graph: NamedNode) -> ScenePrimitive | None:
-    values: dict[NamedNode, Any] = {}
-    kind = None
-    for quad in store.quads(iri, None, None, graph):
-        if quad.predicate == RDF_TYPE and isinstance(quad.object, NamedNode):
-            kind = _KINDS.get(quad.object.value, kind)
-        else:
-            values.setdefault(quad.predicate, quad.object)
-    centre = _vector(values, CENTRE)
-    if kind is None or centre is None:
+    stored = read_primitive(store, iri, graph)
+    if stored is None:
         return None
-    label = values.get(RDFS_LABEL)
     return ScenePrimitive(
-        id=label.value if isinstance(label, Literal) else _name(iri),
-        kind=kind,
-        centre=centre,
-        axis=_vector(values, AXIS),
-        radius=_number(values, RADIUS),
-        height=_number(values, HEIGHT),
-        apex=_vector(values, APEX),
-        colour=_vector(values, COLOUR),
+        id=stored.id,
+        kind=stored.kind,
+        centre=stored.centre,
+        axis=stored.axis,
+        radius=stored.radius,
+        height=stored.height,
+        apex=stored.apex,
+        colour=stored.colour,
     )
 
 

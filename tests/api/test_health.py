@@ -18,7 +18,7 @@ def test_health_reads_nothing_from_the_store_and_reports_its_state(tmp_path: Pat
     app = create_app(settings)
     server, thread, url = serve(app, settings)
     try:
-        store = app.state.store
+        store = app.state.services.store
         version = stored_version(store)
         assert version is not None
         reads: list[str] = []

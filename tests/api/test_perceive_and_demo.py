@@ -26,6 +26,13 @@ from tests.conftest import LiveServer
 runner = CliRunner()
 
 
+def memory_in(data: Path) -> Path:
+    """``data`` with an empty memory in it, as ``engram init`` makes one."""
+    made = runner.invoke(app, ["init", "--data", str(data)])
+    assert made.exit_code == 0, made.output
+    return data
+
+
 def _world_frames(title: str | None, count: int, seed: int = 0) -> list[Frame]:
     """Frames of a demo scene (None: the empty table) with points in the world frame, as a bag
     without tf would hold them."""
@@ -42,7 +49,7 @@ def test_perceive_local_stores_each_stable_scene(tmp_path: Path) -> None:
     bag = tmp_path / "breakfast"
     write_bag(bag, _world_frames("breakfast", 8))
     data = tmp_path / "data"
-    result = runner.invoke(app, ["perceive", str(bag), "--local", "--data", str(data)])
+    result = runner.invoke(app, ["perceive", str(bag), "--local", "--data", str(memory_in(data))])
     assert result.exit_code == 0, result.output
     assert "learned Scene-1" in result.output
     assert "1 scene(s) stored" in result.output
@@ -82,13 +89,21 @@ def test_one_scan_stores_one_scene_with_the_frames_it_averages(tmp_path: Path) -
     )
     scan = _scan(tmp_path / "scan.ply", objects)
     data = tmp_path / "data"
-    result = runner.invoke(app, ["perceive", str(scan), "--local", "--data", str(data)])
+    result = runner.invoke(app, ["perceive", str(scan), "--local", "--data", str(memory_in(data))])
     assert result.exit_code == 0, result.output
     output = " ".join(result.output.split())
     assert "(Cylinder, Sphere on Plane; 1 frame(s) averaged, end of the source): learned" in output
     assert "1 scene(s) stored" in output
     waiting = runner.invoke(
-        app, ["perceive", str(scan), "--local", "--data", str(tmp_path / "d2"), "--wait-stable"]
+        app,
+        [
+            "perceive",
+            str(scan),
+            "--local",
+            "--data",
+            str(memory_in(tmp_path / "d2")),
+            "--wait-stable",
+        ],
     )
     assert waiting.exit_code == PerceiveExit.NOTHING_STORED, waiting.output
     output = " ".join(waiting.output.split())
@@ -98,7 +113,8 @@ def test_one_scan_stores_one_scene_with_the_frames_it_averages(tmp_path: Path) -
 
 def test_a_scan_of_an_empty_table_says_why_no_scene(tmp_path: Path) -> None:
     scan = _scan(tmp_path / "empty.ply", ())
-    result = runner.invoke(app, ["perceive", str(scan), "--local", "--data", str(tmp_path / "d")])
+    data = str(memory_in(tmp_path / "d"))
+    result = runner.invoke(app, ["perceive", str(scan), "--local", "--data", data])
     assert result.exit_code == PerceiveExit.NOTHING_STORED, result.output
     output = " ".join(result.output.split())
     assert "0 scene(s) stored" in output
@@ -119,7 +135,8 @@ REAL_SCANS = Path(__file__).parents[1] / "data" / "real_scans"
 
 def test_a_real_tilted_scan_with_no_pose_stores_a_mug_on_a_table(tmp_path: Path) -> None:
     scan = REAL_SCANS / "mug_stereo.npz"
-    result = runner.invoke(app, ["perceive", str(scan), "--local", "--data", str(tmp_path)])
+    data = str(memory_in(tmp_path / "d"))
+    result = runner.invoke(app, ["perceive", str(scan), "--local", "--data", data])
     assert result.exit_code == PerceiveExit.STORED, result.output
     output = " ".join(result.output.split())
     assert "(Cylinder on Plane; 1 frame(s) averaged, end of the source): learned" in output
@@ -175,5 +192,12 @@ def test_demo_learns_recalls_forgets_and_exports(tmp_path: Path) -> None:
     entities = [update.entities[0] for update in decoded]  # type: ignore[attr-defined]
     assert all(len(e.spheres) + len(e.cylinders) >= 2 for e in entities)
     again = runner.invoke(app, ["demo", "--no-serve", "--data", str(tmp_path)])
-    assert again.exit_code == 2
-    assert "--reset" in again.output
+    assert again.exit_code == 0, again.output  # a memory the demo made is replaced
+    assert "emptied the memory of" in again.output
+    other = tmp_path / "robot"
+    assert runner.invoke(app, ["init", "--data", str(other)]).exit_code == 0
+    began = runner.invoke(app, ["episodes", "begin", "tidying", "--data", str(other)])
+    assert began.exit_code == 0, began.output
+    refused = runner.invoke(app, ["demo", "--no-serve", "--data", str(other)])
+    assert refused.exit_code == 2  # any other memory is the robot's: only --reset empties it
+    assert "--reset" in refused.output

@@ -13,8 +13,11 @@ NOW = "2026-02-26T10:00:00+00:00"
 
 
 def engram(data: Path, *arguments: str) -> tuple[int, str]:
+    made = runner.invoke(app, ["init", "--data", str(data)])
+    assert made.exit_code == 0, made.output
     result = runner.invoke(app, ["episodes", *arguments, "--data", str(data)])
-    return result.exit_code, result.output
+    # stdout is the JSON; stderr says which memory was opened, and why a command failed
+    return result.exit_code, result.stdout if result.exit_code == 0 else result.output
 
 
 def test_begin_end_recall_count_delete(tmp_path: Path) -> None:

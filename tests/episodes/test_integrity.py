@@ -113,9 +113,9 @@ def test_import_reports_skipped_topics_over_http(live_server: LiveServer) -> Non
 
 def test_import_reports_skipped_topics_on_the_command_line(tmp_path: Path) -> None:
     bag = write_bag_with_an_unsupported_topic(tmp_path / "drive")
-    result = CliRunner().invoke(
-        cli, ["episodes", "import", str(bag), "drive", "--data", str(tmp_path / "data")]
-    )
+    data = ["--data", str(tmp_path / "data")]
+    assert CliRunner().invoke(cli, ["init", *data]).exit_code == 0
+    result = CliRunner().invoke(cli, ["episodes", "import", str(bag), "drive", *data])
     assert result.exit_code == 0, result.output
     assert "skipped /cmd_vel: 3 messages of geometry_msgs/msg/Twist" in result.stderr
     assert '"count": 3' in result.stdout

@@ -160,6 +160,7 @@ def test_roles_and_arguments_over_http(live_server: LiveServer) -> None:
 def test_roles_and_arguments_on_the_command_line(tmp_path: Path) -> None:
     runner = CliRunner()
     data = ["--data", str(tmp_path)]
+    assert runner.invoke(cli, ["init", *data]).exit_code == 0
 
     def run(*args: str) -> str:
         result = runner.invoke(cli, ["episodes", *args, *data])

@@ -7,7 +7,7 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from api.ask import Asker
-from episodes.errors import InvalidInputError
+from kg.errors import InvalidInputError
 from ontologies.vocab import engram
 from tests.api.ask.conftest import TWO_BALLS
 

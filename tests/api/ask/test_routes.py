@@ -144,7 +144,7 @@ def test_engram_ask_on_the_data_directory(lived_data_dir: Path, tmp_path: Path) 
         ],
     )
     assert spoken.exit_code == 0, spoken.output
-    body = json.loads(spoken.output)
+    body = json.loads(spoken.stdout)  # stderr names the memory opened
     assert body["heard"] == "how many times did anna do motor babbling"
     assert body["words"] == "Anna did motor babbling twice."
     assert answer.read_bytes()[:4] == b"RIFF"
@@ -160,4 +160,4 @@ def test_the_readme_example_answers_as_shown(lived_data_dir: Path) -> None:
     assert words[:2] == ["engram", "ask"]
     result = CliRunner().invoke(app, [*words[1:], "--data", str(lived_data_dir)])
     assert result.exit_code == 0, result.output
-    assert result.output.strip() == expected
+    assert result.stdout.strip() == expected  # stderr names the memory opened

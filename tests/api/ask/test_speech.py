@@ -10,7 +10,7 @@ from api.ask import Asker, parse
 from api.ask.grammar import Parsed, parse_thing
 from api.ask.samples import SPOKEN
 from api.ask.speech import Recogniser, pcm16k, pronounce, synthesise
-from episodes.errors import InvalidInputError
+from kg.errors import InvalidInputError
 
 pytestmark = pytest.mark.slow  # espeak-ng runs as a process for each question
 
