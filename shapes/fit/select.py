@@ -329,11 +329,16 @@ def _choose(
     return next(k for k in ORDER if k in candidates and candidates[k] <= best + fp.tie_margin)
 
 
+_HEIGHT_PER_DIAGONAL = 2.0
+"""An object seen with up to half of its length hidden still passes :func:`bounded`."""
+
+
 def bounded(primitive: Primitive, points: FloatArray, *, margin_m: float) -> bool:
-    """Whether a primitive stays within its own points: its radius and height no longer than
-    the diagonal of their bounding box (plus ``margin_m``), its centre inside that box grown by
-    ``margin_m`` and, for a curved primitive, by its radius (the centre of a sphere or a can
-    lies behind the surface the sensor sees).
+    """Whether a primitive stays within its own points: its radius no longer than the diagonal
+    of their bounding box (plus ``margin_m``), its height no longer than ``_HEIGHT_PER_DIAGONAL``
+    times that (the part of an object hidden behind another, or a cone's tip, lies past the
+    points), its centre inside that box grown by ``margin_m`` and, for a curved primitive, by its
+    radius (the centre of a sphere or a can lies behind the surface the sensor sees).
 
     >>> pts = np.array([[0.0, 0, 0], [0.1, 0, 0], [0, 0.1, 0], [0, 0, 0.1]])
     >>> ball = Primitive(ShapeKind.SPHERE, centre=(0.05, 0.05, 0.05), radius=0.05)
@@ -345,7 +350,7 @@ def bounded(primitive: Primitive, points: FloatArray, *, margin_m: float) -> boo
     radius, height = primitive.radius or 0.0, primitive.height or 0.0
     if not (math.isfinite(radius) and math.isfinite(height)):
         return False
-    if radius > diagonal or height > diagonal:
+    if radius > diagonal or height > _HEIGHT_PER_DIAGONAL * diagonal:
         return False
     grow = margin_m + radius
     centre = np.asarray(primitive.centre)
