@@ -25,6 +25,8 @@ console = Console()
 
 def _describe(result: "PerceivedScene") -> str:
     kinds = ", ".join(sorted(p.kind.value for p in result.scene.primitives))
+    if result.scene.supports:
+        kinds += " on " + ", ".join(p.kind.value for p in result.scene.supports)
     how = "learned" if result.learned else "recognised as"
     confidence = result.answer.details.get("confidence", ["?"])[0]
     frames = result.scene.frames
@@ -54,7 +56,8 @@ def perceive_command(
     pose: Annotated[
         Path | None,
         typer.Option(
-            help="Text file with the 4x4 world-from-sensor matrix (world z up); default identity."
+            help="Text file with the 4x4 world-from-sensor matrix (world z up); by default up "
+            "is the normal of the scene's dominant support."
         ),
     ] = None,
     episode: Annotated[str | None, typer.Option(help="Episode IRI the scenes belong to.")] = None,
@@ -119,7 +122,7 @@ def perceive_command(
                 client_id, "engram", http=httpx.Client(base_url="http://local", transport=transport)
             )
         _perceive_into(
-            client, source, frames, total, scene_frames, min_hits, seed, episode, wait_stable
+            client, source, frames, total, scene_frames, min_hits, seed, episode, wait_stable, pose
         )
 
 
@@ -133,8 +136,9 @@ def _perceive_into(
     seed: int,
     episode: str | None,
     wait_stable: bool,
+    pose: Path | None,
 ) -> None:
-    from api.perceive import perceive
+    from api.perceive import PerceiveExit, exit_status, perceive
     from shapes import Frame, Perception, PerceptionParams, ShapesError
 
     stored = 0
@@ -147,7 +151,9 @@ def _perceive_into(
                     yield frame
                     progress.advance(task)
 
-            params = PerceptionParams(stable_frames=scene_frames, min_hits=min_hits)
+            params = PerceptionParams(
+                stable_frames=scene_frames, min_hits=min_hits, gravity_from_scene=pose is None
+            )
             perception = Perception(params, seed=seed)
             for result in perceive(
                 counted(), client, perception=perception, episode=episode, finish=not wait_stable
@@ -160,7 +166,10 @@ def _perceive_into(
     except ArmorPyException as error:  # the memory refused or could not be reached
         console.print(f"[red]{escape(str(error))}[/red]")
         raise typer.Exit(1) from None
-    console.print(f"{stored} scene(s) stored from {escape(str(source))}")
+    up = f"the pose in {pose}" if pose else perception.gravity
+    console.print(f"{stored} scene(s) stored from {escape(str(source))}; up: {escape(up)}")
     if not stored:
         for line in perception.why_no_scene() or ["no frame in the source"]:
             console.print(f"no scene: {escape(line)}")
+    if exit_status(stored) is not PerceiveExit.STORED:
+        raise typer.Exit(exit_status(stored))

@@ -60,11 +60,9 @@ SCENES: dict[str, TabletopScene] = {
         )
     ),
     "two cans": TabletopScene(
-        (_can(-0.15, 0.1, 0.035, 0.10, "green"), _can(0.15, -0.05, 0.04, 0.18, "pink"))
+        (_can(-0.15, 0.1, 0.035, 0.12, "green"), _can(0.15, -0.05, 0.04, 0.18, "pink"))
     ),
-    "ball before a cone": TabletopScene(
-        (_sphere(0.0, -0.12, 0.05, "red"), _cone(0.0, 0.18, 0.05, 0.14, "green"))
-    ),
+    "a ball alone": TabletopScene((_sphere(0.0, 0.0, 0.06, "red"),)),
 }
 """The tabletop scenes the robot sees (x right, y away from the camera, z up; metres)."""
 
@@ -73,7 +71,7 @@ SCRIPT: tuple[tuple[float, str], ...] = (
     (0.2, "breakfast and a funnel"),
     (0.4, "two cans"),
     (0.6, "breakfast"),
-    (0.8, "ball before a cone"),
+    (0.8, "a ball alone"),
     (1.0, "breakfast"),
     (1.5, "breakfast and a funnel"),
     (2.0, "breakfast"),
@@ -82,9 +80,12 @@ SCRIPT: tuple[tuple[float, str], ...] = (
     (5.0, "breakfast"),
     (6.0, "breakfast"),
     (7.0, "breakfast"),
+    (8.0, "breakfast"),
+    (9.0, "breakfast"),
+    (10.0, "breakfast"),
 )
 """(hours after the start of day one, scene): what the robot sees, in order. Breakfast is a
-routine; the ball before a cone is seen once and never asked about, so it fades."""
+routine; a ball alone on the table is seen once and never asked about, so it fades."""
 
 CUES: tuple[tuple[str, list[str]], ...] = (
     ("a ball to the left of a can", ["Sphere isLeftOf Cylinder"]),

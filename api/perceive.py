@@ -8,11 +8,35 @@ one transaction through an :class:`~api.client.ArmorClient` (over HTTP, or in th
 
 from collections.abc import Iterable, Iterator
 from dataclasses import dataclass
+from enum import IntEnum
 
 from api.client import ArmorClient, MemoryAnswer, ScenePrimitive
 from shapes import Frame, Perception, Primitive, StableScene
 
-__all__ = ["PerceivedScene", "perceive", "scene_primitives"]
+__all__ = ["PerceiveExit", "PerceivedScene", "exit_status", "perceive", "scene_primitives"]
+
+
+class PerceiveExit(IntEnum):
+    """The exit status of ``engram perceive`` (docs/perception.md), whether the memory is
+    local or reached over HTTP and whether the source is a file or a bag."""
+
+    STORED = 0
+    """At least one scene was stored."""
+    MEMORY_ERROR = 1
+    """The memory refused a scene or could not be reached (nothing more was stored)."""
+    BAD_INPUT = 2
+    """The source or an option is invalid: missing, malformed, not a cloud, a bad pose."""
+    NOTHING_STORED = 3
+    """The source was read but gave no scene to store; the output says why."""
+
+
+def exit_status(stored: int) -> PerceiveExit:
+    """The exit status of a run that read its whole source and stored ``stored`` scenes.
+
+    >>> exit_status(2).name, exit_status(0).name
+    ('STORED', 'NOTHING_STORED')
+    """
+    return PerceiveExit.STORED if stored > 0 else PerceiveExit.NOTHING_STORED
 
 
 @dataclass(frozen=True)
@@ -39,7 +63,8 @@ def _name(primitive: Primitive, position: int) -> str:
 
 
 def scene_primitives(scene: StableScene) -> list[ScenePrimitive]:
-    """The scene's averaged primitives as the memory client sends them.
+    """The scene's averaged primitives as the memory client sends them: its objects, then
+    the supports they stand on (Planes), so one mug on a table is a scene of two.
 
     >>> from shapes import ShapeKind, StableScene
     >>> ball = Primitive(ShapeKind.SPHERE, centre=(0.1, 0.2, 0.05), radius=0.05, tracking_id=3)
@@ -60,7 +85,7 @@ def scene_primitives(scene: StableScene) -> list[ScenePrimitive]:
             colour=p.colour,
             tracking_id=p.tracking_id,
         )
-        for position, p in enumerate(scene.primitives)
+        for position, p in enumerate(scene.primitives + scene.supports)
     ]
 
 

@@ -12,11 +12,16 @@ Stages, each usable on its own:
   with ground truth, and :mod:`shapes.sensor`, a simulated 640 x 480 depth camera with the
   artefacts of real sensors;
 - :mod:`shapes.artefacts`: depth noise measured per frame, flying pixels, veils, sparse points;
+- :mod:`shapes.gravity`: up from the scene's dominant support when the sensor's pose is not
+  known (``PerceptionParams(gravity_from_scene=True)``);
 - :func:`segment`: depth cut, voxel grid, planes, the support rule (the horizontal plane with
-  objects on it), points above it, clusters, touching objects split (:mod:`shapes.split`);
-- :func:`fit_cluster`: sphere / cylinder / cone / plane RANSAC and the shape choice;
+  objects on it; a plane standing on it is part of an object), points above it, clusters,
+  touching objects split (:mod:`shapes.split`);
+- :func:`fit_cluster`: sphere / cylinder / cone / plane RANSAC and the shape choice, every
+  primitive within its own points;
 - :class:`Tracker`: stable ids; :mod:`shapes.colour`: colour per object;
-- :class:`SceneAverager`: per-id averages per shape, majority shape, scene changes;
+- :class:`SceneAverager`: per-id averages per shape, majority shape, scene changes; a scene
+  holds its objects and the supports they stand on (Planes);
 - :class:`Perception`: all of it for a stream of frames, yielding :class:`StableScene` events
   (and, at the end of a finite source, the scene it has; :meth:`Perception.why_no_scene`).
 

@@ -45,6 +45,8 @@ class Observation:
 
     primitive: Primitive
     cluster_centroid: FloatArray
+    support: bool = False
+    """The primitive is a support (a table or the floor) that objects stand on."""
 
     @property
     def tracking_id(self) -> int:
@@ -77,6 +79,8 @@ class StableScene:
     votes: dict[int, dict[ShapeKind, int]]
     frames: int
     partial: bool = False
+    supports: tuple[Primitive, ...] = ()
+    """The Plane primitives the objects stand on (part of the scene, as in the seed's)."""
 
 
 SceneEvent = SceneChange | StableScene
@@ -126,9 +130,11 @@ class _Object:
     ref_n: int = 0
     hits: int = 0
     away: int = 0
+    support: bool = False
 
     def add(self, obs: Observation, frame: int) -> None:
         p = obs.primitive
+        self.support = obs.support
         self.kinds.setdefault(p.kind, _KindMean()).add(p)
         self.last_seen[p.kind] = frame
         if p.colour is not None:
@@ -220,13 +226,15 @@ class SceneAverager:
         return self._scene(sorted(self.members), stamp, partial=False)
 
     def _scene(self, ids: list[int], stamp: float | None, *, partial: bool) -> StableScene:
+        objects = [i for i in ids if not self.objects[i].support]
         return StableScene(
             max(self.scene_index, 0),
             stamp,
-            tuple(self.objects[i].primitive(i) for i in ids),
+            tuple(self.objects[i].primitive(i) for i in objects),
             {i: {k: m.count for k, m in self.objects[i].kinds.items()} for i in ids},
-            max((self.objects[i].hits for i in ids), default=0),
+            max((self.objects[i].hits for i in objects), default=0),
             partial,
+            tuple(self.objects[i].primitive(i) for i in ids if self.objects[i].support),
         )
 
     def flush(self, stamp: float | None = None) -> StableScene | None:
@@ -240,7 +248,7 @@ class SceneAverager:
             return None
         need = min(self.min_hits, max(self.frame, 1))
         ids = sorted(i for i, o in self.objects.items() if i in self.members or o.hits >= need)
-        if not ids:
+        if all(self.objects[i].support for i in ids):
             return None
         self.stable_sent = True
         return self._scene(ids, stamp, partial=True)

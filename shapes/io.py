@@ -18,7 +18,7 @@ import open3d as o3d
 from shapes.bags import bag_message_count, read_bag
 from shapes.cloudfile import check_cloud_file
 from shapes.errors import InvalidCloudError, SourceError
-from shapes.frame import Frame
+from shapes.frame import Frame, frame_from_depth_image
 from shapes.types import FloatArray
 
 __all__ = ["CLOUD_SUFFIXES", "open_source", "read_cloud_file", "source_length"]
@@ -76,6 +76,8 @@ def _read_array(path: Path, pose: FloatArray) -> Frame:
         raise SourceError(f"array file {str(path)!r}: cannot be read ({exc})") from exc
     if isinstance(data, np.lib.npyio.NpzFile):
         with data:
+            if "depth" in data.files:
+                return _read_depth_image(path, data, pose)
             if "points" not in data.files:
                 raise SourceError(
                     f"array file {str(path)!r}: expected an array named 'points' (and optionally "
@@ -94,6 +96,33 @@ def _read_array(path: Path, pose: FloatArray) -> Frame:
         raise InvalidCloudError(f"array file {str(path)!r}: {exc}") from exc
 
 
+DEPTH_IMAGE_KEYS = ("depth", "fx", "fy", "cx", "cy")
+
+
+def _read_depth_image(path: Path, data: np.lib.npyio.NpzFile, pose: FloatArray) -> Frame:
+    """An organised frame from an ``.npz`` depth image (see :func:`open_source`)."""
+    missing = [key for key in DEPTH_IMAGE_KEYS if key not in data.files]
+    if missing:
+        raise SourceError(
+            f"array file {str(path)!r}: a depth image needs the arrays {DEPTH_IMAGE_KEYS} "
+            f"(and optionally 'depth_scale' and 'rgb'), missing {missing}"
+        )
+    try:
+        scalars = {key: float(data[key]) for key in ("fx", "fy", "cx", "cy")}
+        scale = float(data["depth_scale"]) if "depth_scale" in data.files else 1.0
+        rgb = data["rgb"] if "rgb" in data.files else None
+        return frame_from_depth_image(
+            data["depth"],
+            depth_scale=scale,
+            rgb=rgb,
+            world_from_camera=pose,
+            frame_id=path.stem,
+            **scalars,
+        )
+    except (TypeError, ValueError) as exc:  # InvalidCloudError is a ValueError
+        raise InvalidCloudError(f"array file {str(path)!r}: {exc}") from exc
+
+
 def _is_ros2_dir(path: Path) -> bool:
     return path.is_dir() and (path / "metadata.yaml").is_file()
 
@@ -109,6 +138,9 @@ def open_source(
     - ``.ply``, ``.pcd``, ``.xyz``, ``.xyzrgb``, ``.pts``: one frame (open3d);
     - ``.npy`` with ``(N, 3)`` points or ``(N, 6)`` points and RGB; ``.npz`` with ``points``
       and optional ``colours``: one frame;
+    - ``.npz`` holding a depth image (pinhole optical frame: x right, y down, z forward):
+      ``depth`` (H x W), ``fx fy cx cy`` in pixels, optional ``depth_scale`` (metres per unit
+      of ``depth``, default 1) and ``rgb`` (H x W x 3): one organised frame;
     - ``.bag`` (ROS 1), a ROS 2 bag directory or its ``.mcap``/``.db3`` file: one frame per
       PointCloud2 message (``topic`` picks one topic).
 

@@ -23,9 +23,10 @@ from shapes.average import Observation, SceneAverager, SceneEvent, StableScene
 from shapes.colour import mean_colour
 from shapes.fit import FitParams, fit_cluster
 from shapes.frame import Frame
-from shapes.segment import SegmentationParams, segment
+from shapes.gravity import gravity_from_scene
+from shapes.segment import Cluster, SegmentationParams, segment
 from shapes.track import Tracker
-from shapes.types import FloatArray, Primitive, SupportPlane
+from shapes.types import FloatArray, Primitive, ShapeKind, SupportPlane
 
 __all__ = ["FrameResult", "Perception", "PerceptionParams"]
 
@@ -46,6 +47,9 @@ class PerceptionParams:
     confirm_frames: int = 3
     stable_frames: int = 5
     min_hits: int = 3
+    gravity_from_scene: bool = False
+    """Ignore the frames' poses and take up from each frame's dominant support
+    (:mod:`shapes.gravity`): for a sensor whose pose is not known."""
 
 
 @dataclass(frozen=True, eq=False)
@@ -60,11 +64,40 @@ class FrameResult:
     centroids: tuple[FloatArray, ...] = ()
     reason: str | None = None
     """Why this frame gave no primitive (one line), None when it gave some."""
+    gravity: str = "pose"
+    """Where up came from: "pose" (the frame's world_from_sensor) or a line from
+    :meth:`shapes.gravity.Gravity.describe`."""
+    supports: tuple[Primitive, ...] = ()
+    """The supports under this frame's primitives, as Plane primitives (with ids)."""
+    world_from_sensor: FloatArray = field(default_factory=lambda: np.eye(4))
+    """The pose the frame was processed with (the frame's own, or gravity's)."""
 
 
 def _signature(primitive: Primitive) -> tuple[str, float]:
     """Shape kind and size (radius, or 0 for a plane) by which a moved object is known again."""
     return primitive.kind.value, primitive.radius or 0.0
+
+
+def _supports_under(fitted: list[tuple[Cluster, Primitive]]) -> list[tuple[Cluster, Primitive]]:
+    """The supports the fitted objects stand on, each as a Plane primitive of the scene.
+
+    The plane's ``centre`` is the mean of the support's own points (on the plane): an object
+    added to the scene or taken away leaves the relations of the others to the support as
+    they were, so a scene with one more object is a specialisation of the scene without it.
+    """
+    out: list[tuple[Cluster, Primitive]] = []
+    for support in dict.fromkeys(c.support for c, _ in fitted if c.support is not None):
+        if support.centre is None:
+            continue
+        centre = np.asarray(support.centre)
+        primitive = Primitive(
+            ShapeKind.PLANE,
+            support.centre,
+            axis=support.normal,
+            hessian_offset=-float(np.asarray(support.normal) @ centre),
+        )
+        out.append((Cluster(centre[None, :], None, centre[None, :], support), primitive))
+    return out
 
 
 class Perception:
@@ -84,12 +117,24 @@ class Perception:
         )
         self.reasons: dict[str, str] = {}
         self.last_stamp: float | None = None
+        self.gravity = "pose"
+        """Where up came from in the last frame (:attr:`FrameResult.gravity`)."""
 
     def process(self, frame: Frame) -> FrameResult:
         """Run one frame through the chain."""
         index = self.frames
         self.frames += 1
         rng = np.random.default_rng([self.seed, index])
+        gravity = "pose"
+        if self.params.gravity_from_scene:
+            found = gravity_from_scene(frame, self.params.segmentation, seed=self.seed + index)
+            if found is None:
+                gravity = "gravity from the scene: no plane found, the sensor's z axis is up"
+                frame = replace(frame, world_from_sensor=np.eye(4))
+            else:
+                gravity = found.describe()
+                frame = replace(frame, world_from_sensor=found.world_from_sensor)
+        self.gravity = gravity
         seg = segment(frame, self.params.segmentation, seed=self.seed + index)
         fitted = []
         for cluster in seg.clusters:
@@ -101,21 +146,25 @@ class Perception:
             )
             if fit is not None:
                 fitted.append((cluster, fit.primitive))
+        supports = _supports_under(fitted)
         reason = seg.reason
         if seg.clusters and not fitted:
             reason = f"clusters rejected: no model fits any of the {len(seg.clusters)} cluster(s)"
         if reason is not None:
             self.reasons[reason.split(":")[0]] = reason
         self.last_stamp = frame.stamp
+        tracked = fitted + supports
         ids = self.tracker.update(
-            [c.centroid for c, _ in fitted], [_signature(p) for _, p in fitted]
+            [c.centroid for c, _ in tracked], [_signature(p) for _, p in tracked]
         )
-        primitives, observations = [], []
-        for (cluster, prim), tid in zip(fitted, ids, strict=True):
+        primitives: list[Primitive] = []
+        planes: list[Primitive] = []
+        observations: list[Observation] = []
+        for k, ((cluster, prim), tid) in enumerate(zip(tracked, ids, strict=True)):
             colour = None if cluster.colours is None else mean_colour(cluster.colours)
             prim = replace(prim, tracking_id=tid, colour=colour, stamp=frame.stamp)
-            primitives.append(prim)
-            observations.append(Observation(prim, cluster.centroid))
+            (primitives if k < len(fitted) else planes).append(prim)
+            observations.append(Observation(prim, cluster.centroid, support=k >= len(fitted)))
         events = self.averager.update(observations, self.tracker.deleted, frame.stamp)
         log.debug("frame %d: %d primitives, %d events", index, len(primitives), len(events))
         return FrameResult(
@@ -124,8 +173,11 @@ class Perception:
             seg.support,
             tuple(primitives),
             tuple(events),
-            tuple(o.cluster_centroid for o in observations),
+            tuple(o.cluster_centroid for o in observations[: len(primitives)]),
             reason,
+            gravity,
+            tuple(planes),
+            frame.world_from_sensor,
         )
 
     def finish(self) -> StableScene | None:

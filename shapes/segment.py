@@ -19,7 +19,11 @@ Steps (PITT's, with its quirks fixed; see ``shared/reference/pitt-perception.md`
    voxels all lie above a horizontal one, less than ``max_height_m`` over it, in pieces none of
    which spans ``min_plane_extent_m``, is the fronts of objects standing in a row or the tops
    of objects of one height (seen on clean scans), not a wall or a shelf: its voxels stay free
-   (``_faces_on``);
+   (``_faces_on``). Likewise a plane standing on a larger horizontal one, inside it and lower
+   than ``min_support_rise_m`` (horizontal) or ``max_height_m`` (tilted) over it, is part of
+   an object (a box's top, a laptop's open lid) and its voxels stay free, except a horizontal
+   one less than ``floor_step_m`` over it (a rug, a seam of the floor), which joins the support
+   (``_standing_on``);
 4. **the support rule**: a support is a *horizontal* plane (normal within
    ``max_support_tilt_deg`` of world z, i.e. of gravity) *with objects on it*. Every voxel that
    belongs to no plane and lies between ``above_margin`` and ``max_height_m`` above a horizontal
@@ -34,7 +38,8 @@ Steps (PITT's, with its quirks fixed; see ``shared/reference/pitt-perception.md`
    the image, or from the support's residuals on an unorganised cloud; a cloud that is not in
    a camera frame, with points at z <= 0.1 m, gets one sigma for every range);
 6. statistical outlier removal and DBSCAN (open3d) on those voxels; each cluster is cut along
-   its concave seams, which separates objects that touch (:mod:`shapes.split`); clusters with
+   its concave seams, which separates objects that touch (:mod:`shapes.split`) when every part
+   reaches down to the support (a handle or a shoulder hangs above it); clusters with
    fewer than ``min_cluster_voxels`` voxels are dropped;
 7. each cluster gets its full-resolution points (and colours) back through the voxel index.
 
@@ -89,6 +94,9 @@ class SegmentationParams:
     min_cluster_voxels: int = 12
     split_touching: bool = True
     min_split_extent_m: float = 0.07
+    min_support_rise_m: float = 0.25
+    max_base_height_m: float = 0.04
+    floor_step_m: float = 0.03
 
 
 @dataclass(frozen=True, eq=False)
@@ -286,6 +294,41 @@ def _faces_on(inliers: FloatArray, below: list[_Plane], params: SegmentationPara
     return bool(span.max() < params.min_plane_extent_m)
 
 
+def _standing_on(
+    points: FloatArray, plane: _Plane, level: list[_Plane], params: SegmentationParams
+) -> float | None:
+    """How high (median, metres) a plane stands over a larger horizontal plane that carries it
+    as part of an object, or None when it is a support, a wall or a shelf of its own.
+
+    ``points`` are the voxels the planes' inlier masks index. A plane is part of what stands on
+    a larger horizontal plane when all its voxels but 2 % lie above it, over it (inside its
+    bounding box shrunk by ``edge_margin_m``) and lower than ``min_support_rise_m`` (a
+    horizontal plane) or ``max_height_m`` (a tilted one) over it: the top of a box, the open
+    lid of a laptop, a book lying flat. A table stands higher than ``min_support_rise_m`` over
+    the floor; a wall rises at the edge of the floor or table it meets, not inside it.
+    """
+    mine = points[plane.inliers]
+    for other in level:
+        if other is plane or int(other.inliers.sum()) <= int(plane.inliers.sum()):
+            continue
+        height = mine @ other.normal + other.offset
+        limit = params.min_support_rise_m if plane.horizontal else params.max_height_m
+        if np.percentile(height, 2.0) <= -params.support_threshold_m:
+            continue
+        if np.percentile(height, 98.0) >= limit:
+            continue
+        if plane.horizontal and np.median(height) < params.floor_step_m:
+            return float(np.median(height))  # a step of the support, wherever it lies
+        base = points[other.inliers][:, :2]
+        lo = base.min(axis=0) + params.edge_margin_m
+        hi = base.max(axis=0) - params.edge_margin_m
+        inside = np.all((mine[:, :2] > lo) & (mine[:, :2] < hi), axis=1)
+        if inside.mean() < 0.98:
+            continue
+        return float(np.median(height))
+    return None
+
+
 def _robust_sigma(values: FloatArray) -> float:
     if len(values) == 0:
         return 0.0
@@ -364,7 +407,18 @@ def segment(frame: Frame, params: SegmentationParams | None = None, seed: int = 
         for p in planes
         if _faces_on(voxels[alive_idx[p.inliers]], [q for q in level if q is not p], params)
     }
-    horizontal = [p for p in level if id(p) not in faces]
+    steps: set[int] = set()
+    for p in planes:
+        if id(p) in faces:
+            continue
+        below = _standing_on(voxels[alive_idx], p, level, params)
+        if below is None:
+            continue
+        if p.horizontal and below < params.floor_step_m:
+            steps.add(id(p))  # a rug or a seam of the floor: part of the support under it
+        else:
+            faces.add(id(p))  # the top or the side of an object standing on a support
+    horizontal = [p for p in level if id(p) not in faces and id(p) not in steps]
     if not horizontal:
         seen = "; ".join(p.describe() for p in planes) or "none"
         log.info("no horizontal support plane in %d voxels", len(voxels))
@@ -387,9 +441,15 @@ def segment(frame: Frame, params: SegmentationParams | None = None, seed: int = 
     owner = np.full(len(voxels), -1)
     margins, supports = [], []
     for k, p in enumerate(horizontal):
-        support = SupportPlane(vec3(p.normal), p.offset)
-        supports.append(support)
         table = voxels[alive_idx[p.inliers]]
+        span = np.ptp(table[:, :2], axis=0)
+        support = SupportPlane(
+            vec3(p.normal),
+            p.offset,
+            vec3(table.mean(axis=0) - (table.mean(axis=0) @ p.normal + p.offset) * p.normal),
+            (float(span[0]), float(span[1])),
+        )
+        supports.append(support)
         sigma_vox = _robust_sigma(support.signed_distance(table))
         margin = max(params.above_margin_m, 3 * sigma_vox)
         margins.append(margin)
@@ -475,14 +535,26 @@ def _stacked(voxels: FloatArray, parts: npt.NDArray[np.int64], min_apart_m: floa
     return bool((gaps[np.triu_indices(len(centres), 1)] < min_apart_m).any())
 
 
+def _each_stands(
+    heights: FloatArray, parts: npt.NDArray[np.int64], params: SegmentationParams
+) -> bool:
+    """Whether every part of a cut reaches down to the support (its lowest voxel less than
+    ``max_base_height_m`` over it): objects that touch stand side by side on the table, while
+    a bottle's handle or shoulder cut off by a seam hangs above it."""
+    lowest = [float(heights[parts == k].min()) for k in range(int(parts.max()) + 1)]
+    return max(lowest) < params.max_base_height_m
+
+
 def _split(
     labels: npt.NDArray[np.int64],
     voxels: FloatArray,
     viewpoint: FloatArray | None,
     params: SegmentationParams,
     sigma_1m: float,
+    heights: FloatArray | None = None,
 ) -> npt.NDArray[np.int64]:
-    """Labels with every cluster cut along its concave seams (:mod:`shapes.split`)."""
+    """Labels with every cluster cut along its concave seams (:mod:`shapes.split`), where each
+    part stands on the support (``heights``: each voxel's height over it, when known)."""
     out = labels.copy()
     next_label = int(labels.max(initial=-1)) + 1
     for label in range(next_label):
@@ -497,6 +569,8 @@ def _split(
             voxels[members], viewpoint, min_voxels=params.min_cluster_voxels, noise_m=noise
         )
         if parts.max() == 0 or _stacked(voxels[members], parts, params.cluster_eps_m):
+            continue
+        if heights is not None and not _each_stands(heights[members], parts, params):
             continue
         for part in range(1, int(parts.max()) + 1):
             out[members[parts == part]] = next_label
@@ -527,7 +601,14 @@ def _clusters(
         dtype=np.int64,
     )
     if params.split_touching:
-        labels = _split(labels, voxels[candidates], viewpoint, params, sigma_1m)
+        labels = _split(
+            labels,
+            voxels[candidates],
+            viewpoint,
+            params,
+            sigma_1m,
+            support.signed_distance(voxels[candidates]),
+        )
     voxel_label = np.full(len(voxels), -1, dtype=np.int64)
     voxel_label[candidates] = labels
     # Only the points of labelled voxels (a few percent of a frame) from here on.

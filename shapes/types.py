@@ -45,6 +45,10 @@ class SupportPlane:
 
     normal: Vec3
     offset: float
+    centre: Vec3 | None = None
+    """The mean of the plane's points (on the plane), when known."""
+    extent: tuple[float, float] | None = None
+    """The sides of the plane's points' bounding rectangle along world x and y, in metres."""
 
     def signed_distance(self, points: FloatArray) -> FloatArray:
         """Height of each point above the plane, in metres (negative below)."""

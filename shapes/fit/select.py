@@ -60,6 +60,7 @@ from shapes.types import FloatArray, Primitive, ShapeKind, SupportPlane, vec3
 __all__ = [
     "ClusterFit",
     "FitParams",
+    "bounded",
     "estimate_normals",
     "fit_cluster",
     "normals_at",
@@ -317,7 +318,7 @@ def _choose(
     choice = {k: c for k, c in costs.items() if k is not ShapeKind.PLANE}
     if support is not None:
         for kind in (ShapeKind.CYLINDER, ShapeKind.CONE):
-            if kind in fitted and not _can_rest(kind, fitted[kind], support, fp):
+            if kind in choice and not _can_rest(kind, fitted[kind], support, fp):
                 choice[kind] += fp.oblique_penalty
     candidates = {ShapeKind.PLANE: costs[ShapeKind.PLANE]} if ShapeKind.PLANE in costs else {}
     if choice:
@@ -326,6 +327,36 @@ def _choose(
         candidates[curved] = costs[curved]
     best = min(candidates.values())
     return next(k for k in ORDER if k in candidates and candidates[k] <= best + fp.tie_margin)
+
+
+_HEIGHT_PER_DIAGONAL = 2.0
+"""An object seen with up to half of its length hidden still passes :func:`bounded`."""
+
+
+def bounded(primitive: Primitive, points: FloatArray, *, margin_m: float) -> bool:
+    """Whether a primitive stays within its own points: its radius no longer than the diagonal
+    of their bounding box (plus ``margin_m``), its height no longer than ``_HEIGHT_PER_DIAGONAL``
+    times that (the part of an object hidden behind another, or a cone's tip, lies past the
+    points), its centre inside that box grown by ``margin_m`` and, for a curved primitive, by its
+    radius (the centre of a sphere or a can lies behind the surface the sensor sees).
+
+    >>> pts = np.array([[0.0, 0, 0], [0.1, 0, 0], [0, 0.1, 0], [0, 0, 0.1]])
+    >>> ball = Primitive(ShapeKind.SPHERE, centre=(0.05, 0.05, 0.05), radius=0.05)
+    >>> bounded(ball, pts, margin_m=0.01), bounded(replace(ball, radius=2.0), pts, margin_m=0.01)
+    (True, False)
+    """
+    lo, hi = points.min(axis=0), points.max(axis=0)
+    diagonal = float(np.linalg.norm(hi - lo)) + margin_m
+    radius, height = primitive.radius or 0.0, primitive.height or 0.0
+    if not (math.isfinite(radius) and math.isfinite(height)):
+        return False
+    if radius > diagonal or height > _HEIGHT_PER_DIAGONAL * diagonal:
+        return False
+    grow = margin_m + radius
+    centre = np.asarray(primitive.centre)
+    return bool(
+        np.all(np.isfinite(centre)) and np.all((centre >= lo - grow) & (centre <= hi + grow))
+    )
 
 
 def fit_cluster(
@@ -337,7 +368,11 @@ def fit_cluster(
 ) -> ClusterFit | None:
     """Fit sphere, cylinder, cone and plane(s) to one cluster and choose one (rule above).
 
-    Returns None if the cluster has too few points (fewer than 10) for any model.
+    Every candidate is held to :func:`bounded` (a fit outside its own points is never
+    output): an unbounded sphere, cylinder or cone is not kept, so each model competes with
+    its best bounded candidate, and unbounded planes give way to the next model by the rule.
+    Returns None if the cluster has too few points (fewer than 10) for any model, or if no
+    bounded fit remains.
     Deterministic for a given ``rng`` state.
     """
     fp = params or FitParams()
@@ -378,7 +413,19 @@ def fit_cluster(
     fitted: dict[ShapeKind, FloatArray] = {}
     surface: dict[ShapeKind, FloatArray] = {}
 
+    margin = t_sel + fp.snap_distance_m
+
+    def curved(kind: ShapeKind, params: FloatArray) -> Primitive:
+        if kind is ShapeKind.SPHERE:
+            return Primitive(ShapeKind.SPHERE, centre=vec3(params[:3]), radius=float(params[3]))
+        if kind is ShapeKind.CYLINDER:
+            return _build_cylinder(params, points, support, fp)
+        return _build_cone(params, points, support, fp)
+
     def score(kind: ShapeKind, params: FloatArray) -> None:
+        """Keep a candidate (in place of the model's last one) if it is bounded."""
+        if not bounded(curved(kind, params), points, margin_m=margin):
+            return  # a fit that leaves its own points is never a candidate
         model = models[kind][0]
         d = model.distances(params[None, :], sample)[0]
         fitted[kind], surface[kind], costs[kind] = params, d, _cost(d, t_sel)
@@ -509,17 +556,18 @@ def fit_cluster(
         if costs[kind] <= best + fp.refine_margin:
             model, thr = models[kind]
             score(kind, refine_if_better(model, fitted[kind], sample, thr))
-    kind = _choose(costs, fitted, support, fp)
+    while True:
+        kind = _choose(costs, fitted, support, fp)
+        if kind is ShapeKind.PLANE:
+            plane, inl = max(planes, key=lambda p: len(p[1]))
+            prim = _build_plane(plane, sample, inl)
+        else:
+            prim = curved(kind, fitted[kind])
+        if bounded(prim, points, margin_m=margin):
+            break
+        del costs[kind]  # a fit that leaves its own points is never output
+        if not costs:
+            return None
     ratio = float((surface[kind] < t_sel).mean())
-    if kind is ShapeKind.SPHERE:
-        c = fitted[kind]
-        prim = Primitive(ShapeKind.SPHERE, centre=vec3(c[:3]), radius=float(c[3]))
-    elif kind is ShapeKind.CYLINDER:
-        prim = _build_cylinder(fitted[kind], points, support, fp)
-    elif kind is ShapeKind.CONE:
-        prim = _build_cone(fitted[kind], points, support, fp)
-    else:
-        plane, inl = max(planes, key=lambda p: len(p[1]))
-        prim = _build_plane(plane, sample, inl)
     prim = Primitive(**{**prim.__dict__, "inlier_ratio": ratio})
     return ClusterFit(prim, costs, counts)

@@ -13,7 +13,7 @@ from typer.testing import CliRunner
 from api.cli import app
 from api.client import ArmorClient
 from api.demo import SCENES
-from api.perceive import perceive
+from api.perceive import PerceiveExit, perceive
 from api.summary import memory_sizes
 from episodes.streams.foxglove import SCENE_TOPIC, SCENE_TYPE, scene_typestore
 from kg import Store
@@ -92,7 +92,7 @@ def test_one_scan_stores_one_scene_with_the_frames_it_averages(tmp_path: Path) -
     result = runner.invoke(app, ["perceive", str(scan), "--local", "--data", str(memory_in(data))])
     assert result.exit_code == 0, result.output
     output = " ".join(result.output.split())
-    assert "(Cylinder, Sphere; 1 frame(s) averaged, end of the source): learned" in output
+    assert "(Cylinder, Sphere on Plane; 1 frame(s) averaged, end of the source): learned" in output
     assert "1 scene(s) stored" in output
     waiting = runner.invoke(
         app,
@@ -105,7 +105,7 @@ def test_one_scan_stores_one_scene_with_the_frames_it_averages(tmp_path: Path) -
             "--wait-stable",
         ],
     )
-    assert waiting.exit_code == 0, waiting.output
+    assert waiting.exit_code == PerceiveExit.NOTHING_STORED, waiting.output
     output = " ".join(waiting.output.split())
     assert "0 scene(s) stored" in output
     assert "no scene: not stable yet: 1 frame(s) seen" in output
@@ -115,10 +115,33 @@ def test_a_scan_of_an_empty_table_says_why_no_scene(tmp_path: Path) -> None:
     scan = _scan(tmp_path / "empty.ply", ())
     data = str(memory_in(tmp_path / "d"))
     result = runner.invoke(app, ["perceive", str(scan), "--local", "--data", data])
-    assert result.exit_code == 0, result.output
+    assert result.exit_code == PerceiveExit.NOTHING_STORED, result.output
     output = " ".join(result.output.split())
     assert "0 scene(s) stored" in output
     assert "no scene: no clusters above the support" in output
+
+
+def test_an_empty_table_over_http_exits_with_nothing_stored(
+    tmp_path: Path, live_server: LiveServer
+) -> None:
+    scan = _scan(tmp_path / "empty.ply", ())
+    result = runner.invoke(app, ["perceive", str(scan), "--server", live_server.url])
+    assert result.exit_code == PerceiveExit.NOTHING_STORED, result.output
+    assert "no scene: no clusters above the support" in " ".join(result.output.split())
+
+
+REAL_SCANS = Path(__file__).parents[1] / "data" / "real_scans"
+
+
+def test_a_real_tilted_scan_with_no_pose_stores_a_mug_on_a_table(tmp_path: Path) -> None:
+    scan = REAL_SCANS / "mug_stereo.npz"
+    data = str(memory_in(tmp_path / "d"))
+    result = runner.invoke(app, ["perceive", str(scan), "--local", "--data", data])
+    assert result.exit_code == PerceiveExit.STORED, result.output
+    output = " ".join(result.output.split())
+    assert "(Cylinder on Plane; 1 frame(s) averaged, end of the source): learned" in output
+    assert "1 scene(s) stored" in output
+    assert "up: gravity from the scene" in output
 
 
 def test_a_malformed_cloud_file_is_refused_with_its_bracketed_values(tmp_path: Path) -> None:

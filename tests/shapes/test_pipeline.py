@@ -135,8 +135,9 @@ def test_the_scene_stream_has_one_change_then_one_stable_scene(run):
     assert [type(e) for e in events] == [SceneChange, StableScene]
     change, stable = events
     assert change.scene_index == stable.scene_index == 0
-    assert sorted(change.appeared) == [p.tracking_id for p in stable.primitives]
+    assert sorted(change.appeared) == [p.tracking_id for p in stable.primitives + stable.supports]
     assert {p.kind for p in stable.primitives} == {o.expected_kind for o in SCENE.objects}
+    assert [p.kind for p in stable.supports] == [ShapeKind.PLANE]
 
 
 def test_a_moved_object_starts_a_new_scene(run):

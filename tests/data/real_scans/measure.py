@@ -1,0 +1,96 @@
+"""Ground truth of the vendored scans, measured by hand, independently of ``shapes``.
+
+Each region is a pixel box chosen by looking at the scan's colour image; the points are
+un-projected with the file's own intrinsics, the support is a least-squares plane (SVD) through
+the points of a box of bare table or floor, an object is the points of its box between 1.5 cm
+and 40 cm above that plane, and a round object's axis and radius come from an algebraic
+least-squares circle (Kasa) through its points in the plane's coordinates. Everything is in
+the sensor's optical frame (x right, y down, z forward), in metres.
+
+    python tests/data/real_scans/measure.py > tests/data/real_scans/truth.json
+"""
+
+import json
+from pathlib import Path
+
+import numpy as np
+
+HERE = Path(__file__).parent
+# file: (bare support box, {object: (box, round?)}); a box is (row0, row1, col0, col1).
+REGIONS = {
+    "mug_stereo": ((390, 470, 150, 300), {"mug": ((225, 385, 330, 440), True)}),
+    "bottles_kinect": (
+        (300, 380, 250, 600),
+        {
+            "detergent": ((130, 300, 80, 200), False),
+            "milk carton": ((65, 235, 225, 330), False),
+            "bleach bottle": ((65, 260, 400, 500), False),
+        },
+    ),
+    "laptop_box_kinect_0": (
+        (380, 470, 50, 600),
+        {"laptop": ((140, 320, 130, 375), False), "box": ((175, 315, 372, 505), False)},
+    ),
+}
+
+
+def points_of(name: str) -> np.ndarray:
+    data = np.load(HERE / f"{name}.npz")
+    z = data["depth"].astype(np.float64) * float(data["depth_scale"])
+    v, u = np.mgrid[0 : z.shape[0], 0 : z.shape[1]]
+    x = (u - float(data["cx"])) / float(data["fx"]) * z
+    y = (v - float(data["cy"])) / float(data["fy"]) * z
+    return np.dstack((x, y, np.where(z > 0, z, np.nan)))
+
+
+def box(image: np.ndarray, rows_cols: tuple[int, int, int, int]) -> np.ndarray:
+    r0, r1, c0, c1 = rows_cols
+    pts = image[r0:r1, c0:c1].reshape(-1, 3)
+    return pts[np.isfinite(pts).all(axis=1)]
+
+
+def measure(name: str) -> dict[str, object]:
+    image = points_of(name)
+    support_box, objects = REGIONS[name]
+    floor = box(image, support_box)
+    centre = floor.mean(axis=0)
+    normal = np.linalg.svd(floor - centre, full_matrices=False)[2][2]
+    if normal @ -centre < 0:  # towards the camera
+        normal = -normal
+    offset = float(-normal @ centre)
+    rms = float(np.sqrt(np.mean((floor @ normal + offset) ** 2)))
+    out: dict[str, object] = {
+        "support": {
+            "normal": normal.round(4).tolist(),
+            "distance_m": round(offset, 4),
+            "rms_m": round(rms, 4),
+            "points": len(floor),
+        }
+    }
+    e1 = np.cross(normal, [1.0, 0.0, 0.0])
+    e1 /= np.linalg.norm(e1)
+    e2 = np.cross(normal, e1)
+    for label, (rows_cols, round_) in objects.items():
+        pts = box(image, rows_cols)
+        h = pts @ normal + offset
+        pts, h = pts[(h > 0.015) & (h < 0.40)], h[(h > 0.015) & (h < 0.40)]
+        top = float(np.percentile(h, 99))
+        item: dict[str, object] = {"points": len(pts), "height_m": round(top, 4)}
+        if round_:
+            a, b = pts @ e1, pts @ e2
+            design = np.column_stack((a, b, np.ones_like(a)))
+            sol = np.linalg.lstsq(design, a**2 + b**2, rcond=None)[0]
+            ca, cb = sol[0] / 2, sol[1] / 2
+            radius = float(np.sqrt(sol[2] + ca**2 + cb**2))
+            foot = ca * e1 + cb * e2 - offset * normal  # the axis meets the support here
+            item["radius_m"] = round(radius, 4)
+            item["centre"] = (foot + normal * top / 2).round(4).tolist()
+        else:
+            item["centre"] = pts.mean(axis=0).round(4).tolist()
+            item["note"] = "centroid of the visible points"
+        out[label] = item
+    return out
+
+
+if __name__ == "__main__":
+    print(json.dumps({name: measure(name) for name in REGIONS}, indent=1))

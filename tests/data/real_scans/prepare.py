@@ -1,0 +1,58 @@
+"""Re-create the vendored real scans from PCL's test data (run by hand, not by the tests).
+
+Each organised PCD (640 x 480, NaN where the sensor saw nothing) is stored as its depth image:
+``depth`` (uint16, in units of ``depth_scale`` metres), the pinhole intrinsics ``fx fy cx cy``
+recovered from the points by least squares, and ``rgb`` (uint8). The Kinect frames' depths are
+whole millimetres, so they come back to within 1e-6 m; the stereo scan's are rounded to 0.1 mm.
+
+    python tests/data/real_scans/prepare.py PCL_CHECKOUT/test
+"""
+
+import sys
+from pathlib import Path
+
+import numpy as np
+
+SCANS = {
+    "table_scene_mug_stereo_textured.pcd": ("mug_stereo.npz", 1e-4),
+    "milk_cartoon_all_small_clorox.pcd": ("bottles_kinect.npz", 1e-3),
+    "grabber_sequences/pcd/frame_20121214T142255.814212.pcd": ("laptop_box_kinect_0.npz", 1e-3),
+    "grabber_sequences/pcd/frame_20121214T142256.068683.pcd": ("laptop_box_kinect_1.npz", 1e-3),
+    "grabber_sequences/pcd/frame_20121214T142256.332395.pcd": ("laptop_box_kinect_2.npz", 1e-3),
+}
+WIDTH, HEIGHT = 640, 480
+
+
+def convert(source: Path, target: Path, depth_scale: float) -> None:
+    import open3d as o3d  # only here: collecting this file for doctests needs no open3d
+
+    cloud = o3d.io.read_point_cloud(source, remove_nan_points=False, remove_infinite_points=False)
+    points = np.asarray(cloud.points)
+    assert len(points) == WIDTH * HEIGHT, source
+    valid = np.isfinite(points).all(axis=1) & (points[:, 2] > 0)
+    pixel = np.flatnonzero(valid)
+    u, v = (pixel % WIDTH).astype(float), (pixel // WIDTH).astype(float)
+    x, y, z = points[valid].T
+    ax, bx = np.polyfit(u, x / z, 1)
+    ay, by = np.polyfit(v, y / z, 1)
+    depth = np.zeros(WIDTH * HEIGHT, dtype=np.uint16)
+    depth[pixel] = np.round(z / depth_scale).astype(np.uint16)
+    rgb = np.zeros((WIDTH * HEIGHT, 3), dtype=np.uint8)
+    if cloud.has_colors():
+        rgb[:] = np.round(np.asarray(cloud.colors) * 255).astype(np.uint8)
+    np.savez_compressed(
+        target,
+        depth=depth.reshape(HEIGHT, WIDTH),
+        rgb=rgb.reshape(HEIGHT, WIDTH, 3),
+        depth_scale=depth_scale,
+        fx=1 / ax,
+        fy=1 / ay,
+        cx=-bx / ax,
+        cy=-by / ay,
+    )
+
+
+if __name__ == "__main__":
+    root = Path(sys.argv[1])
+    for name, (out, scale) in SCANS.items():
+        convert(root / name, Path(__file__).with_name(out), scale)
