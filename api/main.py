@@ -11,7 +11,7 @@ from contextlib import asynccontextmanager
 from fastapi import FastAPI
 from starlette.concurrency import run_in_threadpool
 
-from api import fast_armor
+from api import fast_armor, security
 from api.armor import ArmorEngine
 from api.armor.memory import sleep_if_due
 from api.backend import open_archive, open_store
@@ -166,4 +166,5 @@ def create_app(settings: Settings | None = None) -> FastAPI:
     )  # NaN, Infinity, 1e999 in a JSON body: 422 (api/finite_json.py)
     install_error_docs(app)  # the 401/404/409/422 answers in /openapi.json (api/openapi_errors.py)
     fast_armor.install(app)  # well-formed ARMOR requests skip the router (api/fast_armor.py)
+    security.install(app, settings)  # hosts, cross-site writes, body limits (api/security.py)
     return app
