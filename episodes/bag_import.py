@@ -130,7 +130,9 @@ def import_report(
     except BaseException as error:
         shutil.rmtree(dest, ignore_errors=True)
         if isinstance(error, _DAMAGE) and not isinstance(error, _NOT_DAMAGE):
-            reason = str(error).replace(str(source), shown) or type(error).__name__
+            reason = str(error).replace(str(source), shown) or (
+                f"{type(error).__name__}: its records do not fit together"
+            )
             raise DamagedBagError(f"bag {shown!r}: cannot be imported ({reason})") from None
         raise
     skipped = tuple(
@@ -174,8 +176,8 @@ def import_source(paths: DataPaths, path: str) -> Path:
     """
     root = paths.dir(".").resolve()
     expected = (
-        f"a ROS 1 .bag file or a ROS 2 bag directory (with metadata.yaml) inside the "
-        f"data directory {str(root)!r}, absolute or relative to it"
+        "a ROS 1 .bag file or a ROS 2 bag directory (with metadata.yaml) inside the "
+        "data directory, absolute or relative to it"
     )
     if not isinstance(path, str) or not path.strip() or "\x00" in path:
         raise InvalidInputError("path", path, expected)

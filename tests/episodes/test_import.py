@@ -87,7 +87,7 @@ def test_a_file_that_is_not_a_bag_leaves_nothing_behind(
     junk = tmp_path / "junk.bag"
     junk.write_bytes(b"not a bag")
     before = len(disk_memory.store)
-    with pytest.raises(DamagedBagError, match="junk.bag"):
+    with pytest.raises(DamagedBagError, match=r"junk\.bag"):
         disk_memory.import_bag(junk, "wave", episode_id="j1")
     assert len(disk_memory.store) == before
     assert not disk_memory.streams_path("j1").exists()
