@@ -133,7 +133,12 @@ def import_report(
             reason = str(error).replace(str(source), shown) or (
                 f"{type(error).__name__}: its records do not fit together"
             )
-            raise DamagedBagError(f"bag {shown!r}: cannot be imported ({reason})") from None
+            kind = (
+                DecompressionLimitError
+                if isinstance(error, DecompressionLimitError)
+                else DamagedBagError
+            )
+            raise kind(f"bag {shown!r}: cannot be imported ({reason})") from None
         raise
     skipped = tuple(
         SkippedTopic(topic, str(info["message_type"]), int(info["count"]))
