@@ -123,6 +123,7 @@ def create_app(settings: Settings | None = None) -> FastAPI:
             scene_memory=scene_memory,
             sandbox=runner,
             max_list_length=settings.armor_max_list_length,
+            files=security.armor_file_access(settings),  # confined (api/armor/files.py)
         )
         state.episodes = EpisodeMemory(
             store,

@@ -41,6 +41,7 @@ from fastapi import FastAPI, Request
 from starlette.exceptions import HTTPException
 from starlette.types import ASGIApp, Message, Receive, Scope, Send
 
+from api.armor.files import FileAccess
 from api.config import Settings
 
 __all__ = [
@@ -48,6 +49,7 @@ __all__ = [
     "BodyTooLargeError",
     "SecurityGuard",
     "allowed_host_names",
+    "armor_file_access",
     "content_security_policy",
     "install",
     "saved_body",
@@ -306,6 +308,14 @@ async def saved_body(request: Request, directory: Path) -> AsyncIterator[Path]:
         yield path
     finally:
         path.unlink(missing_ok=True)
+
+
+def armor_file_access(settings: Settings) -> FileAccess:
+    """Where the server's ARMOR file commands may go: the data directory and
+    ``armor_file_dirs``; LOAD WEB only under ``armor_url_prefixes``."""
+    directories = [Path(d) for d in settings.armor_file_dirs.split(os.pathsep) if d.strip()]
+    prefixes = [p.strip() for p in settings.armor_url_prefixes.split(",") if p.strip()]
+    return FileAccess.confined(settings.data_dir, directories, prefixes)
 
 
 def install(app: FastAPI, settings: Settings) -> None:
