@@ -7,11 +7,13 @@ import tarfile
 from pathlib import Path
 
 from rosbags.rosbag1 import Writer as Ros1Writer
+from rosbags.rosbag2 import StoragePlugin
 from rosbags.rosbag2 import Writer as Ros2Writer
 from rosbags.rosbag2.enums import CompressionFormat, CompressionMode
 from rosbags.typesys import Stores, get_typestore
 
 __all__ = [
+    "patch_mcap_header_length",
     "patch_ros1",
     "ros1_bag",
     "ros2_bag",
@@ -36,11 +38,14 @@ def ros1_bag(path: Path, *, text_bytes: int, compression: str | None = None) -> 
     return path
 
 
-def ros2_bag(path: Path, *, text_bytes: int, zstd_messages: bool = False) -> Path:
+def ros2_bag(
+    path: Path, *, text_bytes: int, zstd_messages: bool = False, mcap: bool = False
+) -> Path:
     """A ROS 2 bag directory with one ``std_msgs/String`` of ``text_bytes`` zeros, each message
-    compressed with zstd if ``zstd_messages``."""
+    compressed with zstd if ``zstd_messages``; in an MCAP file if ``mcap`` (else SQLite)."""
     store = get_typestore(Stores.ROS2_HUMBLE)
-    writer = Ros2Writer(path, version=9)
+    plugin = StoragePlugin.MCAP if mcap else StoragePlugin.SQLITE3
+    writer = Ros2Writer(path, version=9, storage_plugin=plugin)
     if zstd_messages:
         writer.set_compression(CompressionMode.MESSAGE, CompressionFormat.ZSTD)
     with writer:
@@ -79,6 +84,14 @@ def _records(data: bytes, start: int, end: int) -> list[tuple[int, dict[str, byt
             found += _records(data, length_at + 4, length_at + 4 + data_len)
         pos = length_at + 4 + data_len
     return found
+
+
+def patch_mcap_header_length(bag: Path, length: int) -> None:
+    """Overwrite the length of the first record (the header) of the MCAP file in ``bag``."""
+    (path,) = bag.glob("*.mcap")
+    data = bytearray(path.read_bytes())
+    struct.pack_into("<Q", data, 8 + 1, length)  # after the magic, the opcode
+    path.write_bytes(bytes(data))
 
 
 def patch_ros1(path: Path, op: int, field: str, value: int) -> None:

@@ -14,7 +14,13 @@ from api.main import create_app
 from episodes import EpisodeMemory
 from episodes.bag_limits import DamagedBagError, DecompressionLimitError
 from kg import Store, ensure_ontology
-from tests.api.bags_hostile import patch_ros1, ros1_bag, ros2_bag, tar_of
+from tests.api.bags_hostile import (
+    patch_mcap_header_length,
+    patch_ros1,
+    ros1_bag,
+    ros2_bag,
+    tar_of,
+)
 from tests.conftest import LiveServer, free_port, serve
 
 LIMIT = 1024 * 1024
@@ -136,6 +142,15 @@ def test_a_damaged_ros1_bag_answers_422_naming_it(
     assert by_path.status_code == 422, by_path.text
     assert f"bags/{episode_id}.bag" in by_path.json()["detail"]
     assert str(server.settings.data_dir) not in by_path.text
+
+
+def test_an_mcap_record_length_of_2_62_answers_422(server: LiveServer, tmp_path: Path) -> None:
+    bag = ros2_bag(tmp_path / "long", text_bytes=100, mcap=True)
+    patch_mcap_header_length(bag, 2**62)
+    answer = _upload(server, tar_of(bag), "mcap-long")
+    assert answer.status_code == 422, answer.text
+    assert answer.json()["error"] == "DamagedBagError"
+    _nothing_left(server, "mcap-long")
 
 
 def test_the_python_api_raises_the_limit_error(tmp_path: Path) -> None:
