@@ -15,6 +15,7 @@ from api.cli_episodes import app as episodes_app
 from api.cli_perceive import perceive_command
 from api.config import Settings
 from api.demo import run_demo
+from api.header_timeout import with_header_timeout
 from api.main import create_app
 from api.summary import memory_sizes, print_summary, reset_memories
 from kg import DEFAULT_GRAPHS, EngramError, Store, ensure_ontology, export
@@ -90,6 +91,7 @@ def _serve(settings: Settings) -> None:
         log_level="info",
         log_config=log_config,
         access_log=False,  # a line per request costs more than a directive does
+        http=with_header_timeout(settings.header_timeout_s),  # api/header_timeout.py
     )
 
 

@@ -183,6 +183,14 @@ class Settings(BaseSettings):
         description="Longest wait for the next part of a request body, in seconds; a client "
         "that stops sending answers 408.",
     )
+    header_timeout_s: float = Field(
+        10.0,
+        gt=0,
+        le=3600,
+        description="Longest wait for a request's headers, from the connection or the "
+        "request's first byte, in seconds; a connection that takes longer is closed (408). "
+        "Needs the server's protocol from api/header_timeout.py (engram serve uses it).",
+    )
     armor_file_dirs: str = Field(
         "",
         description="Directories, besides data_dir, that ARMOR's LOAD FILE, SAVE and LOG FILE "

@@ -5,15 +5,20 @@ import base64
 import hashlib
 import re
 import socket
+import threading
 import time
 from collections.abc import Callable, Iterator
 from pathlib import Path
 
+import httpx
 import pytest
+import uvicorn
 
 from api.config import Settings
+from api.header_timeout import with_header_timeout
+from api.main import create_app
 from api.security import allowed_host_names, content_security_policy
-from tests.conftest import LiveServer
+from tests.conftest import LiveServer, free_port
 
 EVIL = "http://attacker.example"
 TRIG = b"<urn:x> <urn:y> <urn:z> ."
@@ -207,3 +212,46 @@ def test_answers_name_files_inside_the_data_directory_not_its_path(server: LiveS
     assert outside.status_code == 422 and data not in outside.text
     backup = server.client.post("/backup")
     assert backup.status_code == 201 and data not in backup.text
+
+
+@pytest.fixture
+def header_timed_server(tmp_path: Path) -> Iterator[str]:
+    """A server with ``engram serve``'s protocol and a 0.5 s header timeout; its base URL."""
+    settings = Settings(host="127.0.0.1", port=free_port(), data_dir=tmp_path / "data")
+    config = uvicorn.Config(
+        create_app(settings),
+        host=settings.host,
+        port=settings.port,
+        log_level="warning",
+        http=with_header_timeout(0.5),
+    )
+    server = uvicorn.Server(config)
+    thread = threading.Thread(target=server.run, daemon=True)
+    thread.start()
+    deadline = time.monotonic() + 30
+    while not server.started and time.monotonic() < deadline:
+        time.sleep(0.02)
+    yield f"{settings.host}:{settings.port}"
+    server.should_exit = True
+    thread.join(timeout=30)
+
+
+@pytest.mark.parametrize(
+    "sent", [b"", b"GET /health HTTP/1.1\r\nHost: 127.0.0.1\r\n"], ids=["nothing", "half"]
+)
+def test_half_sent_headers_are_timed_out(header_timed_server: str, sent: bytes) -> None:
+    host, port = header_timed_server.split(":")
+    with socket.create_connection((host, int(port)), timeout=10) as connection:
+        connection.sendall(sent)
+        started = time.monotonic()
+        answer = connection.recv(4096)
+        assert time.monotonic() - started < 5
+        assert answer.startswith(b"HTTP/1.1 408"), answer
+        assert connection.recv(4096) == b""  # closed
+
+
+def test_headers_sent_in_time_are_answered(header_timed_server: str) -> None:
+    with httpx.Client(base_url=f"http://{header_timed_server}", timeout=10) as http:
+        for _ in range(3):  # kept alive between requests
+            assert http.get("/health").status_code == 200
+            time.sleep(0.3)
