@@ -8,7 +8,9 @@ from typing import Any
 
 import httpx
 import pytest
+from typer.testing import CliRunner
 
+from api.cli import app as cli
 from api.config import Settings
 from api.main import create_app
 from episodes import EpisodeMemory
@@ -165,3 +167,21 @@ def test_the_python_api_raises_the_limit_error(tmp_path: Path) -> None:
         assert not (tmp_path / "streams").exists() or not any((tmp_path / "streams").iterdir())
     finally:
         memory.close()
+
+
+@pytest.mark.parametrize(
+    ("damage", "op", "field", "value"), DAMAGED[:2], ids=[d[0] for d in DAMAGED[:2]]
+)
+def test_the_cli_says_what_is_damaged_in_one_line(
+    tmp_path: Path, damage: str, op: int, field: str, value: int
+) -> None:
+    bag = ros1_bag(tmp_path / "damaged.bag", text_bytes=100)
+    patch_ros1(bag, op, field, value)
+    result = CliRunner().invoke(
+        cli, ["episodes", "import", str(bag), "said", "--data", str(tmp_path / "data")]
+    )
+    assert result.exit_code != 0
+    assert result.exception is None or isinstance(result.exception, SystemExit)
+    lines = result.output.strip().splitlines()
+    assert len(lines) == 1 and "damaged.bag" in lines[0], result.output
+    assert "Traceback" not in result.output
