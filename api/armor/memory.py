@@ -27,7 +27,7 @@ from typing import Any
 from pyoxigraph import NamedNode
 
 from api.armor.context import Context, Outcome
-from api.armor.errors import InvalidArgumentsError, MemoryDirectiveError
+from api.armor.errors import MemoryDirectiveError
 from api.armor.memory_explain import query_memory_explain
 from api.armor.models import ArmorDirectiveRes, QueryItem
 from api.armor.names import is_value_type, resolve, styled, to_literal
@@ -138,7 +138,6 @@ def scene_add_dataprop(ctx: Context, draft: SceneDraft) -> Outcome:
     if not is_value_type(type_name):
         raise MemoryDirectiveError(f"args[2]: got {type_name!r}, expected DOUBLE, FLOAT or INTEGER")
     number = float(to_literal(type_name, value, field="args[3]").value)
-    _check_physical(local, value, number)
     if local in _SCALARS:
         return _set(ctx, draft, name, **{_SCALARS[local]: number})
     if local == "trackingId":
@@ -154,21 +153,6 @@ def scene_add_dataprop(ctx: Context, draft: SceneDraft) -> Outcome:
         "(centreX/Y/Z, axisX/Y/Z, radius, height, apexX/Y/Z, pointOnAxisX/Y/Z, hessianOffset, "
         "colourR/G/B, trackingId)"
     )
-
-
-def _check_physical(attribute: str, text: str, number: float) -> None:
-    """Refuse a value no primitive can have (a length that is not positive, a colour outside
-    [0, 1], a tracking id that is not a whole number >= 0) when it is sent, not at SCENE
-    UPDATED; what needs several values (a zero axis) is checked there."""
-    if attribute in ("radius", "height") and not number > 0:
-        expected = f"a positive length in metres for {attribute}"
-    elif attribute in _COLOUR and not 0 <= number <= 1:
-        expected = f"a colour component in [0, 1] for {attribute}"
-    elif attribute == "trackingId" and not (number >= 0 and number == int(number)):
-        expected = "a whole number >= 0 for trackingId"
-    else:
-        return
-    raise InvalidArgumentsError(f"args[3]: got {text!r}, expected {expected}")
 
 
 def _set(ctx: Context, draft: SceneDraft, name: str, **values: Any) -> Outcome:
