@@ -218,14 +218,16 @@ class SecurityGuard:
             await send(message)
 
         received = 0
-        body_done = False
+        # no body to limit or wait for (GET, an empty POST): the app's receive as it is
+        body_done = declared in (b"", b"0") and b"transfer-encoding" not in headers
 
         async def limited_receive() -> Message:
             nonlocal received, body_done
             if body_done:
                 return await receive()
-            try:
-                message = await asyncio.wait_for(receive(), self.body_timeout_s)
+            try:  # the body timeout: a timer per part of the body
+                async with asyncio.timeout(self.body_timeout_s):
+                    message = await receive()
             except TimeoutError:
                 raise BodyTimeoutError(self.body_timeout_s) from None
             if message["type"] == "http.request":
