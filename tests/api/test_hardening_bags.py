@@ -7,6 +7,7 @@ from pathlib import Path
 from typing import Any
 
 import httpx
+import numpy as np
 import pytest
 from typer.testing import CliRunner
 
@@ -16,6 +17,8 @@ from api.main import create_app
 from episodes import EpisodeMemory
 from episodes.bag_limits import DamagedBagError, DecompressionLimitError
 from kg import Store, ensure_ontology
+from shapes import Frame
+from shapes.bags import write_bag
 from tests.api.bags_hostile import (
     patch_mcap_header_length,
     patch_ros1,
@@ -185,3 +188,21 @@ def test_the_cli_says_what_is_damaged_in_one_line(
     lines = result.output.strip().splitlines()
     assert len(lines) == 1 and "damaged.bag" in lines[0], result.output
     assert "Traceback" not in result.output
+
+
+@pytest.mark.parametrize(
+    ("damage", "op", "field", "value"), DAMAGED[:2], ids=[d[0] for d in DAMAGED[:2]]
+)
+def test_engram_perceive_says_what_is_damaged_in_one_line(
+    tmp_path: Path, damage: str, op: int, field: str, value: int
+) -> None:
+    points = np.random.default_rng(29).uniform(-1, 1, size=(50, 3))
+    bag = tmp_path / "cloud.bag"
+    write_bag(bag, [Frame(points, None, 1.0, "camera", np.eye(4))], ros=1)
+    patch_ros1(bag, op, field, value)
+    result = CliRunner().invoke(
+        cli, ["perceive", str(bag), "--local", "--data", str(tmp_path / "data")]
+    )
+    assert result.exit_code != 0
+    assert result.exception is None or isinstance(result.exception, SystemExit), result.output
+    assert "cloud.bag" in result.output and "Traceback" not in result.output
