@@ -133,11 +133,7 @@ def import_report(
             reason = str(error).replace(str(source), shown) or (
                 f"{type(error).__name__}: its records do not fit together"
             )
-            kind = (
-                DecompressionLimitError
-                if isinstance(error, DecompressionLimitError)
-                else DamagedBagError
-            )
+            kind = DecompressionLimitError if _over_limit(error) else DamagedBagError
             raise kind(f"bag {shown!r}: cannot be imported ({reason})") from None
         raise
     skipped = tuple(
@@ -169,6 +165,17 @@ def import_report(
     if skipped:
         log.warning("import %s: skipped %s", episode_id, [t.topic for t in skipped])
     return ImportReport(lifecycle.get_episode(store, episode_id), skipped)
+
+
+def _over_limit(error: BaseException | None) -> bool:
+    """Whether ``error``, or an error it was raised from, is the decompression limit's."""
+    seen: set[int] = set()
+    while error is not None and id(error) not in seen:
+        if isinstance(error, DecompressionLimitError):
+            return True
+        seen.add(id(error))
+        error = error.__cause__ or error.__context__
+    return False
 
 
 def import_source(paths: DataPaths, path: str) -> Path:

@@ -39,15 +39,23 @@ def ros1_bag(path: Path, *, text_bytes: int, compression: str | None = None) -> 
 
 
 def ros2_bag(
-    path: Path, *, text_bytes: int, zstd_messages: bool = False, mcap: bool = False
+    path: Path,
+    *,
+    text_bytes: int,
+    zstd_messages: bool = False,
+    zstd_file: bool = False,
+    mcap: bool = False,
 ) -> Path:
     """A ROS 2 bag directory with one ``std_msgs/String`` of ``text_bytes`` zeros, each message
-    compressed with zstd if ``zstd_messages``; in an MCAP file if ``mcap`` (else SQLite)."""
+    compressed with zstd if ``zstd_messages``, the whole storage file if ``zstd_file``; in an
+    MCAP file if ``mcap`` (else SQLite)."""
     store = get_typestore(Stores.ROS2_HUMBLE)
     plugin = StoragePlugin.MCAP if mcap else StoragePlugin.SQLITE3
     writer = Ros2Writer(path, version=9, storage_plugin=plugin)
     if zstd_messages:
         writer.set_compression(CompressionMode.MESSAGE, CompressionFormat.ZSTD)
+    if zstd_file:
+        writer.set_compression(CompressionMode.FILE, CompressionFormat.ZSTD)
     with writer:
         connection = writer.add_connection("/said", _STRING, typestore=store)
         message = store.types[_STRING](data="0" * text_bytes)

@@ -86,14 +86,22 @@ def test_a_ros1_bomb_stops_at_the_decompression_limit(
     _nothing_left(server, f"bomb-{compression}")
 
 
+@pytest.mark.parametrize("mode", ["message", "file"])
 def test_a_ros2_zstd_bomb_stops_at_the_decompression_limit(
-    server: LiveServer, tmp_path: Path
+    server: LiveServer, tmp_path: Path, mode: str
 ) -> None:
-    bag = ros2_bag(tmp_path / "bomb", text_bytes=BOMB, zstd_messages=True)
-    answer = _upload(server, tar_of(bag), "bomb-zstd")
+    bag = ros2_bag(
+        tmp_path / "bomb",
+        text_bytes=BOMB,
+        zstd_messages=mode == "message",
+        zstd_file=mode == "file",
+    )
+    body = tar_of(bag)
+    assert len(body) < BOMB / 10
+    answer = _upload(server, body, f"bomb-zstd-{mode}")
     assert answer.status_code == 422, answer.text
     assert answer.json()["error"] == "DecompressionLimitError"
-    _nothing_left(server, "bomb-zstd")
+    _nothing_left(server, f"bomb-zstd-{mode}")
 
 
 def test_a_bag_within_the_limit_is_imported(server: LiveServer, tmp_path: Path) -> None:
