@@ -67,9 +67,16 @@ def day_literals(begin: dt.datetime, end: dt.datetime | None) -> list[Literal]:
 
 def window_days(start: dt.datetime, end: dt.datetime) -> list[Literal] | None:
     """The day buckets a window must read (with ``running``), or ``None`` past
-    :data:`MAX_WINDOW_DAYS`."""
-    days = _days(start, end)
-    return [*days, RUNNING] if len(days) <= MAX_WINDOW_DAYS else None
+    :data:`MAX_WINDOW_DAYS` (decided before any day is listed: a window of the years 1 to
+    9999 holds 3.6 million days).
+
+    >>> import datetime as dt
+    >>> window_days(dt.datetime(1, 1, 1, tzinfo=dt.UTC), dt.datetime(9999, 1, 1, tzinfo=dt.UTC))
+    """
+    span = end.astimezone(dt.UTC).date() - start.astimezone(dt.UTC).date()
+    if span.days + 1 > MAX_WINDOW_DAYS:
+        return None
+    return [*_days(start, end), RUNNING]
 
 
 def write_days(
