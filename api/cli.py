@@ -68,6 +68,7 @@ def views_url(settings: Settings) -> str:
 def _serve(settings: Settings, *, ros: bool = False) -> None:
     import uvicorn
 
+    from api.header_timeout import with_header_timeout
     from api.main import create_app
 
     _refuse_damaged(settings)
@@ -92,6 +93,7 @@ def _serve(settings: Settings, *, ros: bool = False) -> None:
         log_level="info",
         log_config=log_config,
         access_log=False,  # a line per request costs more than a directive does
+        http=with_header_timeout(settings.header_timeout_s),  # api/header_timeout.py
     )
 
 

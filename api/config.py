@@ -12,7 +12,20 @@ from typing import Literal
 from pydantic import Field, SecretStr
 from pydantic_settings import BaseSettings, SettingsConfigDict
 
-__all__ = ["Settings", "default_data_dir", "get_settings"]
+__all__ = ["Settings", "default_data_dir", "get_settings", "machine_memory_bytes"]
+
+
+def machine_memory_bytes() -> int:
+    """This machine's physical memory, in bytes (1 GiB if the system does not say)."""
+    try:
+        return os.sysconf("SC_PHYS_PAGES") * os.sysconf("SC_PAGE_SIZE")
+    except (ValueError, OSError, AttributeError):
+        return 1024**3
+
+
+def _share_of_memory(fraction: float, *, floor_bytes: int, cap_bytes: int) -> int:
+    """``fraction`` of the machine's memory, kept between ``floor_bytes`` and ``cap_bytes``."""
+    return max(floor_bytes, min(cap_bytes, int(machine_memory_bytes() * fraction)))
 
 
 def default_data_dir() -> Path:
@@ -124,6 +137,70 @@ class Settings(BaseSettings):
         description="Most bytes of recordings fetched back from streams_url (for export) kept "
         "in data_dir/streams; the least recently used go first. Replay reads by ranges and "
         "fetches nothing; recordings made here are never evicted.",
+    )
+
+    allowed_hosts: str = Field(
+        "",
+        pattern=r"^[^\s]*$",
+        description="Host names the server answers to (the Host header), comma separated; "
+        "'*' for any. Unset: localhost, 127.0.0.1, ::1, the listening address and this "
+        "machine's host name (with .local). Any other Host answers 400 (DNS rebinding).",
+    )
+    allowed_origins: str = Field(
+        "",
+        pattern=r"^[^\s]*$",
+        description="Other web origins (scheme://host[:port]) whose pages may write, comma "
+        "separated. A write whose Origin (or Sec-Fetch-Site) says it comes from any other "
+        "site answers 403, with or without a token.",
+    )
+    max_body_bytes: int = Field(
+        default_factory=lambda: _share_of_memory(
+            1 / 64, floor_bytes=16 * 1024**2, cap_bytes=256 * 1024**2
+        ),
+        gt=0,
+        description="Longest request body, in bytes, except bag uploads; longer answers 413. "
+        "Default: 1/64 of the machine's memory, between 16 and 256 MiB.",
+    )
+    max_upload_bytes: int = Field(
+        4 * 1024**3,
+        gt=0,
+        description="Longest bag upload (POST /episodes/import/upload), in bytes, streamed to "
+        "data_dir/uploads; longer answers 413.",
+    )
+    max_decompressed_bytes: int = Field(
+        default_factory=lambda: _share_of_memory(
+            1 / 32, floor_bytes=64 * 1024**2, cap_bytes=512 * 1024**2
+        ),
+        gt=0,
+        description="Most bytes one compressed piece of an imported file (a bag chunk or "
+        "message) may expand to, and most bytes a tar upload may unpack to (times 8); more "
+        "answers 422. Default: 1/32 of the machine's memory, between 64 and 512 MiB.",
+    )
+    body_timeout_s: float = Field(
+        30.0,
+        gt=0,
+        le=3600,
+        description="Longest wait for the next part of a request body, in seconds; a client "
+        "that stops sending answers 408.",
+    )
+    header_timeout_s: float = Field(
+        10.0,
+        gt=0,
+        le=3600,
+        description="Longest wait for a request's headers, from the connection or the "
+        "request's first byte, in seconds; a connection that takes longer is closed (408). "
+        "Needs the server's protocol from api/header_timeout.py (engram serve uses it).",
+    )
+    armor_file_dirs: str = Field(
+        "",
+        description="Directories, besides data_dir, that ARMOR's LOAD FILE, SAVE and LOG FILE "
+        "may read and write, separated by the path separator (':').",
+    )
+    armor_url_prefixes: str = Field(
+        "",
+        pattern=r"^[^\s]*$",
+        description="URL prefixes ARMOR's LOAD WEB may fetch, comma separated (unset: none; "
+        "LOAD WEB is refused).",
     )
 
     @property

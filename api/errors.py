@@ -61,7 +61,24 @@ def _answer(request: Request, error: Exception) -> JSONResponse:
             except (TypeError, ValueError):
                 value = repr(value)
             body[name] = value
-    return JSONResponse(body, status_code=code)
+    return JSONResponse(_without_server_paths(request, body), status_code=code)
+
+
+def _without_server_paths(request: Request, body: dict[str, Any]) -> dict[str, Any]:
+    """``body`` with the data directory's absolute path written ``<data>``: a client learns
+    which file inside it, never where the server keeps it."""
+    settings = getattr(request.app.state, "settings", None)
+    if settings is None:
+        return body
+    roots = sorted({str(settings.data_dir.resolve()), str(settings.data_dir)}, key=len)[::-1]
+    roots = [root for root in roots if len(root) > 1]  # never "/" or "."
+    clean: dict[str, Any] = {}
+    for key, value in body.items():
+        if isinstance(value, str):
+            for root in roots:
+                value = value.replace(root, "<data>")
+        clean[key] = value
+    return clean
 
 
 def install_error_handlers(app: FastAPI) -> None:

@@ -9,6 +9,7 @@ from contextlib import asynccontextmanager
 from fastapi import FastAPI
 from starlette.concurrency import run_in_threadpool
 
+from api import security
 from api.config import Settings, get_settings
 from api.errors import install_error_handlers
 from api.finite_json import FiniteJsonBodies
@@ -102,4 +103,5 @@ def create_app(settings: Settings | None = None) -> FastAPI:
         FiniteJsonBodies
     )  # NaN, Infinity, 1e999 in a JSON body: 422 (api/finite_json.py)
     install_error_docs(app)  # the 401/404/409/422 answers in /openapi.json (api/openapi_errors.py)
+    security.install(app, settings)  # hosts, cross-site writes, body limits (api/security.py)
     return app

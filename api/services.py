@@ -196,14 +196,17 @@ class Services:
     @cached_property
     def armor(self) -> "ArmorEngine":
         """The ARMOR directive engine over the scene memory; in a serving process QUERY SPARQL
-        runs in the runner's sandboxed workers, elsewhere in this process."""
+        runs in the runner's sandboxed workers, elsewhere in this process. Its file commands
+        reach only the data directory and the directories and URLs the settings allow."""
         from api.armor import ArmorEngine
+        from api.security import armor_file_access
 
         return ArmorEngine(
             self.store,
             scene_memory=self.scene_memory,
             sandbox=self.runner if self._serving else None,
             max_list_length=self.settings.armor_max_list_length,
+            files=armor_file_access(self.settings),  # confined (api/armor/files.py)
         )
 
     def upkeep(self) -> None:

@@ -38,6 +38,7 @@ from episodes import (
 from episodes.archive import StreamArchive
 from episodes.augmentation import DerivedSpec
 from episodes.bag_import import BagEpisode
+from episodes.bag_limits import DEFAULT_LIMIT_BYTES
 from episodes.cues import Cue
 from episodes.errors import (
     EpisodeNotFoundError,
@@ -272,29 +273,59 @@ class EpisodeMemory:
         activity_type: str | None = None,
         arguments: Sequence[ArgumentSpec] = (),
         episode_id: str | None = None,
+        name: str | None = None,
+        max_decompressed_bytes: int = DEFAULT_LIMIT_BYTES,
     ) -> ImportReport:
-        """:meth:`import_bag`, answering the episode and the topics skipped (type and count)."""
+        """:meth:`import_bag`, answering the episode and the topics skipped (type and count).
+        ``name`` is how messages and the ``imported_from`` annotation call the bag (default:
+        ``path``); a compressed piece of the bag may expand to ``max_decompressed_bytes``.
+        Raises :class:`~episodes.bag_limits.DamagedBagError` if the bag cannot be read."""
         what = BagEpisode(activity, activity_type, arguments, episode_id)
-        return bag_import.import_report(self.store, self.paths, path, what, now=self._now())
+        return bag_import.import_report(
+            self.store,
+            self.paths,
+            path,
+            what,
+            now=self._now(),
+            name=name,
+            max_decompressed_bytes=max_decompressed_bytes,
+        )
 
     def import_source(self, path: str) -> Path:
         """The bag at ``path`` inside the data directory, for an HTTP client (see
         :func:`episodes.bag_import.import_source`)."""
         return bag_import.import_source(self.paths, path)
 
+    @property
+    def uploads_dir(self) -> Path:
+        """Where uploaded files wait to be imported (inside the data directory)."""
+        return self.paths.dir("uploads")
+
     def import_upload(
         self,
-        data: bytes,
+        upload: Path,
         activity: str,
         *,
         activity_type: str | None = None,
         arguments: Sequence[ArgumentSpec] = (),
         episode_id: str | None = None,
+        max_decompressed_bytes: int = DEFAULT_LIMIT_BYTES,
+        max_unpacked_bytes: int = 4 * 1024**3,
     ) -> ImportReport:
-        """Import a bag sent as bytes: a ROS 1 ``.bag`` file, or a tar of a ROS 2 bag directory.
-        Raises :class:`InvalidInputError` (field ``body``) for anything else."""
+        """Import a bag received as the file ``upload``: a ROS 1 ``.bag`` file, or a tar of a
+        ROS 2 bag directory (see :func:`episodes.bag_import.import_upload` for the limits).
+        Raises :class:`InvalidInputError` (field ``body``) for anything else, and
+        :class:`~episodes.bag_limits.DamagedBagError` for a bag that cannot be read."""
         what = BagEpisode(activity, activity_type, arguments, episode_id)
-        return bag_import.import_upload(self.store, self.paths, data, what, now=self._now())
+        return bag_import.import_upload(
+            self.store,
+            self.paths,
+            upload,
+            what,
+            now=self._now(),
+            max_decompressed_bytes=max_decompressed_bytes,
+            max_unpacked_bytes=max_unpacked_bytes,
+        )
 
     def get(self, episode_id: str) -> Episode:
         """Everything about one episode; raises :class:`EpisodeNotFoundError`."""

@@ -3,9 +3,10 @@ window's days, and per-activity pointers to the first and the last episode, so t
 first / last time <activity>" reads one row instead of sorting every episode of it.
 
 Each episode carries one ``engram:cueDay`` literal per UTC day its time touches (``"2026-03-01"``),
-or ``"running"`` while it has no end. An episode overlaps a window only if some instant of the
+``"running"`` while it has no end, or ``"long"`` if it touches more than
+:data:`MAX_EPISODE_DAYS` days. An episode overlaps a window only if some instant of the
 window is in it, and that instant's day is one of the window's days: the episodes of the
-window's days (and the running ones) hold every answer, and the exact time filter runs on
+window's days (and the running and long ones) hold every answer, and the exact time filter runs on
 those alone. The oldest episode of an activity carries ``engram:firstOfActivity`` with the
 activity's name, the newest ``engram:lastOfActivity`` (ties broken by IRI as the queries'
 ``ORDER BY ?begin ?episode`` does). Both are written with the episode, moved when it ends or
@@ -33,6 +34,8 @@ __all__ = [
     "CUE_DAY",
     "FIRST_OF",
     "LAST_OF",
+    "LONG",
+    "MAX_EPISODE_DAYS",
     "MAX_WINDOW_DAYS",
     "RUNNING",
     "backfill",
@@ -49,8 +52,12 @@ CUE_DAY = engram("cueDay")
 FIRST_OF = engram("firstOfActivity")
 LAST_OF = engram("lastOfActivity")
 RUNNING = Literal("running")
+LONG = Literal("long")
 MAX_WINDOW_DAYS = 62
 """Windows of more days are answered by filtering every begin time (their answers are long)."""
+MAX_EPISODE_DAYS = 366
+"""An episode touching more days carries ``long`` in place of its days, and every window reads
+the ``long`` ones (an episode of the years 1 to 9999 would otherwise write 3.6 million days)."""
 
 
 def _days(start: dt.datetime, end: dt.datetime) -> list[Literal]:
@@ -61,15 +68,26 @@ def _days(start: dt.datetime, end: dt.datetime) -> list[Literal]:
 
 
 def day_literals(begin: dt.datetime, end: dt.datetime | None) -> list[Literal]:
-    """The ``engram:cueDay`` values of an episode of ``begin``..``end`` (``None``: running)."""
-    return [RUNNING] if end is None else _days(begin, end)
+    """The ``engram:cueDay`` values of an episode of ``begin``..``end`` (``None``: running;
+    ``long`` past :data:`MAX_EPISODE_DAYS`)."""
+    if end is None:
+        return [RUNNING]
+    span = end.astimezone(dt.UTC).date() - begin.astimezone(dt.UTC).date()
+    return [LONG] if span.days + 1 > MAX_EPISODE_DAYS else _days(begin, end)
 
 
 def window_days(start: dt.datetime, end: dt.datetime) -> list[Literal] | None:
-    """The day buckets a window must read (with ``running``), or ``None`` past
-    :data:`MAX_WINDOW_DAYS`."""
-    days = _days(start, end)
-    return [*days, RUNNING] if len(days) <= MAX_WINDOW_DAYS else None
+    """The day buckets a window must read (with ``running`` and ``long``), or ``None`` past
+    :data:`MAX_WINDOW_DAYS` (decided before any day is listed: a window of the years 1 to
+    9999 holds 3.6 million days).
+
+    >>> import datetime as dt
+    >>> window_days(dt.datetime(1, 1, 1, tzinfo=dt.UTC), dt.datetime(9999, 1, 1, tzinfo=dt.UTC))
+    """
+    span = end.astimezone(dt.UTC).date() - start.astimezone(dt.UTC).date()
+    if span.days + 1 > MAX_WINDOW_DAYS:
+        return None
+    return [*_days(start, end), RUNNING, LONG]
 
 
 def write_days(

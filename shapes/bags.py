@@ -15,7 +15,7 @@ from typing import Any, Literal
 import numpy as np
 import numpy.typing as npt
 
-from shapes.errors import SourceError
+from shapes.errors import ShapesError, SourceError
 from shapes.frame import Frame
 from shapes.types import FloatArray
 
@@ -133,6 +133,22 @@ def _reader(path: Path) -> Any:
     return reader
 
 
+def _messages(reader: Any, connections: list[Any], path: Path) -> Iterator[Any]:
+    """``reader.messages``, a damaged record raised as SourceError naming the bag."""
+    messages = reader.messages(connections=connections)
+    while True:
+        try:
+            item = next(messages)
+        except StopIteration:
+            return
+        except (ShapesError, ValueError):  # ours, and a bound the reader was given
+            raise
+        except Exception as exc:  # rosbags' reader errors, struct and assertion errors
+            problem = str(exc) or f"{type(exc).__name__}: its records do not fit together"
+            raise SourceError(f"bag {str(path)!r}: cannot be read ({problem})") from None
+        yield item
+
+
 def bag_message_count(path: str | Path, topic: str | None = None) -> int:
     """How many PointCloud2 messages ``read_bag`` would go through (for a progress bar)."""
     reader = _reader(Path(path))
@@ -158,7 +174,7 @@ def read_bag(
     reader = _reader(p)
     pose = np.eye(4) if world_from_sensor is None else world_from_sensor
     try:
-        for conn, timestamp, raw in reader.messages(connections=_connections(reader, topic, p)):
+        for conn, timestamp, raw in _messages(reader, _connections(reader, topic, p), p):
             msg = reader.deserialize(raw, conn.msgtype)
             points, colours = decode_pointcloud2(msg)
             if len(points) == 0:

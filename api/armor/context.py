@@ -6,6 +6,7 @@ from dataclasses import dataclass, field
 from pyoxigraph import Literal, NamedNode, Quad
 
 from api.armor.errors import InvalidArgumentsError
+from api.armor.files import ANYWHERE, FileAccess
 from api.armor.models import ArmorDirectiveReq, ArmorDirectiveRes, QueryItem
 from api.armor.names import ValueStyle, resolve
 from api.armor.references import Reference
@@ -42,6 +43,8 @@ class Context:
     """True while APPLY replays a buffered directive: it writes instead of queueing again."""
     sandbox: QueryRunner | None = None
     """Where QUERY SPARQL runs a client's text; None runs it in this process (no server)."""
+    files: FileAccess = ANYWHERE
+    """Where LOAD FILE, SAVE and LOG FILE may go and what LOAD WEB may fetch."""
 
     @property
     def client(self) -> str:

@@ -16,6 +16,7 @@ from api.armor.errors import (
     DirectiveError,
     DirectiveListTooLongError,
 )
+from api.armor.files import ANYWHERE, FileAccess
 from api.armor.memory import MEMORY_COMMANDS, SCENE_ADDS, MemoryDirectives
 from api.armor.models import ArmorDirectiveListRes, ArmorDirectiveReq, ArmorDirectiveRes
 from api.armor.names import ValueStyle
@@ -55,6 +56,7 @@ def apply(ctx: Context) -> Outcome:
             COMMANDS[key].signature,
             applying=True,
             sandbox=ctx.sandbox,
+            files=ctx.files,
         )
         outcome = COMMANDS[key].handler(replay)
         if not outcome.success:
@@ -169,8 +171,11 @@ class ArmorEngine:
         scene_memory: SceneMemory | None = None,
         sandbox: QueryRunner | None = None,
         max_list_length: int | None = None,
+        files: FileAccess = ANYWHERE,
     ) -> None:
         self.store = store
+        self.files = files
+        """Where the file commands may go (:mod:`api.armor.files`); anywhere by default."""
         self.max_list_length = max_list_length
         """Most directives one list may hold; None for no limit."""
         self.sandbox = sandbox
@@ -328,7 +333,15 @@ class ArmorEngine:
                 "Malformed command. No Command/Specs combination match found. "
                 "Please check your service requests and retry.",
             )
-        ctx = Context(session, request, key, command.signature, style=style, sandbox=self.sandbox)
+        ctx = Context(
+            session,
+            request,
+            key,
+            command.signature,
+            style=style,
+            sandbox=self.sandbox,
+            files=self.files,
+        )
         try:
             draft = session.scene((request.client_name, request.reference_name))
             if draft is not None and key in SCENE_ADDS:

@@ -11,6 +11,7 @@ from pyoxigraph import NamedNode, Quad
 
 from api.armor.context import Context, Outcome
 from api.armor.errors import CANNOT_MOUNT, InvalidArgumentsError, ResourceError
+from api.armor.files import FileAccess
 from api.armor.names import is_true
 from api.armor.rdfio import file_kind, parse_ontology, write_ontology
 from api.armor.references import NOBODY, Reference, check_reference_name
@@ -35,22 +36,29 @@ def _reasoner(name: str) -> str:
     return name.upper()
 
 
-def _read_file(path: str) -> bytes:
+def _read_file(path: Path, shown: str) -> bytes:
     try:
-        return Path(path).read_bytes()
+        return path.read_bytes()
     except OSError as error:
-        raise ResourceError(f"args[0]: cannot read {path!r}: {error.strerror or error}") from None
+        raise ResourceError(f"args[0]: cannot read {shown!r}: {error.strerror or error}") from None
 
 
-def _read_web(url: str) -> bytes:
-    if urlparse(url).scheme not in ("http", "https"):
-        raise InvalidArgumentsError(f"args[0]: got {url!r}, expected an http:// or https:// URL")
+_MAX_REDIRECTS = 5
+
+
+def _read_web(url: str, files: FileAccess) -> bytes:
+    """The document at ``url``, following redirects only to URLs ``files`` allows."""
     try:
-        response = httpx.get(url, timeout=_WEB_TIMEOUT_S, follow_redirects=True)
-        response.raise_for_status()
+        with httpx.Client(timeout=_WEB_TIMEOUT_S, follow_redirects=False) as client:
+            for _ in range(_MAX_REDIRECTS + 1):
+                response = client.get(files.url(url))
+                if not response.is_redirect:
+                    response.raise_for_status()
+                    return response.content
+                url = str(response.next_request.url) if response.next_request else ""
     except httpx.HTTPError as error:
         raise ResourceError(f"args[0]: cannot fetch {url!r}: {error}") from None
-    return response.content
+    raise ResourceError(f"args[0]: more than {_MAX_REDIRECTS} redirects from {url!r}")
 
 
 def _load(ctx: Context, *, web: bool, mounted: bool) -> Outcome:
@@ -80,8 +88,11 @@ def _load(ctx: Context, *, web: bool, mounted: bool) -> Outcome:
             source=source,
         )
         if source:
-            content = _read_web(source) if web else _read_file(source)
-            base = source if web else Path(source).resolve().as_uri()
+            if web:
+                content, base = _read_web(source, ctx.files), source
+            else:
+                path = ctx.files.path(source)
+                content, base = _read_file(path, source), path.resolve().as_uri()
             triples, kind = parse_ontology(content, name=source, base_iri=base)
             reference = reference.with_changes(source_format=kind)
         else:  # Engram's extension: an empty path starts an empty ontology named by the IRI
@@ -185,7 +196,7 @@ def _save(ctx: Context, *, inference: bool) -> Outcome:
             for row in rows
             if isinstance(row.get("s"), NamedNode) and isinstance(row.get("p"), NamedNode)
         ]
-    write_ontology(list(dict.fromkeys(quads)), Path(target), kind)
+    write_ontology(list(dict.fromkeys(quads)), ctx.files.path(target), kind)
     log.info("SAVE %s to %s (%d triples)", reference.name, target, len(quads))
     return Outcome()
 
@@ -231,13 +242,15 @@ def _switch_log(kind: str, on: bool, make: Callable[[], logging.Handler]) -> Non
 
 
 def log_file_on(ctx: Context) -> Outcome:
-    path = ctx.arg(0, "log file path")
+    given = ctx.arg(0, "log file path")
+    path = ctx.files.path(given)
     try:
-        Path(path).parent.mkdir(parents=True, exist_ok=True)
+        path.parent.mkdir(parents=True, exist_ok=True)
         with open(path, "a", encoding="utf-8"):
             pass
     except OSError as error:
-        raise ResourceError(f"args[0]: cannot write the log file {path!r}: {error}") from None
+        reason = error.strerror or type(error).__name__
+        raise ResourceError(f"args[0]: cannot write the log file {given!r}: {reason}") from None
     _switch_log("file", True, lambda: logging.FileHandler(path, encoding="utf-8"))
     return Outcome()
 

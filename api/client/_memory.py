@@ -1,5 +1,6 @@
 """``client.memory``: Engram's memory directives (no armor_py_api counterpart)."""
 
+import math
 from collections.abc import Iterable, Mapping
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING
@@ -29,6 +30,29 @@ class ScenePrimitive:
     hessian: float | None = None
     colour: tuple[float, float, float] | None = None
     tracking_id: int | None = None
+
+    def __post_init__(self) -> None:
+        """Refuse what no primitive can be, before anything is sent: raises ``ValueError``
+        naming the field for a number that is not finite, a radius or height that is not
+        positive, a zero axis, a colour outside [0, 1] or a negative tracking id."""
+        for attribute in (*_VECTORS, "colour"):
+            vector = getattr(self, attribute)
+            if vector is not None and (
+                len(vector) != 3 or not all(math.isfinite(float(n)) for n in vector)
+            ):
+                raise ValueError(f"{attribute}: got {vector!r}, expected three finite numbers")
+        for attribute in ("radius", "height"):
+            length = getattr(self, attribute)
+            if length is not None and not (math.isfinite(float(length)) and length > 0):
+                raise ValueError(f"{attribute}: got {length!r}, expected a positive length in m")
+        if self.hessian is not None and not math.isfinite(float(self.hessian)):
+            raise ValueError(f"hessian: got {self.hessian!r}, expected a finite number")
+        if self.axis is not None and not math.hypot(*self.axis) > 0:
+            raise ValueError(f"axis: got {self.axis!r}, expected a non-zero vector")
+        if self.colour is not None and not all(0 <= c <= 1 for c in self.colour):
+            raise ValueError(f"colour: got {self.colour!r}, expected components in [0, 1]")
+        if self.tracking_id is not None and self.tracking_id < 0:
+            raise ValueError(f"tracking_id: got {self.tracking_id!r}, expected an id >= 0")
 
     def directives(self) -> list[tuple[str, str, str, list[str]]]:
         """``ADD IND CLASS`` and one ``ADD DATAPROP IND`` per attribute."""

@@ -13,7 +13,8 @@ router = APIRouter(tags=["admin"], dependencies=[Depends(require_token)])
 
 @router.post("/backup", status_code=status.HTTP_201_CREATED, summary="Back up the store")
 async def backup(store: StoreDep, settings: SettingsDep) -> dict[str, Any]:
-    """Write a consistent copy of the store under ``<data_dir>/backups/<UTC time>``."""
+    """Write a consistent copy of the store under ``<data_dir>/backups/<UTC time>``; the answer
+    names it relative to the data directory (``backups/<UTC time>``)."""
     stamp = dt.datetime.now(dt.UTC).strftime("%Y%m%dT%H%M%S.%fZ")
-    target = await run_in_threadpool(store.backup, settings.backup_dir / stamp)
-    return {"backup": str(target)}
+    await run_in_threadpool(store.backup, settings.backup_dir / stamp)
+    return {"backup": f"{settings.backup_dir.name}/{stamp}"}

@@ -18,8 +18,9 @@ from fastapi.responses import StreamingResponse
 from pydantic import BaseModel, ConfigDict, Field
 from starlette.concurrency import run_in_threadpool
 
-from api.deps import EpisodesDep, require_token
+from api.deps import EpisodesDep, SettingsDep, require_token
 from api.openapi_errors import error_responses
+from api.security import saved_body
 from episodes import (
     ArgumentSpec,
     Cue,
@@ -200,7 +201,7 @@ def _report(report: ImportReport) -> Any:
     dependencies=WRITE,
     responses=error_responses(404),
 )
-async def import_bag(memory: EpisodesDep, body: ImportIn) -> Any:
+async def import_bag(memory: EpisodesDep, settings: SettingsDep, body: ImportIn) -> Any:
     """Import a ROS 1 or ROS 2 bag inside the server's data directory as a finished episode;
     the answer lists the topics skipped (no channel kind for their type)."""
     arguments = [ArgumentSpec(a.role, a.value, a.kind) for a in body.arguments]
@@ -212,6 +213,8 @@ async def import_bag(memory: EpisodesDep, body: ImportIn) -> Any:
         activity_type=body.type,
         arguments=arguments,
         episode_id=body.id,
+        name=body.path,
+        max_decompressed_bytes=settings.max_decompressed_bytes,
     )
     return _report(report)
 
@@ -219,6 +222,7 @@ async def import_bag(memory: EpisodesDep, body: ImportIn) -> Any:
 @router.post("/episodes/import/upload", status_code=status.HTTP_201_CREATED, dependencies=WRITE)
 async def import_upload(
     memory: EpisodesDep,
+    settings: SettingsDep,
     request: Request,
     activity: ActivityQuery,
     type: Annotated[str | None, Query(description="Activity type.")] = None,
@@ -235,14 +239,17 @@ async def import_upload(
         if not sep:
             raise InvalidInputError(f"argument[{i}]", text, "ROLE=VALUE")
         arguments.append(ArgumentSpec(role, value))
-    report = await run_in_threadpool(
-        memory.import_upload,
-        await request.body(),
-        activity,
-        activity_type=type,
-        arguments=arguments,
-        episode_id=id,
-    )
+    async with saved_body(request, memory.uploads_dir) as upload:
+        report = await run_in_threadpool(
+            memory.import_upload,
+            upload,
+            activity,
+            activity_type=type,
+            arguments=arguments,
+            episode_id=id,
+            max_decompressed_bytes=settings.max_decompressed_bytes,
+            max_unpacked_bytes=settings.max_upload_bytes,
+        )
     return _report(report)
 
 

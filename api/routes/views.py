@@ -17,6 +17,7 @@ from starlette.concurrency import run_in_threadpool
 from api.deps import EpisodesDep, StoreDep
 from api.openapi_errors import error_responses
 from api.views import channels, graph, scenes, timeline
+from api.views.live import LatestScene
 from api.views.models import (
     ChannelList,
     ClassDetail,
@@ -28,6 +29,7 @@ from api.views.models import (
     SceneList,
 )
 from episodes.terms import check_id
+from kg import Store
 from reasoners.memory import SceneMemory
 
 __all__ = ["WEB_DIR", "install", "router", "warm_up"]
@@ -48,6 +50,8 @@ LIVE_STREAM_S = 15.0
 """A live stream ends after this long and the browser's EventSource reconnects by itself (and
 is sent the latest scene again). A stopping server waits for open responses to finish, so an
 open live view delays a stop by at most this."""
+LIVE_DISCONNECT_CHECK_S = 1.0
+"""How often a live stream with nothing to send checks that its client is still there."""
 LIVE_RETRY_MS = 500
 """How long the browser waits before it reconnects."""
 
@@ -131,24 +135,43 @@ async def latest_scene(store: StoreDep) -> SceneDetail:
     return found
 
 
-async def _live_events(request: Request, store: StoreDep, *, follow: bool) -> AsyncIterator[str]:
+def _live(request: Request, store: Store) -> LatestScene:
+    """The app's one producer of the latest scene, made on first use."""
+    state = request.app.state
+    live: LatestScene | None = getattr(state, "live_scene", None)
+    if live is None or live.store is not store:
+        live = state.live_scene = LatestScene(store, check_s=LIVE_CHECK_S)
+    return live
+
+
+def _event(detail: SceneDetail, version: int) -> str:
+    return f"event: scene\nid: {version}\ndata: {detail.model_dump_json()}\n\n"
+
+
+async def _live_events(request: Request, store: Store, *, follow: bool) -> AsyncIterator[str]:
     """``scene`` events carrying the latest stored scene: one on connecting (when a scene is
-    stored) and, when ``follow``, one each time a write stores a newer one."""
+    stored) and, when ``follow``, one each time a write stores a newer one (read once for all
+    streams, by the app's :class:`~api.views.live.LatestScene`)."""
     yield f"retry: {LIVE_RETRY_MS}\n\n"
+    if not follow:
+        found = await run_in_threadpool(scenes.latest_scene, store)
+        if found is not None:
+            yield _event(found, store.generation)
+        return
     began = time.monotonic()
-    generation, shown = -1, None
-    while True:
-        if store.generation != generation:
-            generation = store.generation
-            found = await run_in_threadpool(scenes.latest_scene, store)
-            if found is not None and found.scene.iri != shown:
-                shown = found.scene.iri
-                yield f"event: scene\nid: {generation}\ndata: {found.model_dump_json()}\n\n"
-        if not follow or time.monotonic() - began >= LIVE_STREAM_S:
-            return
-        await asyncio.sleep(LIVE_CHECK_S)
-        if await request.is_disconnected():
-            return
+    async with _live(request, store).watching() as live:
+        seen, shown = live.version, None
+        while True:
+            detail = live.scene
+            if detail is not None and detail.scene.iri != shown:
+                shown = detail.scene.iri
+                yield _event(detail, live.version)
+            remaining = LIVE_STREAM_S - (time.monotonic() - began)
+            if remaining <= 0:
+                return
+            seen = await live.newer(seen, timeout_s=min(LIVE_DISCONNECT_CHECK_S, remaining))
+            if await request.is_disconnected():
+                return
 
 
 @router.get(

@@ -12,7 +12,8 @@ from rosbags.rosbag2 import Writer as Ros2Writer
 from rosbags.typesys import Stores, get_typestore
 
 from episodes import ArgumentSpec, Cue, EpisodeMemory
-from episodes.streams import CorruptRecordingError, Replayer
+from episodes.bag_limits import DamagedBagError
+from episodes.streams import Replayer
 from tests.conftest import LiveServer
 
 T0 = 1_769_441_400_000_000_000  # 2026-01-26T15:30:00Z
@@ -86,7 +87,7 @@ def test_a_file_that_is_not_a_bag_leaves_nothing_behind(
     junk = tmp_path / "junk.bag"
     junk.write_bytes(b"not a bag")
     before = len(disk_memory.store)
-    with pytest.raises(CorruptRecordingError):
+    with pytest.raises(DamagedBagError, match=r"junk\.bag"):
         disk_memory.import_bag(junk, "wave", episode_id="j1")
     assert len(disk_memory.store) == before
     assert not disk_memory.streams_path("j1").exists()

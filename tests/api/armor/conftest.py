@@ -4,6 +4,8 @@
 fast, and isolate themselves by using a fresh reference name per test.
 """
 
+import os
+import tempfile
 import threading
 import uuid
 from collections.abc import Callable, Iterator
@@ -91,6 +93,8 @@ class Armor:
 def start_live_server(
     data_dir: Path, **overrides: Any
 ) -> tuple[uvicorn.Server, threading.Thread, str]:
+    # the tests LOAD and SAVE files in their temporary directories and in DATA
+    overrides.setdefault("armor_file_dirs", os.pathsep.join([tempfile.gettempdir(), str(DATA)]))
     settings = Settings(host="127.0.0.1", port=free_port(), data_dir=data_dir, **overrides)
     return serve(create_app(settings), settings)
 

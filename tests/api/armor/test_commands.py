@@ -347,7 +347,7 @@ def test_sparql_errors(
                 "command": "LOAD",
                 "primary_command_spec": "FILE",
                 "reference_name": "new_ref",
-                "args": ["/no/such/file.owl", "http://ex.org/x"],
+                "args": ["no/such/file.owl", "http://ex.org/x"],
             },
             209,
             "cannot read",
