@@ -53,11 +53,15 @@ MAX_WINDOW_DAYS = 62
 """Windows of more days are answered by filtering every begin time (their answers are long)."""
 
 
-def _days(start: dt.datetime, end: dt.datetime) -> list[Literal]:
+def _span(start: dt.datetime, end: dt.datetime) -> tuple[dt.date, int]:
+    """The first UTC day of ``start``..``end`` and how many days it touches."""
     first, last = start.astimezone(dt.UTC).date(), end.astimezone(dt.UTC).date()
-    return [
-        Literal((first + dt.timedelta(days=i)).isoformat()) for i in range((last - first).days + 1)
-    ]
+    return first, (last - first).days + 1
+
+
+def _days(start: dt.datetime, end: dt.datetime) -> list[Literal]:
+    first, count = _span(start, end)
+    return [Literal((first + dt.timedelta(days=i)).isoformat()) for i in range(count)]
 
 
 def day_literals(begin: dt.datetime, end: dt.datetime | None) -> list[Literal]:
@@ -67,9 +71,10 @@ def day_literals(begin: dt.datetime, end: dt.datetime | None) -> list[Literal]:
 
 def window_days(start: dt.datetime, end: dt.datetime) -> list[Literal] | None:
     """The day buckets a window must read (with ``running``), or ``None`` past
-    :data:`MAX_WINDOW_DAYS`."""
-    days = _days(start, end)
-    return [*days, RUNNING] if len(days) <= MAX_WINDOW_DAYS else None
+    :data:`MAX_WINDOW_DAYS` (counted before any day is built: a window may span millennia)."""
+    if _span(start, end)[1] > MAX_WINDOW_DAYS:
+        return None
+    return [*_days(start, end), RUNNING]
 
 
 def write_days(
