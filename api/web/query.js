@@ -1,6 +1,6 @@
 // The SPARQL page over the read-only /sparql endpoint: the project's prefixes, the analyst's
 // usual questions, results as a table, CSV download.
-import { element } from "./app.js";
+import { element, loading, request, showBanner } from "./app.js";
 
 const PREFIXES = `PREFIX engram: <https://w3id.org/engram/ontology#>
 PREFIX rdf: <http://www.w3.org/1999/02/22-rdf-syntax-ns#>
@@ -38,7 +38,7 @@ GROUP BY ?graph ORDER BY DESC(?triples)`,
 function text() { return document.getElementById("query-text").value; }
 
 async function ask(accept) {
-  const answer = await fetch("/sparql", {
+  const answer = await request("/sparql", {
     method: "POST",
     headers: { "Content-Type": "application/x-www-form-urlencoded", Accept: accept },
     body: new URLSearchParams({ query: text() }),
@@ -75,6 +75,7 @@ async function run() {
   } catch (error) {
     info.textContent = "";
     box.replaceChildren(element("p", { class: "error" }, error.message));
+    showBanner(error);
   }
 }
 
@@ -87,6 +88,7 @@ async function csv() {
     link.remove();
   } catch (error) {
     document.getElementById("query-results").replaceChildren(element("p", { class: "error" }, error.message));
+    showBanner(error);
   }
 }
 
@@ -96,8 +98,8 @@ export async function start() {
   const load = () => { document.getElementById("query-text").value = PREFIXES + EXAMPLES[examples.value]; };
   examples.addEventListener("change", load);
   load();
-  document.getElementById("query-run").addEventListener("click", run);
-  document.getElementById("query-csv").addEventListener("click", csv);
+  document.getElementById("query-run").addEventListener("click", () => loading(run));
+  document.getElementById("query-csv").addEventListener("click", () => loading(csv));
 }
 
 export async function show() {}
