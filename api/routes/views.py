@@ -15,6 +15,7 @@ from fastapi.staticfiles import StaticFiles
 from starlette.concurrency import run_in_threadpool
 
 from api.deps import EpisodesDep, StoreDep
+from api.routes import api_docs
 from api.openapi_errors import error_responses
 from api.views import channels, graph, scenes, timeline
 from api.views.models import (
@@ -245,6 +246,8 @@ async def warm_up(memory: SceneMemory, *, poll_s: float = 0.5) -> None:
 
 
 def install(app: FastAPI) -> None:
-    """Add the view endpoints and serve the pages under ``/web/`` (``/`` leads there)."""
+    """Add the view endpoints and serve the pages under ``/web/`` (``/`` leads there), and the
+    API reference at ``/docs`` from the same vendored files (api/routes/api_docs.py)."""
     app.include_router(router)
+    api_docs.install(app, WEB_DIR / "docs.html")
     app.mount("/web", StaticFiles(directory=WEB_DIR, html=True), name="web")

@@ -129,3 +129,22 @@ def test_with_the_server_gone_pages_say_so(page: Any, tmp_path: Path) -> None:
     page.evaluate("location.hash = '#episodes'")  # a view whose module never loaded
     page.wait_for_function("document.querySelector('#banner').textContent.includes('episodes')")
     assert "could not be loaded from the server" in page.inner_text("#banner")
+
+
+def test_the_api_reference_needs_no_other_host(page: Any, hostile_server: Server) -> None:
+    foreign: list[str] = []
+
+    def guard(route: Any) -> None:
+        if route.request.url.startswith(hostile_server.url + "/"):
+            route.continue_()
+        else:
+            foreign.append(route.request.url)
+            route.abort()
+
+    page.route("**/*", guard)
+    page.goto(f"{hostile_server.url}/redoc")
+    assert page.url == f"{hostile_server.url}/docs"
+    page.wait_for_selector("#swagger-ui .opblock", state="visible")
+    assert page.locator("#swagger-ui .opblock").count() > 20
+    assert "Engram" in page.inner_text("#swagger-ui .info")
+    assert foreign == []
