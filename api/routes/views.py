@@ -15,8 +15,8 @@ from fastapi.staticfiles import StaticFiles
 from starlette.concurrency import run_in_threadpool
 
 from api.deps import EpisodesDep, StoreDep
-from api.routes import api_docs
 from api.openapi_errors import error_responses
+from api.routes import api_docs
 from api.views import channels, graph, scenes, timeline
 from api.views.models import (
     ChannelList,
