@@ -1,9 +1,11 @@
 """``client.memory``: Engram's memory directives (no armor_py_api counterpart)."""
 
+import math
 from collections.abc import Iterable, Mapping
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING
 
+from api.client._values import Value, parse_value
 from api.protocol import ArmorDirectiveRes
 
 if TYPE_CHECKING:
@@ -12,6 +14,8 @@ if TYPE_CHECKING:
 __all__ = ["ArmorMemoryClient", "MemoryAnswer", "ScenePrimitive"]
 
 _VECTORS = {"centre": "centre", "axis": "axis", "apex": "apex", "point_on_axis": "pointOnAxis"}
+KINDS = ("Sphere", "Cylinder", "Cone", "Plane")
+"""The primitive kinds the memory knows (Engram's ontology)."""
 
 
 @dataclass(frozen=True)
@@ -29,6 +33,29 @@ class ScenePrimitive:
     hessian: float | None = None
     colour: tuple[float, float, float] | None = None
     tracking_id: int | None = None
+
+    def __post_init__(self) -> None:
+        """Raises ``ValueError`` naming the primitive, the field, the value and what was
+        expected, before anything is sent."""
+        where = f"primitive {self.name!r}"
+        if not isinstance(self.name, str) or not self.name.strip():
+            raise ValueError(f"primitive name: got {self.name!r}, expected a non-empty string")
+        if self.kind not in KINDS:
+            raise ValueError(
+                f"{where}: kind: got {self.kind!r}, expected one of {', '.join(KINDS)}"
+            )
+        for attribute in (*_VECTORS, "colour"):
+            vector = getattr(self, attribute)
+            if vector is not None and (len(vector) != 3 or not all(_finite(n) for n in vector)):
+                raise ValueError(
+                    f"{where}: {attribute}: got {vector!r}, expected three finite numbers"
+                )
+        for attribute in ("radius", "height"):
+            number = getattr(self, attribute)
+            if number is not None and not (_finite(number) and number > 0):
+                raise ValueError(
+                    f"{where}: {attribute}: got {number!r}, expected a positive number"
+                )
 
     def directives(self) -> list[tuple[str, str, str, list[str]]]:
         """``ADD IND CLASS`` and one ``ADD DATAPROP IND`` per attribute."""
@@ -64,12 +91,36 @@ class ScenePrimitive:
         return out
 
 
+def _finite(number: object) -> bool:
+    return (
+        isinstance(number, int | float) and not isinstance(number, bool) and math.isfinite(number)
+    )
+
+
 @dataclass(frozen=True)
 class MemoryAnswer:
-    """A memory directive's answer: its main values and its details as key -> values."""
+    """A memory directive's answer: its main values and its details as key -> values, as the
+    ARMOR strings (``values``, ``details``) and as Python values (``typed_values``,
+    ``typed_details``: IRIs as names, numbers as numbers, see :func:`parse_value`)."""
 
     values: list[str]
     details: Mapping[str, list[str]] = field(default_factory=dict)
+
+    @property
+    def typed_values(self) -> list[Value]:
+        """``values`` as Python values: ``["<...#Scene-2>"]`` is ``["Scene-2"]``."""
+        return [parse_value(v) for v in self.values]
+
+    @property
+    def typed_details(self) -> dict[str, list[Value]]:
+        """``details`` as Python values: ``{"similar": ["<...#Scene-1> 0.5"]}`` is
+        ``{"similar": [("Scene-1", 0.5)]}``, ``{"learned": ["true"]}`` ``{"learned": [True]}``."""
+        return {key: [parse_value(v) for v in values] for key, values in self.details.items()}
+
+    def detail(self, key: str) -> Value:
+        """The first value of detail ``key`` as a Python value (``None`` if there is none)."""
+        found = self.details.get(key) or []
+        return parse_value(found[0]) if found else None
 
     @classmethod
     def of(cls, response: ArmorDirectiveRes) -> "MemoryAnswer":
