@@ -202,3 +202,17 @@ def test_every_query_page_example_returns_rows_on_the_demos_memory(
         if name == "The best classes by score":
             assert {row["level"]["value"] for row in rows} <= {"HIGH", "LOW", "WEAK"}
             assert 0 < float(rows[0]["score"]["value"]) <= 1
+
+
+@pytest.mark.slow
+def test_the_demo_episode_recorded_a_camera_to_replay_and_plot(demo_server: httpx.Client) -> None:
+    (episode,) = demo_server.get("/views/episodes").json()["episodes"]
+    assert episode["channels"] >= 2
+    base = f"/views/episodes/{episode['id']}"
+    channels = {c["name"]: c for c in demo_server.get(f"{base}/channels").json()["channels"]}
+    assert channels["camera/rgb"]["image"] and channels["camera/depth"]["numeric"]
+    assert channels["camera/rgb"]["samples"] == channels["camera/depth"]["samples"] > 100
+    plot = demo_server.get(f"{base}/plot", params={"channel": "camera/depth"}).json()
+    assert len(plot["t"]) > 100 and all(0 < v <= 1 for v in plot["values"][0])
+    frames = demo_server.get(f"{base}/frames", params={"channel": "camera/rgb"}).json()
+    assert len(frames["frames"]) == channels["camera/rgb"]["samples"]

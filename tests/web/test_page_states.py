@@ -98,16 +98,20 @@ def test_episode_strings_show_as_text_and_fetch_nothing(page: Any, hostile_serve
     assert not [url for url in page.requests if "127.0.0.1:9/" in url]
 
 
-def test_a_view_shows_it_is_loading_until_its_data_comes(page: Any, hostile_server: Server) -> None:
+def test_a_view_shows_it_is_loading_until_its_data_comes_and_what_it_shows(page: Any, hostile_server: Server) -> None:
     held: list[Any] = []
     page.route(lambda url: "/views/episodes?" in url, lambda route: held.append(route))
     page.goto(f"{hostile_server.url}/web/#episodes")
     page.wait_for_function("document.body.dataset.loading === 'true'")
     page.wait_for_timeout(100)  # let the held request reach the route
     assert page.locator("#loading").is_visible()
-    held[0].continue_()
+    answer = held[0].fetch()
+    body = answer.json()
+    body["total"] = 10_000  # as if the memory held more than the timeline draws
+    held[0].fulfill(response=answer, json=body)
     page.wait_for_selector("#timeline .vis-item.episode", state="visible")
     assert page.locator("#loading").is_hidden()
+    assert page.inner_text("#timeline-note") == "Showing the oldest 1 of 10000 episodes."
 
 
 def test_with_the_server_gone_pages_say_so(page: Any, tmp_path: Path) -> None:
