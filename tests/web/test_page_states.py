@@ -98,7 +98,9 @@ def test_episode_strings_show_as_text_and_fetch_nothing(page: Any, hostile_serve
     assert not [url for url in page.requests if "127.0.0.1:9/" in url]
 
 
-def test_a_view_shows_it_is_loading_until_its_data_comes_and_what_it_shows(page: Any, hostile_server: Server) -> None:
+def test_a_view_shows_it_is_loading_until_its_data_comes_and_what_it_shows(
+    page: Any, hostile_server: Server
+) -> None:
     held: list[Any] = []
     page.route(lambda url: "/views/episodes?" in url, lambda route: held.append(route))
     page.goto(f"{hostile_server.url}/web/#episodes")
