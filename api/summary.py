@@ -77,8 +77,9 @@ def memory_sizes(store: Store) -> dict[str, int]:
 
 def reset_memories(store: Store, data_dir: Path | None = None) -> list[Path]:
     """Empty every graph but the T-Box in one transaction, then delete the memory's files under
-    ``data_dir`` (by default the directory holding an on-disk store): what is left is the store
-    of a fresh data directory. Returns the folders and files deleted.
+    ``data_dir`` (by default the directory holding an on-disk store named ``store``, as a data
+    directory lays it out; no files otherwise): what is left is the store of a fresh data
+    directory. Returns the folders and files deleted.
 
     The graphs cleared are the memory's (:data:`MEMORY_GRAPHS`), its history and revision, and
     the ARMOR references; the files are :data:`MEMORY_FILES` and the scene memory's index file
@@ -88,8 +89,8 @@ def reset_memories(store: Store, data_dir: Path | None = None) -> list[Path]:
     with store.transaction() as tx:
         for graph in {*graphs, *MEMORY_GRAPHS}:
             tx.clear_graph(graph)
-    if data_dir is None:
-        data_dir = store.path.parent if store.path is not None else None
+    if data_dir is None and store.path is not None and store.path.name == "store":
+        data_dir = store.path.parent  # the data directory's layout (Settings.store_dir)
     deleted: list[Path] = []
     if data_dir is not None:
         for name in MEMORY_FILES:
