@@ -1,7 +1,8 @@
-"""The Episodes view's read: ``GET /views/episodes?limit=500`` (the page the view asks for) over
-10,000 episodes, against a point lookup of one episode (``episodes_get``) in the same run, and
-against how the page was read before (every episode from the year 1 to 9999 through the time
-index's day buckets, then each episode's details one query at a time).
+"""The Episodes view's read: ``GET /views/episodes?limit=200&newest=true`` (the page the view
+asks for) and the largest page (500) over 10,000 episodes, against a point lookup of one
+episode (``episodes_get``) in the same run, and against how a page of 500 was read before
+(every episode from the year 1 to 9999 through the time index's day buckets, then each
+episode's details one query at a time).
 
     PYTHONPATH=. .venv/bin/python bench/episode_timeline.py [--episodes 10000] [--repeat 5]
 
@@ -30,6 +31,8 @@ from episodes.terms import episode_iri
 from kg import Store
 
 START = dt.datetime(2025, 1, 1, tzinfo=dt.UTC)
+VIEW_PAGE = "/views/episodes?limit=200&newest=true"
+"""What the Episodes page asks for (api/web/episodes.js)."""
 
 
 def timed(call: Callable[[], object], repeat: int) -> float:
@@ -115,6 +118,7 @@ def run(data_dir: Path, episodes: int, repeat: int) -> None:
             ),
             "timeline read, 500": lambda: timeline.episode_list(memory, offset=0, limit=500),
             "GET /views/episodes?limit=500": lambda: client.get("/views/episodes?limit=500"),
+            "GET the view's page (newest 200)": lambda: client.get(VIEW_PAGE),
         }
         figures = {name: timed(call, repeat) for name, call in cases.items()}
         figures["before: read, 500 (once)"] = timed(lambda: before(memory, 500), 1)
@@ -124,11 +128,11 @@ def run(data_dir: Path, episodes: int, repeat: int) -> None:
     print(f"{'read':<32} {'ms':>9} {'x point lookup':>15}")
     for name, seconds in figures.items():
         print(f"{name:<32} {seconds * 1000:9.1f} {seconds / baseline:15.1f}")
-    page = figures["GET /views/episodes?limit=500"]
+    page = figures["GET the view's page (newest 200)"]
     before_s, now_s = figures["before: read, 500 (once)"], figures["timeline read, 500"]
     print(f"before / now: {before_s / now_s:.1f}x")
     verdict = "met" if page < 0.300 else "NOT met"
-    print(f"GET /views/episodes?limit=500: {page * 1000:.0f} ms, target < 300 ms {verdict}")
+    print(f"GET {VIEW_PAGE}: {page * 1000:.0f} ms, target < 300 ms {verdict}")
     with open("/proc/loadavg") as load:
         print(f"load average: {load.read().strip()}")
 

@@ -187,8 +187,13 @@ async def episode_list(
     memory: EpisodesDep,
     offset: Offset = 0,
     limit: Annotated[int, Query(ge=1, le=500)] = 200,
+    newest: Annotated[
+        bool, Query(description="The newest `limit` episodes (`offset` is ignored).")
+    ] = False,
 ) -> EpisodeList:
-    return await run_in_threadpool(timeline.episode_list, memory, offset=offset, limit=limit)
+    return await run_in_threadpool(
+        timeline.episode_list, memory, offset=offset, limit=limit, newest=newest
+    )
 
 
 @router.get(

@@ -132,10 +132,15 @@ def _entries(store: Store, page: Sequence[NamedNode]) -> list[EpisodeEntry]:
     return entries
 
 
-def episode_list(memory: EpisodeMemory, *, offset: int, limit: int) -> EpisodeList:
-    """Every episode, oldest first, ``limit`` of them in full from ``offset``."""
+def episode_list(
+    memory: EpisodeMemory, *, offset: int, limit: int, newest: bool = False
+) -> EpisodeList:
+    """Every episode, oldest first, ``limit`` of them in full from ``offset``; with ``newest``,
+    the last ``limit`` (``offset`` says where they start)."""
     store = memory.store
     ordered = _in_order(store)
+    if newest:
+        offset = max(0, len(ordered) - limit)
     return EpisodeList(
         total=len(ordered),
         offset=offset,

@@ -4,7 +4,7 @@
 import { element, getJSON, loadScript, request, showBanner, showError } from "./app.js";
 
 let timeline = null, episodes = [], replayAbort = null;
-const SHOWN = 500; // episodes drawn on the timeline
+const SHOWN = 200; // episodes drawn on the timeline: the newest
 
 // vis-timeline renders a string content or title as HTML: every user string goes in as the
 // text of an element of its own (one per item: the timeline moves it into its DOM).
@@ -170,13 +170,13 @@ async function select(id) {
 
 export async function start() {
   await loadScript("vendor/vis-timeline-graph2d.min.js"); // 0.5 MB: only for this view
-  const page = await getJSON(`/views/episodes?limit=${SHOWN}`);
+  const page = await getJSON(`/views/episodes?limit=${SHOWN}&newest=true`);
   episodes = page.episodes;
   const { groups, rows } = items();
   const container = document.getElementById("timeline");
   if (page.total > episodes.length) {
     container.before(element("p", { class: "muted", id: "timeline-note" },
-      `Showing the oldest ${episodes.length} of ${page.total} episodes.`));
+      `Showing the newest ${episodes.length} of ${page.total} episodes.`));
   }
   container.dataset.episodes = String(episodes.length);
   timeline = new vis.Timeline(container, new vis.DataSet(rows), new vis.DataSet(groups),

@@ -61,6 +61,16 @@ def test_pages_are_oldest_first_and_hold_what_the_memory_holds(
     assert next(e for e in page.episodes if e.id == "e05").ratings == []
 
 
+def test_the_newest_page_is_the_last_episodes_oldest_first(
+    memory_with_twelve_episodes: EpisodeMemory,
+) -> None:
+    page = timeline.episode_list(memory_with_twelve_episodes, offset=0, limit=3, newest=True)
+    assert (page.total, page.offset) == (12, 9)
+    assert [e.id for e in page.episodes] == ["e09", "e10", "e11"]
+    everything = timeline.episode_list(memory_with_twelve_episodes, offset=5, limit=20, newest=True)
+    assert everything.offset == 0 and len(everything.episodes) == 12
+
+
 def test_a_page_costs_the_same_queries_whatever_its_size(
     memory_with_twelve_episodes: EpisodeMemory, monkeypatch: pytest.MonkeyPatch
 ) -> None:

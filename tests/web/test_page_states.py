@@ -113,7 +113,7 @@ def test_a_view_shows_it_is_loading_until_its_data_comes_and_what_it_shows(
     held[0].fulfill(response=answer, json=body)
     page.wait_for_selector("#timeline .vis-item.episode", state="visible")
     assert page.locator("#loading").is_hidden()
-    assert page.inner_text("#timeline-note") == "Showing the oldest 1 of 10000 episodes."
+    assert page.inner_text("#timeline-note") == "Showing the newest 1 of 10000 episodes."
 
 
 def test_with_the_server_gone_pages_say_so(page: Any, tmp_path: Path) -> None:
