@@ -302,3 +302,30 @@ def backup(
                 fail(f"the backup target {target} already exists", 1)
             shutil.move(settings.backup_dir / made.name, target)
     console.print(f"backed up the memory of {settings.data_dir} to {target}")
+
+
+@app.command()
+def restore(
+    backup: Annotated[Path, typer.Argument(help="A copy made by `engram backup` or POST /backup.")],
+    data: DataOption = None,
+) -> None:
+    """Make a backup the data directory's memory again; the store it replaces is kept under
+    <data dir>/backups/before-restore-<time>. Stop the server first."""
+    from api.services import running_server
+    from kg import EngramError
+    from kg.restore import restore_backup
+
+    settings = settings_for(data)
+    if settings.store_url is not None:
+        fail("restore works on an embedded memory; unset ENGRAM_STORE_URL", 2)
+    server = running_server(settings.data_dir)
+    if server is not None:
+        fail(f"the server at {server} holds {settings.data_dir}; stop it, then restore", 1)
+    tell(f"memory: {settings.data_dir}")
+    try:
+        kept = restore_backup(backup, settings.store_dir)
+    except (EngramError, FileExistsError) as error:
+        fail(str(error), 1)
+    console.print(f"restored {backup} as the memory of {settings.data_dir}")
+    if kept is not None:
+        console.print(f"the memory it replaced is kept in {kept}")

@@ -11,6 +11,7 @@ import datetime as dt
 from collections.abc import Iterator
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Any
 
 import httpx
 import numpy as np
@@ -28,7 +29,7 @@ from kg import Store, export
 from reasoners.memory import SceneMemory
 from reasoners.results import ItemScores
 from shapes import Frame, Perception
-from shapes.synthetic import PALETTE, TabletopScene, TruthObject
+from shapes.synthetic import PALETTE, SyntheticShot, TabletopScene, TruthObject
 
 __all__ = ["SCENES", "SimulatedClock", "run_demo"]
 
@@ -129,23 +130,42 @@ class Demo:
         )
 
 
-def _frames(scene: TabletopScene, seed: int) -> Iterator[Frame]:
+FRAME_NS = 100_000_000
+"""The camera's frame period in the simulated time (10 Hz)."""
+
+
+def _record(recorder: Any, shot: SyntheticShot, time_ns: int) -> None:
+    """One frame into the episode's streams: the camera image (a quarter of its size, for the
+    Episodes page's frames and replay) and, to plot, the share of pixels with a depth and
+    their median depth."""
+    image = np.asarray(np.clip(shot.rgb[::4, ::4] * 255, 0, 255), dtype=np.uint8)
+    seen = np.isfinite(shot.depth)
+    depth = float(np.median(shot.depth[seen])) if seen.any() else 0.0
+    recorder.tick(
+        {"camera/rgb": image, "camera/depth": np.array([seen.mean(), depth])}, time_ns=time_ns
+    )
+
+
+def _frames(scene: TabletopScene, seed: int, recorder: Any, start: dt.datetime) -> Iterator[Frame]:
+    """The frames of one view of ``scene``, then of the cleared table, each recorded."""
     rng = np.random.default_rng(seed)
     empty = TabletopScene(())
-    for _ in range(FRAMES_PER_VIEW):
-        yield scene.render(rng).frame
-    for _ in range(4):  # the table is cleared: the scene ends, the next one starts fresh
-        yield empty.render(rng).frame
+    views = [scene] * FRAMES_PER_VIEW + [empty] * 4  # cleared: the next scene starts fresh
+    start_ns = int(start.timestamp() * 1e9)
+    for index, view in enumerate(views):
+        shot = view.render(rng)
+        _record(recorder, shot, start_ns + index * FRAME_NS)
+        yield shot.frame
 
 
-def _see(demo: Demo, perception: Perception, episode_iri: str) -> None:
+def _see(demo: Demo, perception: Perception, episode_iri: str, recorder: Any) -> None:
     table = Table(title="Perceived and stored (one transaction per scene)", title_justify="left")
     for column in ("time", "scene", "primitives", "outcome", "class", "confidence"):
         table.add_column(column)
     for index, (hours, title) in enumerate(SCRIPT):
         demo.clock.now = START + dt.timedelta(hours=hours)
         for result in perceive(
-            _frames(SCENES[title], seed=index),
+            _frames(SCENES[title], index, recorder, demo.clock.now),
             demo.client,
             perception=perception,
             episode=episode_iri,
@@ -242,8 +262,12 @@ def run_demo(store: Store, data_dir: Path, console: Console) -> Path:
         "tidying",
         activity_type="demonstration",
         arguments=[ArgumentSpec("agent", "HyungJin"), ArgumentSpec("object", "table")],
+        record=True,
     )
-    _see(demo, Perception(seed=0), episode.iri)
+    recorder = demo.episodes.recordings.get(episode.id)
+    recorder.add_provider("camera/rgb", "image", encoding="rgb8")
+    recorder.add_provider("camera/depth", "float_array", dtype="float64", shape=[2])
+    _see(demo, Perception(seed=0), episode.iri, recorder)
     demo.episodes.end(episode.id)
     for summary in sorted(memory.classes(), key=lambda c: c.iri.value):
         console.print(f"[bold]{demo.name(summary.iri)}[/bold] ≡ {demo.definition(summary.iri)}")

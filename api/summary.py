@@ -1,5 +1,10 @@
-"""What a store holds, as rich tables for the command line."""
+"""What a store holds, as rich tables for the command line, and emptying it of a memory."""
 
+import logging
+import shutil
+from pathlib import Path
+
+from pyoxigraph import NamedNode
 from rich.console import Console
 from rich.table import Table
 
@@ -10,16 +15,24 @@ from ontologies.vocab import (
     EPISODES,
     EPISODIC,
     GRAPH_NS,
+    HISTORY,
     MEMORY,
     OWL_NS,
     TBOX,
     TRASH,
 )
+from reasoners.index_file import index_path
 
-__all__ = ["MEMORY_GRAPHS", "memory_sizes", "print_summary", "reset_memories"]
+__all__ = ["MEMORY_FILES", "MEMORY_GRAPHS", "memory_sizes", "print_summary", "reset_memories"]
 
-MEMORY_GRAPHS = (MEMORY, EPISODIC, TRASH, EPISODES)
+log = logging.getLogger(__name__)
+
+MEMORY_GRAPHS = (MEMORY, EPISODIC, TRASH, EPISODES, HISTORY)
 """The graphs a robot's life fills; the T-Box and the ARMOR references are not among them."""
+
+MEMORY_FILES = ("streams", "augmentations", "uploads")
+"""The data directory's folders of a memory's files: the episodes' recordings, the augmentation
+runs' derived samples, uploads in progress (``episodes.paths.DataPaths``)."""
 
 
 def _text(term: Binding) -> str:
@@ -62,8 +75,31 @@ def memory_sizes(store: Store) -> dict[str, int]:
     return {g.value.removeprefix(GRAPH_NS): sizes.get(g.value, 0) for g in MEMORY_GRAPHS}
 
 
-def reset_memories(store: Store) -> None:
-    """Empty the memory graphs in one transaction (the T-Box and references stay)."""
+def reset_memories(store: Store, data_dir: Path | None = None) -> list[Path]:
+    """Empty every graph but the T-Box in one transaction, then delete the memory's files under
+    ``data_dir`` (by default the directory holding an on-disk store named ``store``, as a data
+    directory lays it out; no files otherwise): what is left is the store of a fresh data
+    directory. Returns the folders and files deleted.
+
+    The graphs cleared are the memory's (:data:`MEMORY_GRAPHS`), its history and revision, and
+    the ARMOR references; the files are :data:`MEMORY_FILES` and the scene memory's index file
+    beside the store. Backups (``backups/``) are kept.
+    """
+    graphs = [NamedNode(iri) for iri in store.graph_sizes() if iri != TBOX.value]
     with store.transaction() as tx:
-        for graph in MEMORY_GRAPHS:
+        for graph in {*graphs, *MEMORY_GRAPHS}:
             tx.clear_graph(graph)
+    if data_dir is None and store.path is not None and store.path.name == "store":
+        data_dir = store.path.parent  # the data directory's layout (Settings.store_dir)
+    deleted: list[Path] = []
+    if data_dir is not None:
+        for name in MEMORY_FILES:
+            if (data_dir / name).is_dir():
+                shutil.rmtree(data_dir / name)
+                deleted.append(data_dir / name)
+    index = index_path(store)
+    if index is not None and index.exists():
+        index.unlink()
+        deleted.append(index)
+    log.info("reset: cleared %d graphs, deleted %s", len(graphs), deleted)
+    return deleted

@@ -60,11 +60,15 @@ MAX_EPISODE_DAYS = 366
 the ``long`` ones (an episode of the years 1 to 9999 would otherwise write 3.6 million days)."""
 
 
-def _days(start: dt.datetime, end: dt.datetime) -> list[Literal]:
+def _span(start: dt.datetime, end: dt.datetime) -> tuple[dt.date, int]:
+    """The first UTC day of ``start``..``end`` and how many days it touches."""
     first, last = start.astimezone(dt.UTC).date(), end.astimezone(dt.UTC).date()
-    return [
-        Literal((first + dt.timedelta(days=i)).isoformat()) for i in range((last - first).days + 1)
-    ]
+    return first, (last - first).days + 1
+
+
+def _days(start: dt.datetime, end: dt.datetime) -> list[Literal]:
+    first, count = _span(start, end)
+    return [Literal((first + dt.timedelta(days=i)).isoformat()) for i in range(count)]
 
 
 def day_literals(begin: dt.datetime, end: dt.datetime | None) -> list[Literal]:
@@ -78,14 +82,13 @@ def day_literals(begin: dt.datetime, end: dt.datetime | None) -> list[Literal]:
 
 def window_days(start: dt.datetime, end: dt.datetime) -> list[Literal] | None:
     """The day buckets a window must read (with ``running`` and ``long``), or ``None`` past
-    :data:`MAX_WINDOW_DAYS` (decided before any day is listed: a window of the years 1 to
-    9999 holds 3.6 million days).
+    :data:`MAX_WINDOW_DAYS` (counted before any day is built: a window of the years 1 to 9999
+    holds 3.6 million days).
 
     >>> import datetime as dt
     >>> window_days(dt.datetime(1, 1, 1, tzinfo=dt.UTC), dt.datetime(9999, 1, 1, tzinfo=dt.UTC))
     """
-    span = end.astimezone(dt.UTC).date() - start.astimezone(dt.UTC).date()
-    if span.days + 1 > MAX_WINDOW_DAYS:
+    if _span(start, end)[1] > MAX_WINDOW_DAYS:
         return None
     return [*_days(start, end), RUNNING, LONG]
 

@@ -199,7 +199,9 @@ class Asker:
     def _episode_count(self, parsed: Parsed) -> _Reply:
         cue, agent, activity = self._cue(parsed)
         n = self.episodes.count(cue)
-        times = {0: "never", 1: "once", 2: "twice"}.get(n, f"{n} times")
+        if n == 0:
+            return _Reply(f"{agent} never did {activity}.", {"count": 0})
+        times = {1: "once", 2: "twice"}.get(n, f"{n} times")
         return _Reply(f"{agent} did {activity} {times}.", {"count": n})
 
     def _episode_between(self, parsed: Parsed) -> _Reply:

@@ -2,16 +2,22 @@
 synthetic clouds of :mod:`shapes.synthetic` serve tests, demo and benchmarks).
 
 The clock runs from Monday 2026-03-02 08:00 UTC and stops at Wednesday 2026-03-04 10:00.
+``python -m api.ask.samples DIR`` writes the week into the data directory ``DIR`` (the README's
+``engram ask --data DIR ...`` examples ask it).
 """
 
+import argparse
 import datetime as dt
+import gc
+import sys
+from pathlib import Path
 
 from episodes import ArgumentSpec, EpisodeMemory
 from kg import Store, ensure_ontology
 from reasoners.memory import SceneMemory
 from reasoners.primitives import Primitive
 
-__all__ = ["EPISODES", "NOW", "SPOKEN", "START", "Clock", "live_a_week"]
+__all__ = ["EPISODES", "NOW", "SPOKEN", "START", "Clock", "live_a_week", "main"]
 
 START = dt.datetime(2026, 3, 2, 8, 0, tzinfo=dt.UTC)
 NOW = dt.datetime(2026, 3, 4, 10, 0, tzinfo=dt.UTC)
@@ -103,3 +109,27 @@ SPOKEN = (
     "explain scene four",
 )
 """The questions of the speech tests and benchmark, as a person would say them."""
+
+
+def main(argv: list[str] | None = None) -> int:
+    """Write the week into a new data directory; refuse one that already holds a store."""
+    parser = argparse.ArgumentParser(
+        prog="python -m api.ask.samples",
+        description="Write the week of Anna, HyungJin and Peter into a new data directory.",
+    )
+    parser.add_argument("data", type=Path, help="the data directory to create")
+    data = parser.parse_args(argv).data
+    if (data / "store").exists():
+        print(f"{data} already holds a store; give a new directory", file=sys.stderr)
+        return 2
+    store = Store(data / "store")
+    scenes, episodes = live_a_week(store, Clock())
+    store.flush()
+    del scenes, episodes, store
+    gc.collect()  # the memories hold the store in cycles; free it before the process ends
+    print(f"wrote the week of {START:%A %Y-%m-%d} into {data}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -8,6 +8,11 @@ Existing armor_py_api code ports by changing the import::
     client.utils.load_ref_from_file("test.owl", "http://ex.org/test", True, "PELLET", True)
     client.manipulation.add_ind_to_class("ind_1", "Class_1")
 
+Beside armor_py_api's strings, answers come as Python values (``MemoryAnswer.typed_values``,
+``typed_details``, ``query.dataprop_values_b2_ind``: IRIs as names, numbers as numbers),
+``client.ask("...")`` asks in words, and a directive refused for its input raises
+:class:`ArmorInputError` (a ``ValueError``) saying what was wrong.
+
 Fixed armor_py_api bugs: ``utils.set_log_to_file(False)`` works,
 ``manipulation.remove_batch_dataprop_to_ind`` passes its arguments in the right order, and
 ``manipulation.replace_one_dataprop_b2_ind`` sends the old value's lexical form.
@@ -15,12 +20,14 @@ Fixed armor_py_api bugs: ``utils.set_log_to_file(False)`` works,
 
 from typing import TYPE_CHECKING, Any
 
-from api.client._client import ArmorClient
+from api.client._client import Answer, ArmorClient
 from api.client._manipulation import ArmorManipulationClient, literal_value
 from api.client._memory import ArmorMemoryClient, MemoryAnswer, ScenePrimitive
 from api.client._query import ArmorQueryClient, strip_uri
 from api.client._utils import ArmorUtilsClient
+from api.client._values import Value, parse_value
 from api.client.exceptions import (
+    ArmorInputError,
     ArmorPyException,
     ArmorServiceCallError,
     ArmorServiceInternalError,
@@ -30,7 +37,9 @@ if TYPE_CHECKING:
     from api.client._local import LocalTransport
 
 __all__ = [
+    "Answer",
     "ArmorClient",
+    "ArmorInputError",
     "ArmorManipulationClient",
     "ArmorMemoryClient",
     "ArmorPyException",
@@ -41,7 +50,9 @@ __all__ = [
     "LocalTransport",
     "MemoryAnswer",
     "ScenePrimitive",
+    "Value",
     "literal_value",
+    "parse_value",
     "strip_uri",
 ]
 

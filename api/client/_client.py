@@ -1,5 +1,6 @@
 """``ArmorClient``: armor_py_api's client, over HTTP instead of ROS."""
 
+from dataclasses import dataclass, field
 from types import TracebackType
 from typing import Any
 
@@ -9,12 +10,51 @@ from api.client._manipulation import ArmorManipulationClient
 from api.client._memory import ArmorMemoryClient
 from api.client._query import ArmorQueryClient
 from api.client._utils import ArmorUtilsClient
-from api.client.exceptions import ArmorServiceCallError, ArmorServiceInternalError
+from api.client._values import parse_value
+from api.client.exceptions import ArmorServiceCallError, directive_error
 from api.protocol import ArmorDirectiveListRes, ArmorDirectiveReq, ArmorDirectiveRes
 
-__all__ = ["ArmorClient"]
+__all__ = ["Answer", "ArmorClient"]
 
 _TIMEOUT_MESSAGE = "Cannot reach ARMOR client: Timeout Expired. Check if ARMOR is running."
+
+
+def _named(value: Any) -> Any:
+    """``value`` with every IRI in it (at any depth) as its name."""
+    if isinstance(value, str) and value.startswith(("http://", "https://")) and " " not in value:
+        return parse_value(f"<{value}>")
+    if isinstance(value, list):
+        return [_named(v) for v in value]
+    if isinstance(value, dict):
+        return {k: _named(v) for k, v in value.items()}
+    return value
+
+
+@dataclass(frozen=True)
+class Answer:
+    """The memory's answer to a question in words (``POST /ask``): ``words`` to say, whether
+    the question was ``understood``, its structured ``answer`` with names and numbers as values,
+    and ``suggestions`` of questions it understands when it was not."""
+
+    question: str
+    understood: bool
+    words: str
+    answer: dict[str, Any] = field(default_factory=dict)
+    suggestions: tuple[str, ...] = ()
+    body: dict[str, Any] = field(default_factory=dict)
+    """The whole JSON answer (explanations, the SPARQL it ran)."""
+
+    @classmethod
+    def of(cls, body: dict[str, Any]) -> "Answer":
+        answer = {key: _named(value) for key, value in (body.get("answer") or {}).items()}
+        return cls(
+            question=str(body.get("question", "")),
+            understood=bool(body.get("understood")),
+            words=str(body.get("words", "")),
+            answer=answer,
+            suggestions=tuple(body.get("suggestions") or ()),
+            body=body,
+        )
 
 
 class ArmorClient:
@@ -111,14 +151,23 @@ class ArmorClient:
         """The list's responses; raises for the first failed one (the list changed nothing)."""
         for response in result.armor_responses:
             if not response.success and response.exit_code != 0:
-                raise ArmorServiceInternalError(response.error_description, response.exit_code)
+                raise directive_error(response.error_description, response.exit_code)
         return list(result.armor_responses)
 
     def checked(
         self, command: str, first_spec: str, second_spec: str, args_list: list[str]
     ) -> ArmorDirectiveRes:
-        """:meth:`call`, raising :class:`ArmorServiceInternalError` when ``success`` is false."""
+        """:meth:`call`, raising :class:`ArmorServiceInternalError` when ``success`` is false
+        (:class:`ArmorInputError` when the input was wrong)."""
         response = self.call(command, first_spec, second_spec, args_list)
         if not response.success:
-            raise ArmorServiceInternalError(response.error_description, response.exit_code)
+            raise directive_error(response.error_description, response.exit_code)
         return response
+
+    def ask(self, question: str) -> "Answer":
+        """Ask the memory a question in words (``POST /ask``); raises :class:`ValueError` for
+        an empty or overlong question and :class:`ArmorServiceCallError` if the server cannot
+        be reached or refuses it."""
+        if not isinstance(question, str) or not question.strip():
+            raise ValueError(f"question: got {question!r}, expected a question in words")
+        return Answer.of(self._post("/ask", {"text": question}))

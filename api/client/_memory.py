@@ -5,6 +5,7 @@ from collections.abc import Iterable, Mapping
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING
 
+from api.client._values import Value, parse_value
 from api.protocol import ArmorDirectiveRes
 
 if TYPE_CHECKING:
@@ -13,6 +14,8 @@ if TYPE_CHECKING:
 __all__ = ["ArmorMemoryClient", "MemoryAnswer", "ScenePrimitive"]
 
 _VECTORS = {"centre": "centre", "axis": "axis", "apex": "apex", "point_on_axis": "pointOnAxis"}
+KINDS = ("Sphere", "Cylinder", "Cone", "Plane")
+"""The primitive kinds the memory knows (Engram's ontology)."""
 
 
 @dataclass(frozen=True)
@@ -33,26 +36,36 @@ class ScenePrimitive:
 
     def __post_init__(self) -> None:
         """Refuse what no primitive can be, before anything is sent: raises ``ValueError``
-        naming the field for a number that is not finite, a radius or height that is not
-        positive, a zero axis, a colour outside [0, 1] or a negative tracking id."""
+        naming the primitive, the field, the value and what was expected, for a kind that is
+        none of the four, a number that is not finite, a radius or height that is not positive,
+        a zero axis, a colour outside [0, 1] or a negative tracking id."""
+        where = f"primitive {self.name!r}"
+        if not isinstance(self.name, str) or not self.name.strip():
+            raise ValueError(f"primitive name: got {self.name!r}, expected a non-empty string")
+        if self.kind not in KINDS:
+            raise ValueError(
+                f"{where}: kind: got {self.kind!r}, expected one of {', '.join(KINDS)}"
+            )
         for attribute in (*_VECTORS, "colour"):
             vector = getattr(self, attribute)
-            if vector is not None and (
-                len(vector) != 3 or not all(math.isfinite(float(n)) for n in vector)
-            ):
-                raise ValueError(f"{attribute}: got {vector!r}, expected three finite numbers")
+            if vector is not None and (len(vector) != 3 or not all(_finite(n) for n in vector)):
+                raise ValueError(
+                    f"{where}: {attribute}: got {vector!r}, expected three finite numbers"
+                )
         for attribute in ("radius", "height"):
-            length = getattr(self, attribute)
-            if length is not None and not (math.isfinite(float(length)) and length > 0):
-                raise ValueError(f"{attribute}: got {length!r}, expected a positive length in m")
-        if self.hessian is not None and not math.isfinite(float(self.hessian)):
-            raise ValueError(f"hessian: got {self.hessian!r}, expected a finite number")
+            number = getattr(self, attribute)
+            if number is not None and not (_finite(number) and number > 0):
+                raise ValueError(
+                    f"{where}: {attribute}: got {number!r}, expected a positive length in m"
+                )
+        if self.hessian is not None and not _finite(self.hessian):
+            raise ValueError(f"{where}: hessian: got {self.hessian!r}, expected a finite number")
         if self.axis is not None and not math.hypot(*self.axis) > 0:
-            raise ValueError(f"axis: got {self.axis!r}, expected a non-zero vector")
+            raise ValueError(f"{where}: axis: got {self.axis!r}, expected a non-zero vector")
         if self.colour is not None and not all(0 <= c <= 1 for c in self.colour):
-            raise ValueError(f"colour: got {self.colour!r}, expected components in [0, 1]")
+            raise ValueError(f"{where}: colour: got {self.colour!r}, expected components in [0, 1]")
         if self.tracking_id is not None and self.tracking_id < 0:
-            raise ValueError(f"tracking_id: got {self.tracking_id!r}, expected an id >= 0")
+            raise ValueError(f"{where}: tracking_id: got {self.tracking_id!r}, expected an id >= 0")
 
     def directives(self) -> list[tuple[str, str, str, list[str]]]:
         """``ADD IND CLASS`` and one ``ADD DATAPROP IND`` per attribute."""
@@ -88,12 +101,36 @@ class ScenePrimitive:
         return out
 
 
+def _finite(number: object) -> bool:
+    return (
+        isinstance(number, int | float) and not isinstance(number, bool) and math.isfinite(number)
+    )
+
+
 @dataclass(frozen=True)
 class MemoryAnswer:
-    """A memory directive's answer: its main values and its details as key -> values."""
+    """A memory directive's answer: its main values and its details as key -> values, as the
+    ARMOR strings (``values``, ``details``) and as Python values (``typed_values``,
+    ``typed_details``: IRIs as names, numbers as numbers, see :func:`parse_value`)."""
 
     values: list[str]
     details: Mapping[str, list[str]] = field(default_factory=dict)
+
+    @property
+    def typed_values(self) -> list[Value]:
+        """``values`` as Python values: ``["<...#Scene-2>"]`` is ``["Scene-2"]``."""
+        return [parse_value(v) for v in self.values]
+
+    @property
+    def typed_details(self) -> dict[str, list[Value]]:
+        """``details`` as Python values: ``{"similar": ["<...#Scene-1> 0.5"]}`` is
+        ``{"similar": [("Scene-1", 0.5)]}``, ``{"learned": ["true"]}`` ``{"learned": [True]}``."""
+        return {key: [parse_value(v) for v in values] for key, values in self.details.items()}
+
+    def detail(self, key: str) -> Value:
+        """The first value of detail ``key`` as a Python value (``None`` if there is none)."""
+        found = self.details.get(key) or []
+        return parse_value(found[0]) if found else None
 
     @classmethod
     def of(cls, response: ArmorDirectiveRes) -> "MemoryAnswer":

@@ -3,6 +3,8 @@
 import re
 from typing import TYPE_CHECKING
 
+from api.client._values import Value, parse_value
+
 if TYPE_CHECKING:
     from api.client._client import ArmorClient
 
@@ -40,6 +42,10 @@ class ArmorQueryClient:
                 "QUERY", "DATAPROP", "IND", [dataprop_name, ind_name]
             ).queried_objects
         )
+
+    def dataprop_values_b2_ind(self, dataprop_name: str, ind_name: str) -> list[Value]:
+        """:meth:`dataprop_b2_ind` as Python values: ``"3"^^xsd:integer`` is ``3``."""
+        return [parse_value(v) for v in self.dataprop_b2_ind(dataprop_name, ind_name)]
 
     def objectprop_b2_ind(
         self, objectprop_name: str, ind_name: str, with_URI: bool = False

@@ -82,14 +82,17 @@ async def ask_audio(
     ] = "json",
 ) -> dict[str, Any] | Response:
     """The body is a PCM WAV recording. ``reply=json`` (default) returns what was heard and the
-    answer, with the spoken answer as base64 WAV in ``speech``; ``reply=wav`` returns only the
-    spoken answer, with what was heard in the ``X-Engram-Heard`` header."""
+    answer, with the spoken reply as base64 WAV in ``speech`` and its words in ``spoken``;
+    ``reply=wav`` returns only the spoken reply, with what was heard in the ``X-Engram-Heard``
+    header. The spoken reply says what was heard before the answer, so that a mistaken hearing
+    is heard as one."""
     wav = await request.body()
     if len(wav) > MAX_AUDIO_BYTES:
         raise InvalidValueError("body", f"{len(wav)} bytes", f"a WAV of at most {MAX_AUDIO_S:g} s")
     recogniser = await run_in_threadpool(_recogniser, request)
     heard, answer = await run_in_threadpool(asker.ask_audio, wav, recogniser)
-    speech = await run_in_threadpool(synthesise, answer.words)
+    spoken = f"You asked: {heard.text}. {answer.words}" if heard.text else answer.words
+    speech = await run_in_threadpool(synthesise, spoken)
     if reply == "wav":
         return Response(
             speech, media_type="audio/wav", headers={"X-Engram-Heard": heard.text or ""}
@@ -99,6 +102,7 @@ async def ask_audio(
         "audio_s": heard.audio_s,
         "decode_s": heard.decode_s,
         **answer.to_json(),
+        "spoken": spoken,
         "speech": base64.b64encode(speech).decode("ascii"),
     }
 

@@ -16,6 +16,7 @@ from starlette.concurrency import run_in_threadpool
 
 from api.deps import EpisodesDep, StoreDep
 from api.openapi_errors import error_responses
+from api.routes import api_docs
 from api.views import channels, graph, scenes, timeline
 from api.views.live import LatestScene
 from api.views.models import (
@@ -209,8 +210,13 @@ async def episode_list(
     memory: EpisodesDep,
     offset: Offset = 0,
     limit: Annotated[int, Query(ge=1, le=500)] = 200,
+    newest: Annotated[
+        bool, Query(description="The newest `limit` episodes (`offset` is ignored).")
+    ] = False,
 ) -> EpisodeList:
-    return await run_in_threadpool(timeline.episode_list, memory, offset=offset, limit=limit)
+    return await run_in_threadpool(
+        timeline.episode_list, memory, offset=offset, limit=limit, newest=newest
+    )
 
 
 @router.get(
@@ -268,6 +274,8 @@ async def warm_up(memory: SceneMemory, *, poll_s: float = 0.5) -> None:
 
 
 def install(app: FastAPI) -> None:
-    """Add the view endpoints and serve the pages under ``/web/`` (``/`` leads there)."""
+    """Add the view endpoints and serve the pages under ``/web/`` (``/`` leads there), and the
+    API reference at ``/docs`` from the same vendored files (api/routes/api_docs.py)."""
     app.include_router(router)
+    api_docs.install(app, WEB_DIR / "docs.html")
     app.mount("/web", StaticFiles(directory=WEB_DIR, html=True), name="web")

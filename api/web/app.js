@@ -9,8 +9,18 @@ const views = {
 };
 const started = {};
 
+// fetch, with a network failure (the server stopped, the connection dropped) said in words.
+export async function request(url, options = {}) {
+  try {
+    return await fetch(url, options);
+  } catch (error) {
+    if (error.name === "AbortError") throw error;
+    throw new Error(`the server did not answer ${url.split("?")[0]}: is it still running?`);
+  }
+}
+
 export async function getJSON(url) {
-  const answer = await fetch(url, { headers: { Accept: "application/json" } });
+  const answer = await request(url, { headers: { Accept: "application/json" } });
   if (!answer.ok) {
     let detail = answer.statusText;
     try { detail = (await answer.json()).detail || detail; } catch (_) { /* not JSON */ }
@@ -42,7 +52,7 @@ export function authHeaders() {
 
 // One memory directive through the ARMOR interface (pin, unpin, restore), as any client writes.
 export async function directive(command, first, second, args) {
-  const answer = await fetch("/armor_interface_srv", {
+  const answer = await request("/armor_interface_srv", {
     method: "POST",
     headers: { "Content-Type": "application/json", ...authHeaders() },
     body: JSON.stringify({ armor_request: {
@@ -74,6 +84,36 @@ export function showError(container, error) {
   container.replaceChildren(element("p", { class: "error" }, String(error.message || error)));
 }
 
+// The banner over every view: what failed, in words, until the next view or a close.
+export function showBanner(error) {
+  const banner = document.getElementById("banner");
+  banner.querySelector(".message").textContent = String(error?.message || error);
+  banner.hidden = false;
+}
+
+export function clearBanner() {
+  document.getElementById("banner").hidden = true;
+}
+
+let pending = 0;
+
+// Show the loading indicator while `work` runs (nested calls share it).
+export async function loading(work) {
+  const indicator = document.getElementById("loading");
+  pending += 1;
+  indicator.hidden = false;
+  document.body.dataset.loading = "true";
+  try {
+    return await work();
+  } finally {
+    pending -= 1;
+    if (pending === 0) {
+      indicator.hidden = true;
+      delete document.body.dataset.loading;
+    }
+  }
+}
+
 async function route() {
   const [name, ...rest] = (location.hash.slice(1) || "graph").split("/");
   const view = views[name] ? name : "graph";
@@ -83,14 +123,22 @@ async function route() {
   for (const link of document.querySelectorAll("nav a")) {
     link.classList.toggle("active", link.dataset.view === view);
   }
-  const module = await views[view]();
-  if (!started[view]) {
-    started[view] = true;
-    await module.start();
-  }
-  await module.show(rest.map(decodeURIComponent));
+  clearBanner();
+  await loading(async () => {
+    let module;
+    try {
+      module = await views[view]();
+    } catch (error) {
+      throw new Error(`the ${view} page could not be loaded from the server: is it still running?`);
+    }
+    started[view] ??= module.start(); // a failed start keeps saying so until a reload
+    await started[view];
+    await module.show(rest.map(decodeURIComponent));
+  });
   document.body.dataset.view = view;
 }
 
-window.addEventListener("hashchange", () => route().catch(console.warn));
-route().catch(console.warn);
+document.getElementById("banner-close").addEventListener("click", clearBanner);
+window.addEventListener("unhandledrejection", (event) => showBanner(event.reason));
+window.addEventListener("hashchange", () => route().catch(showBanner));
+route().catch(showBanner);

@@ -1,34 +1,43 @@
 // Episodes: a timeline by activity with participants, annotation ranges, stored scenes,
 // augmentation runs and ratings; an episode's channels with coverage, decimated plots, camera
 // frames with a scrubber, and replay controls over /episodes/{id}/streams/replay.
-import { element, getJSON, loadScript, showError } from "./app.js";
+import { element, getJSON, loadScript, request, showBanner, showError } from "./app.js";
 
 let timeline = null, episodes = [], replayAbort = null;
+const SHOWN = 200; // episodes drawn on the timeline: the newest
+
+// vis-timeline renders a string content or title as HTML: every user string goes in as the
+// text of an element of its own (one per item: the timeline moves it into its DOM).
+const text = (value) => element("span", {}, value);
 
 function items() {
   const groups = new Map(), rows = [];
-  const group = (name) => { if (!groups.has(name)) groups.set(name, { id: name, content: name }); return name; };
+  const group = (name) => {
+    if (!groups.has(name)) groups.set(name, { id: name, content: text(name) });
+    return name;
+  };
   for (const e of episodes) {
     const end = e.end || new Date().toISOString();
+    const who = e.participants.length ? " — " + e.participants.join(", ") : "";
     rows.push({ id: `episode:${e.id}`, group: group(e.activity), start: e.begin, end, className: "episode",
-      content: `${e.activity}${e.participants.length ? " — " + e.participants.join(", ") : ""}`,
-      title: `${e.id}: ${e.activity} (${e.activity_type ?? "no type"})` });
+      content: text(`${e.activity}${who}`),
+      title: text(`${e.id}: ${e.activity} (${e.activity_type ?? "no type"})`) });
     for (const [i, a] of e.annotations.entries()) {
       if (a.start) rows.push({ id: `annotation:${e.id}:${i}`, group: group("annotations"), start: a.start,
-        end: a.end || undefined, className: "annotation", content: `${a.key}: ${a.value}`, type: a.end ? "range" : "point" });
+        end: a.end || undefined, className: "annotation", content: text(`${a.key}: ${a.value}`), type: a.end ? "range" : "point" });
     }
     for (const s of e.scenes) {
       if (s.created) rows.push({ id: `scene:${s.name}`, group: group("scenes"), start: s.created, type: "point",
-        className: "scene", content: `${s.name} (${s.cls ?? "?"})` });
+        className: "scene", content: text(`${s.name} (${s.cls ?? "?"})`) });
     }
     for (const r of e.runs) {
       if (r.started) rows.push({ id: `run:${e.id}:${r.id}`, group: group("augmentation runs"), start: r.started,
         end: r.ended && r.ended > r.started ? r.ended : undefined, type: r.ended && r.ended > r.started ? "range" : "point",
-        className: "run", content: `${r.name} v${r.version}` });
+        className: "run", content: text(`${r.name} v${r.version}`) });
     }
     for (const [i, r] of e.ratings.entries()) {
       rows.push({ id: `rating:${e.id}:${i}`, group: group("ratings"), start: r.time, type: "point",
-        className: "rating", content: `${r.person}: ${r.value}/10` });
+        className: "rating", content: text(`${r.person}: ${r.value}/10`) });
     }
   }
   return { groups: [...groups.values()], rows };
@@ -60,7 +69,7 @@ function paint(canvas, value) {
 
 // Read NDJSON frames from the replay endpoint, calling onFrame for each, until done or aborted.
 async function replay(id, params, onFrame, signal) {
-  const answer = await fetch(`/episodes/${encodeURIComponent(id)}/streams/replay?${params}`, { signal });
+  const answer = await request(`/episodes/${encodeURIComponent(id)}/streams/replay?${params}`, { signal });
   if (!answer.ok) throw new Error(`replay: ${answer.status}`);
   const reader = answer.body.getReader();
   const decoder = new TextDecoder();
@@ -134,7 +143,7 @@ async function select(id) {
       await replay(id, new URLSearchParams({ mode: "frames", start_frame: frame, channels: c.name }),
         (line) => { for (const s of line.samples) if (s.provider === c.name) paint(canvas, s.value); return false; });
     };
-    scrub.addEventListener("input", () => showFrame().catch(console.warn));
+    scrub.addEventListener("input", () => showFrame().catch(showBanner));
     cameraBox.append(element("div", {}, caption), canvas, element("div", {}, scrub));
     if (frames.frames.length) await showFrame();
   }
@@ -154,17 +163,21 @@ async function select(id) {
         }
         for (const s of line.samples) if (cameras[s.provider]) paint(cameras[s.provider], s.value);
       }, replayAbort.signal);
-    } catch (error) { if (error.name !== "AbortError") console.warn(error); }
+    } catch (error) { if (error.name !== "AbortError") showBanner(error); }
   });
   stop.addEventListener("click", () => replayAbort && replayAbort.abort());
 }
 
 export async function start() {
   await loadScript("vendor/vis-timeline-graph2d.min.js"); // 0.5 MB: only for this view
-  const page = await getJSON("/views/episodes?limit=500");
+  const page = await getJSON(`/views/episodes?limit=${SHOWN}&newest=true`);
   episodes = page.episodes;
   const { groups, rows } = items();
   const container = document.getElementById("timeline");
+  if (page.total > episodes.length) {
+    container.before(element("p", { class: "muted", id: "timeline-note" },
+      `Showing the newest ${episodes.length} of ${page.total} episodes.`));
+  }
   container.dataset.episodes = String(episodes.length);
   timeline = new vis.Timeline(container, new vis.DataSet(rows), new vis.DataSet(groups),
     { stack: true, zoomKey: "ctrlKey", orientation: "top", margin: { item: 6 } });

@@ -1,6 +1,6 @@
 // The memory graph: classes as nodes sized by score and coloured by level, direct subclass
 // edges top-down by complexity; a class's detail with its score history and pin / restore.
-import { directive, element, getJSON, loadScript, showError } from "./app.js";
+import { directive, element, getJSON, loadScript, showBanner, showError } from "./app.js";
 import { historyPanel } from "./history.js";
 
 const COLOURS = { HIGH: "#2e7d32", LOW: "#f9a825", WEAK: "#c62828" };
@@ -365,7 +365,7 @@ export async function start() {
   document.getElementById("graph-trash").addEventListener("change", () => load().then(search));
   document.getElementById("graph-search").addEventListener("input", () => {
     clearTimeout(searchTimer);
-    searchTimer = setTimeout(() => search().catch(console.warn), 150);
+    searchTimer = setTimeout(() => search().catch(showBanner), 150);
   });
   await load();
 }

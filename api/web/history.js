@@ -1,10 +1,10 @@
 // A class's score history: GET /memory/history?class=IRI gives its events, oldest first
-// ({time, kind, score, level}); drawn with uPlot as the score (left axis, 0..1), the level as
-// steps (right axis) and each event as a mark coloured by its kind, with the latest events as
+// ({time, kind, score, level}, score being the raw score ζ, unbounded); drawn with uPlot as the
+// raw score (left axis, from 0 to its largest value), the level as steps (right axis) and each event as a mark coloured by its kind, with the latest events as
 // a table. A server without the endpoint (404) gets a plain message instead of a chart.
 import { element, getJSON } from "./app.js";
 
-const LEVELS = ["WEAK", "LOW", "MEDIUM", "HIGH"];
+const LEVELS = ["WEAK", "LOW", "HIGH"]; // a class's levels (memory_class_scores.rq)
 export const KIND_COLOURS = {
   learned: "#1565c0", reinforced: "#2e7d32", retrieved: "#00838f", rescored: "#9e9e9e",
   level: "#6a1b9a", forgotten: "#c62828", restored: "#ef6c00", pinned: "#283593", unpinned: "#8d6e63",
@@ -35,19 +35,19 @@ function chart(events, box) {
     ctx.restore();
   };
   const opts = {
-    width: 320, height: 170, title: "score and level over time",
+    width: 320, height: 170, title: "raw score ζ and level over time",
     series: [
       {},
-      { label: "score", scale: "score", stroke: "#1565c0", width: 2, spanGaps: true,
+      { label: "raw score ζ", scale: "score", stroke: "#1565c0", width: 2, spanGaps: true,
         points: { show: true, size: 5 } },
       { label: "level", scale: "level", stroke: "#6a1b9a", dash: [4, 3], spanGaps: true,
         paths: uPlot.paths.stepped({ align: 1 }), value: (u, v) => (v === null ? "-" : LEVELS[v]) },
     ],
-    scales: { score: { range: [0, 1] }, level: { range: [-0.2, 3.2] } },
+    scales: { score: { range: (u, min, max) => [0, Math.max(1, max ?? 0) * 1.1] }, level: { range: [-0.2, 2.2] } },
     axes: [
       {},
       { scale: "score", size: 36 },
-      { scale: "level", side: 1, size: 68, splits: () => [0, 1, 2, 3], values: (u, ticks) => ticks.map((v) => LEVELS[v] ?? ""),
+      { scale: "level", side: 1, size: 68, splits: () => [0, 1, 2], values: (u, ticks) => ticks.map((v) => LEVELS[v] ?? ""),
         grid: { show: false } },
     ],
     hooks: { draw: [marks] },
@@ -69,7 +69,7 @@ function legend(events) {
 function table(events) {
   const latest = events.slice(-TABLE_ROWS).reverse();
   return element("table", { class: "events" },
-    element("tr", {}, ["time", "event", "score", "level"].map((h) => element("th", {}, h))),
+    element("tr", {}, ["time", "event", "raw score ζ", "level"].map((h) => element("th", {}, h))),
     latest.map((e) => element("tr", {},
       element("td", {}, e.time.replace("T", " ").replace(/\.\d+/, "").replace(/\+00:00$|Z$/, " UTC")),
       element("td", {}, e.kind),

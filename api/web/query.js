@@ -1,44 +1,15 @@
 // The SPARQL page over the read-only /sparql endpoint: the project's prefixes, the analyst's
 // usual questions, results as a table, CSV download.
-import { element } from "./app.js";
+import { element, getJSON, loading, request, showBanner } from "./app.js";
 
-const PREFIXES = `PREFIX engram: <https://w3id.org/engram/ontology#>
-PREFIX rdf: <http://www.w3.org/1999/02/22-rdf-syntax-ns#>
-PREFIX rdfs: <http://www.w3.org/2000/01/rdf-schema#>
-PREFIX owl: <http://www.w3.org/2002/07/owl#>
-PREFIX xsd: <http://www.w3.org/2001/XMLSchema#>
-PREFIX prov: <http://www.w3.org/ns/prov#>
-`;
-
-const EXAMPLES = {
-  "The best classes by score": `SELECT ?class ?score ?level WHERE {
-  GRAPH <https://w3id.org/engram/graph/memory> {
-    ?class engram:score ?score .
-    OPTIONAL { ?class engram:level ?level }
-  }
-} ORDER BY DESC(?score) LIMIT 20`,
-  "The last time HyungJin did something": `SELECT ?episode ?activity ?begin WHERE {
-  ?episode a engram:Episode ; engram:activityName ?activity ; prov:startedAtTime ?begin ;
-           prov:wasAssociatedWith/rdfs:label "HyungJin" .
-} ORDER BY DESC(?begin) LIMIT 1`,
-  "Scenes with a sphere": `SELECT ?scene ?class ?created WHERE {
-  GRAPH <https://w3id.org/engram/graph/episodic> {
-    ?scene a engram:ExperiencedScene ; a ?class ; engram:created ?created ;
-           engram:hasPrimitive/a engram:Sphere .
-    FILTER (?class != engram:ExperiencedScene)
-  }
-} ORDER BY DESC(?created) LIMIT 50`,
-  "What is in the trash": `SELECT ?item ?forgotten WHERE {
-  GRAPH <https://w3id.org/engram/graph/trash> { ?item engram:forgottenAt ?forgotten }
-} ORDER BY DESC(?forgotten)`,
-  "Triples per graph": `SELECT ?graph (COUNT(*) AS ?triples) WHERE { GRAPH ?graph { ?s ?p ?o } }
-GROUP BY ?graph ORDER BY DESC(?triples)`,
-};
+// The prefixes and the examples live in query-examples.json: a test runs each example against
+// the demo's memory.
+let PREFIXES = "", EXAMPLES = {};
 
 function text() { return document.getElementById("query-text").value; }
 
 async function ask(accept) {
-  const answer = await fetch("/sparql", {
+  const answer = await request("/sparql", {
     method: "POST",
     headers: { "Content-Type": "application/x-www-form-urlencoded", Accept: accept },
     body: new URLSearchParams({ query: text() }),
@@ -75,6 +46,7 @@ async function run() {
   } catch (error) {
     info.textContent = "";
     box.replaceChildren(element("p", { class: "error" }, error.message));
+    showBanner(error);
   }
 }
 
@@ -87,17 +59,19 @@ async function csv() {
     link.remove();
   } catch (error) {
     document.getElementById("query-results").replaceChildren(element("p", { class: "error" }, error.message));
+    showBanner(error);
   }
 }
 
 export async function start() {
+  ({ prefixes: PREFIXES, examples: EXAMPLES } = await getJSON("query-examples.json"));
   const examples = document.getElementById("query-examples");
   examples.replaceChildren(...Object.keys(EXAMPLES).map((name) => element("option", { value: name }, name)));
   const load = () => { document.getElementById("query-text").value = PREFIXES + EXAMPLES[examples.value]; };
   examples.addEventListener("change", load);
   load();
-  document.getElementById("query-run").addEventListener("click", run);
-  document.getElementById("query-csv").addEventListener("click", csv);
+  document.getElementById("query-run").addEventListener("click", () => loading(run));
+  document.getElementById("query-csv").addEventListener("click", () => loading(csv));
 }
 
 export async function show() {}

@@ -46,15 +46,24 @@ function meshOf(p) {
   return mesh;
 }
 
+const LABEL_PX = 24, LABEL_HEIGHT = 0.03; // font size in the texture; label height in metres
+const labels = []; // the relation labels drawn, text and widths: on the canvas for scripts and tests
+
+// A relation's label as a sprite, as wide as its text (a fixed-width texture cut long ones off).
 function label(text) {
   const canvas = document.createElement("canvas");
-  canvas.width = 256; canvas.height = 48;
-  const g = canvas.getContext("2d");
-  g.fillStyle = "rgba(255,255,255,0.85)"; g.fillRect(0, 0, 256, 48);
-  g.fillStyle = "#1f2328"; g.font = "24px sans-serif"; g.textAlign = "center"; g.textBaseline = "middle";
-  g.fillText(text, 128, 24);
+  const font = `${LABEL_PX}px sans-serif`;
+  const measure = canvas.getContext("2d");
+  measure.font = font;
+  const textWidth = Math.ceil(measure.measureText(text).width);
+  canvas.width = textWidth + LABEL_PX; canvas.height = 2 * LABEL_PX;
+  const g = canvas.getContext("2d"); // resizing reset the context's state
+  g.fillStyle = "rgba(255,255,255,0.85)"; g.fillRect(0, 0, canvas.width, canvas.height);
+  g.fillStyle = "#1f2328"; g.font = font; g.textAlign = "center"; g.textBaseline = "middle";
+  g.fillText(text, canvas.width / 2, canvas.height / 2);
   const sprite = new THREE.Sprite(new THREE.SpriteMaterial({ map: new THREE.CanvasTexture(canvas), depthTest: false }));
-  sprite.scale.set(0.16, 0.03, 1);
+  sprite.scale.set(LABEL_HEIGHT * canvas.width / canvas.height, LABEL_HEIGHT, 1);
+  labels.push({ text, textWidth, canvasWidth: canvas.width });
   return sprite;
 }
 
@@ -104,6 +113,7 @@ function draw(detail) {
   if (content) scene.remove(content);
   content = new THREE.Group();
   for (const p of detail.primitives) content.add(meshOf(p));
+  labels.length = 0;
   if (document.getElementById("scene-relations").checked) content.add(arrows(detail));
   scene.add(content);
   frame(detail);
@@ -111,6 +121,7 @@ function draw(detail) {
   const canvas = renderer.domElement;
   canvas.dataset.scene = detail.scene.name;
   canvas.dataset.primitives = String(detail.primitives.length);
+  canvas.dataset.labels = JSON.stringify(labels);
   document.getElementById("scene-info").textContent =
     `${detail.scene.name}: stored as ${detail.scene.cls ?? "?"} at ${detail.scene.created ?? "?"}`;
   document.getElementById("scene-detail").replaceChildren(

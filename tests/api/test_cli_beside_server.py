@@ -128,3 +128,21 @@ def test_a_bad_port_is_one_line_naming_the_range(tmp_path: Path) -> None:
     assert result.returncode == 2
     assert "'--port'" in result.stderr and "65535" in result.stderr
     assert "Traceback" not in result.stderr and "pydantic" not in result.stderr
+
+
+def test_a_backup_restores_as_the_data_directorys_memory(tmp_path: Path) -> None:
+    data, copy = tmp_path / "data", tmp_path / "copy"
+    where = ["--data", str(data)]
+    assert engram("init", *where).returncode == 0
+    assert engram("episodes", "begin", "pointing", *where).returncode == 0
+    assert engram("backup", str(copy), *where).returncode == 0
+    assert engram("episodes", "begin", "pointing", *where).returncode == 0
+    restored = engram("restore", str(copy), *where)
+    assert restored.returncode == 0, restored.stderr
+    assert "kept in" in restored.stdout
+    counted = engram("episodes", "count", "pointing", *where)
+    assert json.loads(counted.stdout) == {"count": 1}
+    (kept,) = (data / "backups").glob("before-restore-*")
+    assert (kept / "CURRENT").exists()
+    refused = engram("restore", str(tmp_path / "nothing"), *where)
+    assert refused.returncode == 1 and "nothing" in refused.stderr

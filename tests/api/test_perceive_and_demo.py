@@ -1,8 +1,12 @@
 """The perception client and the demo: point clouds in, scenes in the memory, results out."""
 
 import gc
+import json
+from collections.abc import Iterator
 from pathlib import Path
+from typing import Any
 
+import httpx
 import numpy as np
 import open3d as o3d
 import pytest
@@ -12,7 +16,9 @@ from typer.testing import CliRunner
 
 from api.cli import app
 from api.client import ArmorClient
+from api.config import Settings
 from api.demo import SCENES
+from api.main import create_app
 from api.perceive import PerceiveExit, perceive
 from api.summary import memory_sizes
 from episodes.streams.foxglove import SCENE_TOPIC, SCENE_TYPE, scene_typestore
@@ -21,9 +27,10 @@ from shapes import Frame
 from shapes.bags import write_bag
 from shapes.sensor import DepthCamera
 from shapes.synthetic import TabletopScene, TruthObject
-from tests.conftest import LiveServer
+from tests.conftest import LiveServer, free_port, serve
 
 runner = CliRunner()
+QUERY_EXAMPLES = Path(__file__).parents[2] / "api" / "web" / "query-examples.json"
 
 
 def memory_in(data: Path) -> Path:
@@ -169,9 +176,16 @@ def test_perceive_over_http_recognises_a_scene_seen_again(live_server: LiveServe
     assert again[0].stored_as == first[0].stored_as
 
 
+@pytest.fixture(scope="module")
+def demo_run(tmp_path_factory: pytest.TempPathFactory) -> tuple[Path, Any]:
+    """A data directory the demo filled (``engram demo --no-serve``), and the command's result."""
+    data_dir = tmp_path_factory.mktemp("demo")
+    return data_dir, runner.invoke(app, ["demo", "--no-serve", "--data", str(data_dir)])
+
+
 @pytest.mark.slow
-def test_demo_learns_recalls_forgets_and_exports(tmp_path: Path) -> None:
-    result = runner.invoke(app, ["demo", "--no-serve", "--data", str(tmp_path)])
+def test_demo_learns_recalls_forgets_and_exports(demo_run: tuple[Path, Any]) -> None:
+    tmp_path, result = demo_run
     assert result.exit_code == 0, result.output
     output = result.output
     assert "learned" in output and "recognised" in output
@@ -201,3 +215,50 @@ def test_demo_learns_recalls_forgets_and_exports(tmp_path: Path) -> None:
     refused = runner.invoke(app, ["demo", "--no-serve", "--data", str(other)])
     assert refused.exit_code == 2  # any other memory is the robot's: only --reset empties it
     assert "--reset" in refused.output
+
+
+@pytest.fixture
+def demo_server(demo_run: tuple[Path, Any]) -> Iterator[httpx.Client]:
+    """A server over the demo's memory, and a client bound to it."""
+    data_dir, result = demo_run
+    assert result.exit_code == 0, result.output
+    gc.collect()  # a command run before may still hold the store in a traceback's frames
+    settings = Settings(host="127.0.0.1", port=free_port(), data_dir=data_dir)
+    server, thread, url = serve(create_app(settings), settings)
+    with httpx.Client(base_url=url, timeout=60) as client:
+        yield client
+    server.should_exit = True
+    thread.join(timeout=30)
+
+
+@pytest.mark.slow
+def test_every_query_page_example_returns_rows_on_the_demos_memory(
+    demo_server: httpx.Client,
+) -> None:
+    page = json.loads(QUERY_EXAMPLES.read_text())
+    for name, query in page["examples"].items():
+        answer = demo_server.post(
+            "/sparql",
+            data={"query": page["prefixes"] + query},
+            headers={"Accept": "application/sparql-results+json"},
+        )
+        assert answer.status_code == 200, (name, answer.text)
+        rows = answer.json()["results"]["bindings"]
+        assert rows, name
+        if name == "The best classes by score":
+            assert {row["level"]["value"] for row in rows} <= {"HIGH", "LOW", "WEAK"}
+            assert 0 < float(rows[0]["score"]["value"]) <= 1
+
+
+@pytest.mark.slow
+def test_the_demo_episode_recorded_a_camera_to_replay_and_plot(demo_server: httpx.Client) -> None:
+    (episode,) = demo_server.get("/views/episodes").json()["episodes"]
+    assert episode["channels"] >= 2
+    base = f"/views/episodes/{episode['id']}"
+    channels = {c["name"]: c for c in demo_server.get(f"{base}/channels").json()["channels"]}
+    assert channels["camera/rgb"]["image"] and channels["camera/depth"]["numeric"]
+    assert channels["camera/rgb"]["samples"] == channels["camera/depth"]["samples"] > 100
+    plot = demo_server.get(f"{base}/plot", params={"channel": "camera/depth"}).json()
+    assert len(plot["t"]) > 100 and all(0 < v <= 1 for v in plot["values"][0])
+    frames = demo_server.get(f"{base}/frames", params={"channel": "camera/rgb"}).json()
+    assert len(frames["frames"]) == channels["camera/rgb"]["samples"]

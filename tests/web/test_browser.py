@@ -133,6 +133,10 @@ def test_scene_in_3d_draws_the_primitives_where_they_are(
     page.wait_for_timeout(200)
     with_arrows = _pixels(canvas.screenshot())
     assert (np.abs(with_arrows - pixels).sum(axis=2) > 30).sum() > 100  # arrows and labels
+    labels = json.loads(canvas.get_attribute("data-labels") or "[]")
+    assert "can isAboveOf table" in {label["text"] for label in labels}
+    for label in labels:  # each label's texture holds its whole text
+        assert label["textWidth"] < label["canvasWidth"], label
     _save(view_server, page, "scene-3d")
 
 

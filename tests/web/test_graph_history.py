@@ -16,14 +16,16 @@ from tests.web.conftest import ViewServer, Watched
 pytestmark = pytest.mark.slow
 
 EVENTS = [
-    {"time": "2026-01-26T08:00:00Z", "kind": "learned", "score": 0.4, "level": "LOW"},
-    {"time": "2026-01-26T08:20:00Z", "kind": "reinforced", "score": 0.55, "level": "LOW"},
+    {"time": "2026-01-26T08:00:00Z", "kind": "learned", "score": 2.4, "level": "LOW"},
+    {"time": "2026-01-26T08:20:00Z", "kind": "reinforced", "score": 3.3, "level": "LOW"},
     {"time": "2026-01-26T09:00:00Z", "kind": "retrieved", "score": None, "level": None},
-    {"time": "2026-01-27T03:00:00+00:00", "kind": "rescored", "score": 0.72, "level": None},
-    {"time": "2026-01-27T03:00:00+00:00", "kind": "level", "score": 0.72, "level": "HIGH"},
+    {"time": "2026-01-27T03:00:00+00:00", "kind": "rescored", "score": 4.32, "level": None},
+    {"time": "2026-01-27T03:00:00+00:00", "kind": "level", "score": 4.32, "level": "HIGH"},
     {"time": "2026-01-27T10:00:00Z", "kind": "pinned", "score": None, "level": None},
-    {"time": "2026-01-28T03:00:00Z", "kind": "rescored", "score": 0.68, "level": "MEDIUM"},
+    {"time": "2026-01-28T03:00:00Z", "kind": "rescored", "score": 4.08, "level": "LOW"},
 ]
+"""Scores are raw scores ζ (unbounded, as GET /memory/history gives them); the levels a class
+has are WEAK, LOW and HIGH."""
 
 
 def _open_a_class(watched: Watched, view_server: ViewServer) -> dict[str, Any]:
@@ -60,8 +62,16 @@ def test_the_chart_draws_the_events_of_the_class(watched: Watched, view_server: 
     assert [parse_qs(urlparse(u).query)["class"] for u in asked] == [[chosen["iri"]]]
     assert page.get_attribute("#class-history", "data-events") == str(len(EVENTS))
     rows = page.locator("#class-history table.events tr").all_inner_texts()
-    assert rows[1].split("\t")[:4] == ["2026-01-28 03:00:00 UTC", "rescored", "0.680", "MEDIUM"]
+    assert rows[0].split("\t")[2] == "raw score ζ"
+    assert rows[1].split("\t")[:4] == ["2026-01-28 03:00:00 UTC", "rescored", "4.080", "LOW"]
     assert "pinned" in rows[2] and len(rows) == 1 + 7
+    axes = page.evaluate(
+        "() => { const u = document.querySelector('.history-chart').uplot;"
+        " return { top: u.scales.score.max, levels: u.axes[2].values(u, [0, 1, 2, 3]) }; }"
+    )
+    assert axes["top"] >= 4.32  # the raw score is drawn whole, not clipped at 1
+    assert axes["levels"] == ["WEAK", "LOW", "HIGH", ""]
+    assert "raw score ζ" in page.inner_text("#class-history")
     legend = page.inner_text("#class-history .kinds")
     assert "rescored 2" in legend and "learned 1" in legend
     pixels = _pixels(panel.screenshot())

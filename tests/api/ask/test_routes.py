@@ -86,9 +86,11 @@ def test_ask_audio_hears_answers_and_speaks(server: LiveServer) -> None:
     assert body["heard"] == "why did you forget scene two"
     assert body["form"] == "explain_forget" and body["words"].startswith("I forgot Scene-2")
     assert base64.b64decode(body["speech"])[:4] == b"RIFF"
+    assert body["spoken"] == f"You asked: why did you forget scene two. {body['words']}"
     spoken = server.client.post("/ask/audio", params={"reply": "wav"}, content=wav)
     assert spoken.headers["content-type"] == "audio/wav" and spoken.content[:4] == b"RIFF"
     assert spoken.headers["x-engram-heard"] == "why did you forget scene two"
+    assert len(spoken.content) > len(synthesise(body["words"]))  # the question echoed first
 
 
 def test_ask_audio_refuses_what_is_not_a_wav(server: LiveServer) -> None:
