@@ -56,7 +56,7 @@ class ScenePrimitive:
             number = getattr(self, attribute)
             if number is not None and not (_finite(number) and number > 0):
                 raise ValueError(
-                    f"{where}: {attribute}: got {number!r}, expected a positive length in m"
+                    f"{where}: {attribute}: got {number!r}, expected a positive number (metres)"
                 )
         if self.hessian is not None and not _finite(self.hessian):
             raise ValueError(f"{where}: hessian: got {self.hessian!r}, expected a finite number")

@@ -3,6 +3,7 @@
 import gc
 import json
 import os
+import tempfile
 import uuid
 import warnings
 from collections.abc import Iterator
@@ -85,6 +86,10 @@ RESULT_TOPIC = "/engram_test/scenes"
 
 
 MAX_LIST_LENGTH = 2000
+ARMOR_TEST_FILES = Path(__file__).parents[1] / "api" / "armor" / "data"
+"""The ontologies the ARMOR sequences load with LOAD FILE."""
+ARMOR_FILE_DIRS = os.pathsep.join([tempfile.gettempdir(), str(ARMOR_TEST_FILES)])
+"""Where the tests' ARMOR file commands go: the ontologies above, and SAVE into temporary files."""
 """ENGRAM_ARMOR_MAX_LIST_LENGTH of the ``engram ros`` under test."""
 
 
@@ -111,13 +116,15 @@ def launched(tmp_path_factory: pytest.TempPathFactory) -> Iterator[Launched]:
     arguments = ["ros", "--init", "--data", str(ros_home / "data"), "--cloud-topic", CLOUD_TOPIC]
     arguments += ["--result-topic", RESULT_TOPIC, "--pose", str(pose)]
     arguments += ["--scene-frames", "2", "--min-hits", "2"]
-    limit = {"ENGRAM_ARMOR_MAX_LIST_LENGTH": str(MAX_LIST_LENGTH)}
+    # ARMOR's file commands reach the data directory and the directories allowed (docs/security.md)
+    files = {"ENGRAM_ARMOR_FILE_DIRS": ARMOR_FILE_DIRS}
+    limit = {"ENGRAM_ARMOR_MAX_LIST_LENGTH": str(MAX_LIST_LENGTH), **files}
     port = free_port()
     serve_arguments = ["serve", "--ros", "--init", "--data", str(serve_home / "data")]
     serve_arguments += ["--port", str(port)]
     nodes = [
         Engram(arguments, ros_master, ros_home, limit),
-        Engram(serve_arguments, serve_master, serve_home),
+        Engram(serve_arguments, serve_master, serve_home, files),
     ]
     try:
         for node in nodes:

@@ -14,7 +14,7 @@ from api.client import ArmorClient
 from api.ros._ros import rosgraph, rospy
 from api.ros.convert import response_of
 from tests.conftest import LiveServer
-from tests.ros.conftest import MAX_LIST_LENGTH, RosArmor
+from tests.ros.conftest import ARMOR_FILE_DIRS, MAX_LIST_LENGTH, RosArmor
 from tests.ros.sequences import (
     armor_py_api_client_test,
     directives,
@@ -25,7 +25,7 @@ from tests.ros.sequences import (
 def test_every_family_answers_over_ros_as_over_http(
     ros_armor: RosArmor, start_server: Callable[..., LiveServer], tmp_path: Path
 ) -> None:
-    http = start_server().client
+    http = start_server(armor_file_dirs=ARMOR_FILE_DIRS).client
     ref = "ref_" + uuid.uuid4().hex[:8]
     for request in directives(every_family(tmp_path / "saved.owl"), ref):
         over_ros = ros_armor.execute(request)

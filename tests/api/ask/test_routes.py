@@ -156,10 +156,11 @@ def test_engram_ask_on_the_data_directory(lived_data_dir: Path, tmp_path: Path) 
 def test_the_readme_example_answers_as_shown(lived_data_dir: Path) -> None:
     readme = (Path(__file__).resolve().parents[3] / "README.md").read_text(encoding="utf-8")
     section = readme.split("## Asking the memory", 1)[1]
-    command = section.split("```sh\n", 1)[1].splitlines()[0]
+    block = section.split("```sh\n", 1)[1].split("```", 1)[0]
+    command = next(line for line in block.splitlines() if line.startswith("engram ask"))
     expected = section.split("```text\n", 1)[1].split("```", 1)[0].strip()
-    words = shlex.split(command)
-    assert words[:2] == ["engram", "ask"]
-    result = CliRunner().invoke(app, [*words[1:], "--data", str(lived_data_dir)])
+    words = shlex.split(command, comments=True)
+    assert words[:4] == ["engram", "ask", "--data", "./anna-week"]  # built by the line above
+    result = CliRunner().invoke(app, [*words[1:2], "--data", str(lived_data_dir), *words[4:]])
     assert result.exit_code == 0, result.output
     assert result.stdout.strip() == expected  # stderr names the memory opened
