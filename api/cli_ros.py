@@ -46,7 +46,9 @@ def ros_options(
         cloud_topic=cloud_topic,
         result_topic=result_topic,
         world_from_sensor=world_from_sensor,
-        perception=PerceptionParams(stable_frames=scene_frames, min_hits=min_hits),
+        perception=PerceptionParams(
+            stable_frames=scene_frames, min_hits=min_hits, gravity_from_scene=pose is None
+        ),
         seed=seed,
     )
 
