@@ -213,7 +213,7 @@ class EpisodeMemory:
         )
         if self.data_dir is not None:  # its scenes, for Foxglove (episodes/scene_channel.py)
             write_episode_scenes(self.store, self.data_dir, episode_id)
-        if self.archive is not None:  # issue 19: the recording moves to object storage
+        if self.archive is not None:  # the recording moves to object storage
             try:
                 self.archive.archive(self.store, episode_id)
             except StreamError as error:

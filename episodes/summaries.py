@@ -1,6 +1,6 @@
 """Episode summaries (activity, type, times, participants' labels) read straight from the
-store's indexes: a few pattern lookups per episode instead of the ``episodes_summary`` query,
-whose grouping costs ~25 us an episode (357 answers: ~8 ms -> ~4.5 ms at load ~2).
+store's indexes: a few pattern lookups per episode instead of the ``episodes_summary`` query
+and its grouping.
 
 The answers are those of ``sparql/episodes_summary.rq`` (kept as the analyst's form and as
 the reference of the test): an episode is a node typed ``engram:Episode`` with an activity

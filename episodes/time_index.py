@@ -107,8 +107,8 @@ def end_days(tx: Transaction, episode: NamedNode, begin: dt.datetime, end: dt.da
 
 
 def _holder(store: Store, pointer: NamedNode, activity: Literal) -> tuple[dt.datetime, str] | None:
-    """The begin and IRI of the episode ``pointer`` marks for ``activity``: pattern lookups
-    (0.01 ms; the same as a SPARQL query took 0.2 ms, twice in every begin)."""
+    """The begin and IRI of the episode ``pointer`` marks for ``activity``: pattern lookups,
+    not a SPARQL query (this runs twice in every begin)."""
     for marked in store.quads(None, pointer, activity, EPISODES):
         episode = marked.subject
         if not isinstance(episode, NamedNode):

@@ -180,7 +180,7 @@ SIGNATURE_SUBJECT_TYPE = engram("signatureSubjectType")
 SIGNATURE_RELATION = engram("signatureRelation")
 
 
-# --- Autobiographical memory (episodes/, issue 6) ------------------------------------------
+# --- Autobiographical memory (episodes/) ------------------------------------------
 # PROV-O terms reused for episodes, arguments, derivations and ratings.
 def prov(name: str) -> NamedNode:
     """The IRI of a PROV-O term by local name: ``prov("Activity")``."""
@@ -260,7 +260,7 @@ DERIVED_CHANNEL = engram("derivedChannel")
 RATES = engram("rates")
 RATING_VALUE = engram("ratingValue")
 RATING_QUESTION = engram("ratingQuestion")
-"""On a rating: the question it answers (several questions per rated item; issue 16)."""
+"""On a rating: the question it answers (several questions per rated item)."""
 QUESTION_NS = BASE + "question/"
 ARGUMENT_CONFIDENCE = engram("argumentConfidence")
 """On an argument (association or usage) asserted after the fact: how sure its author is."""
@@ -293,7 +293,7 @@ ARMOR_SOURCE_FORMAT = NamedNode(ARMOR_NS + "sourceFormat")
 OWL_THING = NamedNode(OWL_NS + "Thing")
 OWL_NOTHING = NamedNode(OWL_NS + "Nothing")
 
-# --- Scene memory (reasoners/, issue 3) ----------------------------------------------------
+# --- Scene memory (reasoners/) ----------------------------------------------------
 EXPERIENCED_SCENE = engram("ExperiencedScene")
 MEMORY_STATE = engram("MemoryState")
 MEMORY_STATE_INDIVIDUAL = engram("memoryState")
@@ -324,13 +324,13 @@ IS_ALONG_X_WITH = engram("isAlongXWith")
 IS_ALONG_Y_WITH = engram("isAlongYWith")
 IS_ALONG_Z_WITH = engram("isAlongZWith")
 
-# --- Bulk writes (kg.Store.fill_graph, issue 4 REASON) --------------------------------------
+# --- Bulk writes (kg.Store.fill_graph: REASON's closure) --------------------------------------
 BULK_WRITES = NamedNode(GRAPH_NS + "bulk-writes")
 """Markers of bulk writes in progress: a graph named here may be half-written (see
 ``kg.Store.fill_graph``); opening the store clears it (``kg.Store.recover_bulk_writes``)."""
 UNFINISHED_BULK_WRITE = engram("UnfinishedBulkWrite")
 
-# --- A memory on a shared SPARQL server (kg.remote, issue 19) --------------------------------
+# --- A memory on a shared SPARQL server (kg.remote) --------------------------------
 MEMORY_NS = BASE + "memory/"
 """Each robot's memory on a shared server lives under ``MEMORY_NS + <name> + "/"``: its graphs
 under ``.../graph/``, its revision, journal and writer's lease in ``.../control``."""
@@ -347,21 +347,21 @@ COMMITTED_AT = engram("committedAt")
 LEASE_HOLDER = engram("leaseHolder")
 LEASE_EXPIRES = engram("leaseExpires")
 
-# --- Recordings on object storage (episodes.archive, issue 19) -------------------------------
+# --- Recordings on object storage (episodes.archive) -------------------------------
 STREAM_OBJECT = engram("streamObject")
 """On an episode and on its stream descriptors: an ``s3://`` object holding its recording."""
 BYTE_SIZE = engram("byteSize")
 SHA256 = engram("sha256")
 """On a stored object: the hex SHA-256 of its bytes."""
 
-# --- Scene memory revision (reasoners.index_file, issue 15 opening fast) ---------------------
+# --- Scene memory revision (reasoners.index_file: opening fast) ---------------------
 MEMORY_REVISION_GRAPH = NamedNode(GRAPH_NS + "memory-revision")
 """Holds one triple, ``engram:memoryState engram:revision "<token>"``, replaced by every committed
 scene-memory transaction: the index file saved beside the store names the revision it mirrors.
 Not exported (not part of the ontology)."""
 MEMORY_REVISION = REVISION
 
-# --- Scene memory history (reasoners.history, issue 17) ---------------------------------------
+# --- Scene memory history (reasoners.history) ---------------------------------------
 HISTORY_NS = BASE + "history/"
 """Event IRIs are ``<HISTORY_NS><UTC time in ms, 13 digits>-<sequence, 19 digits>``: sorted as
 strings, they are in the order the events happened."""

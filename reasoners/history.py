@@ -47,8 +47,7 @@ checkpoint's number) from the store once per model (``MemoryModel.history_epoch`
 survives restarts and a rebuilt model. :func:`as_of` takes the latest checkpoint covering only
 events before T, and folds in the journal of its epoch and of each later epoch that holds an
 event before T (with a clock that only moves forward: the current one); with no such
-checkpoint, the full scan of every class event. At 10,000 classes after 100 passes on disk it
-takes 41-60 ms (the full scan 225 ms; 256-308 ms before checkpoints; ``bench/history.py``).
+checkpoint, the full scan of every class event (``bench/history.py`` measures both).
 
 **Growth.** The journal line replaces the ``eventState`` quad (the same quads per event, ~33
 bytes more). A sleep pass adds one literal (its events' lines, zlib level 1 + base64), none
@@ -408,8 +407,8 @@ class Decision:
 
 def learned_decision(store: Store, cls: NamedNode) -> Decision | None:
     """The decision recorded when ``cls`` was last learned, or None (learned before Engram kept
-    a history, or by ``learn_classes``, which stores no scene). A few point lookups (the
-    equivalent SPARQL, ``sparql/history_decision.rq``, takes ~20 ms at 10,000 classes)."""
+    a history, or by ``learn_classes``, which stores no scene). A few point lookups; the
+    equivalent SPARQL is ``sparql/history_decision.rq``."""
     learned = Literal("learned")
     events = [
         q.subject.value

@@ -2,9 +2,8 @@
 
 rosbags' MCAP writer (pinned in ``pyproject.toml``) copies every message about seven times on
 its way to the disk: into a record buffer, into the chunk buffer (which grows by reallocation),
-out of it, into the chunk record, out of that, and into the file. For a 640x480 RGB image that
-was 1.75 ms of the writer thread's time, holding the interpreter lock, per frame: 90 % of the
-writer's work for an iCub (60 such frames a second). :func:`write_alone` closes the pending
+out of it, into the chunk record, out of that, and into the file: for large images, most of the
+writer thread's work, holding the interpreter lock. :func:`write_alone` closes the pending
 chunk (so records stay in log-time order and each channel's definition precedes its messages)
 and writes the message as a one-message uncompressed chunk: its headers packed in one call and
 the payload written once, from the serialised buffer, to the file. The MCAP file is the same
