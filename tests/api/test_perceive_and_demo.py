@@ -262,3 +262,19 @@ def test_the_demo_episode_recorded_a_camera_to_replay_and_plot(demo_server: http
     assert len(plot["t"]) > 100 and all(0 < v <= 1 for v in plot["values"][0])
     frames = demo_server.get(f"{base}/frames", params={"channel": "camera/rgb"}).json()
     assert len(frames["frames"]) == channels["camera/rgb"]["samples"]
+
+
+@pytest.mark.parametrize("points", [1 << 27, (1 << 32) - 1])
+def test_a_pcd_claiming_gigabytes_of_points_is_one_line_not_a_traceback(
+    tmp_path: Path, points: int
+) -> None:
+    claim = tmp_path / "claim.pcd"
+    header = (
+        "VERSION .7\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nCOUNT 1 1 1\n"
+        f"WIDTH {points}\nHEIGHT 1\nVIEWPOINT 0 0 0 1 0 0 0\nPOINTS {points}\nDATA binary\n"
+    )
+    claim.write_bytes(header.encode() + b"\0" * 120)
+    result = runner.invoke(app, ["perceive", str(claim), "--data", str(memory_in(tmp_path / "d"))])
+    assert result.exit_code == 2, result.output
+    assert result.exception is None or isinstance(result.exception, SystemExit)
+    assert "claim.pcd" in result.output and "Traceback" not in result.output
