@@ -3,6 +3,7 @@ indicator while a view reads, and a banner saying what failed when the server is
 
 import datetime as dt
 import gc
+import time
 from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
@@ -20,6 +21,15 @@ HOSTILE = "<img src=http://127.0.0.1:9/x>"
 """Markup that fetches from a closed port if any page renders it as HTML."""
 
 START = dt.datetime(2026, 1, 26, 8, 0, tzinfo=dt.UTC)
+
+
+def until(page: Any, predicate: str, timeout_s: float = 30) -> None:
+    """Wait until ``predicate`` (a JavaScript function) is true, polled from here: Playwright's
+    wait_for_function compiles its text in the page, which the pages' CSP forbids."""
+    deadline = time.monotonic() + timeout_s
+    while not page.evaluate(predicate):
+        assert time.monotonic() < deadline, f"never true: {predicate}"
+        page.wait_for_timeout(50)
 
 
 def _hostile_memory(data_dir: Path) -> None:
@@ -104,7 +114,7 @@ def test_a_view_shows_it_is_loading_until_its_data_comes_and_what_it_shows(
     held: list[Any] = []
     page.route(lambda url: "/views/episodes?" in url, lambda route: held.append(route))
     page.goto(f"{hostile_server.url}/web/#episodes")
-    page.wait_for_function("document.body.dataset.loading === 'true'")
+    until(page, "() => document.body.dataset.loading === 'true'")
     page.wait_for_timeout(100)  # let the held request reach the route
     assert page.locator("#loading").is_visible()
     answer = held[0].fetch()
@@ -133,7 +143,7 @@ def test_with_the_server_gone_pages_say_so(page: Any, tmp_path: Path) -> None:
     assert "is it still running?" in page.inner_text("#banner")
     assert page.locator("#loading").is_hidden()
     page.evaluate("location.hash = '#episodes'")  # a view whose module never loaded
-    page.wait_for_function("document.querySelector('#banner').textContent.includes('episodes')")
+    until(page, "() => document.querySelector('#banner').textContent.includes('episodes')")
     assert "could not be loaded from the server" in page.inner_text("#banner")
 
 
