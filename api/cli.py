@@ -11,6 +11,7 @@ from rich.markup import escape
 from api.cli_ask import ask_command
 from api.cli_common import (
     DataOption,
+    InitOption,
     ServerOption,
     TokenOption,
     call,
@@ -151,9 +152,7 @@ def serve(
     data: DataOption = None,
     host: HostOption = None,
     port: PortOption = None,
-    init: Annotated[
-        bool, typer.Option("--init", help="Create an empty memory if the directory has none.")
-    ] = False,
+    init: InitOption = False,
     ros: Annotated[
         bool, typer.Option(help="Also serve ARMOR's ROS services (engram ros).")
     ] = False,

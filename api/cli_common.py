@@ -30,6 +30,7 @@ if TYPE_CHECKING:
 
 __all__ = [
     "DataOption",
+    "InitOption",
     "ServerOption",
     "TokenOption",
     "answer",
@@ -59,6 +60,9 @@ ServerOption = Annotated[
         "(default: the server that holds the data directory, if one runs).",
         show_default=False,
     ),
+]
+InitOption = Annotated[
+    bool, typer.Option("--init", help="Create an empty memory if the directory has none.")
 ]
 TokenOption = Annotated[
     str | None, typer.Option(envvar="ENGRAM_TOKEN", help="Bearer token for the server's writes.")

@@ -8,6 +8,7 @@ import typer
 from rich.console import Console
 from rich.markup import escape
 
+from api.cli_common import DataOption, InitOption, settings_for
 from api.config import Settings
 from api.ros.system import RosUnavailableError, load_ros
 from kg import EngramError
@@ -54,9 +55,7 @@ def ros_options(
 
 
 def ros_command(
-    data: Annotated[
-        Path | None, typer.Option("--data", help="Data directory (default: $ENGRAM_DATA_DIR).")
-    ] = None,
+    data: DataOption = None,
     node_name: Annotated[str, typer.Option("--node-name", help="ROS node name.")] = "engram",
     cloud_topic: Annotated[
         str | None,
@@ -82,9 +81,7 @@ def ros_command(
         int, typer.Option(min=1, help="Frames an object must be seen in to join a scene.")
     ] = 3,
     seed: Annotated[int, typer.Option(help="Seed of the RANSAC fits.")] = 0,
-    init: Annotated[
-        bool, typer.Option("--init", help="Create an empty memory if the directory has none.")
-    ] = False,
+    init: InitOption = False,
 ) -> None:
     """Serve ARMOR's ROS services on the master of $ROS_MASTER_URI; Ctrl-C stops.
 
@@ -92,8 +89,8 @@ def ros_command(
     as `engram serve` does over HTTP. With --cloud-topic, stable scenes of that PointCloud2
     topic are stored and their answers published on --result-topic.
     """
+    settings = settings_for(data)
     try:
-        settings = Settings(data_dir=data) if data else Settings()
         options = ros_options(
             node_name=node_name,
             cloud_topic=cloud_topic,
@@ -122,7 +119,7 @@ def _run(settings: Settings, options: "RosOptions", *, create: bool) -> None:
     try:
         node = RunningNode(memory.engine, options, signals=True)
         console.print(
-            f"Serving {escape(str(settings.store_dir))} to ROS as node /{escape(options.node_name)}"
+            f"Serving {escape(memory.services.where)} to ROS as node /{escape(options.node_name)}"
             "; Ctrl-C stops."
         )
         try:

@@ -3,9 +3,11 @@ Playwright over its own protocol, with no browser download (``executable_path`` 
 binary). Software GL (SwiftShader) gives three.js its WebGL."""
 
 import shutil
+import time
 from pathlib import Path
+from typing import Any
 
-__all__ = ["CHROMIUM_ARGS", "chromium_path"]
+__all__ = ["CHROMIUM_ARGS", "chromium_path", "until"]
 
 CANDIDATES = (
     "/usr/lib/chromium/chromium-headless-shell",
@@ -35,3 +37,13 @@ def chromium_path() -> Path | None:
             return Path(candidate)
     found = shutil.which("chromium-headless-shell")
     return Path(found) if found else None
+
+
+def until(page: Any, predicate: str, timeout_s: float = 30) -> None:
+    """Wait until ``predicate`` (a JavaScript function) is true, polled from here: Playwright's
+    wait_for_function compiles its text in the page, which the pages' Content-Security-Policy
+    forbids (no 'unsafe-eval'), as it should."""
+    deadline = time.monotonic() + timeout_s
+    while not page.evaluate(predicate):
+        assert time.monotonic() < deadline, f"never true: {predicate}"
+        page.wait_for_timeout(50)

@@ -6,7 +6,6 @@ Each test saves a screenshot under ``docs/screenshots/`` (the README shows them)
 
 import io
 import json
-import time
 from pathlib import Path
 from typing import Any
 
@@ -14,7 +13,7 @@ import numpy as np
 import pytest
 from PIL import Image
 
-from tests.web.browser import chromium_path
+from tests.web.browser import chromium_path, until
 from tests.web.conftest import ViewServer, Watched
 
 pytestmark = pytest.mark.slow
@@ -173,13 +172,7 @@ def test_episodes_timeline_channels_plot_and_camera(
     assert (np.abs(orange - [200, 60, 20]).sum(axis=2) < 40).mean() > 0.3  # frame 201's bar
     page.select_option("#replay-speed", "10")
     page.click("#replay-play")
-    # polled from here: wait_for_function compiles its text in the page, which the pages'
-    # Content-Security-Policy forbids (no 'unsafe-eval'), as it should
-    seek = "() => Number(document.querySelector('#replay-seek').value)"
-    deadline = time.monotonic() + 30
-    while page.evaluate(seek) <= 100:
-        assert time.monotonic() < deadline, "the replay did not move on"
-        page.wait_for_timeout(50)
+    until(page, "() => Number(document.querySelector('#replay-seek').value) > 100")
     page.click("#replay-stop")
     _save(view_server, page, "episodes")
 

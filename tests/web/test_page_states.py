@@ -3,7 +3,6 @@ indicator while a view reads, and a banner saying what failed when the server is
 
 import datetime as dt
 import gc
-import time
 from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
@@ -15,21 +14,13 @@ from api.main import create_app
 from episodes import ArgumentSpec, EpisodeMemory
 from kg import Store
 from tests.conftest import free_port, serve
+from tests.web.browser import until
 from tests.web.conftest import VIEWPORT
 
 HOSTILE = "<img src=http://127.0.0.1:9/x>"
 """Markup that fetches from a closed port if any page renders it as HTML."""
 
 START = dt.datetime(2026, 1, 26, 8, 0, tzinfo=dt.UTC)
-
-
-def until(page: Any, predicate: str, timeout_s: float = 30) -> None:
-    """Wait until ``predicate`` (a JavaScript function) is true, polled from here: Playwright's
-    wait_for_function compiles its text in the page, which the pages' CSP forbids."""
-    deadline = time.monotonic() + timeout_s
-    while not page.evaluate(predicate):
-        assert time.monotonic() < deadline, f"never true: {predicate}"
-        page.wait_for_timeout(50)
 
 
 def _hostile_memory(data_dir: Path) -> None:
