@@ -6,10 +6,10 @@ exits with status 2 and a message naming the field, the value and what was expec
 not found exits with status 1.
 """
 
-import io
 import json
 import tarfile
-from collections.abc import Callable
+import tempfile
+from collections.abc import Callable, Iterator
 from pathlib import Path
 from typing import TYPE_CHECKING, Annotated, Any
 
@@ -144,14 +144,16 @@ def begin(
     )
 
 
-def _bag_body(bag: Path) -> bytes:
-    """A ROS 1 bag file as it is, a ROS 2 bag directory as a tar (what the upload takes)."""
-    if not bag.is_dir():
-        return bag.read_bytes()
-    buffer = io.BytesIO()
-    with tarfile.open(fileobj=buffer, mode="w") as tar:
-        tar.add(bag, arcname=bag.name)
-    return buffer.getvalue()
+def _bag_body(bag: Path, chunk_bytes: int = 1 << 20) -> Iterator[bytes]:
+    """What the upload takes, read as it is sent (nothing happens unless it is): a ROS 1 bag
+    file as it is, a ROS 2 bag directory as a tar (spooled to a temporary file)."""
+    with tempfile.TemporaryFile() if bag.is_dir() else bag.open("rb") as source:
+        if bag.is_dir():
+            with tarfile.open(fileobj=source, mode="w") as tar:
+                tar.add(bag, arcname=bag.name)
+            source.seek(0)
+        while chunk := source.read(chunk_bytes):
+            yield chunk
 
 
 @app.command("import")

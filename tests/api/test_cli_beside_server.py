@@ -13,6 +13,7 @@ from pathlib import Path
 import httpx
 import pytest
 
+from tests.api.bags_hostile import ros1_bag
 from tests.conftest import free_port
 
 ENGRAM = str(Path(sys.executable).with_name("engram"))
@@ -95,6 +96,12 @@ def test_every_command_talks_to_the_server_that_holds_the_data_directory(
     backed = engram("backup", str(copy), *where)
     assert backed.returncode == 0, backed.stderr
     assert (copy / "CURRENT").exists()  # a store directory
+
+    bag = ros1_bag(tmp_path / "said.bag", text_bytes=3 << 20)  # sent in several chunks
+    imported = engram("episodes", "import", str(bag), "said", "--id", "s1", *where)
+    assert imported.returncode == 0, imported.stderr
+    assert f"memory: the Engram server at {url}" in imported.stderr
+    assert httpx.get(f"{url}/episodes/s1").json()["activity"] == "said"
 
     checked = engram("check", *where)
     assert checked.returncode == 1 and url in checked.stderr  # check needs the store to itself
