@@ -49,6 +49,7 @@ class _Index:
         self.recording, self.file = recording, file
         self.summary = recording.summary
         self.channels = {c.topic: c.id for c in self.summary.channels.values()}
+        self._last: tuple[int, NDArray[np.uint8]] | None = None  # the chunk read last
 
     def _chunks(self, channel: int) -> list[ChunkIndex]:
         return [c for c in self.summary.chunk_indexes if channel in c.message_index_offsets]
@@ -72,46 +73,82 @@ class _Index:
         parts = [self._entries(c, channel)["time"] for c in self._chunks(channel)]
         return np.concatenate(parts).astype(np.int64) if parts else np.zeros(0, np.int64)
 
+    def bodies(self, topic: str) -> list[bytes]:
+        """The topic's message bodies (of any lengths) in file order, found through the message
+        indexes: no record of another topic is parsed."""
+        channel, found = self.channels[topic], []
+        for chunk in self._chunks(channel):
+            _, offsets, records = self._located(chunk, channel)
+            lengths = _at(records, offsets + 1, "<u8").astype(np.int64)
+            ends = offsets + 9 + lengths
+            if np.any(lengths < _MESSAGE_HEADER - 9) or np.any(ends > len(records)):
+                raise self._damaged(chunk, "a message runs past its chunk")
+            found += [
+                records[at + _MESSAGE_HEADER : end].tobytes()
+                for at, end in zip(offsets.tolist(), ends.tolist(), strict=True)
+            ]
+        return found
+
+    def _located(
+        self, chunk: ChunkIndex, channel: int
+    ) -> tuple[NDArray[np.int64], NDArray[np.int64], NDArray[np.uint8]]:
+        """The log times of the channel's messages in ``chunk``, their offsets in its records,
+        and the records (decompressed and checked; kept until another chunk is read); each
+        offset is checked to be a message of the channel."""
+        entries = self._entries(chunk, channel)
+        times, offsets = entries["time"].astype(np.int64), entries["offset"].astype(np.int64)
+        if not len(entries):
+            return times, offsets, np.zeros(0, np.uint8)
+        at = chunk.chunk_start_offset
+        if self._last is None or self._last[0] != at:
+            body = self.recording.chunk_records(self.file, chunk)
+            self._last = at, np.frombuffer(body, dtype=np.uint8)
+        records = self._last[1]
+        if int(offsets.min()) < 0 or int(offsets.max()) + _MESSAGE_HEADER > len(records):
+            raise self._damaged(chunk, "the message index points past its records")
+        channels = _at(records, offsets + 9, "<u2")
+        if np.any(records[offsets] != 5) or np.any(channels != channel):
+            raise self._damaged(chunk, "the message index does not point at its channel's messages")
+        return times, offsets, records
+
+    def _damaged(self, chunk: ChunkIndex, what: str) -> CorruptRecordingError:
+        return CorruptRecordingError(
+            f"{self.recording.name}: {what} (the chunk at offset {chunk.chunk_start_offset})"
+        )
+
     def messages(self, topic: str) -> tuple[NDArray[np.int64], NDArray[np.uint8]] | None:
         """The topic's log times and message bodies (rows of one length); None when their
         bodies differ in length."""
         channel = self.channels[topic]
         times, rows, width = [], [], None
         for chunk in self._chunks(channel):
-            entries = self._entries(chunk, channel)
-            if not len(entries):
+            found, offsets, records = self._located(chunk, channel)
+            if not len(offsets):
                 continue
-            records = np.frombuffer(self.recording.chunk_records(self.file, chunk), dtype=np.uint8)
-            offsets = entries["offset"].astype(np.int64)
-            if int(offsets.min()) < 0 or int(offsets.max()) + _MESSAGE_HEADER > len(records):
-                raise CorruptRecordingError(
-                    f"{self.recording.name}: the message index of the chunk at offset "
-                    f"{chunk.chunk_start_offset} points past its records"
-                )
-            lengths = records[offsets[:, None] + np.arange(1, 9)].copy().view("<u8").reshape(-1)
-            channels = records[offsets[:, None] + np.arange(9, 11)].copy().view("<u2").reshape(-1)
-            if np.any(records[offsets] != 5) or np.any(channels != channel):
-                raise CorruptRecordingError(
-                    f"{self.recording.name}: the message index of the chunk at offset "
-                    f"{chunk.chunk_start_offset} does not point at its channel's messages"
-                )
+            lengths = _at(records, offsets + 1, "<u8")
             if np.any(lengths != lengths[0]) or (width is not None and lengths[0] - 22 != width):
                 return None
             width = int(lengths[0]) - 22
             if width < 0 or int(offsets.max()) + _MESSAGE_HEADER + width > len(records):
-                raise CorruptRecordingError(
-                    f"{self.recording.name}: a message runs past the chunk at offset "
-                    f"{chunk.chunk_start_offset}"
-                )
-            rows.append(records[(offsets + _MESSAGE_HEADER)[:, None] + np.arange(width)])
-            times.append(entries["time"].astype(np.int64))
+                raise self._damaged(chunk, "a message runs past its chunk")
+            rows.append(_at(records, offsets + _MESSAGE_HEADER, np.dtype((np.void, width))))
+            times.append(found)
         if width is None:
             return np.zeros(0, np.int64), np.zeros((0, 0), np.uint8)
-        return np.concatenate(times), np.concatenate(rows)
+        return np.concatenate(times), np.concatenate(rows).view(np.uint8).reshape(-1, width)
 
 
-def _providers_of(recording: McapFile) -> dict[str, ProviderSpec]:
-    return _providers(recording.path, [m.data for m in recording.messages({PROVIDERS_TOPIC})])
+def _at(buffer: NDArray[np.uint8], offsets: NDArray[np.int64], dtype: Any) -> NDArray[Any]:
+    """The items of ``dtype`` starting at each byte offset of ``buffer`` (any alignment): one
+    gather of whole items, not one of bytes."""
+    size = np.dtype(dtype).itemsize
+    if len(buffer) < size:
+        return np.zeros(len(offsets), dtype)
+    windows = np.lib.stride_tricks.as_strided(
+        buffer, shape=(len(buffer) - size + 1, size), strides=(1, 1), writeable=False
+    )
+    items: NDArray[Any] = windows.view(dtype)[:, 0][offsets]
+    return items
 
 
 _NUMERIC = (Kind.FLOAT_ARRAY, Kind.JOINT_STATE)
@@ -228,7 +265,7 @@ def recording_times(file: Path) -> RecordingTimes | None:
         index = _Index(recording, stream)
         if PROVIDERS_TOPIC not in index.channels:
             return None
-        providers = _providers_of(recording)
+        providers = _providers(file, index.bodies(PROVIDERS_TOPIC))
         if any(spec.baseline is not None for spec in providers.values()):
             return None
         has = index.channels
@@ -252,7 +289,7 @@ def _from_index(recording: McapFile, channel: str) -> ChannelScan | None:
         index = _Index(recording, stream)
         if PROVIDERS_TOPIC not in index.channels:
             return None
-        providers = _providers_of(recording)
+        providers = _providers(recording.path, index.bodies(PROVIDERS_TOPIC))
         ticks = index.times(TICKS_TOPIC) if TICKS_TOPIC in index.channels else None
         start = int(ticks.min()) if ticks is not None and len(ticks) else None
         spec, topic = providers.get(channel), "/" + channel
