@@ -70,12 +70,15 @@ CLOCK = dt.datetime(2026, 1, 1, tzinfo=dt.UTC)
 
 
 class CountedReads(ObjectStore):
-    """An object store counting its ranged reads."""
+    """An object store counting its ranged reads and the time spent waiting for them."""
 
     reads = bytes_read = 0
+    read_s = 0.0
 
     def read_range(self, uri: str, start: int, length: int) -> bytes:
+        began = time.perf_counter()
         data = super().read_range(uri, start, length)
+        self.read_s += time.perf_counter() - began
         self.reads += 1
         self.bytes_read += len(data)
         return data
@@ -325,6 +328,7 @@ def streams(workdir: Path, args: argparse.Namespace) -> None:
         bare = None  # on moto every read costs in proportion to the object: minutes at 1 GB
         if mcap.size <= 200_000_000:
             counted.reads = counted.bytes_read = 0
+            counted.read_s = 0.0
             began = time.perf_counter()
             read = functools.partial(counted.read_range, mcap.uri)
             scan = open_ranged(read, mcap.size, name=mcap.uri)
@@ -332,10 +336,12 @@ def streams(workdir: Path, args: argparse.Namespace) -> None:
             bare = f"{(time.perf_counter() - began) * 1e3:.0f} ms, {counted.reads} reads"
 
         counted.reads = counted.bytes_read = 0
-        began = time.perf_counter()
+        counted.read_s = 0.0
+        began, cpu = time.perf_counter(), time.process_time()
         replayer = archive.replayer(store, "ep-replay")
         next(iter(replayer.frames()))
         start_s = time.perf_counter() - began
+        cpu_s = time.process_time() - cpu
         assert not (root / "ep-replay").exists()  # read in place, not fetched
 
         one = time.perf_counter()
@@ -352,6 +358,14 @@ def streams(workdir: Path, args: argparse.Namespace) -> None:
             f"ms, {counted.reads} reads, {counted.bytes_read / 1e6:.1f} MB; "
             f"{whole_s / start_s:.1f}x faster than the baseline "
             f"(target < 1 s: {'met' if start_s < 1 else 'NOT met'})"
+        )
+        # moto answers a ranged read by copying the whole object first (its FakeKey.value), so
+        # on moto the reads themselves cost in proportion to the object; a real object store
+        # does not. What is Engram's is the time outside them.
+        print(
+            f"   of which waiting for moto's {counted.reads} reads: {counted.read_s * 1e3:.0f} ms; "
+            f"Engram's own: {(start_s - counted.read_s) * 1e3:.0f} ms, {cpu_s * 1e3:.0f} ms CPU "
+            f"(target <= 2 reads: {'met' if counted.reads <= 2 else 'NOT met'})"
         )
     finally:
         stop(moto)
