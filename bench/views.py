@@ -1,8 +1,9 @@
 """Web views: the memory graph of 10,000 classes and a 10-minute 100 Hz channel's plot.
 
-Targets (issue 18): the class list endpoint < 100 ms and the graph's first paint < 2 s in
-headless Chromium for 10,000 classes; plot data for a 10-minute 100 Hz channel decimated to
-≤ 2,000 points < 50 ms, and its first read (nothing cached) < 1 s. Each figure is printed
+Targets: the class list endpoint < 100 ms and the graph's first paint < 2 s in headless
+Chromium for 10,000 classes; plot data for a 10-minute 100 Hz channel decimated to ≤ 2,000
+points < 50 ms, also on its first read (nothing cached in the server: the median of
+``--repeat`` reads, the server's cache emptied before each). Each figure is printed
 with its ratio to ``GET /health`` measured in the same run against the same server (the cost
 of one request); the plot's first read also beside the replay read it replaced.
 
@@ -28,6 +29,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 from api.config import Settings
 from api.main import create_app
+from api.views import channels
 from bench.scene_memory import random_scene
 from episodes import EpisodeMemory
 from kg import Store
@@ -123,11 +125,13 @@ def first_paint(url: str, classes: int) -> dict[str, float]:
         page.wait_for_selector(f"#cy[data-nodes='{classes}']", timeout=120_000)
         phases: dict[str, float] = page.evaluate(PHASES)
         phases["wall"] = (time.perf_counter() - began) * 1000
-        page.wait_for_selector("#graph-overview[data-edges-drawn]", timeout=120_000)
-        phases["edges"] = page.evaluate(
-            "new Promise(r => requestAnimationFrame(() => requestAnimationFrame("
-            "() => r(performance.getEntriesByName('graph-edges')[0].startTime))))"
-        )
+        phases["edges"] = float("nan")  # a small graph is drawn whole, with no overview
+        if page.query_selector("#graph-overview") is not None:
+            page.wait_for_selector("#graph-overview[data-edges-drawn]", timeout=120_000)
+            phases["edges"] = page.evaluate(
+                "new Promise(r => requestAnimationFrame(() => requestAnimationFrame("
+                "() => r(performance.getEntriesByName('graph-edges')[0].startTime))))"
+            )
         browser.close()
     return phases
 
@@ -184,9 +188,13 @@ def main() -> None:
                 client.get("/views/episodes/long/channels").raise_for_status()
                 listed = time.perf_counter() - listed_began
                 plot_url = "/views/episodes/long/plot?channel=arm/effort&points=2000"
-                cold_began = time.perf_counter()
-                client.get(plot_url).raise_for_status()
-                cold = time.perf_counter() - cold_began
+                firsts = []
+                for _ in range(args.repeat):  # the server's cache emptied before each read
+                    channels._cache.clear()
+                    cold_began = time.perf_counter()
+                    client.get(plot_url).raise_for_status()
+                    firsts.append(time.perf_counter() - cold_began)
+                cold = statistics.median(firsts)
                 plot = timed(client, plot_url, args.repeat)
                 listing = timed(client, "/views/classes", args.repeat)
                 compact = timed(client, "/views/classes?relations=false", args.repeat)
@@ -201,7 +209,7 @@ def main() -> None:
         (f"plot of {samples} samples to 2,000 points (cached read)", plot, 0.050),
         ("the episode's channel list, first read of the file", listed, None),
         ("  the same from the replayer, as before (in process)", replayer_built, None),
-        (f"plot of {samples} samples, first read of the file", cold, 1.0),
+        (f"plot of {samples} samples, first read of the file (median)", cold, 0.050),
         ("  the same read by replay, as before (in process)", replayed, None),
         (f"graph first paint, {args.classes} classes, just after loading", cold_paint, 2.0),
         ("  the same, once the server has derived the class list", paint, 2.0),
