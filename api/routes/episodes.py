@@ -58,13 +58,17 @@ ParticipantQuery = Annotated[
 
 
 def _cue(
-    activity: str,
-    agent: str | None,
-    object: str | None,
-    role: str | None,
-    participant: str | None,
+    activity: ActivityQuery,
+    agent: AgentQuery = None,
+    object: ObjectQuery = None,
+    role: RoleQuery = None,
+    participant: ParticipantQuery = None,
 ) -> Cue:
+    """The cue named by a request's query (a dependency of the routes that take one)."""
     return Cue(activity, agent=agent, obj=object, role=role, participant=participant)
+
+
+CueQuery = Annotated[Cue, Depends(_cue)]
 
 
 class _Strict(BaseModel):
@@ -256,34 +260,24 @@ async def import_upload(
 @router.get("/episodes")
 async def all_of_activity(
     memory: EpisodesDep,
-    activity: ActivityQuery,
-    agent: AgentQuery = None,
-    object: ObjectQuery = None,
-    role: RoleQuery = None,
-    participant: ParticipantQuery = None,
+    cue: CueQuery,
     now: NowQuery = None,
 ) -> Any:
     """All episodes of an activity (by an agent, with an object, with someone in a role),
     oldest first."""
-    cue = _cue(activity, agent, object, role, participant)
     return _answer(await run_in_threadpool(memory.all, cue, now=_now(now)))
 
 
 @router.get("/episodes/recall")
 async def recall(
     memory: EpisodesDep,
-    activity: ActivityQuery,
-    agent: AgentQuery = None,
-    object: ObjectQuery = None,
-    role: RoleQuery = None,
-    participant: ParticipantQuery = None,
+    cue: CueQuery,
     which: Annotated[str, Query(description="first, last or nth")] = "last",
     n: Annotated[int, Query(description="With which=nth: 1 is the first time.")] = 1,
     now: NowQuery = None,
 ) -> Any:
     """The first / last / n-th time <agent> did <activity> (with <object>, with
     <participant> as <role>), and when, in words."""
-    cue = _cue(activity, agent, object, role, participant)
     found = await run_in_threadpool(memory.recall, cue, which=which, n=n, now=_now(now))  # type: ignore[arg-type]
     return _answer(found)
 
@@ -291,14 +285,9 @@ async def recall(
 @router.get("/episodes/count")
 async def count(
     memory: EpisodesDep,
-    activity: ActivityQuery,
-    agent: AgentQuery = None,
-    object: ObjectQuery = None,
-    role: RoleQuery = None,
-    participant: ParticipantQuery = None,
+    cue: CueQuery,
 ) -> dict[str, int]:
     """How many times <agent> did <activity> (with <object>, with <participant> as <role>)."""
-    cue = _cue(activity, agent, object, role, participant)
     return {"count": await run_in_threadpool(memory.count, cue)}
 
 
