@@ -34,6 +34,27 @@ VENDORED = THIRD_PARTY / "armor_py_api"
 STAND_IN = THIRD_PARTY / "rospy_over_http"
 IRI = "http://www.semanticweb.org/emarolab/pyarmor/test"
 
+# a surveillance map's connectivity rule: two rooms with a common door, declared different
+RULE = """
+@prefix : <{iri}#> . @prefix swrl: <http://www.w3.org/2003/11/swrl#> .
+@prefix owl: <http://www.w3.org/2002/07/owl#> .
+<{iri}> a owl:Ontology . :Room a owl:Class . :hasDoor a owl:ObjectProperty .
+:connectedTo a owl:ObjectProperty .
+<urn:swrl:var#r> a swrl:Variable . <urn:swrl:var#s> a swrl:Variable .
+<urn:swrl:var#d> a swrl:Variable .
+[ a swrl:Imp ;
+  swrl:body (
+    [ a swrl:IndividualPropertyAtom ; swrl:propertyPredicate :hasDoor ;
+      swrl:argument1 <urn:swrl:var#r> ; swrl:argument2 <urn:swrl:var#d> ]
+    [ a swrl:IndividualPropertyAtom ; swrl:propertyPredicate :hasDoor ;
+      swrl:argument1 <urn:swrl:var#s> ; swrl:argument2 <urn:swrl:var#d> ]
+    [ a swrl:DifferentIndividualsAtom ;
+      swrl:argument1 <urn:swrl:var#r> ; swrl:argument2 <urn:swrl:var#s> ] ) ;
+  swrl:head (
+    [ a swrl:IndividualPropertyAtom ; swrl:propertyPredicate :connectedTo ;
+      swrl:argument1 <urn:swrl:var#r> ; swrl:argument2 <urn:swrl:var#s> ] ) ] .
+"""
+
 
 @pytest.fixture(scope="module")
 def py_api(armor_server: Armor) -> Iterator[SimpleNamespace]:
@@ -59,6 +80,8 @@ def py_api(armor_server: Armor) -> Iterator[SimpleNamespace]:
             exceptions=importlib.import_module("armor_api.armor_exceptions"),
         )
     finally:
+        if "rospy" in sys.modules and sys.modules["rospy"] is not before.get("rospy"):
+            sys.modules["rospy"]._http.close()
         for path in paths:
             sys.path.remove(path)
         for name in [n for n in sys.modules if n not in before]:
@@ -96,7 +119,226 @@ def test_client_test_script_runs_unchanged(py_api: SimpleNamespace, tmp_path: Pa
     )
 
 
-def _client(py_api: SimpleNamespace, ref: str, **flags: Any) -> Any:
+@pytest.fixture(scope="module")
+def test_owl(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    """armor_py_api's ``test/test.owl``, copied where the server's file commands may read it."""
+    return Path(shutil.copy(VENDORED / "test" / "test.owl", tmp_path_factory.mktemp("owl")))
+
+
+def _client(py_api: SimpleNamespace, test_owl: Path, ref: str, **flags: Any) -> Any:
     client = py_api.client.ArmorClient("client", ref)
-    client.utils.load_ref_from_file(str(VENDORED / "test" / "test.owl"), IRI, **flags)
+    client.utils.load_ref_from_file(str(test_owl), IRI, **flags)
     return client
+
+
+def test_manipulation_and_query_calls_answer_as_armor(
+    py_api: SimpleNamespace, test_owl: Path
+) -> None:
+    """Every method of ``client.manipulation`` and ``client.query``, unbuffered, in the order a
+    robot's script calls them; each answer is ARMOR's."""
+    client = _client(py_api, test_owl, "py_api_calls")
+    manipulation, query = client.manipulation, client.query
+    assert manipulation.add_ind_to_class("ind_1", "Class_1") is True
+    assert manipulation.add_ind_to_class("ind_3", "Class_3") is True
+    assert manipulation.add_objectprop_to_ind("OProperty_1", "ind_1", "ind_3") is True
+    assert manipulation.add_dataprop_to_ind("DProperty_1", "ind_1", "INTEGER", "1") is True
+    assert query.ind_b2_class("Class_4") == ["ind_1"]
+    assert query.ind_b2_class("Class_4", with_URI=True) == [f"<{IRI}#ind_1>"]
+    assert query.dataprop_b2_ind("DProperty_1", "ind_1") == ['"1"^^xsd:integer']
+    assert query.objectprop_b2_ind("OProperty_1", "ind_1") == ["ind_3"]
+    assert query.objectprop_b2_ind("OProperty_1", "ind_1", with_URI=True) == [f"<{IRI}#ind_3>"]
+    assert query.check_ind_exists("ind_1") is True
+    assert query.check_ind_exists("nobody") is False
+    batch = [["DProperty_1", "INTEGER", "5"], ["DProperty_1", "STRING", "five"]]
+    assert manipulation.add_batch_dataprop_to_ind("ind_2", batch) is True
+    assert sorted(query.dataprop_b2_ind("DProperty_1", "ind_2")) == [
+        '"5"^^xsd:integer',
+        '"five"^^xsd:string',
+    ]
+    assert manipulation.replace_dataprop_b2_ind("DProperty_1", "ind_1", "INTEGER", "3", "1")
+    assert query.dataprop_b2_ind("DProperty_1", "ind_1") == ['"3"^^xsd:integer']
+    assert manipulation.replace_one_dataprop_b2_ind("DProperty_1", "ind_4", "LONG", "7") is True
+    assert query.dataprop_b2_ind("DProperty_1", "ind_4") == ['"7"^^xsd:long']
+    assert manipulation.add_ind_to_class("ind_2", "Class_2") is True
+    assert manipulation.replace_objectprop_b2_ind("OProperty_1", "ind_1", "ind_2", "ind_3")
+    assert query.objectprop_b2_ind("OProperty_1", "ind_1") == ["ind_2"]
+    assert query.ind_b2_class("Class_4") == []  # ind_2 is not a Class_3
+    assert manipulation.replace_one_objectprop_b2_ind("OProperty_1", "ind_1", "ind_3") is True
+    assert query.objectprop_b2_ind("OProperty_1", "ind_1") == ["ind_3"]
+    assert query.ind_b2_class("Class_4") == ["ind_1"]
+    assert manipulation.add_objectprop_to_ind("OProperty_1", "ind_1", "ind_2") is True
+    with pytest.raises(py_api.exceptions.ArmorServiceInternalError) as many:
+        manipulation.replace_one_objectprop_b2_ind("OProperty_1", "ind_1", "ind_3")
+    assert many.value.code == "206"  # armor_py_api's own check, before any call
+    assert manipulation.remove_objectprop_from_ind("OProperty_1", "ind_1", "ind_2") is True
+    assert query.objectprop_b2_ind("OProperty_1", "ind_1") == ["ind_3"]
+    assert manipulation.remove_dataprop_from_ind("DProperty_1", "ind_2", "STRING", "five")
+    assert query.dataprop_b2_ind("DProperty_1", "ind_2") == ['"5"^^xsd:integer']
+    # armor_py_api swaps the property and the individual here: ARMOR removes an axiom that
+    # is not there, and answers success
+    assert manipulation.remove_batch_dataprop_to_ind("ind_2", [batch[0]]) is True
+    assert query.dataprop_b2_ind("DProperty_1", "ind_2") == ['"5"^^xsd:integer']
+    assert manipulation.remove_ind_from_class("ind_3", "Class_3") is True
+    assert query.ind_b2_class("Class_3") == []
+    assert query.ind_b2_class("Class_4") == []
+    assert manipulation.disj_inds_of_class("Class_1") is True
+    assert query.ind_b2_class("Class_1") == sorted(query.ind_b2_class("Class_1"))
+
+
+def test_utility_calls_answer_as_armor(
+    py_api: SimpleNamespace, test_owl: Path, tmp_path: Path
+) -> None:
+    """``client.utils``: buffered manipulation and reasoner, mount, logs, save."""
+    client = _client(
+        py_api,
+        test_owl,
+        "py_api_utils",
+        buffered_manipulation=True,
+        buffered_reasoner=True,
+        mounted=True,
+    )
+    utils, query = client.utils, client.query
+    client.manipulation.add_ind_to_class("ind_1", "Class_2")
+    assert query.ind_b2_class("Class_2") == []  # buffered until APPLY
+    assert utils.apply_buffered_changes() is True
+    assert query.ind_b2_class("Class_2") == ["ind_1"]
+    assert utils.sync_buffered_reasoner() is True
+    assert query.ind_b2_class("Class_1") == ["ind_1"]
+    utils.set_log_to_terminal(True)
+    utils.set_log_to_terminal(False)
+    utils.set_log_to_file(True, str(tmp_path / "armor.log"))
+    with pytest.raises(py_api.exceptions.ArmorServiceCallError):
+        utils.set_log_to_file(True)  # armor_py_api refuses an empty path itself
+    with pytest.raises(TypeError):
+        utils.set_log_to_file(False)  # armor_py_api's call() with six arguments
+    other = py_api.client.ArmorClient("other", "py_api_utils")
+    with pytest.raises(py_api.exceptions.ArmorServiceInternalError) as mounted:
+        other.utils.mount_on_ref()
+    assert mounted.value.code == 203
+    utils.unmount_from_ref()
+    other.utils.mount_on_ref()
+    other.utils.unmount_from_ref()
+    utils.save(str(tmp_path / "asserted.owl"))
+    utils.save_ref_with_inferences(str(tmp_path / "inferred.owl"))
+    ind_1 = f"<{IRI}#ind_1>"
+    class_1 = (ind_1, "<http://www.w3.org/1999/02/22-rdf-syntax-ns#type>", f"<{IRI}#Class_1>")
+    assert class_1 not in _abox(tmp_path / "asserted.owl")
+    assert class_1 in _abox(tmp_path / "inferred.owl")
+
+
+def test_errors_reach_the_client_as_armor_reports_them(
+    py_api: SimpleNamespace, test_owl: Path
+) -> None:
+    """ARMOR's exit codes become armor_py_api's exceptions: 101 for an unknown value type (a
+    success for ADD, an error for REPLACE); an unloaded reference is not an individual."""
+    never = py_api.client.ArmorClient("client", "py_api_never_loaded")
+    assert never.query.check_ind_exists("ind_1") is False
+    client = _client(py_api, test_owl, "py_api_errors")
+    assert client.manipulation.add_dataprop_to_ind("DProperty_1", "ind_1", "COLOR", "red")
+    assert client.query.dataprop_b2_ind("DProperty_1", "ind_1") == []
+    with pytest.raises(py_api.exceptions.ArmorServiceInternalError) as replaced:
+        client.manipulation.replace_dataprop_b2_ind("DProperty_1", "ind_1", "COLOR", "b", "a")
+    assert replaced.value.code == 101
+
+
+def test_the_differences_of_the_last_comparison_are_gone(
+    py_api: SimpleNamespace, test_owl: Path, tmp_path: Path
+) -> None:
+    """What armor_py_api saw differ before (the README's ARMOR section): LONG stays xsd:long,
+    floats print as Java prints them, owl:Nothing as the OWL API prints it, a name with a space
+    is accepted, and SWRL sees the individuals ``disj_inds_of_class`` declared different."""
+    client = _client(py_api, test_owl, "py_api_fixed")
+    manipulation, query = client.manipulation, client.query
+    assert manipulation.add_dataprop_to_ind("stamp", "r", "LONG", "1665579740")
+    assert query.dataprop_b2_ind("stamp", "r") == ['"1665579740"^^xsd:long']
+    for prop, value in [("a", "2"), ("b", "1e10"), ("c", "0.0001")]:
+        assert manipulation.add_dataprop_to_ind(prop, "r", "DOUBLE", value)
+    assert [query.dataprop_b2_ind(prop, "r") for prop in "abc"] == [
+        ['"2.0"^^xsd:float'],
+        ['"1.0E10"^^xsd:float'],
+        ['"1.0E-4"^^xsd:float'],
+    ]
+    assert client.call("QUERY", "CLASS", "CLASS", ["Class_3"]).queried_objects == ["owl:Nothing"]
+    assert manipulation.add_ind_to_class("living room", "Room")
+    assert query.ind_b2_class("Room") == ["living room"]
+
+    iri = "http://ex.org/map"
+    source = tmp_path / "map.ttl"
+    source.write_text(RULE.format(iri=iri))
+    surveillance = py_api.client.ArmorClient("client", "py_api_map")
+    surveillance.utils.load_ref_from_file(str(source), iri, True, "PELLET", True)
+    for room, doors in {"R1": ["D1"], "C1": ["D1", "D2"], "R2": ["D2"]}.items():
+        surveillance.manipulation.add_ind_to_class(room, "Room")
+        for door in doors:
+            surveillance.manipulation.add_objectprop_to_ind("hasDoor", room, door)
+    surveillance.manipulation.disj_inds_of_class("Room")
+    surveillance.utils.apply_buffered_changes()
+    assert surveillance.utils.sync_buffered_reasoner() is True
+    connected = {
+        room: sorted(surveillance.query.objectprop_b2_ind("connectedTo", room))
+        for room in ("R1", "C1", "R2")
+    }
+    assert connected == {"R1": ["C1"], "C1": ["R1", "R2"], "R2": ["C1"]}
+
+
+# What Engram answers differently from ARMOR to armor_py_api's calls, and why. Each entry is
+# checked by test_expected_difference: a change in either direction fails it.
+EXPECTED_DIFFERENCES = {
+    "unloaded reference": (
+        "ARMOR answers 205 'Malformed command' (its NullPointerException, caught as an unknown "
+        "command); Engram answers 207 naming the reference, so the client can tell the two apart"
+    ),
+    "value that does not parse": (
+        "ARMOR's Integer.parseInt throws and the ROS call fails (ArmorServiceCallError); Engram "
+        "answers 208 naming the argument and the expected form (ArmorServiceInternalError), as "
+        "no input may crash a call"
+    ),
+    "replace_one_dataprop_b2_ind over a value": (
+        "armor_py_api sends back the value as queried ('\"1\"^^xsd:integer') as the old value; "
+        "ARMOR cannot parse it and the call fails (ArmorServiceCallError); Engram answers 208 "
+        "(ArmorServiceInternalError). The call fails on both, with another exception class"
+    ),
+    "mount lock": (
+        "ARMOR's master never refuses a write from an unmounted client (its 102 check is dead "
+        "code); Engram enforces the lock it documents: 102"
+    ),
+    "buffered reasoner and asserted subclasses": (
+        "ARMOR answers QUERY IND CLASS from the class's own assertions and the reasoner, which a "
+        "buffered reasoner updates only at REASON; Engram follows rdfs:subClassOf over the "
+        "asserted graph at query time, so an instance of an asserted subclass appears at APPLY"
+    ),
+}
+
+
+@pytest.mark.parametrize("difference", sorted(EXPECTED_DIFFERENCES))
+def test_expected_difference(py_api: SimpleNamespace, test_owl: Path, difference: str) -> None:
+    errors = py_api.exceptions
+    ref = "py_api_" + difference.replace(" ", "_")
+    client = _client(py_api, test_owl, ref, buffered_manipulation=True, buffered_reasoner=True)
+    manipulation = client.manipulation
+    if difference == "unloaded reference":
+        never = py_api.client.ArmorClient("client", "py_api_never_loaded")
+        with pytest.raises(errors.ArmorServiceInternalError) as refused:
+            never.query.ind_b2_class("Class_1")
+        assert refused.value.code == 207
+    elif difference == "value that does not parse":
+        with pytest.raises(errors.ArmorServiceInternalError) as refused:
+            manipulation.add_dataprop_to_ind("DProperty_1", "ind_1", "INTEGER", "abc")
+        assert refused.value.code == 208
+    elif difference == "replace_one_dataprop_b2_ind over a value":
+        manipulation.add_dataprop_to_ind("DProperty_1", "ind_1", "INTEGER", "1")
+        client.utils.apply_buffered_changes()
+        with pytest.raises(errors.ArmorServiceInternalError) as refused:
+            manipulation.replace_one_dataprop_b2_ind("DProperty_1", "ind_1", "INTEGER", "4")
+        assert refused.value.code == 208
+        assert client.query.dataprop_b2_ind("DProperty_1", "ind_1") == ['"1"^^xsd:integer']
+    elif difference == "mount lock":
+        client.utils.mount_on_ref()
+        other = py_api.client.ArmorClient("other", ref)
+        with pytest.raises(errors.ArmorServiceInternalError) as refused:
+            other.manipulation.add_ind_to_class("ind_9", "Class_1")
+        assert refused.value.code == 102
+    else:
+        assert manipulation.add_ind_to_class("ind_1", "Class_2")
+        client.utils.apply_buffered_changes()
+        assert client.query.ind_b2_class("Class_1") == ["ind_1"]  # ARMOR: [] until REASON

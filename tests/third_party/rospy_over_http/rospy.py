@@ -30,6 +30,11 @@ __all__ = [
 base_url = ""
 """The Engram server that answers the services (``http://127.0.0.1:<port>``)."""
 
+calls = 0
+"""How many service calls were made (the tests report it)."""
+
+_http = httpx.Client(timeout=60.0)  # one connection, kept alive, as a ROS persistent proxy
+
 _log = logging.getLogger("rospy")
 loginfo = _log.info
 logwarn = _log.warning
@@ -47,7 +52,7 @@ class ServiceException(Exception):
 def wait_for_service(service: str, timeout: float | None = None) -> None:
     """Return once the server answers; :class:`ROSException` if it does not within ``timeout``."""
     try:
-        httpx.get(base_url + "/health", timeout=timeout or 5.0).raise_for_status()
+        _http.get(base_url + "/health", timeout=timeout or 5.0).raise_for_status()
     except httpx.HTTPError as error:
         raise ROSException(f"timeout exceeded while waiting for service {service}") from error
 
@@ -64,13 +69,15 @@ class ServiceProxy:
         return self.call(*args, **kwds)
 
     def call(self, *args: Any, **kwds: Any) -> Any:
+        global calls
+        calls += 1
         request = self._request(args, kwds)
         try:
-            answer = httpx.post(
-                base_url + self.resolved_name, json=_to_json(request), timeout=60.0
-            )
+            answer = _http.post(base_url + self.resolved_name, json=_to_json(request))
         except httpx.HTTPError as error:
-            raise ServiceException(f"service [{self.resolved_name}] unavailable: {error}") from error
+            raise ServiceException(
+                f"service [{self.resolved_name}] unavailable: {error}"
+            ) from error
         if answer.status_code != 200:
             raise ServiceException(
                 f"service [{self.resolved_name}] responded with an error: {answer.text}"
