@@ -10,28 +10,24 @@ this module starts. The expected answers are ARMOR's (its Java sources, EmaroLab
 What still differs is :data:`EXPECTED_DIFFERENCES`, each with its reason.
 """
 
-import contextlib
-import importlib
-import io
-import runpy
 import shutil
-import sys
 from collections.abc import Iterator
 from pathlib import Path
 from types import SimpleNamespace
 from typing import Any
 
 import pytest
-from pyoxigraph import RdfFormat, parse
 
-from api.ros.messages import armor_msgs
-from api.ros.system import load_ros
+from tests.third_party.load_armor_py_api import (
+    CLIENT_TEST_OUTPUT,
+    VENDORED,
+    armor_py_api,
+    individuals,
+    run_client_test,
+)
 
 from .conftest import Armor
 
-THIRD_PARTY = Path(__file__).resolve().parents[2] / "third_party"
-VENDORED = THIRD_PARTY / "armor_py_api"
-STAND_IN = THIRD_PARTY / "rospy_over_http"
 IRI = "http://www.semanticweb.org/emarolab/pyarmor/test"
 
 # a surveillance map's connectivity rule: two rooms with a common door, declared different
@@ -58,65 +54,21 @@ RULE = """
 
 @pytest.fixture(scope="module")
 def py_api(armor_server: Armor) -> Iterator[SimpleNamespace]:
-    """armor_py_api's modules, imported over the stand-in ``rospy`` that reaches the server.
-
-    Every module this imports (``rospy``, ``armor_api.*``, ``armor_client``) is taken out of
-    ``sys.modules`` afterwards, and the real ``rospy`` (if another test imported it) put back.
-    """
-    load_ros()  # genpy and genmsg, which generate armor_msgs
-    armor_msgs()
-    before = dict(sys.modules)
-    paths = [str(STAND_IN), str(VENDORED / "scripts"), str(VENDORED / "scripts" / "armor_api")]
-    sys.path[:0] = paths
-    for name in [n for n in sys.modules if n == "rospy" or n.startswith("rospy.")]:
-        del sys.modules[name]
-    try:
-        rospy = importlib.import_module("rospy")
-        assert Path(rospy.__file__ or "").parent == STAND_IN
-        rospy.base_url = armor_server.url
-        yield SimpleNamespace(
-            rospy=rospy,
-            client=importlib.import_module("armor_api.armor_client"),
-            exceptions=importlib.import_module("armor_api.armor_exceptions"),
-        )
-    finally:
-        if "rospy" in sys.modules and sys.modules["rospy"] is not before.get("rospy"):
-            sys.modules["rospy"]._http.close()
-        for path in paths:
-            sys.path.remove(path)
-        for name in [n for n in sys.modules if n not in before]:
-            del sys.modules[name]
-        sys.modules.update(before)
-
-
-def _abox(path: Path) -> set[tuple[str, str, str]]:
-    """The triples about the individuals ``ind_*`` of a saved ontology."""
-    return {
-        (str(q.subject), str(q.predicate), str(q.object))
-        for q in parse(path=path, format=RdfFormat.RDF_XML)
-        if str(q.subject).startswith(f"<{IRI}#ind_")
-    }
+    """armor_py_api's modules, imported over the stand-in ``rospy`` that reaches the server."""
+    with armor_py_api(stand_in=True) as modules:
+        modules.rospy.base_url = armor_server.url
+        try:
+            yield modules
+        finally:
+            modules.rospy._http.close()
 
 
 def test_client_test_script_runs_unchanged(py_api: SimpleNamespace, tmp_path: Path) -> None:
-    """``scripts/armor_api/client_test.py`` as its author ran it, on a copy of the vendored tree
-    (it writes ``test/inferred_test.owl`` beside itself); the file it makes Engram save holds the
-    individuals of the file ARMOR saved for it."""
-    tree = tmp_path / "armor_py_api"
-    shutil.copytree(VENDORED, tree)
-    (tree / "test" / "inferred_test.owl").unlink()
-    printed = io.StringIO()
-    with contextlib.redirect_stdout(printed):
-        runpy.run_path(str(tree / "scripts" / "armor_api" / "client_test.py"), run_name="__main__")
-    assert printed.getvalue().splitlines() == [
-        "Added ind_1 to Class_1",
-        "Added ind_2 to Class_2",
-        "Added ind_3 to Class_3",
-        "Success! ind_1 is in Class_4 now!",
-    ]
-    assert _abox(tree / "test" / "inferred_test.owl") == _abox(
-        VENDORED / "test" / "inferred_test.owl"
-    )
+    """``scripts/armor_api/client_test.py`` as its author ran it; the file it makes Engram save
+    holds the individuals of the file ARMOR saved for it."""
+    printed, saved = run_client_test(tmp_path)
+    assert printed == CLIENT_TEST_OUTPUT
+    assert individuals(saved) == individuals(VENDORED / "test" / "inferred_test.owl")
 
 
 @pytest.fixture(scope="module")
@@ -222,8 +174,8 @@ def test_utility_calls_answer_as_armor(
     utils.save_ref_with_inferences(str(tmp_path / "inferred.owl"))
     ind_1 = f"<{IRI}#ind_1>"
     class_1 = (ind_1, "<http://www.w3.org/1999/02/22-rdf-syntax-ns#type>", f"<{IRI}#Class_1>")
-    assert class_1 not in _abox(tmp_path / "asserted.owl")
-    assert class_1 in _abox(tmp_path / "inferred.owl")
+    assert class_1 not in individuals(tmp_path / "asserted.owl")
+    assert class_1 in individuals(tmp_path / "inferred.owl")
 
 
 def test_errors_reach_the_client_as_armor_reports_them(
