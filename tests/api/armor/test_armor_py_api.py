@@ -72,23 +72,23 @@ def test_client_test_script_runs_unchanged(py_api: SimpleNamespace, tmp_path: Pa
 
 
 @pytest.fixture(scope="module")
-def test_owl(tmp_path_factory: pytest.TempPathFactory) -> Path:
+def pyarmor_owl(tmp_path_factory: pytest.TempPathFactory) -> Path:
     """armor_py_api's ``test/test.owl``, copied where the server's file commands may read it."""
     return Path(shutil.copy(VENDORED / "test" / "test.owl", tmp_path_factory.mktemp("owl")))
 
 
-def _client(py_api: SimpleNamespace, test_owl: Path, ref: str, **flags: Any) -> Any:
+def _client(py_api: SimpleNamespace, pyarmor_owl: Path, ref: str, **flags: Any) -> Any:
     client = py_api.client.ArmorClient("client", ref)
-    client.utils.load_ref_from_file(str(test_owl), IRI, **flags)
+    client.utils.load_ref_from_file(str(pyarmor_owl), IRI, **flags)
     return client
 
 
 def test_manipulation_and_query_calls_answer_as_armor(
-    py_api: SimpleNamespace, test_owl: Path
+    py_api: SimpleNamespace, pyarmor_owl: Path
 ) -> None:
     """Every method of ``client.manipulation`` and ``client.query``, unbuffered, in the order a
     robot's script calls them; each answer is ARMOR's."""
-    client = _client(py_api, test_owl, "py_api_calls")
+    client = _client(py_api, pyarmor_owl, "py_api_calls")
     manipulation, query = client.manipulation, client.query
     assert manipulation.add_ind_to_class("ind_1", "Class_1") is True
     assert manipulation.add_ind_to_class("ind_3", "Class_3") is True
@@ -138,12 +138,12 @@ def test_manipulation_and_query_calls_answer_as_armor(
 
 
 def test_utility_calls_answer_as_armor(
-    py_api: SimpleNamespace, test_owl: Path, tmp_path: Path
+    py_api: SimpleNamespace, pyarmor_owl: Path, tmp_path: Path
 ) -> None:
     """``client.utils``: buffered manipulation and reasoner, mount, logs, save."""
     client = _client(
         py_api,
-        test_owl,
+        pyarmor_owl,
         "py_api_utils",
         buffered_manipulation=True,
         buffered_reasoner=True,
@@ -179,13 +179,13 @@ def test_utility_calls_answer_as_armor(
 
 
 def test_errors_reach_the_client_as_armor_reports_them(
-    py_api: SimpleNamespace, test_owl: Path
+    py_api: SimpleNamespace, pyarmor_owl: Path
 ) -> None:
     """ARMOR's exit codes become armor_py_api's exceptions: 101 for an unknown value type (a
     success for ADD, an error for REPLACE); an unloaded reference is not an individual."""
     never = py_api.client.ArmorClient("client", "py_api_never_loaded")
     assert never.query.check_ind_exists("ind_1") is False
-    client = _client(py_api, test_owl, "py_api_errors")
+    client = _client(py_api, pyarmor_owl, "py_api_errors")
     assert client.manipulation.add_dataprop_to_ind("DProperty_1", "ind_1", "COLOR", "red")
     assert client.query.dataprop_b2_ind("DProperty_1", "ind_1") == []
     with pytest.raises(py_api.exceptions.ArmorServiceInternalError) as replaced:
@@ -194,12 +194,12 @@ def test_errors_reach_the_client_as_armor_reports_them(
 
 
 def test_the_differences_of_the_last_comparison_are_gone(
-    py_api: SimpleNamespace, test_owl: Path, tmp_path: Path
+    py_api: SimpleNamespace, pyarmor_owl: Path, tmp_path: Path
 ) -> None:
     """What armor_py_api saw differ before (the README's ARMOR section): LONG stays xsd:long,
     floats print as Java prints them, owl:Nothing as the OWL API prints it, a name with a space
     is accepted, and SWRL sees the individuals ``disj_inds_of_class`` declared different."""
-    client = _client(py_api, test_owl, "py_api_fixed")
+    client = _client(py_api, pyarmor_owl, "py_api_fixed")
     manipulation, query = client.manipulation, client.query
     assert manipulation.add_dataprop_to_ind("stamp", "r", "LONG", "1665579740")
     assert query.dataprop_b2_ind("stamp", "r") == ['"1665579740"^^xsd:long']
@@ -263,10 +263,10 @@ EXPECTED_DIFFERENCES = {
 
 
 @pytest.mark.parametrize("difference", sorted(EXPECTED_DIFFERENCES))
-def test_expected_difference(py_api: SimpleNamespace, test_owl: Path, difference: str) -> None:
+def test_expected_difference(py_api: SimpleNamespace, pyarmor_owl: Path, difference: str) -> None:
     errors = py_api.exceptions
     ref = "py_api_" + difference.replace(" ", "_")
-    client = _client(py_api, test_owl, ref, buffered_manipulation=True, buffered_reasoner=True)
+    client = _client(py_api, pyarmor_owl, ref, buffered_manipulation=True, buffered_reasoner=True)
     manipulation = client.manipulation
     if difference == "unloaded reference":
         never = py_api.client.ArmorClient("client", "py_api_never_loaded")
