@@ -123,7 +123,7 @@ def _document(element: ElementTree.Element, role: str) -> Document | None:
     return None if functional is None else Document(functional, functional=True)
 
 
-def _manifest() -> tuple[list[Case], dict[str, str]]:
+def _manifest() -> tuple[list[Case], dict[str, Document]]:
     """The cases, and the imported ontologies' documents by ontology IRI."""
     root = ElementTree.parse(MANIFEST).getroot()
     cases = [
@@ -144,18 +144,16 @@ def _manifest() -> tuple[list[Case], dict[str, str]]:
         iri = element.find(TEST + "importedOntologyIRI")
         document = _text(element, "rdfXmlInputOntology")
         if iri is not None and document is not None:
-            imported[f"<{iri.attrib[RDF + 'resource']}>"] = document
+            imported[f"<{iri.attrib[RDF + 'resource']}>"] = Document(document, functional=False)
     return cases, imported
 
 
 CASES, IMPORTED = _manifest()
 
 
-def _graph(document: Document | str) -> list[Fact]:
+def _graph(document: Document) -> list[Fact]:
     """The document's triples; functional syntax is mapped to RDF by py-horned-owl (the OWL 2
     mapping to RDF graphs), as Engram's REASON reads RDF only."""
-    if isinstance(document, str):
-        document = Document(document, functional=False)
     text = document.text
     if document.functional:
         text = pyhornedowl.open_ontology_from_string(text, "ofn").save_to_string("rdf")
@@ -175,13 +173,15 @@ def _premise(case: Case) -> list[Fact]:
     return facts
 
 
-def _members(facts: list[Fact], head: str) -> list[str]:
+def _members(facts: list[Fact], head: str) -> tuple[list[str], set[str]]:
+    """The members of the RDF list at ``head``, and its cells."""
     by_subject = {(s, p): o for s, p, o in facts}
-    members = []
-    while head in {s for s, _ in by_subject} and (head, RDF_FIRST) in by_subject:
+    members, cells = [], set()
+    while (head, RDF_FIRST) in by_subject:
         members.append(by_subject[head, RDF_FIRST])
+        cells.add(head)
         head = by_subject.get((head, RDF_REST), "")
-    return members
+    return members, cells
 
 
 def _split(conclusion: list[Fact]) -> tuple[list[Fact], list[tuple[str, str]]]:
@@ -196,9 +196,9 @@ def _split(conclusion: list[Fact]) -> tuple[list[Fact], list[tuple[str, str]]]:
         if p == f"<{OWL}differentFrom>":
             pairs.append((s, o))
         elif s in all_different and p in (f"<{OWL}members>", f"<{OWL}distinctMembers>"):
-            members = _members(conclusion, o)
+            members, list_cells = _members(conclusion, o)
             pairs += [(a, b) for i, a in enumerate(members) for b in members[i + 1 :]]
-            cells |= {c for c, q, _ in conclusion if q in (RDF_FIRST, RDF_REST)}
+            cells |= list_cells
     triples = [
         (s, p, o)
         for s, p, o in conclusion
@@ -220,8 +220,12 @@ def _entailed(premise: list[Fact], facts: set[Fact], conclusion: list[Fact]) -> 
     return entails(facts, triples) and all(_different(premise, facts, a, b) for a, b in pairs)
 
 
-REASONING = {"ConsistencyTest", "InconsistencyTest", "PositiveEntailmentTest"}
-REASONING |= {"NegativeEntailmentTest"}
+REASONING = {
+    "ConsistencyTest",
+    "InconsistencyTest",
+    "PositiveEntailmentTest",
+    "NegativeEntailmentTest",
+}
 
 
 def _params() -> list[object]:
