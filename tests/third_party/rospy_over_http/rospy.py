@@ -30,9 +30,6 @@ __all__ = [
 base_url = ""
 """The Engram server that answers the services (``http://127.0.0.1:<port>``)."""
 
-calls = 0
-"""How many service calls were made (the tests report it)."""
-
 _http = httpx.Client(timeout=60.0)  # one connection, kept alive, as a ROS persistent proxy
 
 _log = logging.getLogger("rospy")
@@ -69,8 +66,6 @@ class ServiceProxy:
         return self.call(*args, **kwds)
 
     def call(self, *args: Any, **kwds: Any) -> Any:
-        global calls
-        calls += 1
         request = self._request(args, kwds)
         try:
             answer = _http.post(base_url + self.resolved_name, json=_to_json(request))
