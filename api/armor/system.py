@@ -15,6 +15,7 @@ from api.armor.files import FileAccess
 from api.armor.names import is_true
 from api.armor.rdfio import file_kind, parse_ontology, write_ontology
 from api.armor.references import NOBODY, Reference, check_reference_name
+from kg.skolem import is_skolem
 from ontologies.vocab import OWL_ONTOLOGY, RDF_TYPE
 
 __all__ = ["HANDLERS", "REASONERS"]
@@ -194,7 +195,11 @@ def _save(ctx: Context, *, inference: bool) -> Outcome:
         quads += [
             Quad(row["s"], row["p"], row["o"], reference.asserted)  # type: ignore[arg-type]
             for row in rows
-            if isinstance(row.get("s"), NamedNode) and isinstance(row.get("p"), NamedNode)
+            # ARMOR exports what the OWL API's reasoner answers: named classes, individuals and
+            # literals, never a class expression (a skolem IRI here)
+            if isinstance(row.get("s"), NamedNode)
+            and isinstance(row.get("p"), NamedNode)
+            and not (is_skolem(row["s"]) or is_skolem(row.get("o")))
         ]
     write_ontology(list(dict.fromkeys(quads)), ctx.files.path(target), kind)
     log.info("SAVE %s to %s (%d triples)", reference.name, target, len(quads))

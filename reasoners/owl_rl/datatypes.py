@@ -152,6 +152,9 @@ def _floating(lexical: str, single: bool) -> tuple[str, object] | None:
     """An xsd:double or xsd:float value; None when malformed or out of the type's range."""
     if not _FLOAT.fullmatch(lexical):
         return None
+    space = "float" if single else "double"
+    if lexical == "NaN":
+        return (space, "NaN")  # OWL 2: equality is identity, so NaN is equal to itself
     number = float(lexical.replace("INF", "inf"))
     if math.isfinite(number) or "INF" in lexical:
         limit, smallest = (3.4028235e38, 1.4e-45) if single else (math.inf, 0.0)
@@ -160,7 +163,9 @@ def _floating(lexical: str, single: bool) -> tuple[str, object] | None:
             return None
         if mantissa and (number == 0 or abs(number) < smallest):
             return None  # underflow: a non-zero lexical form the type cannot hold
-        return ("float" if single else "double", number)
+        if number == 0:  # OWL 2: -0 and +0 are distinct values (XML Schema calls them equal)
+            return (space, ("zero", math.copysign(1.0, number)))
+        return (space, number)
     return None
 
 

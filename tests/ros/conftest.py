@@ -1,27 +1,21 @@
 """A real ROS master and ``engram ros`` per test module, and rospy clients of its services."""
 
 import gc
-import json
 import os
 import tempfile
-import uuid
 import warnings
 from collections.abc import Iterator
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-import httpx
 import numpy as np
 import pytest
 
 from api.armor.models import (
-    ArmorDirectiveListReq,
     ArmorDirectiveReq,
     ArmorDirectiveRes,
-    ArmorRequest,
 )
-from api.client import ArmorClient
 from api.ros._ros import rospy
 from api.ros.convert import response_of, ros_request
 from api.ros.messages import ArmorMsgs, armor_msgs
@@ -159,38 +153,3 @@ def engram_ros(launched: Launched) -> Path:
 @pytest.fixture
 def ros_armor(engram_ros: Path, ros_master: Master) -> RosArmor:
     return RosArmor(ros_master.uri)
-
-
-class RosTransport(httpx.BaseTransport):
-    """api.client's requests (armor_py_api's calls) carried by rospy's ServiceProxy."""
-
-    def __init__(self, ros: RosArmor) -> None:
-        self.ros = ros
-
-    def handle_request(self, request: httpx.Request) -> httpx.Response:
-        body = json.loads(request.read())
-        try:
-            if request.url.path.endswith("/armor_interface_srv"):
-                one = ArmorRequest.model_validate(body).armor_request
-                answer = {"armor_response": self.ros.execute(one).model_dump()}
-            else:
-                many = ArmorDirectiveListReq.model_validate(body).armor_requests
-                result = self.ros.execute_list(many)
-                answer = {
-                    "success": result.success,
-                    "is_consistent": result.is_consistent,
-                    "armor_responses": [
-                        response_of(r).model_dump() for r in result.armor_responses
-                    ],
-                }
-        except rospy.ServiceException as error:
-            return httpx.Response(500, json={"detail": str(error)})
-        return httpx.Response(200, json=answer)
-
-
-@pytest.fixture
-def py_api_client(ros_armor: RosArmor) -> Iterator[ArmorClient]:
-    """armor_py_api's ``ArmorClient("client", "reference")`` (as api.client), over ROS."""
-    http = httpx.Client(base_url="http://ros", transport=RosTransport(ros_armor))
-    with ArmorClient("client", "reference_" + uuid.uuid4().hex[:8], http=http) as client:
-        yield client

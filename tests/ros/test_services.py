@@ -10,7 +10,6 @@ from pathlib import Path
 import pytest
 
 from api.armor.models import ArmorDirectiveListRes
-from api.client import ArmorClient
 from api.ros._ros import rosgraph, rospy
 from api.ros.convert import response_of
 from tests.conftest import LiveServer
@@ -19,6 +18,13 @@ from tests.ros.sequences import (
     armor_py_api_client_test,
     directives,
     every_family,
+)
+from tests.third_party.load_armor_py_api import (
+    CLIENT_TEST_OUTPUT,
+    VENDORED,
+    armor_py_api,
+    individuals,
+    run_client_test,
 )
 
 
@@ -65,28 +71,15 @@ def test_a_directive_list_is_one_transaction_over_ros(ros_armor: RosArmor) -> No
     assert ros_armor.execute(query).queried_objects == []
 
 
-def test_armor_py_api_client_test_runs_unchanged_over_ros(py_api_client: ArmorClient) -> None:
-    """armor_py_api's client_test.py, call for call (api.client keeps armor_py_api's names)."""
-    client = py_api_client
-    steps = armor_py_api_client_test()
-    owl, iri = steps[0][3][0], steps[0][3][1]
-    client.utils.load_ref_from_file(owl, iri, True, "PELLET", True, False)
-    client.utils.mount_on_ref()
-    client.utils.set_log_to_terminal(True)
-    client.manipulation.add_ind_to_class("ind_1", "Class_1")
-    client.manipulation.add_ind_to_class("ind_2", "Class_2")
-    client.manipulation.add_ind_to_class("ind_3", "Class_3")
-    client.manipulation.add_objectprop_to_ind("OProperty_1", "ind_1", "ind_3")
-    client.manipulation.add_objectprop_to_ind("OProperty_2", "ind_1", "ind_2")
-    client.manipulation.add_dataprop_to_ind("DProperty_1", "ind_1", "INTEGER", "1")
-    client.manipulation.replace_dataprop_b2_ind("DProperty_1", "ind_1", "INTEGER", "3", "1")
-    client.utils.apply_buffered_changes()
-    client.utils.sync_buffered_reasoner()
-    assert client.query.check_ind_exists("ind_1")
-    # "Success! ind_1 is in Class_4 now!": the reasoner classified it
-    assert "ind_1" in client.query.ind_b2_class("Class_4")
-    assert client.query.dataprop_b2_ind("DProperty_1", "ind_1") == ['"3"^^xsd:integer']
-    client.utils.unmount_from_ref()
+def test_armor_py_api_client_test_runs_unchanged_over_ros(
+    ros_armor: RosArmor, tmp_path: Path
+) -> None:
+    """armor_py_api itself (vendored, tests/third_party), over rospy: its ``client_test.py`` as
+    a script, and the file it makes the node save holds what ARMOR saved for it."""
+    with armor_py_api(stand_in=False):
+        printed, saved = run_client_test(tmp_path)
+    assert printed == CLIENT_TEST_OUTPUT
+    assert individuals(saved) == individuals(VENDORED / "test" / "inferred_test.owl")
 
 
 def test_the_same_sequence_as_one_list(ros_armor: RosArmor) -> None:

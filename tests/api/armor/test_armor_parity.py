@@ -1,6 +1,6 @@
-"""Answers that differ from ARMOR's unless the store keeps literal datatypes, SWRL sees
-``disj_inds_of_class``, and names print as ARMOR prints them (docs/armor-differences in the
-README's ARMOR section)."""
+"""Answers that differ from ARMOR's unless the store keeps literal datatypes and names print as
+ARMOR prints them, in SPARQL and SAVE too (the README's ARMOR section). armor_py_api's own calls
+for the same differences, and SWRL after ``disj_inds_of_class``, are in test_armor_py_api.py."""
 
 from collections.abc import Callable
 from pathlib import Path
@@ -100,57 +100,3 @@ def test_a_buffered_reasoner_answers_from_the_ontology_as_loaded(
     assert armor.call("LOAD", "FILE", "", args, ref=ref)["success"]
     members = armor.call("QUERY", "IND", "CLASS", ["Room"], ref=ref)["queried_objects"]
     assert members == [f"<{iri}#k1>"]
-
-
-RULE = """
-@prefix : <{iri}#> . @prefix swrl: <http://www.w3.org/2003/11/swrl#> .
-@prefix owl: <http://www.w3.org/2002/07/owl#> .
-<{iri}> a owl:Ontology . :Room a owl:Class . :hasDoor a owl:ObjectProperty .
-:connectedTo a owl:ObjectProperty .
-<urn:swrl:var#r> a swrl:Variable . <urn:swrl:var#s> a swrl:Variable .
-<urn:swrl:var#d> a swrl:Variable .
-[ a swrl:Imp ;
-  swrl:body (
-    [ a swrl:IndividualPropertyAtom ; swrl:propertyPredicate :hasDoor ;
-      swrl:argument1 <urn:swrl:var#r> ; swrl:argument2 <urn:swrl:var#d> ]
-    [ a swrl:IndividualPropertyAtom ; swrl:propertyPredicate :hasDoor ;
-      swrl:argument1 <urn:swrl:var#s> ; swrl:argument2 <urn:swrl:var#d> ]
-    [ a swrl:DifferentIndividualsAtom ;
-      swrl:argument1 <urn:swrl:var#r> ; swrl:argument2 <urn:swrl:var#s> ] ) ;
-  swrl:head (
-    [ a swrl:IndividualPropertyAtom ; swrl:propertyPredicate :connectedTo ;
-      swrl:argument1 <urn:swrl:var#r> ; swrl:argument2 <urn:swrl:var#s> ] ) ] .
-"""
-
-
-def test_swrl_rules_see_the_individuals_disj_inds_of_class_declared_different(
-    armor: Armor, ref: str, tmp_path: Path
-) -> None:
-    """The calls armor_py_api makes for a surveillance map: add_ind_to_class, add_objectprop_to_ind,
-    disj_inds_of_class, reason, query.objectprop_b2_ind."""
-    iri = "http://ex.org/map"
-    source = tmp_path / "map.ttl"
-    source.write_text(RULE.format(iri=iri))
-    assert armor.call("LOAD", "FILE", "", [str(source), iri, "true", "PELLET", "true"], ref=ref)[
-        "success"
-    ]
-    for room, doors in {"R1": ["D1"], "C1": ["D1", "D2"], "R2": ["D2"]}.items():
-        assert armor.call("ADD", "IND", "CLASS", [room, "Room"], ref=ref)["success"]
-        for door in doors:
-            assert armor.call("ADD", "OBJECTPROP", "IND", ["hasDoor", room, door], ref=ref)[
-                "success"
-            ]
-    assert armor.call("DISJOINT", "IND", "CLASS", ["Room"], ref=ref)["success"]
-    assert armor.call("APPLY", "", "", [], ref=ref)["success"]
-    assert armor.call("REASON", "", "", [], ref=ref)["success"]
-    connected = {
-        room: armor.call("QUERY", "OBJECTPROP", "IND", ["connectedTo", room], ref=ref)[
-            "queried_objects"
-        ]
-        for room in ("R1", "C1", "R2")
-    }
-    assert connected == {
-        "R1": [f"<{iri}#C1>"],
-        "C1": [f"<{iri}#R1>", f"<{iri}#R2>"],
-        "R2": [f"<{iri}#C1>"],
-    }

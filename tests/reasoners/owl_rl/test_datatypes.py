@@ -89,6 +89,8 @@ def test_every_datatype_of_the_map_is_a_datatype(load: Loader) -> None:  # dt-ty
         ),
         (":v a owl:FunctionalProperty . :a :v 5 , 6 .", "dt-diff"),
         (':v a owl:FunctionalProperty . :a :v "5"^^xsd:integer , "5.0E0"^^xsd:double .', "dt-diff"),
+        # OWL 2's floating-point equality is identity: +0 and -0 are two values
+        (':v a owl:FunctionalProperty . :a :v "+0.0"^^xsd:float , "-0.0"^^xsd:float .', "dt-diff"),
     ],
 )
 def test_literals_outside_their_datatype_or_equal_but_different_are_inconsistent(
@@ -97,6 +99,18 @@ def test_literals_outside_their_datatype_or_equal_but_different_are_inconsistent
     store = load(PREFIXES + turtle)
     report = is_consistent(store, asserted=ASSERTED, inferred=INFERRED)
     assert rule in {clash.rule for clash in report.clashes}, report.clashes
+
+
+@pytest.mark.parametrize(
+    "turtle",
+    [
+        ':a :v "NaN"^^xsd:double , "NaN"^^xsd:float , "-INF"^^xsd:double .',
+        ':v a owl:FunctionalProperty . :a :v "0.0"^^xsd:double , "0"^^xsd:double .',
+    ],
+)
+def test_nan_is_a_value_and_zeros_of_one_sign_are_equal(load: Loader, turtle: str) -> None:
+    report = is_consistent(load(PREFIXES + turtle), asserted=ASSERTED, inferred=INFERRED)
+    assert report.consistent, report.clashes
 
 
 def test_literals_with_equal_values_are_the_same(load: Loader) -> None:  # dt-eq
