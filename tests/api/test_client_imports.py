@@ -12,7 +12,7 @@ SERVER_SIDE = ("pyoxigraph", "numpy", "open3d", "reasoners", "kg", "episodes", "
 PROBE = """
 import json, sys
 import api.client
-from api.client import ArmorClient, ScenePrimitive
+from api.client import ArmorClient, Primitive
 print(json.dumps(sorted(sys.modules)))
 """
 

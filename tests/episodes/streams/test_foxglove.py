@@ -27,8 +27,8 @@ from episodes.streams.foxglove import (
 from episodes.streams.mcapread import McapFile
 from episodes.streams.recorder import mcap_file
 from kg import Store
+from kg.primitive import Primitive
 from reasoners.memory import SceneMemory
-from reasoners.primitives import Primitive
 
 START = dt.datetime(2026, 1, 26, 8, 0, tzinfo=dt.UTC)
 T0 = int(START.timestamp() * 1e9)

@@ -2,8 +2,8 @@
 
 import pytest
 
-from reasoners.errors import InvalidPrimitiveError
-from reasoners.primitives import Primitive
+from kg.errors import InvalidPrimitiveError
+from kg.primitive import Primitive
 
 GOOD = {"id": "a", "kind": "Cylinder", "centre": (0, 0, 0), "axis": (0, 0, 1)}
 

@@ -1,25 +1,48 @@
-"""What perception hands the scene memory: geometric primitives of one scene.
+"""The one primitive type: what perception sees, the client sends, the memory stores and reads back.
+
+A primitive is one perceived object approximated by a sphere, cylinder, cone or plane. Every
+layer uses this type: the Python client sends it (:mod:`api.client`), the ARMOR engine parses
+the ``ADD DATAPROP IND`` directives into it, the scene memory encodes it, :mod:`kg.scene_triples`
+writes it as triples and reads it back, and the views return it as JSON. This module imports
+only the standard library and :mod:`kg.errors`, so a robot importing the client loads nothing of
+the store.
 
 Frame (SIT v1): x points to the observer's right, y away from the observer (behind), z up.
 Lengths are metres. Axes (a plane's normal) are stored as unit vectors.
+
+Its attributes carry the names of Engram's ontology (``centreX``, ``radius``, ``trackingId``:
+:data:`ATTRIBUTES`), which name the ARMOR directives and the stored triples alike;
+:meth:`Primitive.attributes` and :meth:`Primitive.from_attributes` convert both ways.
 
 >>> ball = Primitive("ball", "Sphere", centre=(0.3, 0.3, 0.3), radius=0.05)
 >>> table = Primitive("table", "Plane", centre=(0.3, 0.1, 0.1), axis=(0, 0, 2))
 >>> table.axis
 (0.0, 0.0, 1.0)
+>>> ball.attributes()
+{'centreX': 0.3, 'centreY': 0.3, 'centreZ': 0.3, 'radius': 0.05}
+>>> Primitive.from_attributes("ball", "Sphere", ball.attributes()) == ball
+True
 >>> Primitive("x", "Cube", centre=(0, 0, 0))  # doctest: +ELLIPSIS
 Traceback (most recent call last):
 ...
-reasoners.errors.InvalidPrimitiveError: primitive 'x': kind: got 'Cube', expected one of ...
+kg.errors.InvalidPrimitiveError: primitive 'x': kind: got 'Cube', expected one of ...
 """
 
 import math
+from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import Literal
 
-from reasoners.errors import InvalidPrimitiveError
+from kg.errors import InvalidPrimitiveError
 
-__all__ = ["KINDS", "ORIENTABLE_KINDS", "Kind", "Primitive", "Vector"]
+__all__ = [
+    "ATTRIBUTES",
+    "KINDS",
+    "ORIENTABLE_KINDS",
+    "Kind",
+    "Primitive",
+    "Vector",
+]
 
 Kind = Literal["Sphere", "Cylinder", "Cone", "Plane"]
 KINDS: tuple[Kind, ...] = ("Sphere", "Cylinder", "Cone", "Plane")
@@ -27,6 +50,29 @@ ORIENTABLE_KINDS = frozenset({"Cylinder", "Cone", "Plane"})
 Vector = tuple[float, float, float]
 
 _ONLY_FOR = {"apex": "Cone", "point_on_axis": "Cylinder", "hessian": "Plane"}
+_VECTOR_ATTRIBUTES: dict[str, tuple[str, str, str]] = {
+    "centre": ("centreX", "centreY", "centreZ"),
+    "axis": ("axisX", "axisY", "axisZ"),
+    "apex": ("apexX", "apexY", "apexZ"),
+    "point_on_axis": ("pointOnAxisX", "pointOnAxisY", "pointOnAxisZ"),
+    "colour": ("colourR", "colourG", "colourB"),
+}
+_NUMBER_ATTRIBUTES = {
+    "radius": "radius",
+    "height": "height",
+    "hessian": "hessianOffset",
+    "tracking_id": "trackingId",
+}
+ATTRIBUTES: dict[str, tuple[str, int | None]] = {
+    **{
+        name: (field, i)
+        for field, names in _VECTOR_ATTRIBUTES.items()
+        for i, name in enumerate(names)
+    },
+    **{name: (field, None) for field, name in _NUMBER_ATTRIBUTES.items()},
+}
+"""Each attribute's name in Engram's ontology -> (the :class:`Primitive` field, the component
+index for a vector field, None for a number)."""
 
 
 @dataclass(frozen=True)
@@ -38,8 +84,8 @@ class Primitive:
     ``hessian`` (offset d of n . x + d = 0) for planes. ``radius`` and ``height`` are positive,
     ``colour`` is RGB in [0, 1], ``tracking_id`` a non-negative integer.
 
-    Raises :class:`~reasoners.errors.InvalidPrimitiveError` (a ``ValueError``) naming the field,
-    the value and what was expected.
+    Raises :class:`~kg.errors.InvalidPrimitiveError` (a ``ValueError``) naming the primitive,
+    the field, the value and what was expected.
     """
 
     id: str
@@ -102,6 +148,56 @@ class Primitive:
             or self.tracking_id < 0
         ):
             self._fail("tracking_id", self.tracking_id, "a non-negative integer")
+
+    @classmethod
+    def from_attributes(
+        cls, id: str, kind: str, attributes: Mapping[str, float | int]
+    ) -> "Primitive":
+        """The primitive whose attributes, named as in Engram's ontology (:data:`ATTRIBUTES`),
+        are ``attributes``: the inverse of :meth:`attributes`.
+
+        Raises :class:`~kg.errors.InvalidPrimitiveError` for a name that is no attribute, a
+        vector given in part (``centreX`` without ``centreY``), no centre, a ``trackingId``
+        that is not a whole number, and whatever the constructor refuses.
+        """
+        fields: dict[str, object] = {}
+        vectors: dict[str, list[float | int | None]] = {}
+        for name, value in attributes.items():
+            if name not in ATTRIBUTES:
+                raise InvalidPrimitiveError(
+                    f"primitive {id!r}: attribute: got {name!r}, expected one of "
+                    f"{', '.join(ATTRIBUTES)}"
+                )
+            field, index = ATTRIBUTES[name]
+            if index is None:
+                fields[field] = value
+            else:
+                vectors.setdefault(field, [None, None, None])[index] = value
+        for field, vector in vectors.items():
+            if None in vector:
+                missing = _VECTOR_ATTRIBUTES[field][vector.index(None)]
+                raise InvalidPrimitiveError(f"primitive {id!r}: {field} lacks its {missing[-1]}")
+            fields[field] = tuple(vector)
+        if "centre" not in fields:
+            raise InvalidPrimitiveError(f"primitive {id!r}: no centre (centreX/Y/Z)")
+        tracking = fields.get("tracking_id")
+        if isinstance(tracking, float) and tracking.is_integer():
+            fields["tracking_id"] = int(tracking)
+        return cls(id, kind, **fields)  # type: ignore[arg-type]
+
+    def attributes(self) -> dict[str, float | int]:
+        """The set attributes, named as in Engram's ontology (:data:`ATTRIBUTES`), in the
+        order a client sends them: ``{"centreX": 0.3, ..., "radius": 0.05}``."""
+        out: dict[str, float | int] = {}
+        for field, names in _VECTOR_ATTRIBUTES.items():
+            vector = getattr(self, field)
+            if vector is not None:
+                out.update(zip(names, vector, strict=True))
+        for field, name in _NUMBER_ATTRIBUTES.items():
+            value = getattr(self, field)
+            if value is not None:
+                out[name] = value
+        return out
 
     @property
     def orientable(self) -> bool:
