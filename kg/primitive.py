@@ -49,6 +49,9 @@ KINDS: tuple[Kind, ...] = ("Sphere", "Cylinder", "Cone", "Plane")
 ORIENTABLE_KINDS = frozenset({"Cylinder", "Cone", "Plane"})
 Vector = tuple[float, float, float]
 
+_UNIT_TOLERANCE = 1e-12
+"""An axis whose length is this close to 1 is unit already; dividing it again by its computed
+length could change its last bits, so normalising would not be idempotent."""
 _ONLY_FOR = {"apex": "Cone", "point_on_axis": "Cylinder", "hessian": "Plane"}
 _VECTOR_ATTRIBUTES: dict[str, tuple[str, str, str]] = {
     "centre": ("centreX", "centreY", "centreZ"),
@@ -80,9 +83,10 @@ class Primitive:
     """One perceived object, approximated by a sphere, cylinder, cone or plane.
 
     ``axis`` is required for cylinders, cones (axis) and planes (normal) and refused for spheres;
-    it is normalised to unit length. ``apex`` is for cones, ``point_on_axis`` for cylinders,
-    ``hessian`` (offset d of n . x + d = 0) for planes. ``radius`` and ``height`` are positive,
-    ``colour`` is RGB in [0, 1], ``tracking_id`` a non-negative integer.
+    it is normalised to unit length (one within 1e-12 of it is kept as given). ``apex`` is for
+    cones, ``point_on_axis`` for cylinders, ``hessian`` (offset d of n . x + d = 0) for planes.
+    ``radius`` and ``height`` are positive, ``colour`` is RGB in [0, 1], ``tracking_id`` a
+    non-negative integer.
 
     Raises :class:`~kg.errors.InvalidPrimitiveError` (a ``ValueError``) naming the primitive,
     the field, the value and what was expected.
@@ -115,7 +119,9 @@ class Primitive:
             norm = math.hypot(*axis)  # no overflow: (1e200, 0, 0) is a fine direction
             if not norm >= 1e-9 or not math.isfinite(norm):
                 self._fail("axis", self.axis, "a non-zero 3-vector")
-            self._set("axis", (axis[0] / norm, axis[1] / norm, axis[2] / norm))
+            if abs(norm - 1.0) > _UNIT_TOLERANCE:  # a unit axis stays as given: reads back equal
+                axis = (axis[0] / norm, axis[1] / norm, axis[2] / norm)
+            self._set("axis", axis)
         elif self.axis is not None:
             self._fail("axis", self.axis, "None (a sphere has no axis)")
         for name in ("radius", "height"):

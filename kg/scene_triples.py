@@ -3,7 +3,7 @@
 An experienced scene ``<scene> engram:hasPrimitive <scene>-0, <scene>-1, ...``; each primitive
 is its kind (``rdf:type engram:Sphere``), its id (``rdfs:label``) and one literal per attribute,
 named as in Engram's ontology (:data:`kg.primitive.ATTRIBUTES`). The scene memory writes them
-with :func:`primitive_quads` (``reasoners.persist.write_item``); the views, the episodes' scene
+with :func:`write_primitive` (``reasoners.persist.write_item``); the views, the episodes' scene
 channel and anyone else read them back with :func:`read_scene` or :func:`read_primitive`, so
 that what is read is exactly what was written:
 
@@ -15,40 +15,36 @@ that what is read is exactly what was written:
 >>> member = engram("Scene-1-experience-1-0")
 >>> with store.transaction() as tx:
 ...     tx.insert(scene, HAS_PRIMITIVE, member, EPISODIC)
-...     for quad in primitive_quads(member, ball, EPISODIC):
-...         tx.insert(quad.subject, quad.predicate, quad.object, quad.graph_name)
+...     write_primitive(tx, member, ball, EPISODIC)
 >>> read_scene(store, scene, EPISODIC) == [(member, ball)]
 True
 """
 
-from pyoxigraph import Literal, NamedNode, Quad
+from pyoxigraph import Literal, NamedNode
 
 from kg.errors import InvalidPrimitiveError
 from kg.primitive import ATTRIBUTES, KINDS, Kind, Primitive
-from kg.transaction import QuadReader
+from kg.transaction import QuadReader, Transaction
 from ontologies.vocab import ENGRAM_NS, HAS_PRIMITIVE, RDF_TYPE, RDFS_LABEL, engram
 
-__all__ = ["primitive_quads", "read_primitive", "read_scene"]
+__all__ = ["read_primitive", "read_scene", "write_primitive"]
 
 _KINDS: dict[str, Kind] = {engram(kind).value: kind for kind in KINDS}
 
 
-def primitive_quads(iri: NamedNode, primitive: Primitive, graph: NamedNode) -> list[Quad]:
-    """The quads that store ``primitive`` as ``iri`` in ``graph``: its kind, its id and one
-    literal per set attribute (``xsd:double``, ``xsd:integer`` for the tracking id)."""
-    quads = [
-        Quad(iri, RDF_TYPE, engram(primitive.kind), graph),
-        Quad(iri, RDFS_LABEL, Literal(primitive.id), graph),
-    ]
-    quads += [
-        Quad(iri, engram(name), Literal(value), graph)
-        for name, value in primitive.attributes().items()
-    ]
-    return quads
+def write_primitive(
+    tx: Transaction, iri: NamedNode, primitive: Primitive, graph: NamedNode
+) -> None:
+    """Store ``primitive`` as ``iri`` in ``graph``: its kind, its id and one literal per set
+    attribute (``xsd:double``, ``xsd:integer`` for the tracking id)."""
+    tx.insert(iri, RDF_TYPE, engram(primitive.kind), graph)
+    tx.insert(iri, RDFS_LABEL, Literal(primitive.id), graph)
+    for name, value in primitive.attributes().items():
+        tx.insert(iri, engram(name), Literal(value), graph)
 
 
 def read_primitive(store: QuadReader, iri: NamedNode, graph: NamedNode) -> Primitive | None:
-    """The primitive ``iri`` as :func:`primitive_quads` wrote it into ``graph`` (the episodic
+    """The primitive ``iri`` as :func:`write_primitive` wrote it into ``graph`` (the episodic
     graph, or the trash after forgetting); None when ``graph`` holds no valid primitive there
     (no kind, no centre, an attribute out of range)."""
     kind: Kind | None = None

@@ -41,7 +41,7 @@ from collections.abc import Iterable, Mapping, Sequence
 from pyoxigraph import BlankNode, Literal, NamedNode, Quad
 
 from kg.primitive import Primitive
-from kg.scene_triples import primitive_quads
+from kg.scene_triples import write_primitive
 from kg.skolem import is_skolem
 from kg.store import Store
 from kg.transaction import Transaction
@@ -346,8 +346,7 @@ def write_item(
     iris = [NamedNode(f"{item.value}-{k}") for k in range(len(primitives))]
     for iri, primitive in zip(iris, primitives, strict=True):
         tx.insert(item, HAS_PRIMITIVE, iri, graph)
-        for quad in primitive_quads(iri, primitive, graph):
-            tx.insert(quad.subject, quad.predicate, quad.object, graph)
+        write_primitive(tx, iri, primitive, graph)
     for relation in relations:
         tx.insert(iris[relation.subject], relation.relation, iris[relation.object], graph)
     return iris

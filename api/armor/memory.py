@@ -247,7 +247,7 @@ def _cue(ctx: Context) -> list[Any]:
                 )
             cue.append(tuple(parts))
         return cue
-    draft = ctx.session.scene(_key(ctx))
+    draft: SceneDraft | None = ctx.session.scene(_key(ctx))
     if draft is None:
         raise MemoryDirectiveError(
             "RETRIEVE SCENE: give the cue as args ('Sphere isAboveOf Plane', ...) or send it "
