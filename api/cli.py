@@ -251,8 +251,7 @@ def export_command(
 ) -> None:
     """Export the T-Box and the memory as one OWL ontology for Protégé."""
     from api.services import Services
-    from kg import DEFAULT_GRAPHS, export
-    from kg.export import FORMATS
+    from kg.export import DEFAULT_GRAPHS, FORMATS, export
 
     names = _graph_names(graphs) or list(DEFAULT_GRAPHS)
     if format not in FORMATS:

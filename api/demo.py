@@ -25,7 +25,8 @@ from api.ask.dialogue import questions_for, talk
 from api.client import ArmorClient, LocalTransport
 from api.perceive import perceive
 from episodes import ArgumentSpec, Cue, EpisodeMemory
-from kg import Store, export
+from kg import Store
+from kg.export import export
 from reasoners.memory import SceneMemory
 from reasoners.results import ItemScores
 from shapes import Frame, Perception

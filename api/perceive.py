@@ -10,8 +10,9 @@ from collections.abc import Iterable, Iterator
 from dataclasses import dataclass
 from enum import IntEnum
 
-from api.client import ArmorClient, MemoryAnswer, ScenePrimitive
-from shapes import Frame, Perception, Primitive, StableScene
+from api.client import ArmorClient, MemoryAnswer, Primitive
+from shapes import Frame, Perception, StableScene
+from shapes import Primitive as Shape
 
 __all__ = ["PerceiveExit", "PerceivedScene", "exit_status", "perceive", "scene_primitives"]
 
@@ -56,36 +57,27 @@ class PerceivedScene:
         return self.answer.details.get("learned") == ["true"]
 
 
-def _name(primitive: Primitive, position: int) -> str:
+def _name(primitive: Shape, position: int) -> str:
     kind = primitive.kind.value.lower()
     ident = primitive.tracking_id if primitive.tracking_id is not None else position
     return f"{kind}{ident}"
 
 
-def scene_primitives(scene: StableScene) -> list[ScenePrimitive]:
+def scene_primitives(scene: StableScene) -> list[Primitive]:
     """The scene's averaged primitives as the memory client sends them: its objects, then
     the supports they stand on (Planes), so one mug on a table is a scene of two.
 
+    Raises :class:`~kg.errors.InvalidPrimitiveError` (a ``ValueError``) for a shape that no
+    primitive can be (a non-finite or non-positive size).
+
     >>> from shapes import ShapeKind, StableScene
-    >>> ball = Primitive(ShapeKind.SPHERE, centre=(0.1, 0.2, 0.05), radius=0.05, tracking_id=3)
-    >>> [p.name for p in scene_primitives(StableScene(0, None, (ball,), {}, 5))]
-    ['sphere3']
+    >>> ball = Shape(ShapeKind.SPHERE, centre=(0.1, 0.2, 0.05), radius=0.05, tracking_id=3)
+    >>> [(p.id, p.radius) for p in scene_primitives(StableScene(0, None, (ball,), {}, 5))]
+    [('sphere3', 0.05)]
     """
     return [
-        ScenePrimitive(
-            name=_name(p, position),
-            kind=p.kind.value,
-            centre=p.centre,
-            axis=p.axis,
-            radius=p.radius,
-            height=p.height,
-            apex=p.apex,
-            point_on_axis=p.point_on_axis,
-            hessian=p.hessian_offset,
-            colour=p.colour,
-            tracking_id=p.tracking_id,
-        )
-        for position, p in enumerate(scene.primitives + scene.supports)
+        Primitive.from_attributes(_name(shape, position), shape.kind.value, shape.attributes())
+        for position, shape in enumerate(scene.primitives + scene.supports)
     ]
 
 

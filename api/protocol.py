@@ -1,7 +1,14 @@
-"""The ROS messages of ``armor_msgs`` as JSON models, field for field, with the ROS defaults.
+"""The ROS messages of ``armor_msgs`` as JSON models, field for field, with the ROS defaults,
+and the one primitive type the client sends and the memory stores.
 
 The wire protocol shared by the server and the robot-side client (:mod:`api.client`): this
-module needs pydantic only, so that a robot importing the client loads nothing of the server.
+module needs pydantic and :mod:`kg.primitive` (the standard library only) so that a robot
+importing the client loads nothing of the server or the store.
+
+A primitive travels as ARMOR directives (``ADD IND CLASS``, ``ADD DATAPROP IND centreX ...``:
+:func:`api.client.primitive_directives`), which the engine parses back into a
+:class:`~kg.primitive.Primitive`; the views return it as JSON, validated by pydantic from the
+same dataclass.
 
 >>> ArmorDirectiveReq(command="query").command
 'query'
@@ -11,6 +18,8 @@ module needs pydantic only, so that a robot importing the client loads nothing o
 
 from pydantic import BaseModel, ConfigDict, Field
 
+from kg.primitive import Primitive
+
 __all__ = [
     "ArmorDirectiveListReq",
     "ArmorDirectiveListRes",
@@ -18,6 +27,7 @@ __all__ = [
     "ArmorDirectiveRes",
     "ArmorRequest",
     "ArmorResponse",
+    "Primitive",
     "QueryItem",
 ]
 

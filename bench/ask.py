@@ -42,9 +42,9 @@ from episodes import ArgumentSpec, EpisodeMemory, MemorySnapshot
 from episodes.terms import episode_iri
 from episodes.times import to_literal
 from kg import Store
+from kg.primitive import KINDS, Primitive
 from ontologies.vocab import EPISODES, PROV_NS
 from reasoners.memory import SceneMemory
-from reasoners.primitives import KINDS, Primitive
 
 STARTED, ENDED = NamedNode(PROV_NS + "startedAtTime"), NamedNode(PROV_NS + "endedAtTime")
 ACTIVITIES = ("motor babbling", "pointing", "waving", "giving", "taking", "stacking")

@@ -22,7 +22,7 @@ import httpx
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
-from api.client import ArmorClient, ScenePrimitive
+from api.client import ArmorClient, Primitive
 from api.config import Settings
 from api.main import create_app
 from tests.conftest import free_port, serve
@@ -30,11 +30,11 @@ from tests.conftest import free_port, serve
 SEED = 29
 
 
-def _scene(rng: random.Random) -> list[ScenePrimitive]:
+def _scene(rng: random.Random) -> list[Primitive]:
     x = rng.uniform(-1, 1)
     return [
-        ScenePrimitive("ball", "Sphere", centre=(x, 0.0, 0.04), radius=rng.uniform(0.02, 0.08)),
-        ScenePrimitive(
+        Primitive("ball", "Sphere", centre=(x, 0.0, 0.04), radius=rng.uniform(0.02, 0.08)),
+        Primitive(
             "can",
             "Cylinder",
             centre=(x + rng.uniform(0.1, 0.4), 0.0, 0.07),

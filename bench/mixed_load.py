@@ -50,7 +50,7 @@ from urllib.parse import urlencode
 
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
-from api.client._memory import ScenePrimitive  # noqa: E402
+from api.client._memory import Primitive, primitive_directives  # noqa: E402
 
 SERVER = """
 import sys, uvicorn
@@ -209,8 +209,8 @@ def _scene_list(ref: str, rng: random.Random) -> bytes:
         centre = (rng.uniform(0, 1), rng.uniform(0, 1), rng.uniform(0, 0.5))
         axis = None if kind == "Sphere" else rng.choice([(0.0, 0.0, 1.0), (1.0, 0.0, 0.0)])
         radius = 0.04 if kind == "Sphere" else None
-        primitive = ScenePrimitive(f"o{k}", kind, centre, axis=axis, radius=radius)
-        directives += primitive.directives()
+        primitive = Primitive(f"o{k}", kind, centre, axis=axis, radius=radius)
+        directives += primitive_directives(primitive)
     directives.append(("SCENE", "UPDATED", "", []))
     requests = [
         json.loads(_directive(ref, *args, command=c, first=f, second=s2))["armor_request"]

@@ -50,6 +50,7 @@ from pathlib import Path
 from pyoxigraph import BlankNode, NamedNode, Quad, RdfFormat, Triple, serialize
 
 from kg import Store, export_triples
+from kg.primitive import KINDS, Primitive
 from kg.transaction import Transaction
 from ontologies.vocab import (
     EPISODIC,
@@ -71,7 +72,6 @@ from ontologies.vocab import (
 )
 from reasoners import index_file
 from reasoners.memory import SceneMemory
-from reasoners.primitives import KINDS, Primitive
 from reasoners.signature import Signature
 
 SEED = 20250301

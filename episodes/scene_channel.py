@@ -1,7 +1,8 @@
 """An episode's stored scenes as a Foxglove ``SceneUpdate`` channel inside its own MCAP file.
 
 When an episode ends, the experienced scenes linked to it (``engram:happenedDuring``) are read
-from the episodic graph with their primitives and written into the episode's rosbag2 recording
+from the episodic graph with their primitives (:func:`kg.scene_triples.read_scene`, the reader
+the views use too) and written into the episode's rosbag2 recording
 ``<data_dir>/streams/<id>/`` as the ``/engram/scenes`` channel (``foxglove_msgs/msg/SceneUpdate``,
 CDR; see :mod:`episodes.streams.foxglove`), one message per scene at the time it was stored. An
 episode that recorded no streams gets a recording holding only its scenes.
@@ -10,7 +11,6 @@ episode that recorded no streams gets a recording holding only its scenes.
 import datetime as dt
 import logging
 from pathlib import Path
-from typing import Any
 
 from pyoxigraph import Literal, NamedNode
 
@@ -19,62 +19,21 @@ from episodes.streams.foxglove import add_scene_channel, scene_entity, scene_mes
 from episodes.streams.registry import bag_path
 from episodes.terms import check_id, episode_iri
 from kg import Store
+from kg.scene_triples import read_scene
 from ontologies.vocab import (
-    AXIS,
-    CENTRE,
-    COLOUR,
     CREATED,
-    ENGRAM_NS,
     EPISODIC,
     HAPPENED_DURING,
-    HAS_PRIMITIVE,
-    HEIGHT,
-    RADIUS,
-    RDF_TYPE,
-    RDFS_LABEL,
 )
 
 __all__ = ["scene_bag_path", "write_episode_scenes"]
 
 log = logging.getLogger(__name__)
-_KINDS = {ENGRAM_NS + k: k for k in ("Sphere", "Cylinder", "Cone", "Plane")}
 
 
 def scene_bag_path(data_dir: Path, episode_id: str) -> Path:
     """The rosbag2 directory that receives the episode's scene channel: its recording."""
     return bag_path(data_dir / "streams", check_id(episode_id, "episode"))
-
-
-def _values(store: Store, subject: NamedNode) -> dict[str, Any]:
-    out: dict[str, Any] = {}
-    for quad in store.quads(subject, None, None, EPISODIC):
-        if quad.predicate == RDF_TYPE and isinstance(quad.object, NamedNode):
-            out.setdefault("kind", _KINDS.get(quad.object.value))
-        elif isinstance(quad.object, Literal):
-            out.setdefault(quad.predicate.value, quad.object.value)
-    return out
-
-
-def _primitive(store: Store, iri: NamedNode) -> dict[str, Any] | None:
-    values = _values(store, iri)
-
-    def vector(props: tuple[NamedNode, ...]) -> tuple[float, ...] | None:
-        if not all(p.value in values for p in props):
-            return None
-        return tuple(float(values[p.value]) for p in props)
-
-    centre = vector(CENTRE)
-    if values.get("kind") is None or centre is None:
-        return None
-    return {
-        "id": values.get(RDFS_LABEL.value, iri.value.rsplit("#", 1)[-1]),
-        "kind": values["kind"],
-        "centre": centre,
-        "axis": vector(AXIS),
-        "radius": float(values[RADIUS.value]) if RADIUS.value in values else None,
-        "height": float(values[HEIGHT.value]) if HEIGHT.value in values else None,
-        "colour": vector(COLOUR),
-    }
 
 
 def write_episode_scenes(store: Store, data_dir: Path, episode_id: str) -> Path | None:
@@ -91,13 +50,7 @@ def write_episode_scenes(store: Store, data_dir: Path, episode_id: str) -> Path 
         if created is None or not isinstance(created.object, Literal):
             continue
         time_ns = int(dt.datetime.fromisoformat(created.object.value).timestamp() * 1e9)
-        members = [
-            q.object
-            for q in store.quads(scene, HAS_PRIMITIVE, None, EPISODIC)
-            if isinstance(q.object, NamedNode)
-        ]
-        members.sort(key=lambda m: (len(m.value), m.value))
-        primitives = [p for m in members if (p := _primitive(store, m)) is not None]
+        primitives = [primitive for _, primitive in read_scene(store, scene, EPISODIC)]
         name = scene.value.rsplit("#", 1)[-1]
         updates.append((time_ns, scene_message(scene_entity(name, primitives, time_ns=time_ns))))
     if not updates:

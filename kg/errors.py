@@ -6,6 +6,7 @@ decide its HTTP answer (``api/errors.py`` maps by kind, so a new error cannot be
     EngramError
     ├── InvalidInputError (ValueError)     the request is malformed or out of range   4xx
     │   ├── InvalidValueError               one named field's value: field, value, expected 422
+    │   ├── InvalidPrimitiveError           a primitive's field is missing or out of range 422
     │   ├── QuerySyntaxError (SyntaxError)  the SPARQL text does not parse            400
     │   ├── QueryTooDeepError               the text nests too deeply to be parsed     400
     │   ├── QueryTooLongError               the text is longer than the limit          413
@@ -31,6 +32,7 @@ __all__ = [
     "ConflictError",
     "EngramError",
     "InvalidInputError",
+    "InvalidPrimitiveError",
     "InvalidValueError",
     "LeaseHeldError",
     "NotFoundError",
@@ -70,6 +72,10 @@ class InvalidValueError(InvalidInputError):
     def __init__(self, field: str, value: object, expected: str) -> None:
         self.field, self.value, self.expected = field, value, expected
         super().__init__(f"{field}: got {value!r}, expected {expected}")
+
+
+class InvalidPrimitiveError(InvalidInputError):
+    """A primitive's field is missing, malformed or out of range (:mod:`kg.primitive`)."""
 
 
 class NotFoundError(EngramError, LookupError):

@@ -7,17 +7,31 @@ the store untouched.
 """
 
 import os
+from collections.abc import Iterator
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import Protocol
 
 from pyoxigraph import BlankNode, Literal, NamedNode, Quad, RdfFormat, parse
 
 from kg.skolem import Skolemiser
 
-__all__ = ["Object", "Pattern", "Subject", "Transaction"]
+__all__ = ["Object", "Pattern", "QuadReader", "Subject", "Transaction"]
 
 Subject = NamedNode | BlankNode
 Object = NamedNode | BlankNode | Literal
+
+
+class QuadReader(Protocol):
+    """Anything that reads quads by pattern as :meth:`kg.store.Store.quads` does."""
+
+    def quads(
+        self,
+        subject: NamedNode | None = None,
+        predicate: NamedNode | None = None,
+        obj: NamedNode | Literal | None = None,
+        graph: NamedNode | None = None,
+    ) -> Iterator[Quad]: ...
 
 
 @dataclass(frozen=True)

@@ -1,7 +1,7 @@
 """Reasoning over the knowledge graph.
 
 - the scene memory (port of SIT and the memory reasoners): :mod:`reasoners.memory` with
-  :class:`reasoners.memory.SceneMemory`, its inputs in :mod:`reasoners.primitives` and its
+  :class:`reasoners.memory.SceneMemory`, its inputs in :mod:`kg.primitive` and its
   errors in :mod:`reasoners.errors`;
 - OWL 2 RL materialisation: :mod:`reasoners.owl_rl`.
 """

@@ -21,26 +21,13 @@ and it answers reads as the store will be once those writes commit (:meth:`quads
 from collections import defaultdict
 from collections.abc import Iterator
 from dataclasses import dataclass, field
-from typing import Protocol
 
 from pyoxigraph import Literal, NamedNode, Quad
 
 from kg.store import Store
-from kg.transaction import Object, Pattern, Subject, Transaction
+from kg.transaction import Object, Pattern, QuadReader, Subject, Transaction
 
 __all__ = ["PendingView", "PendingWrites", "QuadReader", "matches"]
-
-
-class QuadReader(Protocol):
-    """Anything that reads quads by pattern as :meth:`kg.store.Store.quads` does."""
-
-    def quads(
-        self,
-        subject: NamedNode | None = None,
-        predicate: NamedNode | None = None,
-        obj: NamedNode | Literal | None = None,
-        graph: NamedNode | None = None,
-    ) -> Iterator[Quad]: ...
 
 
 def matches(

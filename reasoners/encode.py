@@ -6,7 +6,7 @@ inverse), symmetric relations once per unordered pair, and no closure: the signa
 exactly what the formulas fire. Objects are pairwise different.
 
 >>> from kg import Store, ensure_ontology
->>> from reasoners.primitives import Primitive
+>>> from kg.primitive import Primitive
 >>> from reasoners.policy import load_policy
 >>> store = Store(); _ = ensure_ontology(store)
 >>> encoder = Encoder.from_store(store, load_policy(store))
@@ -25,6 +25,7 @@ from dataclasses import dataclass
 
 from pyoxigraph import NamedNode
 
+from kg.primitive import KINDS, Primitive, Vector
 from kg.store import Store
 from ontologies.vocab import (
     IS_ABOVE_OF,
@@ -42,7 +43,6 @@ from ontologies.vocab import (
 )
 from reasoners.errors import InvalidSceneError, PolicyError
 from reasoners.policy import Policy
-from reasoners.primitives import KINDS, Primitive, Vector
 from reasoners.signature import Key, Signature
 
 __all__ = ["Encoder", "Relation"]

@@ -2,7 +2,6 @@
 
 EngramError (kg), each error also of one of kg.errors' kinds
 └── MemoryReasonerError
-    ├── InvalidPrimitiveError   a primitive's field is missing or out of range (ValueError)
     ├── InvalidSceneError       the primitives cannot form a scene, or a bad cue (ValueError)
     ├── MemoryLoadingError      the memory is still being opened, or opening it failed (503)
     ├── PolicyError             the memory policy in the store lacks a value or holds a bad one
@@ -14,7 +13,6 @@ EngramError (kg), each error also of one of kg.errors' kinds
 from kg.errors import ConflictError, EngramError, InvalidInputError, NotFoundError, UnavailableError
 
 __all__ = [
-    "InvalidPrimitiveError",
     "InvalidSceneError",
     "MemoryLoadingError",
     "MemoryReasonerError",
@@ -27,10 +25,6 @@ __all__ = [
 
 class MemoryReasonerError(EngramError):
     """Base of the scene memory's errors."""
-
-
-class InvalidPrimitiveError(MemoryReasonerError, InvalidInputError):
-    """A primitive's field is missing, malformed or out of range."""
 
 
 class InvalidSceneError(MemoryReasonerError, InvalidInputError):

@@ -22,7 +22,7 @@ reference) and its level changes in the history (one literal); not a class's lev
 
 >>> import datetime as dt
 >>> from kg import Store
->>> from reasoners.primitives import Primitive
+>>> from kg.primitive import Primitive
 >>> memory = SceneMemory(Store(), clock=lambda: dt.datetime(2025, 1, 1, tzinfo=dt.UTC))
 >>> scene = [Primitive("ball", "Sphere", centre=(.3, .3, .3), radius=.05),
 ...          Primitive("table", "Plane", centre=(.3, .1, .1), axis=(0, 0, 1))]
@@ -48,6 +48,7 @@ from operator import attrgetter
 from pyoxigraph import Literal, NamedNode
 
 from kg.ontology import ensure_ontology
+from kg.primitive import Primitive
 from kg.store import Store
 from kg.transaction import Transaction
 from ontologies.vocab import (
@@ -88,7 +89,6 @@ from reasoners.errors import (
 )
 from reasoners.model import ClassRecord, ItemRecord, MemoryModel
 from reasoners.policy import Policy, load_policy
-from reasoners.primitives import Primitive
 from reasoners.results import (
     ClassSummary,
     ItemScores,
@@ -487,7 +487,7 @@ class SceneMemory:
         bad = [p for p in scene if not isinstance(p, Primitive)]
         if bad:
             raise InvalidSceneError(
-                f"{field}: got {bad[0]!r}, expected reasoners.primitives.Primitive objects"
+                f"{field}: got {bad[0]!r}, expected kg.primitive.Primitive objects"
             )
         ids = [p.id for p in scene]
         duplicates = sorted({i for i in ids if ids.count(i) > 1})

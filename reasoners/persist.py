@@ -40,15 +40,13 @@ from collections.abc import Iterable, Mapping, Sequence
 
 from pyoxigraph import BlankNode, Literal, NamedNode, Quad
 
+from kg.primitive import Primitive
+from kg.scene_triples import write_primitive
 from kg.skolem import is_skolem
 from kg.store import Store
 from kg.transaction import Transaction
 from ontologies.vocab import (
-    APEX,
-    AXIS,
-    CENTRE,
     CLASS_SIGNATURE,
-    COLOUR,
     COMPLEXITY,
     CONSECUTIVE_WEAK_COUNT,
     CREATED,
@@ -58,8 +56,6 @@ from ontologies.vocab import (
     FORGOTTEN_SIGNATURE,
     HAPPENED_DURING,
     HAS_PRIMITIVE,
-    HEIGHT,
-    HESSIAN_OFFSET,
     LAST_ACCESSED,
     LAST_SLEEP_AT,
     LEVEL,
@@ -76,8 +72,6 @@ from ontologies.vocab import (
     OWL_ON_PROPERTY,
     OWL_RESTRICTION,
     PINNED,
-    POINT_ON_AXIS,
-    RADIUS,
     RDF_FIRST,
     RDF_NIL,
     RDF_REST,
@@ -95,7 +89,6 @@ from ontologies.vocab import (
     SLEEP_LEVELS,
     SLEEP_PASS_COUNT,
     STORE_COUNT,
-    TRACKING_ID,
     TRASH,
     TRASH_CLASS,
     UPDATES_SINCE_SLEEP,
@@ -105,7 +98,6 @@ from ontologies.vocab import (
 )
 from reasoners.batch import QuadReader
 from reasoners.encode import Relation
-from reasoners.errors import InvalidPrimitiveError
 from reasoners.labels import label
 from reasoners.model import (
     SCALE,
@@ -115,14 +107,12 @@ from reasoners.model import (
     TrashedClass,
     TrashedItem,
 )
-from reasoners.primitives import KINDS, Kind, Primitive
 from reasoners.signature import Key, Signature
 
 __all__ = [
     "class_iri",
     "item_iri",
     "load_model",
-    "read_primitive",
     "set_value",
     "time_literal",
     "write_class",
@@ -356,75 +346,10 @@ def write_item(
     iris = [NamedNode(f"{item.value}-{k}") for k in range(len(primitives))]
     for iri, primitive in zip(iris, primitives, strict=True):
         tx.insert(item, HAS_PRIMITIVE, iri, graph)
-        tx.insert(iri, RDF_TYPE, engram(primitive.kind), graph)
-        tx.insert(iri, RDFS_LABEL, Literal(primitive.id), graph)
-        vectors = (
-            (CENTRE, primitive.centre),
-            (AXIS, primitive.axis),
-            (APEX, primitive.apex),
-            (POINT_ON_AXIS, primitive.point_on_axis),
-            (COLOUR, primitive.colour),
-        )
-        for props, vector in vectors:
-            if vector is not None:
-                for prop, value in zip(props, vector, strict=True):
-                    tx.insert(iri, prop, Literal(value), graph)
-        for prop, number in ((RADIUS, primitive.radius), (HEIGHT, primitive.height)):
-            if number is not None:
-                tx.insert(iri, prop, Literal(number), graph)
-        if primitive.hessian is not None:
-            tx.insert(iri, HESSIAN_OFFSET, Literal(primitive.hessian), graph)
-        if primitive.tracking_id is not None:
-            tx.insert(iri, TRACKING_ID, Literal(primitive.tracking_id), graph)
+        write_primitive(tx, iri, primitive, graph)
     for relation in relations:
         tx.insert(iris[relation.subject], relation.relation, iris[relation.object], graph)
     return iris
-
-
-def read_primitive(store: QuadReader, iri: NamedNode, graph: NamedNode) -> Primitive | None:
-    """The primitive ``iri`` as :func:`write_item` wrote it into ``graph`` (the episodic graph,
-    or the trash after forgetting); None when ``graph`` holds no readable primitive there."""
-    values: dict[NamedNode, Literal] = {}
-    kind = None
-    for quad in store.quads(iri, None, None, graph):
-        if quad.predicate == RDF_TYPE and isinstance(quad.object, NamedNode):
-            kind = _PRIMITIVE_KINDS.get(quad.object.value, kind)
-        elif isinstance(quad.object, Literal):
-            values.setdefault(quad.predicate, quad.object)
-
-    def vector(props: tuple[NamedNode, NamedNode, NamedNode]) -> tuple[float, float, float] | None:
-        if not all(p in values for p in props):
-            return None
-        x, y, z = (float(values[p].value) for p in props)
-        return (x, y, z)
-
-    def number(prop: NamedNode) -> float | None:
-        return float(values[prop].value) if prop in values else None
-
-    centre = vector(CENTRE)
-    if kind is None or centre is None:
-        return None
-    label = values.get(RDFS_LABEL)
-    tracking = values.get(TRACKING_ID)
-    try:
-        return Primitive(
-            id=label.value if label is not None else iri.value.rsplit("#", 1)[-1],
-            kind=kind,
-            centre=centre,
-            axis=vector(AXIS),
-            radius=number(RADIUS),
-            height=number(HEIGHT),
-            apex=vector(APEX),
-            point_on_axis=vector(POINT_ON_AXIS),
-            hessian=number(HESSIAN_OFFSET),
-            colour=vector(COLOUR),
-            tracking_id=int(tracking.value) if tracking is not None else None,
-        )
-    except (InvalidPrimitiveError, ValueError):
-        return None
-
-
-_PRIMITIVE_KINDS: dict[str, Kind] = {engram(kind).value: kind for kind in KINDS}
 
 
 def move(

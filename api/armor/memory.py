@@ -16,11 +16,10 @@ Results come as ``queried_objects`` (the main answer, in the request's value sty
 ``sparql_queried_objects`` (every detail as key/value).
 """
 
-import dataclasses
 import datetime as dt
 import logging
 import math
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -32,6 +31,8 @@ from api.armor.memory_explain import query_memory_explain
 from api.armor.models import ArmorDirectiveRes, QueryItem
 from api.armor.names import is_value_type, resolve, styled, to_literal
 from kg import Store
+from kg.errors import InvalidPrimitiveError
+from kg.primitive import ATTRIBUTES, KINDS, Kind, Primitive
 from ontologies.vocab import ENGRAM_NS
 from reasoners.clock import SettableClock
 from reasoners.errors import MemoryReasonerError
@@ -42,29 +43,46 @@ __all__ = ["MEMORY_COMMANDS", "MemoryDirectives", "SceneDraft", "sleep_if_due"]
 
 log = logging.getLogger(__name__)
 
-_KINDS = {"sphere": "Sphere", "cylinder": "Cylinder", "cone": "Cone", "plane": "Plane"}
-_VECTORS = {
-    "centre": "centre",
-    "center": "centre",
-    "axis": "axis",
-    "apex": "apex",
-    "pointOnAxis": "point_on_axis",
-}
-_SCALARS = {"radius": "radius", "height": "height", "hessianOffset": "hessian"}
-_COLOUR = {"colourR": 0, "colourG": 1, "colourB": 2}
+_KINDS: dict[str, Kind] = {kind.lower(): kind for kind in KINDS}
+_SPELLINGS = {"center": "centre"}  # centerX/Y/Z, as ARMOR clients may spell it
 SceneKey = tuple[str, str]
 
 
 @dataclass(frozen=True)
 class SceneDraft:
-    """An open scene: its primitives' kinds and attributes so far (immutable; copied on change)."""
+    """An open scene: each primitive's kind and attributes so far, as its ADD directives named
+    them, parsed into :class:`~kg.primitive.Primitive` once, when the scene closes
+    (:meth:`primitives`). Immutable: every change makes a copy."""
 
-    objects: dict[str, dict[str, Any]] = field(default_factory=dict)
+    kinds: Mapping[str, Kind] = field(default_factory=dict)
+    attributes: Mapping[str, Mapping[str, float]] = field(default_factory=dict)
 
-    def with_object(self, name: str, **values: Any) -> "SceneDraft":
-        objects = {k: dict(v) for k, v in self.objects.items()}
-        objects.setdefault(name, {}).update(values)
-        return SceneDraft(objects)
+    def with_kind(self, name: str, kind: Kind) -> "SceneDraft":
+        attributes = dict(self.attributes)
+        attributes.setdefault(name, {})
+        return SceneDraft({**self.kinds, name: kind}, attributes)
+
+    def with_attribute(self, name: str, attribute: str, value: float) -> "SceneDraft":
+        values = {**self.attributes.get(name, {}), attribute: value}
+        return SceneDraft(self.kinds, {**self.attributes, name: values})
+
+    def primitives(self) -> list[Primitive]:
+        """The scene's primitives, in the order they were first named.
+
+        Raises :class:`MemoryDirectiveError` for a primitive without a kind (``ADD IND
+        CLASS``) and for what :meth:`Primitive.from_attributes` refuses."""
+        primitives = []
+        for name, attributes in self.attributes.items():
+            if name not in self.kinds:
+                raise MemoryDirectiveError(
+                    f"primitive {name!r}: has attributes but no kind; "
+                    f"send ADD IND CLASS [{name}, Kind]"
+                )
+            try:
+                primitives.append(Primitive.from_attributes(name, self.kinds[name], attributes))
+            except InvalidPrimitiveError as error:
+                raise MemoryDirectiveError(str(error)) from None
+        return primitives
 
 
 def _memory_iri(name: str, field_name: str) -> NamedNode:
@@ -127,7 +145,7 @@ def scene_add_ind_class(ctx: Context, draft: SceneDraft) -> Outcome:
         raise MemoryDirectiveError(
             f"args[1]: got {kind!r}, expected a primitive kind: Sphere, Cylinder, Cone or Plane"
         )
-    ctx.session.set_scene(_key(ctx), draft.with_object(name, kind=_KINDS[local.lower()]))
+    ctx.session.set_scene(_key(ctx), draft.with_kind(name, _KINDS[local.lower()]))
     return Outcome()
 
 
@@ -135,60 +153,20 @@ def scene_add_dataprop(ctx: Context, draft: SceneDraft) -> Outcome:
     prop, name = ctx.arg(0, "attribute"), ctx.arg(1, "primitive")
     type_name, value = ctx.arg(2, "value type"), ctx.arg(3, "value")
     local = prop.strip("<>").rsplit("#", 1)[-1]
+    for spelling, attribute in _SPELLINGS.items():
+        if local.startswith(spelling):
+            local = attribute + local[len(spelling) :]
     if not is_value_type(type_name):
         raise MemoryDirectiveError(f"args[2]: got {type_name!r}, expected DOUBLE, FLOAT or INTEGER")
     number = float(to_literal(type_name, value, field="args[3]").value)
-    if local in _SCALARS:
-        return _set(ctx, draft, name, **{_SCALARS[local]: number})
-    if local == "trackingId":
-        return _set(ctx, draft, name, tracking_id=int(number))
-    if local in _COLOUR:
-        return _component(ctx, draft, name, "colour", _COLOUR[local], number)
-    for prefix, field_name in _VECTORS.items():
-        if local.startswith(prefix) and local[len(prefix) :] in ("X", "Y", "Z"):
-            index = "XYZ".index(local[len(prefix) :])
-            return _component(ctx, draft, name, field_name, index, number)
-    raise MemoryDirectiveError(
-        f"args[0]: got {prop!r}, expected a primitive attribute of engram.ttl "
-        "(centreX/Y/Z, axisX/Y/Z, radius, height, apexX/Y/Z, pointOnAxisX/Y/Z, hessianOffset, "
-        "colourR/G/B, trackingId)"
-    )
-
-
-def _set(ctx: Context, draft: SceneDraft, name: str, **values: Any) -> Outcome:
-    ctx.session.set_scene(_key(ctx), draft.with_object(name, **values))
+    if local not in ATTRIBUTES:
+        raise MemoryDirectiveError(
+            f"args[0]: got {prop!r}, expected a primitive attribute of engram.ttl "
+            "(centreX/Y/Z, axisX/Y/Z, radius, height, apexX/Y/Z, pointOnAxisX/Y/Z, "
+            "hessianOffset, colourR/G/B, trackingId)"
+        )
+    ctx.session.set_scene(_key(ctx), draft.with_attribute(name, local, number))
     return Outcome()
-
-
-def _component(
-    ctx: Context, draft: SceneDraft, name: str, field_name: str, index: int, number: float
-) -> Outcome:
-    vector = list(draft.objects.get(name, {}).get(field_name, (None, None, None)))
-    vector[index] = number
-    return _set(ctx, draft, name, **{field_name: tuple(vector)})
-
-
-def _primitives(draft: SceneDraft) -> list[Any]:
-    from reasoners.primitives import Primitive
-
-    names = {f.name for f in dataclasses.fields(Primitive)}
-    primitives = []
-    for name, values in draft.objects.items():
-        if "kind" not in values:
-            raise MemoryDirectiveError(
-                f"primitive {name!r}: has attributes but no kind; send ADD IND CLASS [{name}, Kind]"
-            )
-        for vector in ("centre", "axis", "apex", "point_on_axis", "colour"):
-            if vector in values and None in values[vector]:
-                missing = "XYZ"[values[vector].index(None)]
-                raise MemoryDirectiveError(f"primitive {name!r}: {vector} lacks its {missing}")
-        if "centre" not in values:
-            raise MemoryDirectiveError(f"primitive {name!r}: no centre (centreX/Y/Z)")
-        try:
-            primitives.append(Primitive(id=name, **{k: v for k, v in values.items() if k in names}))
-        except _errors() as error:
-            raise MemoryDirectiveError(str(error)) from None
-    return primitives
 
 
 def _items(pairs: list[tuple[str, str]]) -> list[QueryItem]:
@@ -202,7 +180,7 @@ def scene_updated(ctx: Context) -> Outcome:
         raise MemoryDirectiveError(
             f"SCENE UPDATED: {ctx.client} has no open scene on {key[1]}; send LOAD INIT first"
         )
-    primitives = _primitives(draft)
+    primitives = draft.primitives()
     episode = resolve(ctx.args[0], ENGRAM_NS, field="args[0]") if ctx.args else None
     memory = ctx.session.memory.memory
     try:
@@ -269,14 +247,14 @@ def _cue(ctx: Context) -> list[Any]:
                 )
             cue.append(tuple(parts))
         return cue
-    draft = ctx.session.scene(_key(ctx))
+    draft: SceneDraft | None = ctx.session.scene(_key(ctx))
     if draft is None:
         raise MemoryDirectiveError(
             "RETRIEVE SCENE: give the cue as args ('Sphere isAboveOf Plane', ...) or send it "
             "as an open scene (LOAD INIT, ADD ...)"
         )
     ctx.session.set_scene(_key(ctx), None)
-    return _primitives(draft)
+    return draft.primitives()
 
 
 def _retrieve(ctx: Context, *, spread: bool) -> Outcome:

@@ -14,8 +14,8 @@ from pathlib import Path
 
 from episodes import ArgumentSpec, EpisodeMemory
 from kg import Store, ensure_ontology
+from kg.primitive import Primitive
 from reasoners.memory import SceneMemory
-from reasoners.primitives import Primitive
 
 __all__ = ["EPISODES", "NOW", "SPOKEN", "START", "Clock", "live_a_week", "main"]
 

@@ -22,7 +22,13 @@ from typing import TYPE_CHECKING, Any
 
 from api.client._client import Answer, ArmorClient
 from api.client._manipulation import ArmorManipulationClient, literal_value
-from api.client._memory import ArmorMemoryClient, MemoryAnswer, ScenePrimitive
+from api.client._memory import (
+    ArmorMemoryClient,
+    MemoryAnswer,
+    Primitive,
+    primitive_directives,
+    scene_directives,
+)
 from api.client._query import ArmorQueryClient, strip_uri
 from api.client._utils import ArmorUtilsClient
 from api.client._values import Value, parse_value
@@ -49,10 +55,12 @@ __all__ = [
     "ArmorUtilsClient",
     "LocalTransport",
     "MemoryAnswer",
-    "ScenePrimitive",
+    "Primitive",
     "Value",
     "literal_value",
     "parse_value",
+    "primitive_directives",
+    "scene_directives",
     "strip_uri",
 ]
 

@@ -1,110 +1,56 @@
 """``client.memory``: Engram's memory directives (no armor_py_api counterpart)."""
 
-import math
 from collections.abc import Iterable, Mapping
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING
 
 from api.client._values import Value, parse_value
-from api.protocol import ArmorDirectiveRes
+from api.protocol import ArmorDirectiveRes, Primitive
 
 if TYPE_CHECKING:
     from api.client._client import ArmorClient
 
-__all__ = ["ArmorMemoryClient", "MemoryAnswer", "ScenePrimitive"]
-
-_VECTORS = {"centre": "centre", "axis": "axis", "apex": "apex", "point_on_axis": "pointOnAxis"}
-KINDS = ("Sphere", "Cylinder", "Cone", "Plane")
-"""The primitive kinds the memory knows (Engram's ontology)."""
-
-
-@dataclass(frozen=True)
-class ScenePrimitive:
-    """One primitive to send in a scene, with attributes as Engram's ontology names them."""
-
-    name: str
-    kind: str
-    centre: tuple[float, float, float]
-    axis: tuple[float, float, float] | None = None
-    radius: float | None = None
-    height: float | None = None
-    apex: tuple[float, float, float] | None = None
-    point_on_axis: tuple[float, float, float] | None = None
-    hessian: float | None = None
-    colour: tuple[float, float, float] | None = None
-    tracking_id: int | None = None
-
-    def __post_init__(self) -> None:
-        """Refuse what no primitive can be, before anything is sent: raises ``ValueError``
-        naming the primitive, the field, the value and what was expected, for a kind that is
-        none of the four, a number that is not finite, a radius or height that is not positive,
-        a zero axis, a colour outside [0, 1] or a negative tracking id."""
-        where = f"primitive {self.name!r}"
-        if not isinstance(self.name, str) or not self.name.strip():
-            raise ValueError(f"primitive name: got {self.name!r}, expected a non-empty string")
-        if self.kind not in KINDS:
-            raise ValueError(
-                f"{where}: kind: got {self.kind!r}, expected one of {', '.join(KINDS)}"
-            )
-        for attribute in (*_VECTORS, "colour"):
-            vector = getattr(self, attribute)
-            if vector is not None and (len(vector) != 3 or not all(_finite(n) for n in vector)):
-                raise ValueError(
-                    f"{where}: {attribute}: got {vector!r}, expected three finite numbers"
-                )
-        for attribute in ("radius", "height"):
-            number = getattr(self, attribute)
-            if number is not None and not (_finite(number) and number > 0):
-                raise ValueError(
-                    f"{where}: {attribute}: got {number!r}, expected a positive number (metres)"
-                )
-        if self.hessian is not None and not _finite(self.hessian):
-            raise ValueError(f"{where}: hessian: got {self.hessian!r}, expected a finite number")
-        if self.axis is not None and not math.hypot(*self.axis) > 0:
-            raise ValueError(f"{where}: axis: got {self.axis!r}, expected a non-zero vector")
-        if self.colour is not None and not all(0 <= c <= 1 for c in self.colour):
-            raise ValueError(f"{where}: colour: got {self.colour!r}, expected components in [0, 1]")
-        if self.tracking_id is not None and self.tracking_id < 0:
-            raise ValueError(f"{where}: tracking_id: got {self.tracking_id!r}, expected an id >= 0")
-
-    def directives(self) -> list[tuple[str, str, str, list[str]]]:
-        """``ADD IND CLASS`` and one ``ADD DATAPROP IND`` per attribute."""
-        out: list[tuple[str, str, str, list[str]]] = [
-            ("ADD", "IND", "CLASS", [self.name, self.kind])
-        ]
-
-        def value(prop: str, number: float, kind: str = "DOUBLE") -> None:
-            out.append(("ADD", "DATAPROP", "IND", [prop, self.name, kind, repr(number)]))
-
-        for attribute, prefix in _VECTORS.items():
-            vector = getattr(self, attribute)
-            if vector is not None:
-                for axis, number in zip("XYZ", vector, strict=True):
-                    value(f"{prefix}{axis}", float(number))
-        if self.colour is not None:
-            for channel, number in zip("RGB", self.colour, strict=True):
-                value(f"colour{channel}", float(number))
-        for attribute, prop in (("radius", "radius"), ("height", "height")):
-            if getattr(self, attribute) is not None:
-                value(prop, float(getattr(self, attribute)))
-        if self.hessian is not None:
-            value("hessianOffset", float(self.hessian))
-        if self.tracking_id is not None:
-            out.append(
-                (
-                    "ADD",
-                    "DATAPROP",
-                    "IND",
-                    ["trackingId", self.name, "INTEGER", str(self.tracking_id)],
-                )
-            )
-        return out
+__all__ = [
+    "ArmorMemoryClient",
+    "MemoryAnswer",
+    "Primitive",
+    "primitive_directives",
+    "scene_directives",
+]
 
 
-def _finite(number: object) -> bool:
-    return (
-        isinstance(number, int | float) and not isinstance(number, bool) and math.isfinite(number)
-    )
+def primitive_directives(primitive: Primitive) -> list[tuple[str, str, str, list[str]]]:
+    """``ADD IND CLASS`` and one ``ADD DATAPROP IND`` per attribute, named as in Engram's
+    ontology (``centreX``, ``radius``, ``trackingId``): how a primitive travels in ARMOR.
+
+    >>> ball = Primitive("ball", "Sphere", centre=(0.3, 0.3, 0.3), radius=0.05)
+    >>> for directive in primitive_directives(ball)[:3]:
+    ...     print(*directive)
+    ADD IND CLASS ['ball', 'Sphere']
+    ADD DATAPROP IND ['centreX', 'ball', 'DOUBLE', '0.3']
+    ADD DATAPROP IND ['centreY', 'ball', 'DOUBLE', '0.3']
+    """
+    out: list[tuple[str, str, str, list[str]]] = [
+        ("ADD", "IND", "CLASS", [primitive.id, primitive.kind])
+    ]
+    for name, value in primitive.attributes().items():
+        if isinstance(value, int):
+            out.append(("ADD", "DATAPROP", "IND", [name, primitive.id, "INTEGER", str(value)]))
+        else:
+            out.append(("ADD", "DATAPROP", "IND", [name, primitive.id, "DOUBLE", repr(value)]))
+    return out
+
+
+def scene_directives(
+    primitives: Iterable[Primitive], episode: str | None = None
+) -> list[tuple[str, str, str, list[str]]]:
+    """One scene as one directive list: ``LOAD INIT``, each primitive's directives
+    (:func:`primitive_directives`), ``SCENE UPDATED`` (naming ``episode`` when given)."""
+    directives: list[tuple[str, str, str, list[str]]] = [("LOAD", "INIT", "", [])]
+    for primitive in primitives:
+        directives += primitive_directives(primitive)
+    directives.append(("SCENE", "UPDATED", "", [episode] if episode else []))
+    return directives
 
 
 @dataclass(frozen=True)
@@ -147,17 +93,13 @@ class ArmorMemoryClient:
         self._client = client
 
     def store_scene(
-        self, primitives: Iterable[ScenePrimitive], episode: str | None = None
+        self, primitives: Iterable[Primitive], episode: str | None = None
     ) -> MemoryAnswer:
         """LOAD INIT, the primitives' ADDs and SCENE UPDATED, as one list (one transaction).
 
         ``details["learned"]`` is ``["true"]`` when a new class was learned.
         """
-        directives: list[tuple[str, str, str, list[str]]] = [("LOAD", "INIT", "", [])]
-        for primitive in primitives:
-            directives += primitive.directives()
-        directives.append(("SCENE", "UPDATED", "", [episode] if episode else []))
-        result = self._client.call_list(directives)
+        result = self._client.call_list(scene_directives(primitives, episode))
         return MemoryAnswer.of(self._client.raise_first_failure(result)[-1])
 
     def retrieve(self, cue: Iterable[str], spread: bool = False) -> MemoryAnswer:

@@ -25,6 +25,7 @@ import numpy as np
 
 from api.armor import ArmorEngine
 from api.armor.models import ArmorDirectiveReq, ArmorDirectiveRes
+from api.client import scene_directives
 from api.perceive import scene_primitives
 from api.ros._ros import rospy, sensor_msgs
 from api.ros.convert import response_to_ros
@@ -140,10 +141,7 @@ class CloudPerception:
     def store(self, scene: StableScene) -> ArmorDirectiveRes:
         """Store one scene as one directive list; the answer of its last directive, or of the
         first that failed (the list then changed nothing)."""
-        directives: list[tuple[str, str, str, list[str]]] = [("LOAD", "INIT", "", [])]
-        for primitive in scene_primitives(scene):
-            directives += primitive.directives()
-        directives.append(("SCENE", "UPDATED", "", []))
+        directives = scene_directives(scene_primitives(scene))
         result = self.engine.execute_list(
             [
                 ArmorDirectiveReq(

@@ -6,8 +6,7 @@ from fastapi import APIRouter, Query, Response
 from starlette.concurrency import run_in_threadpool
 
 from api.deps import StoreDep
-from kg import DEFAULT_GRAPHS, export
-from kg.export import FORMATS
+from kg.export import DEFAULT_GRAPHS, FORMATS, export
 
 router = APIRouter(tags=["export"])
 

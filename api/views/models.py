@@ -5,6 +5,8 @@ from typing import Literal
 
 from pydantic import BaseModel, Field
 
+from kg.primitive import Primitive
+
 __all__ = [
     "Annotation",
     "ChannelInfo",
@@ -23,7 +25,6 @@ __all__ = [
     "SceneDetail",
     "SceneEntry",
     "SceneList",
-    "ScenePrimitive",
     "ScorePoint",
 ]
 
@@ -103,19 +104,6 @@ class ClassDetail(BaseModel):
     scenes: list[SceneEntry] = Field(description="Its stored scenes, newest first (limited).")
 
 
-class ScenePrimitive(BaseModel):
-    """A primitive of a stored scene (metres; x right, y behind, z up; colour RGB in [0, 1])."""
-
-    id: str
-    kind: Literal["Sphere", "Cylinder", "Cone", "Plane"]
-    centre: tuple[float, float, float]
-    axis: tuple[float, float, float] | None = None
-    radius: float | None = None
-    height: float | None = None
-    apex: tuple[float, float, float] | None = None
-    colour: tuple[float, float, float] | None = None
-
-
 class Relation(BaseModel):
     """A spatial relation the encoder fired between two primitives of a scene."""
 
@@ -128,7 +116,9 @@ class SceneDetail(BaseModel):
     """A stored scene with its primitives and relations."""
 
     scene: SceneEntry
-    primitives: list[ScenePrimitive]
+    primitives: list[Primitive] = Field(
+        description="Its primitives (metres; x right, y behind, z up; colour RGB in [0, 1])."
+    )
     relations: list[Relation]
 
 

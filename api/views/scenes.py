@@ -12,22 +12,21 @@ from typing import Any
 
 from pyoxigraph import Literal, NamedNode
 
-from api.views.models import Relation, SceneDetail, SceneEntry, SceneList, ScenePrimitive
+from api.views.models import Relation, SceneDetail, SceneEntry, SceneList
 from kg import Store
 from kg.errors import NotFoundError
+from kg.scene_triples import read_scene
 from ontologies.vocab import (
     CREATED,
     ENGRAM_NS,
     EPISODIC,
     EXPERIENCED_SCENE,
     HAPPENED_DURING,
-    HAS_PRIMITIVE,
     OWL_NAMED_INDIVIDUAL,
     RDF_TYPE,
     SPATIAL_INVERSES,
     TRASH,
 )
-from reasoners.persist import read_primitive
 
 __all__ = [
     "UnknownSceneError",
@@ -111,22 +110,6 @@ def scene_list(
     )
 
 
-def _primitive(store: Store, iri: NamedNode, graph: NamedNode) -> ScenePrimitive | None:
-    stored = read_primitive(store, iri, graph)
-    if stored is None:
-        return None
-    return ScenePrimitive(
-        id=stored.id,
-        kind=stored.kind,
-        centre=stored.centre,
-        axis=stored.axis,
-        radius=stored.radius,
-        height=stored.height,
-        apex=stored.apex,
-        colour=stored.colour,
-    )
-
-
 def _graph_of(store: Store, item: NamedNode) -> NamedNode | None:
     for graph in (EPISODIC, TRASH):
         if any(True for _ in store.quads(item, RDF_TYPE, EXPERIENCED_SCENE, graph)):
@@ -145,32 +128,21 @@ def scene_detail(store: Store, name: str) -> SceneDetail:
     graph = None if item is None else _graph_of(store, item)
     if item is None or graph is None:
         raise UnknownSceneError(f"name: got {name!r}, expected the name of a stored scene")
-    members = [
-        q.object
-        for q in store.quads(item, HAS_PRIMITIVE, None, graph)
-        if isinstance(q.object, NamedNode)
-    ]
-    members.sort(key=lambda m: (len(m.value), m.value))  # <scene>-0, -1, ..., -10
-    primitives: list[ScenePrimitive] = []
-    labels: dict[str, str] = {}
-    for member in members:
-        primitive = _primitive(store, member, graph)
-        if primitive is not None:
-            primitives.append(primitive)
-            labels[member.value] = primitive.id
+    members = read_scene(store, item, graph)
+    labels = {member.value: primitive.id for member, primitive in members}
     relations = [
         Relation(
             subject=labels[member.value],
             relation=_RELATIONS[q.predicate.value],
             object=labels[q.object.value],
         )
-        for member in members
-        if member.value in labels
+        for member, _ in members
         for q in store.quads(member, None, None, graph)
         if q.predicate.value in _RELATIONS
         and isinstance(q.object, NamedNode)
         and q.object.value in labels
     ]
+    primitives = [primitive for _, primitive in members]
     return SceneDetail(scene=_entry(store, item, graph), primitives=primitives, relations=relations)
 
 

@@ -18,7 +18,8 @@ completing ``metadata.yaml``), or creates a recording holding only the scenes wh
 recorded no streams. Pure files, no RDF: :mod:`episodes.scene_channel` reads the scenes from
 the graph.
 
->>> ball = {"id": "ball", "kind": "Sphere", "centre": (0.1, 0.0, 0.05), "radius": 0.05}
+>>> from kg.primitive import Primitive
+>>> ball = Primitive("ball", "Sphere", centre=(0.1, 0.0, 0.05), radius=0.05)
 >>> entity = scene_entity("experience-1", [ball], time_ns=1_500_000_000)
 >>> entity["spheres"][0]["size"], entity["timestamp"]
 ({'x': 0.1, 'y': 0.1, 'z': 0.1}, {'sec': 1, 'nsec': 500000000})
@@ -46,6 +47,7 @@ from ruamel.yaml import YAML
 from episodes.streams.errors import CorruptRecordingError
 from episodes.streams.mcapread import McapFile
 from episodes.streams.recorder import FORMAT_VERSION, RECORDING_TOPIC, mcap_file
+from kg.primitive import Primitive
 
 __all__ = [
     "SCENE_TOPIC",
@@ -145,8 +147,8 @@ def _rotation_from_z(axis: Sequence[float] | None) -> dict[str, float]:
     return {"x": qx / n, "y": qy / n, "z": qz / n, "w": qw / n}
 
 
-def _colour(primitive: Mapping[str, Any]) -> dict[str, float]:
-    r, g, b = primitive.get("colour") or _DEFAULT_COLOURS[primitive["kind"]]
+def _colour(primitive: Primitive) -> dict[str, float]:
+    r, g, b = primitive.colour or _DEFAULT_COLOURS[primitive.kind]
     return {"r": float(r), "g": float(g), "b": float(b), "a": 1.0}
 
 
@@ -154,18 +156,16 @@ def _time(time_ns: int) -> dict[str, int]:
     return {"sec": time_ns // 1_000_000_000, "nsec": time_ns % 1_000_000_000}
 
 
-def scene_entity(
-    scene_id: str, primitives: Iterable[Mapping[str, Any]], *, time_ns: int
-) -> dict[str, Any]:
-    """One ``SceneEntity`` drawing ``primitives`` (dicts with ``id``, ``kind``, ``centre`` and
-    optionally ``axis``, ``radius``, ``height``, ``colour``)."""
+def scene_entity(scene_id: str, primitives: Iterable[Primitive], *, time_ns: int) -> dict[str, Any]:
+    """One ``SceneEntity`` drawing ``primitives`` (a sphere, cylinder or cone of their radius,
+    5 cm when they have none, and height, their diameter when they have none)."""
     spheres, cylinders, cubes, texts = [], [], [], []
     for p in primitives:
-        radius = float(p.get("radius") or 0.05)
-        height = float(p.get("height") or 2 * radius)
-        pose = {"position": _vector(p["centre"]), "orientation": _rotation_from_z(p.get("axis"))}
+        radius = p.radius or 0.05
+        height = p.height or 2 * radius
+        pose = {"position": _vector(p.centre), "orientation": _rotation_from_z(p.axis)}
         colour = _colour(p)
-        kind = p["kind"]
+        kind = p.kind
         if kind == "Sphere":
             spheres.append({"pose": pose, "size": _vector((2 * radius,) * 3), "color": colour})
         elif kind in ("Cylinder", "Cone"):
@@ -181,9 +181,7 @@ def scene_entity(
         else:
             size = (PLANE_SIZE_M, PLANE_SIZE_M, PLANE_THICKNESS_M)
             cubes.append({"pose": pose, "size": _vector(size), "color": colour})
-        label_at = dict(
-            pose, position=_vector((p["centre"][0], p["centre"][1], p["centre"][2] + 0.02))
-        )
+        label_at = dict(pose, position=_vector((p.centre[0], p.centre[1], p.centre[2] + 0.02)))
         texts.append(
             {
                 "pose": label_at,
@@ -191,7 +189,7 @@ def scene_entity(
                 "font_size": 12.0,
                 "scale_invariant": True,
                 "color": {"r": 0.1, "g": 0.1, "b": 0.1, "a": 1.0},
-                "text": str(p["id"]),
+                "text": p.id,
             }
         )
     return {

@@ -24,7 +24,7 @@ before it that are still live.
 >>> import datetime as dt
 >>> from kg import Store
 >>> from reasoners.memory import SceneMemory
->>> from reasoners.primitives import Primitive
+>>> from kg.primitive import Primitive
 >>> memory = SceneMemory(Store(), clock=lambda: dt.datetime(2025, 1, 1, tzinfo=dt.UTC))
 >>> ball = Primitive("ball", "Sphere", centre=(.3, .3, .3), radius=.05)
 >>> table = Primitive("table", "Plane", centre=(.3, .1, .1), axis=(0, 0, 1))

@@ -14,7 +14,7 @@ from api.client import (
     ArmorInputError,
     ArmorServiceInternalError,
     LocalTransport,
-    ScenePrimitive,
+    Primitive,
     parse_value,
 )
 from api.perceive import perceive
@@ -25,8 +25,8 @@ from shapes import Perception, open_source
 from tests.conftest import LiveServer
 
 ENGRAM = "https://w3id.org/engram/ontology#"
-BALL = ScenePrimitive("ball", "Sphere", centre=(0.3, 0.3, 0.3), radius=0.05)
-TABLE = ScenePrimitive("table", "Plane", centre=(0.3, 0.1, 0.1), axis=(0, 0, 1), hessian=-0.1)
+BALL = Primitive("ball", "Sphere", centre=(0.3, 0.3, 0.3), radius=0.05)
+TABLE = Primitive("table", "Plane", centre=(0.3, 0.1, 0.1), axis=(0, 0, 1), hessian=-0.1)
 
 
 @pytest.fixture
@@ -113,17 +113,17 @@ def test_a_scene_of_one_object_says_why_it_is_refused(local_client: ArmorClient)
     [
         ({"kind": "Sphre"}, "kind: got 'Sphre', expected one of Sphere, Cylinder, Cone, Plane"),
         ({"centre": (0.0, 0.0)}, "centre: got (0.0, 0.0), expected three finite numbers"),
-        ({"centre": (0.0, math.nan, 0.0)}, "expected three finite numbers"),
-        ({"radius": -0.05}, "radius: got -0.05, expected a positive number"),
-        ({"name": " "}, "primitive name: got ' '"),
+        ({"centre": (0.0, math.nan, 0.0)}, "centre: got nan, expected a finite number"),
+        ({"radius": -0.05}, "radius: got -0.05, expected a positive length"),
+        ({"id": " "}, "primitive id: got ' '"),
     ],
 )
 def test_a_bad_primitive_is_refused_before_anything_is_sent(
     fields: dict[str, Any], fragment: str
 ) -> None:
-    given = {"name": "ball", "kind": "Sphere", "centre": (0.3, 0.3, 0.3), "radius": 0.05}
+    given = {"id": "ball", "kind": "Sphere", "centre": (0.3, 0.3, 0.3), "radius": 0.05}
     with pytest.raises(ValueError) as raised:
-        ScenePrimitive(**{**given, **fields})
+        Primitive(**{**given, **fields})
     assert fragment in str(raised.value)
 
 

@@ -9,7 +9,7 @@ from typing import Any
 import httpx
 import pytest
 
-from api.client import ArmorClient, ScenePrimitive
+from api.client import ArmorClient, Primitive
 from api.views import scenes
 from tests.conftest import LiveServer
 
@@ -17,10 +17,10 @@ STREAMS = 12
 FOLLOW = {"Accept": "text/event-stream"}
 
 
-def _scene(offset: float) -> list[ScenePrimitive]:
+def _scene(offset: float) -> list[Primitive]:
     return [
-        ScenePrimitive("ball", "Sphere", centre=(offset, 0.0, 0.04), radius=0.04),
-        ScenePrimitive(
+        Primitive("ball", "Sphere", centre=(offset, 0.0, 0.04), radius=0.04),
+        Primitive(
             "can",
             "Cylinder",
             centre=(offset + 0.2, 0.0, 0.07),

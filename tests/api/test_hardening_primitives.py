@@ -1,4 +1,4 @@
-"""Physical checks on primitive attributes where they enter: the client's ScenePrimitive
+"""Physical checks on primitive attributes where they enter: the client's Primitive
 refuses what no primitive can be before sending it (the server refuses it at SCENE UPDATED,
 storing nothing: tests/api/armor/test_numerals.py)."""
 
@@ -6,7 +6,7 @@ from typing import Any
 
 import pytest
 
-from api.client import ScenePrimitive
+from api.client import Primitive, primitive_directives
 
 # (fields, message fragment)
 CLIENT_IMPOSSIBLE: list[tuple[dict[str, Any], str]] = [
@@ -23,10 +23,10 @@ CLIENT_IMPOSSIBLE: list[tuple[dict[str, Any], str]] = [
 @pytest.mark.parametrize(("fields", "fragment"), CLIENT_IMPOSSIBLE)
 def test_the_client_refuses_an_impossible_primitive(fields: dict[str, Any], fragment: str) -> None:
     with pytest.raises(ValueError, match=fragment):
-        ScenePrimitive("p", centre=(0.0, 0.0, 0.0), **fields)
+        Primitive("p", centre=(0.0, 0.0, 0.0), **fields)
 
 
 def test_the_client_centre_must_be_finite() -> None:
     with pytest.raises(ValueError, match="centre"):
-        ScenePrimitive("p", "Sphere", centre=(0.0, float("nan"), 0.0), radius=0.1)
-    assert ScenePrimitive("p", "Sphere", centre=(0.0, 0.0, 0.0), radius=0.1).directives()
+        Primitive("p", "Sphere", centre=(0.0, float("nan"), 0.0), radius=0.1)
+    assert primitive_directives(Primitive("p", "Sphere", centre=(0.0, 0.0, 0.0), radius=0.1))

@@ -10,15 +10,15 @@ from pathlib import Path
 import httpx
 import pytest
 
-from api.client import ArmorClient, ArmorServiceInternalError, ScenePrimitive
+from api.client import ArmorClient, ArmorServiceInternalError, Primitive
 from api.config import Settings
 from api.main import create_app
 from reasoners import index_file
 from tests.conftest import LiveServer, free_port, serve
 
 SCENE = [
-    ScenePrimitive("ball", "Sphere", centre=(0.3, 0.3, 0.3), radius=0.05),
-    ScenePrimitive("table", "Plane", centre=(0.3, 0.1, 0.1), axis=(0, 0, 1)),
+    Primitive("ball", "Sphere", centre=(0.3, 0.3, 0.3), radius=0.05),
+    Primitive("table", "Plane", centre=(0.3, 0.1, 0.1), axis=(0, 0, 1)),
 ]
 COUNT = "SELECT (COUNT(*) AS ?n) WHERE { ?s ?p ?o }"
 

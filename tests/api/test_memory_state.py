@@ -6,8 +6,8 @@ from api.memory_state import live_memory_state
 from episodes import EpisodeMemory
 from episodes.snapshot import read_memory_state
 from kg import Store
+from kg.primitive import Primitive
 from reasoners.memory import SceneMemory
-from reasoners.primitives import Primitive
 
 T0 = dt.datetime(2026, 1, 1, tzinfo=dt.UTC)
 ALONE = [

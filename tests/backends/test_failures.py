@@ -6,14 +6,14 @@ from pathlib import Path
 
 import pytest
 
-from api.client import ArmorClient, ScenePrimitive
+from api.client import ArmorClient, Primitive, primitive_directives
 from tests.backends.servers import OxigraphServer
 from tests.conftest import LiveServer
 
 pytestmark = pytest.mark.slow
 
-BALL = ScenePrimitive("ball", "Sphere", centre=(0.3, 0.3, 0.3), radius=0.05)
-TABLE = ScenePrimitive("table", "Plane", centre=(0.3, 0.1, 0.1), axis=(0, 0, 1))
+BALL = Primitive("ball", "Sphere", centre=(0.3, 0.3, 0.3), radius=0.05)
+TABLE = Primitive("table", "Plane", centre=(0.3, 0.1, 0.1), axis=(0, 0, 1))
 
 
 def test_a_killed_server_gets_503s_then_the_writer_catches_up_without_losing_a_write(
@@ -47,7 +47,7 @@ def test_a_killed_server_gets_503s_then_the_writer_catches_up_without_losing_a_w
 
 def _scene_list() -> list[dict[str, object]]:
     directives = [("LOAD", "INIT", "", [])]
-    directives += BALL.directives() + TABLE.directives()
+    directives += primitive_directives(BALL) + primitive_directives(TABLE)
     directives.append(("SCENE", "UPDATED", "", []))
     return [
         {

@@ -10,17 +10,17 @@ from pathlib import Path
 import httpx
 import pytest
 
-from api.client import ArmorClient, ScenePrimitive
+from api.client import ArmorClient, Primitive
 from kg.fleet import open_remote
 from tests.backends.servers import OxigraphServer
 from tests.conftest import LiveServer
 
 pytestmark = pytest.mark.slow
 
-BALL = ScenePrimitive("ball", "Sphere", centre=(0.3, 0.3, 0.3), radius=0.05)
-TABLE = ScenePrimitive("table", "Plane", centre=(0.3, 0.1, 0.1), axis=(0, 0, 1))
-CONE = ScenePrimitive("cone", "Cone", centre=(0.3, 0.6, 0.1), axis=(0, 0, 1), radius=0.04)
-SPHERE = ScenePrimitive("orb", "Sphere", centre=(0.3, 0.2, 0.1), radius=0.05)
+BALL = Primitive("ball", "Sphere", centre=(0.3, 0.3, 0.3), radius=0.05)
+TABLE = Primitive("table", "Plane", centre=(0.3, 0.1, 0.1), axis=(0, 0, 1))
+CONE = Primitive("cone", "Cone", centre=(0.3, 0.6, 0.1), axis=(0, 0, 1), radius=0.04)
+SPHERE = Primitive("orb", "Sphere", centre=(0.3, 0.2, 0.1), radius=0.05)
 
 CLASSES_BOTH_HOLD = """
 PREFIX owl: <http://www.w3.org/2002/07/owl#>

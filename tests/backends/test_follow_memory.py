@@ -8,9 +8,9 @@ import pytest
 
 from kg.fleet import open_remote
 from kg.follow import Follower
+from kg.primitive import Primitive
 from reasoners.follow import apply_change
 from reasoners.memory import SceneMemory
-from reasoners.primitives import Primitive
 
 pytestmark = pytest.mark.slow
 

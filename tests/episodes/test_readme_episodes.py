@@ -7,7 +7,7 @@ from typing import Any
 
 import pytest
 
-from api.client import ArmorClient, ScenePrimitive
+from api.client import ArmorClient, Primitive
 from tests.conftest import LiveServer
 
 README = (Path(__file__).resolve().parents[2] / "README.md").read_text(encoding="utf-8")
@@ -38,9 +38,9 @@ def test_the_python_example_prints_what_the_readme_says(
     assert _sparql(live_server.client, count) == [{"times": "1"}]
 
 
-def _scene(*extra: ScenePrimitive) -> list[ScenePrimitive]:
-    table = ScenePrimitive("table", "Plane", centre=(0.3, 0.1, 0.1), axis=(0, 0, 1), hessian=-0.1)
-    ball = ScenePrimitive("ball", "Sphere", centre=(0.3, 0.3, 0.3), radius=0.05)
+def _scene(*extra: Primitive) -> list[Primitive]:
+    table = Primitive("table", "Plane", centre=(0.3, 0.1, 0.1), axis=(0, 0, 1), hessian=-0.1)
+    ball = Primitive("ball", "Sphere", centre=(0.3, 0.3, 0.3), radius=0.05)
     return [ball, table, *extra]
 
 
@@ -57,7 +57,7 @@ def test_what_was_on_the_table_when_hyungjin_started_babbling(live_server: LiveS
         },
     )
     assert begun.status_code == 201
-    cup = ScenePrimitive(
+    cup = Primitive(
         "cup", "Cylinder", centre=(0.6, 0.3, 0.2), axis=(0, 0, 1), radius=0.04, height=0.1
     )
     armor.memory.store_scene(_scene(cup))

@@ -5,7 +5,7 @@ from typing import Any
 
 import pytest
 
-from api.client import ArmorClient, ScenePrimitive
+from api.client import ArmorClient, Primitive
 from tests.conftest import LiveServer
 
 NOW = "2026-02-26T10:00:00+00:00"
@@ -19,8 +19,8 @@ def store_scene_over_http(client: Any) -> str:
     armor = ArmorClient("camera", "scenes", base_url=str(client.base_url))
     armor.memory.store_scene(
         [
-            ScenePrimitive("ball", "Sphere", centre=(0.3, 0.3, 0.3), radius=0.05),
-            ScenePrimitive("table", "Plane", centre=(0.3, 0.1, 0.1), axis=(0, 0, 1), hessian=-0.1),
+            Primitive("ball", "Sphere", centre=(0.3, 0.3, 0.3), radius=0.05),
+            Primitive("table", "Plane", centre=(0.3, 0.1, 0.1), axis=(0, 0, 1), hessian=-0.1),
         ]
     )
     armor.close()

@@ -12,7 +12,8 @@ from hypothesis import strategies as st
 from pyoxigraph import BlankNode, Literal, NamedNode, Triple
 from rdflib.namespace import OWL, RDF, XSD
 
-from kg import Store, ensure_ontology, export, export_triples
+from kg import Store, ensure_ontology
+from kg.export import export, export_triples
 from kg.skolem import Deskolemiser
 from kg.transaction import Transaction
 from ontologies.vocab import (

@@ -9,10 +9,10 @@ from typer.testing import CliRunner
 
 from api.cli import app
 from kg import Store, ensure_ontology
+from kg.primitive import Primitive
 from ontologies.vocab import MEMORY, OWL_MIN_QUALIFIED_CARDINALITY, OWL_ON_CLASS, SCORE
 from reasoners.check import DamagedMemoryError, check_memory, fix_memory, open_scene_memory
 from reasoners.memory import SceneMemory
-from reasoners.primitives import Primitive
 
 SCENE = [
     Primitive("ball", "Sphere", centre=(0.3, 0.3, 0.3), radius=0.05),

@@ -23,8 +23,8 @@ from api.config import Settings
 from api.main import create_app
 from episodes import ArgumentSpec, EpisodeMemory
 from kg import Store
+from kg.primitive import Primitive
 from reasoners.memory import SceneMemory
-from reasoners.primitives import Primitive
 from tests.conftest import free_port, serve
 from tests.web.browser import CHROMIUM_ARGS, chromium_path
 

@@ -12,7 +12,7 @@ from pathlib import Path
 import httpx
 import pytest
 
-from api.client import ArmorClient, ScenePrimitive
+from api.client import ArmorClient, Primitive
 from api.config import Settings
 from api.main import create_app
 from api.routes import views
@@ -20,7 +20,7 @@ from tests.conftest import free_port, serve
 from tests.web.conftest import ViewServer, Watched
 
 TOWER = [
-    ScenePrimitive(
+    Primitive(
         "base",
         "Cylinder",
         centre=(0.0, 0.0, 0.05),
@@ -29,8 +29,8 @@ TOWER = [
         height=0.1,
         colour=(0.2, 0.6, 0.2),
     ),
-    ScenePrimitive("top", "Sphere", centre=(0.0, 0.0, 0.16), radius=0.05, colour=(0.9, 0.2, 0.6)),
-    ScenePrimitive(
+    Primitive("top", "Sphere", centre=(0.0, 0.0, 0.16), radius=0.05, colour=(0.9, 0.2, 0.6)),
+    Primitive(
         "side",
         "Cone",
         centre=(0.2, 0.0, 0.05),
@@ -45,7 +45,7 @@ TOWER = [
 FOLLOW = {"Accept": "text/event-stream"}  # as an EventSource asks
 
 
-def _store(view_server: ViewServer, primitives: list[ScenePrimitive]) -> str:
+def _store(view_server: ViewServer, primitives: list[Primitive]) -> str:
     with ArmorClient("camera", "engram", base_url=view_server.url) as client:
         client.memory.store_scene(primitives)
     latest: str = view_server.client.get("/views/scenes/latest").json()["scene"]["name"]

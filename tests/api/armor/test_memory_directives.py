@@ -15,22 +15,22 @@ from pyoxigraph import NamedNode
 
 from api.armor import ArmorEngine
 from api.armor.models import ArmorDirectiveReq
-from api.client import ArmorClient, ArmorServiceInternalError, ScenePrimitive
+from api.client import ArmorClient, ArmorServiceInternalError, Primitive, primitive_directives
 from kg import Store
 from ontologies.vocab import ENGRAM_NS, EPISODIC, MEMORY, TRASH
 from reasoners.clock import SettableClock
 from reasoners.memory import SceneMemory
 from tests.api.armor.conftest import Armor, start_live_server
 
-TABLE = ScenePrimitive("table", "Plane", centre=(0.3, 0.1, 0.1), axis=(0, 0, 1), hessian=-0.1)
+TABLE = Primitive("table", "Plane", centre=(0.3, 0.1, 0.1), axis=(0, 0, 1), hessian=-0.1)
 
 
-def _ball(name: str, x: float) -> ScenePrimitive:
-    return ScenePrimitive(name, "Sphere", centre=(x, 0.3, 0.3), radius=0.05, colour=(1, 0, 0))
+def _ball(name: str, x: float) -> Primitive:
+    return Primitive(name, "Sphere", centre=(x, 0.3, 0.3), radius=0.05, colour=(1, 0, 0))
 
 
-def _cup(name: str, x: float) -> ScenePrimitive:
-    return ScenePrimitive(
+def _cup(name: str, x: float) -> Primitive:
+    return Primitive(
         name, "Cylinder", centre=(x, 0.3, 0.2), axis=(0, 0, 1), radius=0.04, height=0.1
     )
 
@@ -96,7 +96,7 @@ def test_memory_directive_errors_and_rollback(armor: Armor, ref: str) -> None:
     client = ArmorClient("cam2", ref, base_url=armor.url)
     directives = [("LOAD", "INIT", "", [])]
     for primitive in (_ball("b", 0.3), TABLE):
-        directives += primitive.directives()
+        directives += primitive_directives(primitive)
     directives += [("SCENE", "UPDATED", "", []), ("ADD", "IND", "CLASS", ["only_one"])]
     result = client.call_list(directives)  # type: ignore[arg-type]
     assert result.success is False
@@ -131,10 +131,10 @@ def _requests(
     ]
 
 
-def _scene(*primitives: ScenePrimitive) -> list[tuple[str, str, str, list[str]]]:
+def _scene(*primitives: Primitive) -> list[tuple[str, str, str, list[str]]]:
     out: list[tuple[str, str, str, list[str]]] = [("LOAD", "INIT", "", [])]
     for primitive in primitives:
-        out += primitive.directives()
+        out += primitive_directives(primitive)
     return [*out, ("SCENE", "UPDATED", "", [])]
 
 
@@ -202,21 +202,21 @@ KILLED_WRITER = textwrap.dedent(
     import sys
     from api.armor import ArmorEngine
     from api.armor.models import ArmorDirectiveReq
-    from api.client import ScenePrimitive
+    from api.client import Primitive, primitive_directives
     from kg import Store
 
     engine = ArmorEngine(Store(sys.argv[1]))
-    table = ScenePrimitive("t", "Plane", centre=(0.3, 0.1, 0.1), axis=(0, 0, 1))
+    table = Primitive("t", "Plane", centre=(0.3, 0.1, 0.1), axis=(0, 0, 1))
     n = 0
     while True:
         n += 1
-        ball = ScenePrimitive("b", "Sphere", centre=(0.3 + n % 7 / 100, 0.3, 0.3), radius=0.05)
-        cup = ScenePrimitive("c", "Cylinder", centre=(0.3, 0.3, 0.2), axis=(0, 0, 1), radius=0.04)
+        ball = Primitive("b", "Sphere", centre=(0.3 + n % 7 / 100, 0.3, 0.3), radius=0.05)
+        cup = Primitive("c", "Cylinder", centre=(0.3, 0.3, 0.2), axis=(0, 0, 1), radius=0.04)
         directives = [("ADD", "IND", "", [f"list{n}"])]
         for primitives in ([ball, table], [cup, ball, table]):
             directives.append(("LOAD", "INIT", "", []))
             for p in primitives:
-                directives += p.directives()
+                directives += primitive_directives(p)
             directives.append(("SCENE", "UPDATED", "", []))
         requests = [
             ArmorDirectiveReq(client_name="cam", reference_name="marks", command=c,

@@ -116,8 +116,9 @@ def test_an_integer_numeral_java_would_refuse_answers_208(
         (BALL | {"radius": "-0.05"}, UP, "radius: got -0.05, expected a positive length"),
         (BALL | {"radius": "0"}, UP, "radius: got 0.0, expected a positive length"),
         (BALL, ("0", "0", "0"), "axis: got (0.0, 0.0, 0.0), expected a non-zero 3-vector"),
+        (BALL | {"trackingId": "3.7"}, UP, "tracking_id: got 3.7, expected a non-negative integer"),
     ],
-    ids=["negative-radius", "zero-radius", "zero-axis"],
+    ids=["negative-radius", "zero-radius", "zero-axis", "fractional-tracking-id"],
 )
 def test_a_primitive_that_is_not_physical_answers_212_and_stores_nothing(
     engine: ArmorEngine, ball: dict[str, str], axis: tuple[str, str, str], fragment: str

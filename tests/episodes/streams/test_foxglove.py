@@ -27,8 +27,8 @@ from episodes.streams.foxglove import (
 from episodes.streams.mcapread import McapFile
 from episodes.streams.recorder import mcap_file
 from kg import Store
+from kg.primitive import Primitive
 from reasoners.memory import SceneMemory
-from reasoners.primitives import Primitive
 
 START = dt.datetime(2026, 1, 26, 8, 0, tzinfo=dt.UTC)
 T0 = int(START.timestamp() * 1e9)
@@ -153,7 +153,7 @@ def test_a_zstd_recording_keeps_its_compression_and_gains_the_channel(tmp_path: 
     for i in range(20):
         recorder.tick({"head": [0.01 * i]}, time_ns=T0 + i * 10_000_000)
     recorder.close()
-    ball = {"id": "ball", "kind": "Sphere", "centre": (0.0, 0.0, 0.05), "radius": 0.05}
+    ball = Primitive("ball", "Sphere", centre=(0.0, 0.0, 0.05), radius=0.05)
     update = scene_message(scene_entity("experience-1", [ball], time_ns=T0 + 5))
     add_scene_channel(bag, [(T0 + 5, update)], episode_id="ep")
 
@@ -176,7 +176,7 @@ def test_scenes_go_among_the_samples_so_log_times_never_go_backwards(tmp_path: P
     for i in range(20):
         recorder.tick({"head": [0.01 * i]}, time_ns=T0 + i * 10_000_000)
     recorder.close()
-    ball = {"id": "ball", "kind": "Sphere", "centre": (0.0, 0.0, 0.05), "radius": 0.05}
+    ball = Primitive("ball", "Sphere", centre=(0.0, 0.0, 0.05), radius=0.05)
     times = [T0 + 35_000_000, T0 + 120_000_000, T0 + 500_000_000]  # the last after every tick
     updates = [(t, scene_message(scene_entity("s", [ball], time_ns=t))) for t in times]
     add_scene_channel(bag, updates, episode_id="ep")

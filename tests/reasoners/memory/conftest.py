@@ -6,8 +6,8 @@ import random
 import pytest
 
 from kg import Store
+from kg.primitive import KINDS, Primitive
 from reasoners.memory import SceneMemory
-from reasoners.primitives import KINDS, Primitive
 
 START = dt.datetime(2025, 3, 1, 9, 0, tzinfo=dt.UTC)
 

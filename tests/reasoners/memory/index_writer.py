@@ -16,9 +16,9 @@ from pathlib import Path
 from typing import Any
 
 from kg import Store
+from kg.primitive import Primitive
 from reasoners import index_file
 from reasoners.memory import SceneMemory
-from reasoners.primitives import Primitive
 
 START = dt.datetime(2025, 3, 1, 9, 0, tzinfo=dt.UTC)
 

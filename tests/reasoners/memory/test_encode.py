@@ -4,11 +4,11 @@ import pytest
 from pyoxigraph import NamedNode
 
 from kg import Store, ensure_ontology
+from kg.primitive import Primitive
 from ontologies.vocab import CONE, CYLINDER, PLANE, SPHERE, engram
 from reasoners.encode import Encoder
 from reasoners.errors import InvalidSceneError
 from reasoners.policy import load_policy
-from reasoners.primitives import Primitive
 from reasoners.signature import Signature
 
 from .conftest import plane, sphere, worked_example

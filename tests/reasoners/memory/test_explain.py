@@ -4,6 +4,7 @@ import pytest
 from pyoxigraph import NamedNode
 
 from kg import Store, ensure_ontology
+from kg.primitive import Primitive
 from reasoners.errors import UnknownItemError
 from reasoners.explain import (
     ForgettingExplanation,
@@ -17,7 +18,6 @@ from reasoners.explain import (
     to_jsonable,
 )
 from reasoners.memory import SceneMemory
-from reasoners.primitives import Primitive
 
 from .conftest import FakeClock, plane, sphere
 from .test_forgetting import set_policy

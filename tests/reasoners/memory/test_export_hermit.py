@@ -16,8 +16,8 @@ from pathlib import Path
 import pytest
 from pyoxigraph import Literal
 
-from kg import Store, export
-from kg.export import export_triples
+from kg import Store
+from kg.export import export, export_triples
 from ontologies.vocab import GRAPHS, XSD_DATETIME
 from reasoners.memory import SceneMemory
 

@@ -65,6 +65,7 @@ import pytest
 from pyoxigraph import BlankNode, Literal, NamedNode, RdfFormat, Triple, serialize
 
 from kg import Store, export_triples
+from kg.primitive import Primitive
 from ontologies.vocab import (
     EPISODIC,
     EXPERIENCED_SCENE,
@@ -96,7 +97,6 @@ from ontologies.vocab import (
     XSD_NON_NEGATIVE_INTEGER,
 )
 from reasoners.memory import SceneMemory
-from reasoners.primitives import Primitive
 
 from .conftest import FakeClock, random_scene
 

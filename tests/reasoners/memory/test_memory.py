@@ -187,7 +187,7 @@ def test_episode_link(memory: SceneMemory) -> None:
         ([sphere("a", 0, 0, 0)], InvalidSceneError, "got 1 object(s) and no spatial relation"),
         ([], InvalidSceneError, "got 0 object(s)"),
         ([sphere("a", 0, 0, 0), sphere("a", 1, 1, 1)], InvalidSceneError, "'a' more than once"),
-        ([sphere("a", 0, 0, 0), ("Sphere", 0, 0, 0)], InvalidSceneError, "expected reasoners."),
+        ([sphere("a", 0, 0, 0), ("Sphere", 0, 0, 0)], InvalidSceneError, "expected kg.primitive."),
     ],
 )
 def test_bad_scenes_change_nothing(

@@ -2,8 +2,8 @@
 
 import pytest
 
-from reasoners.errors import InvalidPrimitiveError
-from reasoners.primitives import Primitive
+from kg.errors import InvalidPrimitiveError
+from kg.primitive import Primitive
 
 GOOD = {"id": "a", "kind": "Cylinder", "centre": (0, 0, 0), "axis": (0, 0, 1)}
 
@@ -54,3 +54,34 @@ def test_a_huge_axis_is_normalised_not_zeroed() -> None:
 def test_an_axis_without_a_direction_is_refused(axis: tuple[float, float, float]) -> None:
     with pytest.raises(InvalidPrimitiveError, match="axis"):
         Primitive("t", "Plane", centre=(0, 0, 0), axis=axis)
+
+
+CENTRE = {"centreX": 0.1, "centreY": 0.2, "centreZ": 0.3}
+
+
+@pytest.mark.parametrize(
+    ("attributes", "fragment"),
+    [
+        (CENTRE | {"volume": 1.0}, "attribute: got 'volume', expected one of centreX"),
+        ({"centreX": 0.1, "centreZ": 0.3}, "primitive 'p': centre lacks its Y"),
+        (CENTRE | {"colourR": 1.0, "colourG": 0.5}, "primitive 'p': colour lacks its B"),
+        ({"radius": 0.1}, "primitive 'p': no centre (centreX/Y/Z)"),
+        (CENTRE | {"trackingId": 3.5}, "tracking_id: got 3.5, expected a non-negative integer"),
+    ],
+)
+def test_attributes_that_make_no_primitive_are_refused(
+    attributes: dict[str, float], fragment: str
+) -> None:
+    with pytest.raises(InvalidPrimitiveError) as caught:
+        Primitive.from_attributes("p", "Sphere", attributes)
+    assert fragment in str(caught.value)
+
+
+def test_attributes_read_back_as_the_primitive_they_came_from() -> None:
+    cone = Primitive(
+        "cone", "Cone", centre=(0, 0, 0.1), axis=(0, 0, -1), apex=(0, 0, 0.2), tracking_id=4
+    )
+    assert cone.attributes()["trackingId"] == 4
+    assert Primitive.from_attributes("cone", "Cone", cone.attributes()) == cone
+    whole = dict(cone.attributes(), trackingId=4.0)  # an INTEGER sent as a DOUBLE
+    assert Primitive.from_attributes("cone", "Cone", whole) == cone
