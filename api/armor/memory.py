@@ -352,7 +352,7 @@ def _pin(ctx: Context, pinned: bool) -> Outcome:
     iri = _memory_iri(ctx.arg(0, "class or scene item"), "args[0]")
     memory = ctx.session.memory.memory
     try:
-        memory.item_scores(iri)  # checks the item is live now
+        memory.reads.item_scores(iri)  # checks the item is live now
     except _errors(KeyError) as error:
         raise MemoryDirectiveError(f"args[0]: {error}") from None
     return _deferred(ctx, lambda: memory.pin(iri, pinned), lambda _, response: None)
@@ -369,7 +369,7 @@ def memory_unpin(ctx: Context) -> Outcome:
 def memory_restore(ctx: Context) -> Outcome:
     iri = _memory_iri(ctx.arg(0, "forgotten class or scene item"), "args[0]")
     memory = ctx.session.memory.memory
-    if iri not in memory.trash():
+    if iri not in memory.reads.trash():
         raise MemoryDirectiveError(f"args[0]: {iri.value} is not in the trash")
 
     def fill(restored: Any, response: ArmorDirectiveRes) -> None:
@@ -382,7 +382,7 @@ def _scores(ctx: Context) -> Any:
     iri = _memory_iri(ctx.arg(0, "class or scene item"), "args[0]")
     memory = ctx.session.memory.memory
     try:
-        return memory.item_scores(iri)
+        return memory.reads.item_scores(iri)
     except _errors(KeyError) as error:
         raise MemoryDirectiveError(f"args[0]: {error}") from None
 

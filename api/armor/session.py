@@ -12,7 +12,7 @@ Reasoning never copies a reference: the list tells the reasoner what it wrote si
 reasoned (:mod:`api.armor.reasoning`), gets the inferred graph's delta back, and commits that
 delta with its own changes. Memory directives (:mod:`api.armor.memory`) queue their work; at
 the commit the scene memory runs it, in order, into pending writes that join the same
-transaction (:meth:`reasoners.memory.SceneMemory.batch`), so a list with two scenes, or a
+transaction (:meth:`reasoners.transactions.Transactions.batch`), so a list with two scenes, or a
 reference write and a scene, commits all of it or none.
 """
 
@@ -464,7 +464,7 @@ class Session:
         """
         memory = self.memory.memory
         work, self.after_commit = self.after_commit, []
-        with memory.batch() as writes:
+        with memory.transactions.batch() as writes:
             for run, response in work:
                 try:
                     run(response)
