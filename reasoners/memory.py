@@ -4,11 +4,12 @@
 :meth:`SceneMemory.store_scene`, :meth:`~SceneMemory.learn_classes`,
 :meth:`~SceneMemory.retrieve`, :meth:`~SceneMemory.sleep`, :meth:`~SceneMemory.pin` and
 :meth:`~SceneMemory.restore` is one ``store.transaction()``: all of its writes are visible, or
-none (:mod:`reasoners.transactions`). Recognition uses an in-memory model
-(:mod:`reasoners.model`) read from the index file or rebuilt from the store's triples
-(:mod:`reasoners.loading`), and rebuilt again if a transaction fails, so the store stays the
-source of truth. Methods may be called from several threads; they are serialised. The
-memory's parts, each one idea:
+none (:mod:`reasoners.transactions`); :meth:`~SceneMemory.commit` runs several, described as
+values (:mod:`reasoners.operations`), in one transaction with a caller's own writes.
+Recognition uses an in-memory model (:mod:`reasoners.model`) read from the index file or rebuilt
+from the store's triples (:mod:`reasoners.loading`), and rebuilt again if a transaction fails,
+so the store stays the source of truth. Methods may be called from several threads; they are
+serialised. The memory's parts, each one idea:
 
 - :attr:`SceneMemory.loaded` (:class:`~reasoners.loading.LoadedModel`): the model, its
   readiness, the revision it mirrors, the index file;
@@ -72,17 +73,30 @@ from ontologies.vocab import (
     UPDATES_SINCE_SLEEP,
 )
 from reasoners import forgetting, history, index_file, persist
-from reasoners.clock import Clock, read_clock
+from reasoners.clock import Clock, SettableClock, read_clock
 from reasoners.collector import collector_paused
 from reasoners.encode import Encoder, Relation
 from reasoners.errors import (
     InvalidSceneError,
     NotInTrashError,
+    OperationFailedError,
     RestoreConflictError,
     UnknownItemError,
 )
 from reasoners.loading import LoadedModel
 from reasoners.model import ClassRecord, ItemRecord, MemoryModel
+from reasoners.operations import (
+    AdvanceClock,
+    Cue,
+    Operation,
+    OperationResult,
+    Pin,
+    Restore,
+    Retrieve,
+    SetClock,
+    Sleep,
+    StoreScene,
+)
 from reasoners.policy import Policy, load_policy
 from reasoners.primitives import Primitive
 from reasoners.reads import MemoryReads, recognitions_in, unknown_item
@@ -101,10 +115,6 @@ from reasoners.transactions import Transactions
 __all__ = ["Clock", "Cue", "SceneMemory"]
 
 log = logging.getLogger(__name__)
-
-Cue = Signature | Sequence[Primitive] | Sequence[tuple[str, str, str]]
-"""A partial scene: primitives, relation triples between object types such as
-``("Sphere", "isAboveOf", "Plane")``, or a signature."""
 
 
 def _utc_now() -> dt.datetime:
@@ -540,6 +550,70 @@ class SceneMemory:
             if not due and since is not None:
                 due = (self._now() - since).total_seconds() >= p.sleepIntervalSeconds
             return self.sleep() if due else None
+
+    # Several operations, one transaction -------------------------------------------------------
+
+    def commit(
+        self,
+        operations: Sequence[Operation],
+        alongside: Transaction | None = None,
+        *,
+        sleep_if_due: bool = False,
+    ) -> list[OperationResult]:
+        """Run ``operations`` in order, each seeing the ones before it, and write their changes
+        and ``alongside`` (the caller's own writes, to graphs other than the memory's) in one
+        store transaction; return each operation's result, in order.
+
+        With ``sleep_if_due``, each stored scene and each retrieval is followed by the periodic
+        sleep pass when one is due (:meth:`maybe_sleep`), in the same transaction. The memory's
+        lock is held from the first operation to the commit. If an operation fails, nothing is
+        written, the model is rebuilt from the store and a settable clock is put back; the
+        error is raised as :class:`~reasoners.errors.OperationFailedError`, which names the
+        operation. If the store refuses the transaction, its error is raised as it is.
+        """
+        with self.transactions.batch() as writes:
+            results = []
+            for index, operation in enumerate(operations):
+                try:
+                    results.append(self._run(operation))
+                    if sleep_if_due and isinstance(operation, StoreScene | Retrieve):
+                        self.maybe_sleep()
+                except Exception as error:
+                    raise OperationFailedError(index, error) from error
+            with self.store.transaction() as tx:
+                writes.copy_into(tx)
+                if alongside is not None:
+                    tx.cleared.extend(alongside.cleared)
+                    tx.patterns.extend(alongside.patterns)
+                    tx.deletes.extend(alongside.deletes)
+                    tx.inserts.extend(alongside.inserts)
+        return results
+
+    def _run(self, operation: Operation) -> OperationResult:
+        match operation:
+            case StoreScene(primitives, episode):
+                return self.store_scene(primitives, episode=episode)
+            case Retrieve(cue, spread):
+                return self.retrieve(cue, spread=spread)
+            case Sleep():
+                return self.sleep()
+            case Pin(iri, pinned):
+                self.pin(iri, pinned)
+                return None
+            case Restore(iri):
+                return self.restore(iri)
+            case SetClock(when):
+                self._settable_clock().set(when)
+                return self._clock()
+            case AdvanceClock(seconds):
+                self._settable_clock().advance(seconds)
+                return self._clock()
+        raise TypeError(f"operation: got {operation!r}, expected a reasoners.operations value")
+
+    def _settable_clock(self) -> SettableClock:
+        if not isinstance(self._clock, SettableClock):
+            raise TypeError("clock: the memory's clock is the real one; it cannot be set")
+        return self._clock
 
     # Pin, restore, read ------------------------------------------------------------------------
 

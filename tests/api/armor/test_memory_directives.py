@@ -17,9 +17,11 @@ from api.armor import ArmorEngine
 from api.armor.models import ArmorDirectiveReq
 from api.client import ArmorClient, ArmorServiceInternalError, ScenePrimitive
 from kg import Store
+from kg.transaction import Transaction
 from ontologies.vocab import ENGRAM_NS, EPISODIC, MEMORY, TRASH
 from reasoners.clock import SettableClock
 from reasoners.memory import SceneMemory
+from reasoners.operations import StoreScene
 from tests.api.armor.conftest import Armor, start_live_server
 
 TABLE = ScenePrimitive("table", "Plane", centre=(0.3, 0.1, 0.1), axis=(0, 0, 1), hessian=-0.1)
@@ -168,6 +170,34 @@ def test_a_list_with_two_scenes_commits_both_in_one_transaction(engine: ArmorEng
     memory = engine.memory.memory
     assert [c.iri.value.rsplit("#")[-1] for c in memory.reads.classes()] == ["Scene-1", "Scene-2"]
     assert len(memory.reads.items()) == 2
+
+
+def test_the_list_hands_the_memory_its_scenes_and_writes_as_values(
+    engine: ArmorEngine, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    memory = engine.memory.memory
+    handed: list[tuple[list[object], Transaction | None]] = []
+    commit = type(memory).commit
+
+    def recorded(
+        self: object,
+        operations: list[object],
+        alongside: Transaction | None = None,
+        **options: bool,
+    ) -> object:
+        handed.append((list(operations), alongside))
+        return commit(memory, operations, alongside, **options)
+
+    monkeypatch.setattr(type(memory), "commit", recorded)
+    assert engine.execute_list(_requests(LOAD_REFERENCE + TWO_SCENES)).success
+    [(operations, alongside)] = handed
+    assert [type(o) for o in operations] == [StoreScene, StoreScene]
+    assert [sorted(p.id for p in o.primitives) for o in operations] == [
+        ["b", "table"],
+        ["c", "table"],
+    ]
+    assert alongside is not None and alongside.inserts  # the reference's settings, as data
+    assert not any(callable(value) for o in operations for value in vars(o).values())
 
 
 @pytest.mark.parametrize(
