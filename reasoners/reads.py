@@ -28,11 +28,10 @@ from reasoners import forgetting
 from reasoners.clock import Clock, read_clock
 from reasoners.errors import UnknownItemError
 from reasoners.loading import LoadedModel
-from reasoners.model import MemoryModel
+from reasoners.model import ClassRecord, MemoryModel
 from reasoners.policy import Policy
 from reasoners.results import ClassSummary, ItemScores, Match, Recognition, ScoreTerms, TrashEntry
 from reasoners.score_view import ScoreView
-from reasoners.scoring import level_of
 from reasoners.signature import Signature
 
 __all__ = ["MemoryReads", "recognitions_in", "unknown_item"]
@@ -74,6 +73,14 @@ class MemoryReads:
         self._policy = policy
         self._clock = clock
 
+    def _live(self, iri: NamedNode) -> ClassRecord:
+        """The record of a live class (the caller holds the lock); UnknownItemError otherwise."""
+        m = self._loaded.model
+        record = m.classes.get(iri)
+        if record is None:
+            raise unknown_item(m, iri)
+        return record
+
     def now(self) -> dt.datetime:
         """The memory clock's current time (to the millisecond)."""
         return read_clock(self._clock)
@@ -88,28 +95,10 @@ class MemoryReads:
                 return self._view.class_scores(m.classes[iri])
             if iri not in m.items:
                 raise unknown_item(m, iri)
-            now = self.now()
-            record = m.items[iri]
+            now, record = self.now(), m.items[iri]
             raw = forgetting.item_raw(m, p, record, now)
             top = max((forgetting.item_raw(m, p, r, now) for r in m.items.values()), default=0.0)
-            normalised = raw / top if top > 0 else 0.0
-            cls = m.classes[record.cls]
-            return ItemScores(
-                iri=iri,
-                kind="item",
-                complexity=record.complexity,
-                store_count=cls.store_count,
-                retrieve_count=cls.retrieve_count,
-                raw_score=raw,
-                normalised=normalised,
-                level=level_of(normalised, high=p.highLevelThreshold, weak=p.weakLevelThreshold),
-                stored_level=record.level,
-                consecutive_weak=record.weak_count,
-                pinned=record.pinned,
-                created=record.created,
-                last_accessed=record.last_accessed,
-                cls=record.cls,
-            )
+            return self._view.scores(record, raw, top)
 
     def classes(self) -> list[ClassSummary]:
         """Every live learned class with its signature, direct edges and scores, simplest first."""
@@ -154,11 +143,7 @@ class MemoryReads:
     def signature(self, iri: NamedNode) -> Signature:
         """The signature of a live class. Raises UnknownItemError otherwise."""
         with self._loaded.lock:
-            m = self._loaded.model
-            record = m.classes.get(iri)
-            if record is None:
-                raise unknown_item(m, iri)
-            return record.signature
+            return self._live(iri).signature
 
     def relatives(self, iri: NamedNode) -> tuple[tuple[NamedNode, ...], tuple[NamedNode, ...]]:
         """(direct parents, direct children) of a live class, each sorted by IRI.
@@ -166,8 +151,7 @@ class MemoryReads:
         Raises :class:`~reasoners.errors.UnknownItemError` for an IRI that is not a live class."""
         with self._loaded.lock:
             m = self._loaded.model
-            if iri not in m.classes:
-                raise unknown_item(m, iri)
+            self._live(iri)
             return (
                 tuple(sorted(m.parents[iri], key=str)),
                 tuple(sorted(m.children[iri], key=str)),
@@ -176,10 +160,7 @@ class MemoryReads:
     def score_terms(self, iri: NamedNode) -> ScoreTerms:
         """The terms ζ of a live class adds up now (raises UnknownItemError otherwise)."""
         with self._loaded.lock:
-            m = self._loaded.model
-            record = m.classes.get(iri)
-            if record is None:
-                raise unknown_item(m, iri)
+            m, record = self._loaded.model, self._live(iri)
             children = sorted(m.children[iri], key=str)
             return ScoreTerms(
                 complexity=record.signature.complexity,
@@ -241,11 +222,7 @@ class MemoryReads:
     def learned_at(self, cls: NamedNode) -> dt.datetime:
         """When a live class was learned (raises UnknownItemError otherwise)."""
         with self._loaded.lock:
-            m = self._loaded.model
-            record = m.classes.get(cls)
-            if record is None:
-                raise unknown_item(m, cls)
-            return record.created
+            return self._live(cls).created
 
     def seen(self, cls: NamedNode) -> list[tuple[NamedNode, dt.datetime]]:
         """The live experienced scenes stored as ``cls`` and when each was seen, oldest first

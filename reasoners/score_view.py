@@ -29,7 +29,7 @@ from ontologies.vocab import (
 )
 from reasoners import migration, persist
 from reasoners.loading import LoadedModel
-from reasoners.model import ClassRecord
+from reasoners.model import ClassRecord, ItemRecord
 from reasoners.policy import Policy
 from reasoners.results import ItemScores
 from reasoners.scoring import level_of
@@ -144,16 +144,27 @@ class ScoreView:
         self, record: ClassRecord, live: tuple[float, float] | None = None
     ) -> ItemScores:
         """A class's scores; ``live`` is its (ζ, largest ζ) when the caller has them already."""
-        m, p = self.loaded.model, self.policy
+        m = self.loaded.model
         zeta, top = live if live is not None else (m.zeta(record), m.max_score)
-        normalised = zeta / top if top > 0 else 0.0
+        return self.scores(record, zeta, top)
+
+    def scores(self, record: ClassRecord | ItemRecord, raw: float, top: float) -> ItemScores:
+        """The scores of a class or experienced scene whose raw score is ``raw`` when the
+        largest of its kind is ``top``; a scene's counts are its class's."""
+        p = self.policy
+        normalised = raw / top if top > 0 else 0.0
+        if isinstance(record, ClassRecord):
+            kind, counts, complexity, cls = "class", record, record.signature.complexity, None
+        else:
+            counts, cls = self.loaded.model.classes[record.cls], record.cls
+            kind, complexity = "item", record.complexity
         return ItemScores(
             iri=record.iri,
-            kind="class",
-            complexity=record.signature.complexity,
-            store_count=record.store_count,
-            retrieve_count=record.retrieve_count,
-            raw_score=zeta,
+            kind=kind,
+            complexity=complexity,
+            store_count=counts.store_count,
+            retrieve_count=counts.retrieve_count,
+            raw_score=raw,
             normalised=normalised,
             level=level_of(normalised, high=p.highLevelThreshold, weak=p.weakLevelThreshold),
             stored_level=record.level,
@@ -161,4 +172,5 @@ class ScoreView:
             pinned=record.pinned,
             created=record.created,
             last_accessed=record.last_accessed,
+            cls=cls,
         )
