@@ -570,6 +570,17 @@ class SceneMemory:
         written, the model is rebuilt from the store and a settable clock is put back; the
         error is raised as :class:`~reasoners.errors.OperationFailedError`, which names the
         operation. If the store refuses the transaction, its error is raised as it is.
+
+        >>> from kg import Store
+        >>> from reasoners.operations import Retrieve, StoreScene
+        >>> from reasoners.primitives import Primitive
+        >>> memory = SceneMemory(Store())
+        >>> scene = [Primitive("ball", "Sphere", centre=(.3, .3, .3), radius=.05),
+        ...          Primitive("table", "Plane", centre=(.3, .1, .1), axis=(0, 0, 1))]
+        >>> stored, retrieved = memory.commit(
+        ...     [StoreScene(scene), Retrieve([("Sphere", "isAboveOf", "Plane")])])
+        >>> retrieved.recalled == stored.stored_as
+        True
         """
         with self.transactions.batch() as writes:
             results = []
