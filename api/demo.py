@@ -127,7 +127,7 @@ class Demo:
     def definition(self, iri: NamedNode) -> str:
         return " ⊓ ".join(
             f"({self.name(p)} ≥{n} {self.name(t)})"
-            for (p, t), n in self.memory.signature(iri).items()
+            for (p, t), n in self.memory.reads.signature(iri).items()
         )
 
 
@@ -187,7 +187,7 @@ def _print_classes(demo: Demo, title: str) -> None:
     table = Table(title=title, title_justify="left")
     for column in ("class", "d", "s", "r", "score", "level", "parents"):
         table.add_column(column)
-    for summary in sorted(demo.memory.classes(), key=lambda c: c.iri.value):
+    for summary in sorted(demo.memory.reads.classes(), key=lambda c: c.iri.value):
         scores: ItemScores = summary.scores
         table.add_row(
             demo.name(summary.iri),
@@ -270,14 +270,14 @@ def run_demo(store: Store, data_dir: Path, console: Console) -> Path:
     recorder.add_provider("camera/depth", "float_array", dtype="float64", shape=[2])
     _see(demo, Perception(seed=0), episode.iri, recorder)
     demo.episodes.end(episode.id)
-    for summary in sorted(memory.classes(), key=lambda c: c.iri.value):
+    for summary in sorted(memory.reads.classes(), key=lambda c: c.iri.value):
         console.print(f"[bold]{demo.name(summary.iri)}[/bold] ≡ {demo.definition(summary.iri)}")
     _print_classes(demo, "What was learned (scores and levels derived from the raw terms)")
     _recall(demo)
     console.rule("Days pass")
     _sleep_days(demo, 6)
     _print_classes(demo, "What the memory holds after the nights")
-    trash = memory.trash()
+    trash = memory.reads.trash()
     console.print(f"In the trash: {', '.join(demo.name(t) for t in trash) or 'nothing'}")
     if trash:  # forgotten classes come first
         restored = memory.restore(trash[0])

@@ -36,7 +36,7 @@ async def _freeze_once_loaded(memory: SceneMemory, poll_s: float = 0.5) -> None:
     above all: millions of objects at 100,000 classes) to the collector's permanent generation
     (``gc.freeze``), so that its full collections stop walking it during updates. Unfrozen at
     shutdown (bench/README.md has what it saves)."""
-    while not memory.wait_ready(timeout_s=0):
+    while not memory.loaded.wait_ready(timeout_s=0):
         await asyncio.sleep(poll_s)
     gc.freeze()
 

@@ -20,7 +20,7 @@ def live_memory_state(memory: SceneMemory) -> MemoryState:
     """A reader of ``memory``'s counts and best classes by live raw score ζ."""
 
     def read(store: Store) -> MemorySnapshot:
-        classes, items, best = memory.state(BEST)
+        classes, items, best = memory.reads.state(BEST)
         return MemorySnapshot(
             learned_classes=classes,
             episodic_items=items,

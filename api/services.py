@@ -218,12 +218,14 @@ class Services:
         are safe either way, in the write-ahead log), and every ``INDEX_SAVE_INTERVAL_S`` the
         scene memory's index file. A failing step is logged and tried again next time."""
         memory = self.scene_memory
-        if not memory.ready:  # still opening in the background
+        if not memory.loaded.ready:  # still opening in the background
             return
         from api.armor.memory import sleep_if_due
 
         sleep_if_due(memory)
-        _logged(memory.settle_view, "the scene memory's score view could not be written")
+        _logged(
+            memory.transactions.settle_view, "the scene memory's score view could not be written"
+        )
         if self.store.generation != self._flushed:
             self._flushed = self.store.generation
             _logged(self.store.flush, "the store could not be flushed")
@@ -264,7 +266,7 @@ class Services:
         if "runner" in built:
             self.runner.close()
         memory = built.get("scene_memory")
-        if memory is not None and memory.wait_ready(timeout_s=0):
+        if memory is not None and memory.loaded.wait_ready(timeout_s=0):
             # a failure costs the next start a rebuild, nothing else
             _logged(memory.save_index, "the scene memory's index file could not be saved")
         if self.remote is not None:

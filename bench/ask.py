@@ -201,7 +201,7 @@ TEXT = (
 
 def latency(episodes: int, classes: int, repeat: int, seed: int) -> None:
     asker, build_s = build(episodes, classes, seed)
-    live = len(asker.scenes.classes())
+    live = len(asker.scenes.reads.classes())
     print(f"\nmemory: {episodes} episodes, {live} classes, built in {build_s:.1f} s")
     store = asker.store
     point = []

@@ -235,11 +235,11 @@ def follower(url: str, args: argparse.Namespace) -> None:
         while revision not in seen:
             arrived.wait(5)
             arrived.clear()
-        mirror.item_scores(result.stored_as)  # the follower's index knows the class
+        mirror.reads.item_scores(result.stored_as)  # the follower's index knows the class
         delays.append(seen[revision] - committed)
         if delays[-1] > 1:
             print(f"   slow: revision {revision}, {delays[-1] * 1e3:.0f} ms ({how[revision]})")
-    classes = len(mirror.classes())
+    classes = len(mirror.reads.classes())
     reader.close()
     writer.close()
     print(f"3. follower latency over {args.follows} updates, {classes:,} classes (poll 0.1 s)")

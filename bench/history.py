@@ -176,11 +176,11 @@ def main() -> None:
         store.flush()
         quads = sum(1 for _ in store.quads(None, None, None, HISTORY))
         size = recorder.since(0)[1]
-        classes = len(memory.classes())
+        classes = len(memory.reads.classes())
         print(
             f"{args.passes} passes in {time.perf_counter() - began:.0f} s "
             f"(sleep median {median_ms(sleep_times):.0f} ms); {classes} live classes, "
-            f"{len(memory.trash())} in the trash; load {os.getloadavg()[0]:.2f}"
+            f"{len(memory.reads.trash())} in the trash; load {os.getloadavg()[0]:.2f}"
         )
         per_update_q = statistics.median(q for q, _ in update_growth)
         per_update_b = statistics.median(b for _, b in update_growth)

@@ -12,7 +12,7 @@ each (``http.client``):
 - in a third phase, ``--scene-writers`` threads (default 2; 0 skips the phase) each store random
   4-object scenes in the scene memory (one directive list a scene, as a perception client
   sends it), as fast as they are answered: every read then first writes the score view those
-  scenes changed (``SceneMemory.settle_view``).
+  scenes changed (``Transactions.settle_view``).
 
 Phases of ``--seconds`` each (default 8): readers alone (the baseline, same run), readers with
 the writers, readers with the scene writers. Printed per phase: reader median and p99 per query

@@ -247,7 +247,7 @@ class WriteTimer:
 
 def _learn_and_read(memory: SceneMemory, scene: list[Primitive]) -> None:
     memory.store_scene(scene)
-    memory.settle_view()  # what the store's next read does first
+    memory.transactions.settle_view()  # what the store's next read does first
 
 
 def run(size: int, args: argparse.Namespace, rng: random.Random) -> dict[str, object]:
@@ -274,26 +274,27 @@ def run(size: int, args: argparse.Namespace, rng: random.Random) -> dict[str, ob
         # The memory's first sleep pass gives every class its first level (and a history
         # event): a one-off a memory that has lived long has behind it.
         first_sleep_s = timed(memory.sleep)
-        memory.settle_view()
+        memory.transactions.settle_view()
         gc.collect()
         writes = WriteTimer(store)
         CPU.clear()
         learn_times = [timed(memory.store_scene, scene) for scene in novel]
         learns = slice(0, len(writes.times))
-        view_learns_s = timed(memory.settle_view)  # the view of all those learns, written once
+        # the view of all those learns, written once
+        view_learns_s = timed(memory.transactions.settle_view)
         view = writes.parts[learns.stop :]
         first = len(writes.times)
         repeat_times = [timed(memory.store_scene, known) for _ in range(args.updates)]
         repeats = slice(first, len(writes.times))
-        view_repeats_s = timed(memory.settle_view)
+        view_repeats_s = timed(memory.transactions.settle_view)
         after_view = len(novel) + 1  # CPU holds the view write between learns and repeats
         learn_cpu, repeat_cpu = CPU[: len(novel)], CPU[after_view : after_view + args.updates]
         # a reader after every update: each learn's view written before the next one
         read_times = [timed(_learn_and_read, memory, scene) for scene in read_after]
         # the baseline: the view written in each update's transaction (as on a fleet's server)
-        memory.view_in_each_update = True
+        memory.transactions.view_in_each_update = True
         in_update_times = [timed(memory.store_scene, scene) for scene in in_update]
-        memory.view_in_each_update = False
+        memory.transactions.view_in_each_update = False
         parts = {part: statistics.median(c[part] for c in writes.parts[learns]) for part in PARTS}
         parts["view"] = sum(c["view"] for c in view) / len(novel)
         cues = [random_scene(rng, 10)[:3] for _ in range(args.retrievals)]
@@ -309,8 +310,8 @@ def run(size: int, args: argparse.Namespace, rng: random.Random) -> dict[str, ob
         after_sleep = len(writes.times)
         after_sleep_times = [timed(memory.store_scene, scene) for scene in after_sleep_scenes]
         after_sleep_write = statistics.median(writes.times[after_sleep:])
-        memory.settle_view()
-        classes = len(memory.classes())
+        memory.transactions.settle_view()
+        classes = len(memory.reads.classes())
         save_s = timed(memory.save_index)  # flushes the store first, as the server does
         gc.unfreeze()  # as the server does when it stops: the store can then be closed
         del memory, store
@@ -321,7 +322,7 @@ def run(size: int, args: argparse.Namespace, rng: random.Random) -> dict[str, ob
         reopened = SceneMemory(reopened_store)
         open_s, open_cpu = time.perf_counter() - began, time.process_time() - cpu
         del reopened_store
-        assert reopened.loaded_from == "index file", reopened.loaded_from
+        assert reopened.loaded.source == "index file", reopened.loaded.source
         del reopened
         gc.collect()
         index = workdir / ("store" + index_file.SUFFIX)
@@ -329,7 +330,7 @@ def run(size: int, args: argparse.Namespace, rng: random.Random) -> dict[str, ob
         began = time.perf_counter()
         reopened = SceneMemory(Store(workdir / "store"))
         rebuild_s = time.perf_counter() - began
-        assert reopened.loaded_from == "store", reopened.loaded_from
+        assert reopened.loaded.source == "store", reopened.loaded.source
         del reopened
         gc.collect()
         return {

@@ -2,7 +2,7 @@
 
 A memory of ``--size`` learned classes is built once (``bench/scene_memory.py``'s ``build``) and
 copied twice. On each copy the same seeded rounds run: ``--learns`` novel 10-object scenes (each
-learns a class), then the read barrier (``SceneMemory.settle_view``), which writes the score view
+learns a class), then the read barrier (``Transactions.settle_view``), which writes the score view
 those learns changed; then as many reinforces of one known scene and the barrier again. One copy
 writes the view as this code does (``engram:scoreTermComplexity``, ``scoreTermStore``,
 ``scoreTermRetrieve``: one ``xsd:double`` each, only the terms that changed); the other as Engram
@@ -96,7 +96,7 @@ def main() -> None:
                         memory.store_scene(scene)
                     first = len(timer.quads)
                     began = time.perf_counter()
-                    memory.settle_view()
+                    memory.transactions.settle_view()
                     out.append((time.perf_counter() - began, sum(timer.quads[first:])))
                 persist.write_view = TYPED
         print(f"{args.size} classes, {args.rounds} rounds of {args.learns} updates per layout")

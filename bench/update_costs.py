@@ -41,6 +41,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 
 from scene_memory import SEED, WriteTimer, build, random_scene
 
+import reasoners.memory
 from kg import Store
 from reasoners.memory import SceneMemory
 from reasoners.model import MemoryModel
@@ -49,9 +50,9 @@ COLUMNS = ("wall", "cpu", "recog", "rescore", "write", "quads", "ancestors")
 
 
 class Meter:
-    """CPU time of the calling thread spent in one method, summed until :meth:`take`."""
+    """CPU time of the calling thread spent in one function or method, summed until :meth:`take`."""
 
-    def __init__(self, owner: type, name: str) -> None:
+    def __init__(self, owner: object, name: str) -> None:
         self.total = 0.0
         original: Callable[..., object] = getattr(owner, name)
 
@@ -75,7 +76,7 @@ class Meter:
 
 def run(size: int, args: argparse.Namespace, rng: random.Random) -> dict[str, object]:
     workdir = Path(tempfile.mkdtemp(prefix="engram-bench-"))
-    recog = Meter(SceneMemory, "_recognitions")
+    recog = Meter(reasoners.memory, "recognitions_in")
     rescore = Meter(MemoryModel, "refresh")
     try:
         build(workdir / "store", size, rng)
@@ -85,7 +86,7 @@ def run(size: int, args: argparse.Namespace, rng: random.Random) -> dict[str, ob
         known = random_scene(rng, 10)
         memory.store_scene(known)
         memory.sleep()
-        memory.settle_view()
+        memory.transactions.settle_view()
         gc.collect()
         writes = WriteTimer(store)
         rows: dict[str, dict[str, list[float]]] = {}
@@ -110,14 +111,14 @@ def run(size: int, args: argparse.Namespace, rng: random.Random) -> dict[str, ob
                 table["write"].append(1000 * sum(writes.times[first:]))
                 table["quads"].append(sum(writes.quads[first:]))
                 table["ancestors"].append(len(result.recognised))
-            memory.settle_view()
+            memory.transactions.settle_view()
             rows[kind] = table
             if profile is not None:
                 text = io.StringIO()
                 stats = pstats.Stats(profile, stream=text)
                 stats.sort_stats("tottime").print_stats(args.profile)
                 profiles[kind] = text.getvalue()
-        classes = len(memory.classes())
+        classes = len(memory.reads.classes())
         del memory, store
         gc.collect()
         return {"classes": classes, "rows": rows, "profiles": profiles}

@@ -17,7 +17,10 @@ import datetime as dt
 import threading
 from collections.abc import Callable
 
-__all__ = ["SettableClock"]
+__all__ = ["Clock", "SettableClock", "read_clock"]
+
+Clock = Callable[[], dt.datetime]
+"""Returns the current time as a timezone-aware datetime."""
 
 
 def _utc_now() -> dt.datetime:
@@ -66,3 +69,13 @@ class SettableClock:
     def restore(self, state: dt.datetime | None) -> None:
         with self._lock:
             self._fixed = state
+
+
+def read_clock(clock: Clock) -> dt.datetime:
+    """The time ``clock`` gives, to the millisecond (the precision of the memory's times, in
+    the model as in the store). Raises ``ValueError`` if it is not a timezone-aware datetime."""
+    now = clock()
+    if not isinstance(now, dt.datetime) or now.tzinfo is None:
+        raise ValueError(f"clock: got {now!r}, expected a timezone-aware datetime")
+    # xsd:dateTime with microseconds makes HermiT refuse an export
+    return now.replace(microsecond=now.microsecond - now.microsecond % 1000)

@@ -4,6 +4,7 @@ EngramError (kg), each error also of one of kg.errors' kinds
 └── MemoryReasonerError
     ├── InvalidSceneError       the primitives cannot form a scene, or a bad cue (ValueError)
     ├── MemoryLoadingError      the memory is still being opened, or opening it failed (503)
+    ├── OperationFailedError    an operation of a commit failed; nothing of the commit was written
     ├── PolicyError             the memory policy in the store lacks a value or holds a bad one
     ├── UnknownItemError        no live class or experienced scene has this IRI (KeyError)
     │   └── NotInTrashError     restore was asked for an IRI that is not in the trash
@@ -17,6 +18,7 @@ __all__ = [
     "MemoryLoadingError",
     "MemoryReasonerError",
     "NotInTrashError",
+    "OperationFailedError",
     "PolicyError",
     "RestoreConflictError",
     "UnknownItemError",
@@ -33,6 +35,16 @@ class InvalidSceneError(MemoryReasonerError, InvalidInputError):
 
 class MemoryLoadingError(MemoryReasonerError, UnavailableError):
     """The scene memory is still being opened in the background (or opening it failed)."""
+
+
+class OperationFailedError(MemoryReasonerError):
+    """An operation of :meth:`~reasoners.memory.SceneMemory.commit` failed, so nothing of the
+    commit was written: ``index`` is its position in the list, ``error`` what it raised."""
+
+    def __init__(self, index: int, error: Exception) -> None:
+        super().__init__(f"operations[{index}]: {error}")
+        self.index = index
+        self.error = error
 
 
 class PolicyError(MemoryReasonerError, ConflictError):

@@ -62,11 +62,11 @@ def apply_change(memory: SceneMemory, touched: Iterable[NamedNode] | None) -> bo
     if touched is not None:
         subjects = set(touched)
         try:
-            memory.update_model(lambda model: _apply(memory.store, model, subjects))
+            memory.loaded.update(lambda model: _apply(memory.store, model, subjects))
             return True
         except _Rebuild as reason:
             log.info("rebuilding the scene memory index: %s", reason)
-    memory.reload()
+    memory.loaded.reload()
     return False
 
 

@@ -1,24 +1,31 @@
-"""The scene memory: encode, recognise, learn, structure, consolidate, forget and retrieve.
+"""The scene memory's operations: encode, recognise, learn, consolidate, forget and retrieve.
 
-Each of :meth:`SceneMemory.store_scene`, :meth:`~SceneMemory.retrieve`,
-:meth:`~SceneMemory.sleep`, :meth:`~SceneMemory.pin` and :meth:`~SceneMemory.restore` is one
-``store.transaction()``: all of its writes are visible, or none. Recognition uses an in-memory
-index (:mod:`reasoners.index`) rebuilt from the store's triples when the memory opens, and again
-if a transaction fails, so the store stays the source of truth. Methods may be called from
-several threads; they are serialised.
+:class:`SceneMemory` is the façade the rest of Engram calls. Each of
+:meth:`SceneMemory.store_scene`, :meth:`~SceneMemory.learn_classes`,
+:meth:`~SceneMemory.retrieve`, :meth:`~SceneMemory.sleep`, :meth:`~SceneMemory.pin` and
+:meth:`~SceneMemory.restore` is one ``store.transaction()``: all of its writes are visible, or
+none (:mod:`reasoners.transactions`); :meth:`~SceneMemory.commit` runs several, described as
+values (:mod:`reasoners.operations`), in one transaction with a caller's own writes.
+Recognition uses an in-memory model (:mod:`reasoners.model`) read from the index file or rebuilt
+from the store's triples (:mod:`reasoners.loading`), and rebuilt again if a transaction fails,
+so the store stays the source of truth. Methods may be called from several threads; they are
+serialised. The memory's parts, each one idea:
 
-Semantic scores are derived from each class's raw terms (complexity, store and retrieve
-counts), its children and the global maxima (:mod:`reasoners.model`): an update re-derives the
-touched class and its ancestors in memory and writes only what it changed in the store (the
-touched class's counters, time and ``engram:rawScore``, the new class and its edges, the new
-experienced scene). The score view (the Z terms of the classes whose Z changed and the four
-values on the memory state, :func:`reasoners.persist.write_view`), from which a SPARQL reader
-derives every class's live normalised score and level, is written by :meth:`~SceneMemory.
-settle_view` before the store is next read, once for all the updates since the last read; on a
-shared fleet server, which other robots read directly, in each update's transaction. A sleep
-pass writes only what the view cannot give: the consecutive WEAK counts that changed, what it
-forgot, the level it gave each item (one literal, ``engram:sleepLevels``, the next pass's
-reference) and its level changes in the history (one literal); not a class's level or ζ.
+- :attr:`SceneMemory.loaded` (:class:`~reasoners.loading.LoadedModel`): the model, its
+  readiness, the revision it mirrors, the index file;
+- :attr:`SceneMemory.view` (:class:`~reasoners.score_view.ScoreView`): the score view a SPARQL
+  reader derives live scores from, and the re-scoring after an update;
+- :attr:`SceneMemory.transactions` (:class:`~reasoners.transactions.Transactions`): how the
+  writes reach the store, and when the score view is written;
+- :attr:`SceneMemory.reads` (:class:`~reasoners.reads.MemoryReads`): what the memory holds, for
+  the views and the explanations.
+
+An update writes only what it changed (the touched class's counters, time and
+``engram:rawScore``, the new class and its edges, the new experienced scene); the score view
+follows before the store is next read. A sleep pass writes only what the view cannot give: the
+consecutive WEAK counts that changed, what it forgot, the level it gave each item (one literal,
+``engram:sleepLevels``, the next pass's reference) and its level changes in the history (one
+literal); not a class's level or ζ.
 
 >>> import datetime as dt
 >>> from kg import Store
@@ -36,14 +43,10 @@ True
 """
 
 import datetime as dt
-import heapq
 import logging
-import threading
 import time
 import weakref
-from collections.abc import Callable, Iterator, Sequence
-from contextlib import contextmanager
-from operator import attrgetter
+from collections.abc import Callable, Sequence
 
 from pyoxigraph import Literal, NamedNode
 
@@ -60,68 +63,58 @@ from ontologies.vocab import (
     FORGOTTEN_AT,
     HAS_PRIMITIVE,
     LAST_ACCESSED,
-    LEGACY_LEVEL,
-    LEGACY_SCORE,
     LEVEL,
     MEMORY,
     MEMORY_STATE_INDIVIDUAL,
     PINNED,
-    RDFS_LABEL,
     RETRIEVE_COUNT,
     SCORE,
-    SCORE_TERM_PROPERTIES,
-    SKOS_NOTATION,
     STORE_COUNT,
     TRASH,
     UPDATES_SINCE_SLEEP,
 )
-from reasoners import forgetting, history, index_file, migration, persist
-from reasoners.batch import PendingWrites, QuadReader
-from reasoners.clock import SettableClock
+from reasoners import forgetting, history, index_file, persist
+from reasoners.clock import Clock, SettableClock, read_clock
 from reasoners.collector import collector_paused
 from reasoners.encode import Encoder, Relation
 from reasoners.errors import (
     InvalidSceneError,
-    MemoryLoadingError,
     NotInTrashError,
+    OperationFailedError,
     RestoreConflictError,
     UnknownItemError,
 )
+from reasoners.loading import LoadedModel
 from reasoners.model import ClassRecord, ItemRecord, MemoryModel
+from reasoners.operations import (
+    AdvanceClock,
+    Cue,
+    Operation,
+    OperationResult,
+    Pin,
+    Restore,
+    Retrieve,
+    SetClock,
+    Sleep,
+    StoreScene,
+)
 from reasoners.policy import Policy, load_policy
+from reasoners.reads import MemoryReads, recognitions_in, unknown_item
 from reasoners.results import (
-    ClassSummary,
-    ItemScores,
     Match,
     Recognition,
     RetrievalResult,
-    ScoreTerms,
     SleepReport,
     StoreResult,
-    TrashEntry,
 )
-from reasoners.scoring import WEAK, level_of
+from reasoners.score_view import ScoreView
+from reasoners.scoring import WEAK
 from reasoners.signature import Signature
+from reasoners.transactions import Transactions
 
-__all__ = ["LOADING_WAIT_S", "Clock", "Cue", "SceneMemory"]
+__all__ = ["Clock", "Cue", "SceneMemory"]
 
 log = logging.getLogger(__name__)
-
-Clock = Callable[[], dt.datetime]
-Cue = Signature | Sequence[Primitive] | Sequence[tuple[str, str, str]]
-"""A partial scene: primitives, relation triples between object types such as
-``("Sphere", "isAboveOf", "Plane")``, or a signature."""
-
-
-LOADING_WAIT_S = 1.0
-"""How long a call made while the memory opens in the background waits for it before answering
-:class:`MemoryLoadingError`."""
-
-
-_BY_IRI = attrgetter("iri.value")
-_BY_COMPLEXITY_AND_STORES = attrgetter("signature.complexity", "store_count")
-"""The order of recognitions (:meth:`SceneMemory._recognitions`): a memory of 100,000 classes
-recognises thousands of them in every update."""
 
 
 def _utc_now() -> dt.datetime:
@@ -133,7 +126,9 @@ class SceneMemory:
 
     ``clock`` returns the current time as a timezone-aware datetime; inject one to simulate
     time. ``policy`` names the ``engram:MemoryPolicy`` individual whose thresholds and weights
-    apply. Raises :class:`~reasoners.errors.PolicyError` if the policy is incomplete.
+    apply. With ``background``, the model loads in a thread and the operations answer
+    :class:`~reasoners.errors.MemoryLoadingError` until it is ready. Raises
+    :class:`~reasoners.errors.PolicyError` if the policy is incomplete.
     """
 
     def __init__(
@@ -147,340 +142,41 @@ class SceneMemory:
         ensure_ontology(store)
         self.store = store
         self._clock = clock
-        self._lock = threading.RLock()
-        self._batch: PendingWrites | None = None
-        self._reader: QuadReader = store
-        """The store as the running operation sees it (its own pending writes included)."""
         self.policy: Policy = load_policy(store, policy)
         self.encoder = Encoder.from_store(store, self.policy)
-        self._policy_iri = policy
-        self.view_in_each_update = store.remote is not None
-        """Write the score view in every update's transaction instead of before the next read:
-        the default on a shared server, which other robots read directly, past this process's
-        read barrier (set before the first update)."""
-        self._counters = threading.Lock()
-        self._begun = 0
-        """Updates that left the view to be written, counted just before they commit."""
-        self._viewed = 0
-        """How many of those the written view includes."""
-        self._wanted = 0
-        """The most a reader is waiting for: a writer writes the view before it lets go."""
-        self._rebuilding = False
-        store.add_read_barrier(_settle_view_of(weakref.ref(self)))
-        self._loaded: MemoryModel | None = None
-        self._revision: str | None = None
-        self._saved_revision: str | None = None
-        self._loading_error: BaseException | None = None
-        self.loaded_from = ""
-        """Where the model came from: "index file", "store", or "" while it loads."""
-        self._ready = threading.Event()
-        if background:
-            threading.Thread(
-                target=self._open,
-                kwargs={"background": True},
-                name="engram-memory-open",
-                daemon=True,
-            ).start()
-        else:
-            self._open()
-
-    def _open(self, *, background: bool = False) -> None:
-        """Read the model from the index file beside the store, or rebuild it from the store."""
-        began = time.perf_counter()
-        try:
-            model, revision, source = index_file.open_model(
-                self.store, self._weights(), lambda: persist.load_model(self.store, self._weights())
-            )
-            # Not under the lock: a caller holding it may be waiting for this (see _model).
-            self._revision, self.loaded_from = revision, source
-            self._saved_revision = revision if source == "index file" else None
-            self._loaded = model
-            self._repair_view()
-        except Exception as error:
-            self._loaded, self._loading_error = None, error
-            self._ready.set()
-            if not background:
-                raise
-            log.exception("scene memory could not be opened")
-            return
-        self._ready.set()
-        log.info(
-            "scene memory opened from the %s in %.2f s: %d classes, %d experienced scenes",
-            source,
-            time.perf_counter() - began,
-            len(model.classes),
-            len(model.items),
-        )
+        p = self.policy
+        weights = (p.complexityWeight, p.childrenWeight, p.storeWeight, p.retrieveWeight)
+        self.loaded = LoadedModel(store, weights)
+        self.view = ScoreView(self.loaded, self.policy, policy)
+        self.transactions = Transactions(self.loaded, self.view, clock)
+        self.reads = MemoryReads(self.loaded, self.view, self.policy, clock)
+        store.add_read_barrier(_settle_view_of(weakref.ref(self.transactions)))
+        self.loaded.open(background=background, then=self._repair_view)
 
     @property
     def clock(self) -> Clock:
         """The clock the memory reads (a :class:`~reasoners.clock.SettableClock` can be set)."""
         return self._clock
 
-    def reload(self) -> None:
-        """Rebuild the in-memory index from the store: after another Engram changed it (a
-        follower of a shared memory) or a failed write left the index unsure (kg.remote)."""
-        with self._lock:
-            self._rebuild()
-
-    def _rebuild(self) -> None:
-        """Read the model again from the store (under the lock). The reads do not write the
-        view of the model they replace (:meth:`settle_view`); the next read checks the view of
-        the new one."""
-        self._rebuilding = True
-        try:
-            self._model = persist.load_model(self.store, self._weights())
-            self._revision = index_file.stored_revision(self.store)
-        finally:
-            self._rebuilding = False
-
-    def update_model(self, change: Callable[[MemoryModel], None]) -> None:
-        """Run ``change`` on the in-memory index under the memory's lock: a follower of a shared
-        memory applying what the writer changed (reasoners.follow). If ``change`` raises, the
-        index may be half changed: :meth:`reload` it."""
-        with self._lock:
-            change(self._model)
-
-    @property
-    def _model(self) -> MemoryModel:
-        """The in-memory model; :class:`MemoryLoadingError` while it is still being read."""
-        model = self._loaded
-        if model is None:
-            self._ready.wait(LOADING_WAIT_S)  # a small memory is ready before the caller knows
-            model = self._loaded
-        if model is None:
-            if self._loading_error is not None:
-                raise MemoryLoadingError(
-                    f"scene memory unavailable: opening it failed: {self._loading_error}"
-                )
-            raise MemoryLoadingError("scene memory unavailable: still loading, retry shortly")
-        return model
-
-    @_model.setter
-    def _model(self, model: MemoryModel) -> None:
-        self._loaded = model
-
-    @property
-    def ready(self) -> bool:
-        """True once the model is loaded (False while loading or after a failed load)."""
-        return self._loaded is not None
-
-    def wait_ready(self, timeout_s: float | None = None) -> bool:
-        """Wait until loading has finished (or failed); True if the memory is ready."""
-        self._ready.wait(timeout_s)
-        return self.ready
-
     def save_index(self) -> bool:
-        """Save the model beside the store (see :mod:`reasoners.index_file`) if the store
-        changed since the last save; True if a file was written. The store is flushed first,
-        so that the file never names a revision the store could lose."""
-        path = index_file.index_path(self.store)
-        if path is None or not self.ready:
+        """Write the pending score view, then save the model beside the store
+        (:meth:`LoadedModel.save_index`); True if a file was written."""
+        if index_file.index_path(self.store) is None or not self.loaded.ready:
             return False
-        self.settle_view()  # so that the next open has no view to repair
-        with self._lock:
-            revision = self._revision
-            if revision is None or revision == self._saved_revision:
-                return False
-            self.store.flush()
-            values = index_file.snapshot(self._model, revision, self._weights())
-        index_file.write_snapshot(path, values)
-        with self._lock:
-            self._saved_revision = revision
-        log.info("scene memory index saved at revision %s", revision)
-        return True
-
-    # Helpers -----------------------------------------------------------------------------------
-
-    def _weights(self) -> tuple[float, float, float, float]:
-        p = self.policy
-        return (p.complexityWeight, p.childrenWeight, p.storeWeight, p.retrieveWeight)
+        self.transactions.settle_view()  # so that the next open has no view to repair
+        return self.loaded.save_index()
 
     def _repair_view(self) -> None:
-        """Write the score view where the store lacks it or it is stale (a store written by an
-        older Engram, or by hand), and drop the annotations the view replaced; migrate a store
-        written before the data model stored only what cannot be derived
-        (:mod:`reasoners.migration`). One transaction, only when needed."""
-        m = self._model
-        legacy = any(
-            True
-            for prop, graph in (
-                (LEGACY_SCORE, MEMORY),
-                (LEGACY_LEVEL, MEMORY),
-                (LEGACY_LEVEL, EPISODIC),
-            )
-            for _ in self.store.quads(None, prop, None, graph)
-        )
-        migrate = migration.needed(self.store, m)
-        factors_stale = bool(m.classes) and m.written_factors != (*m.coefficients(), m.max_score)
-        unlabelled: list[ClassRecord] = []
-        if self.loaded_from != "index file":  # a file is saved only by a repaired memory
-            named = {q.subject for q in self.store.quads(None, SKOS_NOTATION, None, MEMORY)}
-            unlabelled = [record for cls, record in m.classes.items() if cls not in named]
-        if not (legacy or migrate or m.unwritten or factors_stale or unlabelled):
+        """Give the store the score view it lacks (one transaction, only when needed)."""
+        repair = self.view.stale()
+        if repair is None:
             return
-        with self._write(view=True) as tx:
-            for record in m.classes.values():  # terms missing, partial or damaged: rewritten
-                if record.written_z is None:
-                    for prop in SCORE_TERM_PROPERTIES:
-                        tx.delete_matching(record.iri, prop, None, graph=MEMORY)
-            if migrate:
-                migration.migrate(tx, self.store, m)
-            for record in unlabelled:  # learned before labels spelt out the definition
-                tx.delete_matching(record.iri, RDFS_LABEL, None, graph=MEMORY)
-                persist.write_label(tx, record)
-            if legacy:
-                tx.delete_matching(None, LEGACY_SCORE, None, graph=MEMORY)
-                tx.delete_matching(None, LEGACY_LEVEL, None, graph=MEMORY)
-                tx.delete_matching(None, LEGACY_LEVEL, None, graph=EPISODIC)
-            if factors_stale:
-                m.written_factors = None  # rewritten whole
-        log.info("scene memory: score view written for %d classes", len(m.classes))
+        with self.transactions.write(view=True) as tx:
+            self.view.repair(tx, repair)
+        log.info("scene memory: score view written for %d classes", len(self.loaded.model.classes))
 
     def _now(self) -> dt.datetime:
-        now = self._clock()
-        if not isinstance(now, dt.datetime) or now.tzinfo is None:
-            raise ValueError(f"clock: got {now!r}, expected a timezone-aware datetime")
-        # Times are kept at millisecond precision, in the model as in the store (xsd:dateTime
-        # with microseconds makes HermiT refuse an export).
-        return now.replace(microsecond=now.microsecond - now.microsecond % 1000)
-
-    def settle_view(self) -> None:
-        """Write the score view's pending changes (:func:`reasoners.persist.write_view`) in
-        one transaction, if an update committed before this call left any; the store calls it
-        before every read (:meth:`kg.store.Store.settle_reads`), so a reader never sees a stale
-        view.
-
-        An update writes the class it touched, its edges and its experienced scene; the score
-        terms of its ancestors (a class's score depends on its children's) wait for the next
-        read, so that the updates between two reads rewrite each changed class once. While
-        another thread holds the memory (an update in progress), the caller waits for that
-        thread to write the view as it lets go. Nothing is written while a batch of this thread
-        is open (it has not committed yet) or while the model loads."""
-        target = self._begun
-        while self._viewed < target:
-            if self._lock.acquire(blocking=False):  # free, or this thread's own
-                try:
-                    if self._batch is None and self._loaded is not None and not self._rebuilding:
-                        self._want(target)
-                        self._write_view_if_wanted()
-                finally:
-                    self._lock.release()
-                return
-            self._want(target)  # the holder writes it as it lets go, or this thread does
-            if self._lock.acquire(timeout=0.01):
-                self._lock.release()
-
-    def _want(self, target: int) -> None:
-        with self._counters:
-            self._wanted = max(self._wanted, target)
-
-    def _write_view_if_wanted(self) -> None:
-        """Under the lock: write the view of every update begun so far if a reader waits for
-        it."""
-        if self._wanted <= self._viewed:
-            return
-        upto = self._begun
-        with self._write(view=True):
-            pass
-        with self._counters:
-            self._viewed = max(self._viewed, upto)
-
-    def _let_go(self) -> None:
-        """After a committed update, still under the lock: write the view if a reader waits
-        (a failure is left to the reader, which tries again and reports it)."""
-        try:
-            self._write_view_if_wanted()
-        except Exception:
-            log.exception("scene memory: the score view could not be written after an update")
-
-    @contextmanager
-    def _write(
-        self, *, refresh_alongside: bool = False, view: bool = False
-    ) -> Iterator[PendingWrites]:
-        """One transaction; if anything fails, the model is rebuilt from the store.
-
-        With ``refresh_alongside``, the model's pending re-scoring (the ancestors of what the
-        transaction touched) runs while the store applies the write, instead of before it.
-        The transaction writes the score view with ``view`` or on a shared server; otherwise
-        the view is marked stale for :meth:`settle_view`.
-        """
-        view = view or self.view_in_each_update
-        with self._lock:
-            if self._batch is not None:  # the batch's owner commits, or rolls back
-                if not view:
-                    self._begun += 1  # its commit is the owner's: a reader arriving waits
-                self._read_history_epoch()
-                yield self._batch
-                if view:
-                    persist.write_view(self._batch, self._model, self._policy_iri)
-                return
-            alongside = self._model.refresh if refresh_alongside else None
-            revision = index_file.new_revision()
-            try:
-                with self.store.transaction(alongside=alongside) as tx:
-                    writes = PendingWrites()
-                    self._reader = writes.view(self.store)
-                    self._read_history_epoch()
-                    yield writes
-                    if view:
-                        persist.write_view(writes, self._model, self._policy_iri)
-                    if not writes.is_empty:  # the index file names the revision it mirrors
-                        index_file.record_revision(writes, self._revision, revision)
-                        if not view:
-                            self._begun += 1  # before the commit: no reader may miss it
-                    writes.copy_into(tx)
-                if not writes.is_empty:
-                    self._revision = revision
-            except BaseException:
-                if self._loaded is not None:  # not while it loads: the loader will set it
-                    self._rebuild()
-                raise
-            finally:
-                self._reader = self.store
-            if not view:
-                self._let_go()
-
-    def _read_history_epoch(self) -> None:
-        if self._model.history_epoch is None:  # a model just loaded or rebuilt
-            self._model.history_epoch = history.current_epoch(self._reader)
-
-    @contextmanager
-    def batch(self) -> Iterator[PendingWrites]:
-        """Run several operations into one set of writes that the caller commits.
-
-        Inside the ``with`` block, :meth:`store_scene`, :meth:`retrieve`, :meth:`sleep`,
-        :meth:`pin`, :meth:`restore` and :meth:`learn_classes` write into the yielded
-        :class:`~reasoners.batch.PendingWrites` instead of committing, each seeing the ones
-        before it. The caller adds those writes to its own transaction and commits it inside the
-        block (a directive list does so with its other writes). The memory's lock is held for the
-        whole block, so no other thread sees the model between the operations and the commit; if
-        the block raises (an operation failed, or the commit did), the model is rebuilt from the
-        store, which the failed commit left as it was.
-        """
-        # a shared store catches up after a failed write now, not at this batch's commit
-        self.store.settle()
-        with self._lock:
-            if self._batch is not None:
-                raise RuntimeError("batch: a batch is already open on this memory")
-            writes = PendingWrites()
-            # the index file names the revision it mirrors: the batch's commit makes a new one
-            revision = index_file.new_revision()
-            index_file.record_revision(writes, self._revision, revision)
-            self._batch, self._reader = writes, writes.view(self.store)
-            clock = self._clock
-            saved = clock.snapshot() if isinstance(clock, SettableClock) else None
-            try:
-                yield writes
-                self._revision = revision
-            except BaseException:
-                self._rebuild()
-                if isinstance(clock, SettableClock):
-                    clock.restore(saved)
-                raise
-            finally:
-                self._batch, self._reader = None, self.store
-            self._let_go()
+        return read_clock(self._clock)
 
     def _scene(self, primitives: Sequence[Primitive], field: str = "primitives") -> list[Primitive]:
         scene = list(primitives)
@@ -523,73 +219,6 @@ class SceneMemory:
             return self._encode(items)[2]  # type: ignore[arg-type]
         return self.encoder.cue_signature(items)  # type: ignore[arg-type]
 
-    def _recognitions(self, signature: Signature) -> list[Recognition]:
-        """Most complex (most confident) first, then most stored, then by IRI."""
-        classes, d = self._model.classes, signature.complexity
-        records = [classes[cls] for cls in self._model.index.recognised(signature)]
-        # two stable sorts on keys read in C (last key first): most complex, then most stored
-        # (reverse keeps the order of equals), then by IRI
-        records.sort(key=_BY_IRI)
-        records.sort(key=_BY_COMPLEXITY_AND_STORES, reverse=True)
-        return [
-            Recognition(r.iri, r.signature.complexity / d, r.signature.complexity) for r in records
-        ]
-
-    def _rescore(
-        self,
-        tx: Transaction,
-        classes: set[NamedNode],
-        fresh: set[NamedNode] | frozenset[NamedNode] = frozenset(),
-    ) -> None:
-        """Synaptic consolidation. The model re-derives the score terms of the classes whose
-        counts or children changed and of their ancestors, bottom-up; the maxima apply on read.
-        The ``engram:score`` annotation of ``classes`` (the ones this update touched, whose own
-        terms it rewrites anyway) is brought up to date; ``fresh`` classes are written whole
-        later. Nothing else is rewritten: every other class's stored ζ is refreshed by the next
-        sleep pass. Only the classes at least as complex as these are re-derived here (that is
-        all their ζ depend on); their ancestors may be left to :meth:`MemoryModel.refresh`."""
-        m = self._model
-        m.refresh(
-            down_to=min((m.classes[c].signature.complexity for c in classes | fresh), default=0)
-        )
-        for cls in classes - fresh:
-            self._write_score(tx, m.classes[cls])
-        for cls in fresh:
-            m.classes[cls].score = m.zeta(m.classes[cls])
-            m.scored.pop(cls, None)
-
-    def _write_score(
-        self, tx: Transaction, record: ClassRecord, value: float | None = None
-    ) -> None:
-        new = self._model.zeta(record) if value is None else value
-        self._model.scored.pop(record.iri, None)
-        if new != record.score:
-            persist.set_value(tx, record.iri, SCORE, Literal(record.score), Literal(new), MEMORY)
-            record.score = new
-
-    def _class_scores(
-        self, record: ClassRecord, live: tuple[float, float] | None = None
-    ) -> ItemScores:
-        """A class's scores; ``live`` is its (ζ, largest ζ) when the caller has them already."""
-        m, p = self._model, self.policy
-        zeta, top = live if live is not None else (m.zeta(record), m.max_score)
-        normalised = zeta / top if top > 0 else 0.0
-        return ItemScores(
-            iri=record.iri,
-            kind="class",
-            complexity=record.signature.complexity,
-            store_count=record.store_count,
-            retrieve_count=record.retrieve_count,
-            raw_score=zeta,
-            normalised=normalised,
-            level=level_of(normalised, high=p.highLevelThreshold, weak=p.weakLevelThreshold),
-            stored_level=record.level,
-            consecutive_weak=record.weak_count,
-            pinned=record.pinned,
-            created=record.created,
-            last_accessed=record.last_accessed,
-        )
-
     def _count_use(
         self, tx: Transaction, record: ClassRecord, now: dt.datetime, *, retrieved: bool
     ) -> None:
@@ -597,10 +226,10 @@ class SceneMemory:
         ``now``, in the model and in the transaction."""
         if retrieved:
             prop, old = RETRIEVE_COUNT, record.retrieve_count
-            self._model.set_counts(record, store=record.store_count, retrieve=old + 1)
+            self.loaded.model.set_counts(record, store=record.store_count, retrieve=old + 1)
         else:
             prop, old = STORE_COUNT, record.store_count
-            self._model.set_counts(record, store=old + 1, retrieve=record.retrieve_count)
+            self.loaded.model.set_counts(record, store=old + 1, retrieve=record.retrieve_count)
         persist.set_value(tx, record.iri, prop, Literal(old), Literal(old + 1), MEMORY)
         persist.set_value(
             tx,
@@ -613,7 +242,7 @@ class SceneMemory:
         record.last_accessed = now
 
     def _bump_update(self, tx: Transaction) -> None:
-        m = self._model
+        m = self.loaded.model
         m.updates_since_sleep += 1
         if m.has_state:
             old, new = Literal(m.updates_since_sleep - 1), Literal(m.updates_since_sleep)
@@ -640,11 +269,11 @@ class SceneMemory:
         if episode is not None and not isinstance(episode, NamedNode):
             raise TypeError(f"episode: got {episode!r}, expected a NamedNode or None")
         scene, relations, signature = self._encode(primitives)
-        with self._lock:  # the result reads the model the transaction left
-            with self._write(refresh_alongside=True) as tx:
+        with self.loaded.lock:  # the result reads the model the transaction left
+            with self.transactions.write(refresh_alongside=True) as tx:
                 now = self._now()
-                m = self._model
-                recognised = self._recognitions(signature)
+                m = self.loaded.model
+                recognised = recognitions_in(m, signature)
                 best = recognised[0] if recognised else None
                 confidence = best.confidence if best else 0.0
                 fresh: NamedNode | None = None
@@ -667,7 +296,7 @@ class SceneMemory:
                 m.next_item += 1
                 m.add_item(item)
                 persist.write_item(tx, item, scene, relations, episode)
-                self._rescore(tx, {record.iri}, {fresh} if fresh else set())
+                self.view.rescore(tx, {record.iri}, {fresh} if fresh else set())
                 if fresh is not None:
                     persist.write_class(tx, record, stored=m.stored_restrictions)
                 history.stored(tx, m, record, item.iri, recognised, now, fresh)
@@ -681,7 +310,7 @@ class SceneMemory:
                 signature=signature,
                 relations=tuple(relations),
                 parents=tuple(sorted(m.parents[record.iri], key=lambda c: c.value)),
-                scores=self._class_scores(record),
+                scores=self.view.class_scores(record),
             )
         log.info(
             "stored %s as %s (%s, confidence %.2f)",
@@ -697,9 +326,9 @@ class SceneMemory:
         as one transaction: each new signature becomes ``C ≡ ⊓(≥n p.T)`` with store count 1,
         linked into the graph, and the touched branches are consolidated. Signatures already
         learned are skipped. Returns the new classes."""
-        with self._write() as tx:
+        with self.transactions.write() as tx:
             now = self._now()
-            m = self._model
+            m = self.loaded.model
             added: set[tuple[NamedNode, NamedNode]] = set()
             removed: set[tuple[NamedNode, NamedNode]] = set()
             fresh: list[ClassRecord] = []
@@ -717,7 +346,7 @@ class SceneMemory:
                 fresh.append(record)
             persist.write_edges(tx, added, removed)
             new = {r.iri for r in fresh}
-            self._rescore(tx, new, new)
+            self.view.rescore(tx, new, new)
             for record in fresh:
                 persist.write_class(tx, record, stored=m.stored_restrictions)
             history.record_all(tx, m, fresh, "learned", now)
@@ -728,8 +357,8 @@ class SceneMemory:
     def recognise(self, primitives: Sequence[Primitive]) -> list[Recognition]:
         """The learned classes the scene belongs to, by confidence; writes nothing."""
         signature = self._encode(primitives)[2]
-        with self._lock:
-            return self._recognitions(signature)
+        with self.loaded.lock:
+            return recognitions_in(self.loaded.model, signature)
 
     # Retrieve ----------------------------------------------------------------------------------
 
@@ -755,11 +384,13 @@ class SceneMemory:
         if limit < 1:
             raise ValueError(f"limit: got {limit!r}, expected a positive integer")
         signature = self._cue(cue)
-        with self._write() as tx:
+        with self.transactions.write() as tx:
             now = self._now()
-            m = self._model
+            m = self.loaded.model
             exact = m.index.with_signature(signature)
-            generalisations = [r for r in self._recognitions(signature) if r.cls != exact]
+            generalisations = [
+                r for r in recognitions_in(self.loaded.model, signature) if r.cls != exact
+            ]
             d = signature.complexity
 
             def spec_key(match: Match) -> tuple[float, int, str]:
@@ -787,7 +418,7 @@ class SceneMemory:
                 branch = tuple(sorted(members, key=lambda c: m.classes[c].signature.complexity))
                 for cls in members:
                     self._count_use(tx, m.classes[cls], now, retrieved=True)
-                self._rescore(tx, members)
+                self.view.rescore(tx, members)
                 history.record(tx, m, m.classes[recalled], "retrieved", now)
             activation = None
             if spread and recalled is not None:
@@ -806,7 +437,7 @@ class SceneMemory:
         )
 
     def _spread(self, seeds: dict[NamedNode, float], decay: float, hops: int) -> tuple[Match, ...]:
-        m = self._model
+        m = self.loaded.model
         activation = dict(seeds)
         frontier = dict(seeds)
         for _ in range(hops):
@@ -835,9 +466,9 @@ class SceneMemory:
         forgotten scene once. One transaction.
         """
         started = time.perf_counter()
-        with collector_paused(), self._write() as tx:
+        with collector_paused(), self.transactions.write() as tx:
             now = self._now()
-            m = self._model
+            m = self.loaded.model
             rescored = len(m.classes)
             plan = forgetting.plan(m, self.policy, now)
             class_levels, item_levels = plan.class_levels, plan.item_levels
@@ -851,7 +482,7 @@ class SceneMemory:
                 self._set_level(tx, m.items[iri], item_levels[iri], plan.item_weak[iri], EPISODIC)
             history.forgetting(tx, m, doomed_classes, leaving, plan.zetas, now)
             forgotten_items = forgetting.move_to_trash(
-                tx, m, self._reader, doomed_classes, plan.doomed_items, now
+                tx, m, self.transactions.reader, doomed_classes, plan.doomed_items, now
             )
             # the graph changed: ζ of the forgotten classes' neighbours too
             zetas = m.zetas() if doomed_classes else plan.zetas
@@ -886,7 +517,7 @@ class SceneMemory:
         return report
 
     def _trashed_with(self, cls: NamedNode) -> list[NamedNode]:
-        m = self._model
+        m = self.loaded.model
         return [i for i, t in m.trashed_items.items() if t.cls == cls]
 
     @staticmethod
@@ -910,8 +541,8 @@ class SceneMemory:
     def maybe_sleep(self) -> SleepReport | None:
         """Run a sleep pass if ``sleepEveryUpdates`` updates or ``sleepIntervalSeconds`` seconds
         have passed since the last one (or since the first class was learned); else None."""
-        with self._lock:
-            m, p = self._model, self.policy
+        with self.loaded.lock:
+            m, p = self.loaded.model, self.policy
             if m.updates_since_sleep == 0:
                 return None
             due = m.updates_since_sleep >= p.sleepEveryUpdates
@@ -920,26 +551,101 @@ class SceneMemory:
                 due = (self._now() - since).total_seconds() >= p.sleepIntervalSeconds
             return self.sleep() if due else None
 
+    # Several operations, one transaction -------------------------------------------------------
+
+    def commit(
+        self,
+        operations: Sequence[Operation],
+        alongside: Transaction | None = None,
+        *,
+        sleep_if_due: bool = False,
+    ) -> list[OperationResult]:
+        """Run ``operations`` in order, each seeing the ones before it, and write their changes
+        and ``alongside`` (the caller's own writes, to graphs other than the memory's) in one
+        store transaction; return each operation's result, in order.
+
+        With ``sleep_if_due``, each stored scene and each retrieval is followed by the periodic
+        sleep pass when one is due (:meth:`maybe_sleep`), in the same transaction. The memory's
+        lock is held from the first operation to the commit. If an operation fails, nothing is
+        written, the model is rebuilt from the store and a settable clock is put back; the
+        error is raised as :class:`~reasoners.errors.OperationFailedError`, which names the
+        operation. If the store refuses the transaction, its error is raised as it is.
+
+        >>> from kg import Store
+        >>> from reasoners.operations import Retrieve, StoreScene
+        >>> from kg.primitive import Primitive
+        >>> memory = SceneMemory(Store())
+        >>> scene = [Primitive("ball", "Sphere", centre=(.3, .3, .3), radius=.05),
+        ...          Primitive("table", "Plane", centre=(.3, .1, .1), axis=(0, 0, 1))]
+        >>> stored, retrieved = memory.commit(
+        ...     [StoreScene(scene), Retrieve([("Sphere", "isAboveOf", "Plane")])])
+        >>> retrieved.recalled == stored.stored_as
+        True
+        """
+        with self.transactions.batch() as writes:
+            results = []
+            for index, operation in enumerate(operations):
+                try:
+                    results.append(self._run(operation))
+                    if sleep_if_due and isinstance(operation, StoreScene | Retrieve):
+                        self.maybe_sleep()
+                except Exception as error:
+                    raise OperationFailedError(index, error) from error
+            with self.store.transaction() as tx:
+                writes.copy_into(tx)
+                if alongside is not None:
+                    tx.cleared.extend(alongside.cleared)
+                    tx.patterns.extend(alongside.patterns)
+                    tx.deletes.extend(alongside.deletes)
+                    tx.inserts.extend(alongside.inserts)
+        return results
+
+    def _run(self, operation: Operation) -> OperationResult:
+        match operation:
+            case StoreScene(primitives, episode):
+                return self.store_scene(primitives, episode=episode)
+            case Retrieve(cue, spread):
+                return self.retrieve(cue, spread=spread)
+            case Sleep():
+                return self.sleep()
+            case Pin(iri, pinned):
+                self.pin(iri, pinned)
+                return None
+            case Restore(iri):
+                return self.restore(iri)
+            case SetClock(when):
+                self._settable_clock().set(when)
+                return self._clock()
+            case AdvanceClock(seconds):
+                self._settable_clock().advance(seconds)
+                return self._clock()
+        raise TypeError(f"operation: got {operation!r}, expected a reasoners.operations value")
+
+    def _settable_clock(self) -> SettableClock:
+        if not isinstance(self._clock, SettableClock):
+            raise TypeError("clock: the memory's clock is the real one; it cannot be set")
+        return self._clock
+
     # Pin, restore, read ------------------------------------------------------------------------
 
     def pin(self, iri: NamedNode, pinned: bool = True) -> None:
         """Protect a class or experienced scene from forgetting (or lift the protection).
 
         Raises :class:`~reasoners.errors.UnknownItemError` for an IRI that is not live."""
-        with self._write() as tx:
-            m = self._model
+        with self.transactions.write() as tx:
+            m = self.loaded.model
             record: ClassRecord | ItemRecord
             if iri in m.classes:
                 record, graph = m.classes[iri], MEMORY
             elif iri in m.items:
                 record, graph = m.items[iri], EPISODIC
             else:
-                raise self._unknown(iri)
+                raise unknown_item(m, iri)
             if record.pinned != pinned:
                 persist.set_value(tx, iri, PINNED, Literal(record.pinned), Literal(pinned), graph)
                 record.pinned = pinned
                 history.record(
-                    tx, self._model, record, "pinned" if pinned else "unpinned", self._now()
+                    tx, self.loaded.model, record, "pinned" if pinned else "unpinned", self._now()
                 )
 
     def restore(self, iri: NamedNode) -> tuple[NamedNode, ...]:
@@ -952,8 +658,8 @@ class SceneMemory:
         the same signature, and :class:`~reasoners.errors.UnknownItemError` for an experienced
         scene whose class is itself in the trash.
         """
-        with self._write() as tx:
-            m = self._model
+        with self.transactions.write() as tx:
+            m = self.loaded.model
             if iri in m.trashed_classes:
                 restored = self._restore_class(tx, iri)
             elif iri in m.trashed_items:
@@ -971,7 +677,7 @@ class SceneMemory:
         return restored
 
     def _restore_class(self, tx: Transaction, cls: NamedNode) -> tuple[NamedNode, ...]:
-        m = self._model
+        m = self.loaded.model
         trashed = m.trashed_classes[cls]
         rival = m.index.with_signature(trashed.signature)
         if rival is not None:
@@ -980,7 +686,7 @@ class SceneMemory:
                 "nothing restored"
             )
         values = {}
-        for quad in list(self._reader.quads(cls, None, None, TRASH)):
+        for quad in list(self.transactions.reader.quads(cls, None, None, TRASH)):
             values[quad.predicate] = quad.object
             persist.delete_quad(tx, quad, TRASH)
         record = ClassRecord(
@@ -1002,18 +708,20 @@ class SceneMemory:
         # forgotten alone before (the class's memory comes back whole)
         items = sorted(self._trashed_with(cls), key=str)
         self._restore_items(tx, items)
-        self._rescore(tx, set(), {cls})
+        self.view.rescore(tx, set(), {cls})
         persist.write_class(tx, record, stored=m.stored_restrictions)
-        history.record(tx, self._model, record, "restored", self._now())
+        history.record(tx, self.loaded.model, record, "restored", self._now())
         return (cls, *items)
 
     def _restore_items(self, tx: Transaction, items: Sequence[NamedNode]) -> None:
-        m = self._model
+        m = self.loaded.model
         for item in items:
             trashed = m.trashed_items.pop(item)
-            own = list(self._reader.quads(item, None, None, TRASH))
+            own = list(self.transactions.reader.quads(item, None, None, TRASH))
             values = {q.predicate: q.object for q in own}
-            persist.move(tx, self._reader, [item], TRASH, EPISODIC, follow=HAS_PRIMITIVE)
+            persist.move(
+                tx, self.transactions.reader, [item], TRASH, EPISODIC, follow=HAS_PRIMITIVE
+            )
             # move() re-inserts every triple; the trash-only ones must not reach `episodic`.
             for quad in own:
                 if quad.predicate in (FORGOTTEN_AT, CONSECUTIVE_WEAK_COUNT, LEVEL):
@@ -1027,219 +735,17 @@ class SceneMemory:
                 pinned=persist.text(values.get(PINNED, Literal(False))) == "true",
             )
             m.add_item(record)
-            history.record(tx, self._model, record, "restored", self._now())
-
-    def _unknown(self, iri: NamedNode) -> UnknownItemError:
-        m = self._model
-        if iri in m.trashed_classes or iri in m.trashed_items:
-            return UnknownItemError(f"iri: {iri.value} is in the trash; restore it first")
-        return UnknownItemError(
-            f"iri: got {iri.value!r}, expected a learned scene class or an experienced scene"
-        )
-
-    def item_scores(self, iri: NamedNode) -> ItemScores:
-        """The raw terms, normalised score and level of a class or experienced scene, now.
-
-        Raises :class:`~reasoners.errors.UnknownItemError` for an IRI that is not live."""
-        with self._lock:
-            m, p = self._model, self.policy
-            if iri in m.classes:
-                return self._class_scores(m.classes[iri])
-            if iri not in m.items:
-                raise self._unknown(iri)
-            now = self._now()
-            record = m.items[iri]
-            raw = forgetting.item_raw(m, p, record, now)
-            top = max((forgetting.item_raw(m, p, r, now) for r in m.items.values()), default=0.0)
-            normalised = raw / top if top > 0 else 0.0
-            cls = m.classes[record.cls]
-            return ItemScores(
-                iri=iri,
-                kind="item",
-                complexity=record.complexity,
-                store_count=cls.store_count,
-                retrieve_count=cls.retrieve_count,
-                raw_score=raw,
-                normalised=normalised,
-                level=level_of(normalised, high=p.highLevelThreshold, weak=p.weakLevelThreshold),
-                stored_level=record.level,
-                consecutive_weak=record.weak_count,
-                pinned=record.pinned,
-                created=record.created,
-                last_accessed=record.last_accessed,
-                cls=record.cls,
-            )
-
-    def classes(self) -> list[ClassSummary]:
-        """Every live learned class with its signature, direct edges and scores, simplest first."""
-        with self._lock:
-            m = self._model
-            zetas, top = m.zetas(), m.max_score
-            return [
-                ClassSummary(
-                    iri=record.iri,
-                    signature=record.signature,
-                    parents=tuple(sorted(m.parents[record.iri], key=str)),
-                    children=tuple(sorted(m.children[record.iri], key=str)),
-                    items=len(m.items_of.get(record.iri, ())),
-                    scores=self._class_scores(record, (zetas[record.iri], top)),
-                )
-                for record in sorted(
-                    m.classes.values(), key=lambda r: (r.signature.complexity, r.iri.value)
-                )
-            ]
-
-    def state(self, best: int = 10) -> tuple[int, int, list[tuple[NamedNode, float]]]:
-        """(learned classes, experienced scenes, the ``best`` classes by live raw score ζ as
-        (class, ζ), best first, ties by IRI)."""
-        with self._lock:
-            m = self._model
-            zetas = m.zetas()
-            top = heapq.nsmallest(best, zetas.items(), key=lambda kv: (-kv[1], kv[0].value))
-            return len(m.classes), len(m.items), top
-
-    def items(self) -> list[NamedNode]:
-        """Every live experienced scene, oldest first."""
-        with self._lock:
-            return sorted(self._model.items, key=lambda i: self._model.items[i].created)
-
-    def trash(self) -> list[NamedNode]:
-        """Everything in the trash that :meth:`restore` accepts."""
-        with self._lock:
-            return [*self._model.trashed_classes, *self._model.trashed_items]
-
-    def signature(self, iri: NamedNode) -> Signature:
-        """The signature of a live class. Raises UnknownItemError otherwise."""
-        with self._lock:
-            record = self._model.classes.get(iri)
-            if record is None:
-                raise self._unknown(iri)
-            return record.signature
-
-    # Read-only views for explanations ----------------------------------------------------------
-
-    def now(self) -> dt.datetime:
-        """The memory clock's current time."""
-        return self._now()
-
-    def relatives(self, iri: NamedNode) -> tuple[tuple[NamedNode, ...], tuple[NamedNode, ...]]:
-        """(direct parents, direct children) of a live class, each sorted by IRI.
-
-        Raises :class:`~reasoners.errors.UnknownItemError` for an IRI that is not a live class."""
-        with self._lock:
-            m = self._model
-            if iri not in m.classes:
-                raise self._unknown(iri)
-            return (
-                tuple(sorted(m.parents[iri], key=str)),
-                tuple(sorted(m.children[iri], key=str)),
-            )
-
-    def score_terms(self, iri: NamedNode) -> ScoreTerms:
-        """The terms ζ of a live class adds up now (raises UnknownItemError otherwise)."""
-        with self._lock:
-            m = self._model
-            record = m.classes.get(iri)
-            if record is None:
-                raise self._unknown(iri)
-            children = sorted(m.children[iri], key=str)
-            return ScoreTerms(
-                complexity=record.signature.complexity,
-                max_complexity=m.max_complexity,
-                store_count=record.store_count,
-                max_store=m.max_store,
-                retrieve_count=record.retrieve_count,
-                max_retrieve=m.max_retrieve,
-                children_zeta=tuple(m.zeta(m.classes[c]) for c in children),
-                weights=m.weights,
-                zeta=m.zeta(record),
-                max_zeta=m.max_score,
-            )
-
-    def recognitions(self, signature: Signature) -> list[Recognition]:
-        """The live classes a signature belongs to, most confident first; writes nothing."""
-        with self._lock:
-            return self._recognitions(signature)
-
-    def closest(self, signature: Signature, limit: int = 5) -> list[Match]:
-        """The ``limit`` live classes most similar to a signature, best first; writes nothing."""
-        with self._lock:
-            return [Match(c, s) for c, s in self._model.index.most_similar(signature, limit)]
-
-    def trashed(self, iri: NamedNode) -> TrashEntry | None:
-        """What the trash holds under ``iri``, or None."""
-        with self._lock:
-            m = self._model
-            if iri in m.trashed_classes:
-                c = m.trashed_classes[iri]
-                return TrashEntry(iri, "class", c.forgotten_at, signature=c.signature)
-            if iri in m.trashed_items:
-                i = m.trashed_items[iri]
-                return TrashEntry(iri, "item", i.forgotten_at, cls=i.cls)
-            return None
-
-    def maxima(self) -> dict[str, int]:
-        """How many live classes and experienced scenes there are, and the largest class
-        complexity, experienced-scene complexity, store and retrieve counts that the scores
-        are normalised by."""
-        with self._lock:
-            m = self._model
-            return {
-                "classes": len(m.classes),
-                "items": len(m.items),
-                "complexity": m.max_complexity,
-                "item_complexity": m.max_item_complexity,
-                "store": m.max_store,
-                "retrieve": m.max_retrieve,
-            }
-
-    def best(self, count: int = 3) -> list[tuple[NamedNode, float]]:
-        """The ``count`` live classes of largest live raw score ζ as (class, ζ), best first,
-        ties by IRI (as :meth:`state`, without a pass over every class in Python)."""
-        with self._lock:
-            return self._model.top(count)
-
-    def learned_at(self, cls: NamedNode) -> dt.datetime:
-        """When a live class was learned (raises UnknownItemError otherwise)."""
-        with self._lock:
-            record = self._model.classes.get(cls)
-            if record is None:
-                raise self._unknown(cls)
-            return record.created
-
-    def seen(self, cls: NamedNode) -> list[tuple[NamedNode, dt.datetime]]:
-        """The live experienced scenes stored as ``cls`` and when each was seen, oldest first
-        (ties by IRI)."""
-        with self._lock:
-            m = self._model
-            return sorted(
-                ((i, m.items[i].created) for i in m.items_of.get(cls, ())),
-                key=lambda pair: (pair[1], pair[0].value),
-            )
-
-    def items_of(self, cls: NamedNode) -> list[NamedNode]:
-        """The live experienced scenes stored as ``cls``, sorted by IRI."""
-        with self._lock:
-            return sorted(self._model.items_of.get(cls, ()), key=str)
-
-    def live_class(self, signature: Signature) -> NamedNode | None:
-        """The live class learned with exactly this signature, or None."""
-        with self._lock:
-            return self._model.index.with_signature(signature)
+            history.record(tx, self.loaded.model, record, "restored", self._now())
 
 
-def _settle_view_of(memory: "weakref.ref[SceneMemory]") -> Callable[[], None]:
+def _settle_view_of(transactions: "weakref.ref[Transactions]") -> Callable[[], None]:
     """The store's read barrier for a memory: one that does not keep it alive."""
 
     def settle() -> None:
-        if (live := memory()) is not None:
+        if (live := transactions()) is not None:
             live.settle_view()
 
     return settle
-
-
-def _maybe_str(value: str | None) -> Literal | None:
-    return None if value is None else Literal(value)
 
 
 def _new_class(model: MemoryModel, signature: Signature, now: dt.datetime) -> ClassRecord:

@@ -5,7 +5,7 @@ Before, every sleep pass wrote each class's and experienced scene's level
 (``engram:scoreTerms``); a WEAK count of 0 was written once a count fell back; and the trash kept
 the WEAK count of the pass before the one that forgot (k - 1 for a class forgotten at its k-th
 WEAK pass). :func:`migrate` rewrites that into the current layout in the transaction
-:meth:`reasoners.memory.SceneMemory._repair_view` opens; :func:`needed` says whether there is
+:meth:`reasoners.score_view.ScoreView.repair` opens; :func:`needed` says whether there is
 anything to do (a few index lookups). Histories need no migration: events with one
 ``engram:eventParent`` per parent and per-class ``level`` event nodes are read as they are.
 """

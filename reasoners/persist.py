@@ -11,7 +11,7 @@ Layout (DESIGN.md, "Store layout"):
   or restore, created, lastAccessed, consecutiveWeakCount and pinned when not 0 / false); the
   *score view*: ``scoreTermComplexity``, ``scoreTermStore``, ``scoreTermRetrieve`` (Z_d, Z_s,
   Z_r as xsd:double, exact whenever the store is read:
-  :meth:`reasoners.memory.SceneMemory.settle_view`) on each class, and ``scoreFactor*``,
+  :meth:`reasoners.transactions.Transactions.settle_view`) on each class, and ``scoreFactor*``,
   ``maxRawScore`` and ``usesPolicy`` on ``engram:memoryState`` (with the last sleep, the
   updates since, and ``sleepLevels``, the level the last sleep pass gave each live class and
   experienced scene: :func:`write_levels`), from which ``sparql/memory_class_scores.rq`` derives

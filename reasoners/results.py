@@ -123,7 +123,7 @@ class SleepReport:
 
 @dataclass(frozen=True)
 class ClassSummary:
-    """A learned class as :meth:`SceneMemory.classes` lists it."""
+    """A learned class as :meth:`MemoryReads.classes` lists it."""
 
     iri: NamedNode
     signature: Signature

@@ -52,10 +52,12 @@ def served(tmp_path_factory: pytest.TempPathFactory) -> Iterator[tuple[httpx.Cli
     memory.store_scene(worked_example())  # a parent of BIG's class, seen once
     memory.store_scene(SMALL)  # learned again, seen once: WEAK
     facts = {
-        "scores": {c.iri.value: (c.scores.normalised, c.scores.level) for c in memory.classes()},
-        "edges": {(c.iri.value, p.value) for c in memory.classes() for p in c.parents},
-        "trash": {i.value for i in memory.trash()},
-        "counts": (len(memory.classes()), len(memory.items())),
+        "scores": {
+            c.iri.value: (c.scores.normalised, c.scores.level) for c in memory.reads.classes()
+        },
+        "edges": {(c.iri.value, p.value) for c in memory.reads.classes() for p in c.parents},
+        "trash": {i.value for i in memory.reads.trash()},
+        "counts": (len(memory.reads.classes()), len(memory.reads.items())),
     }
     del memory
     gc.collect()  # closes the store for the server

@@ -12,6 +12,7 @@ from api.armor.names import ValueStyle, resolve
 from api.armor.references import Reference
 from api.armor.session import Session
 from kg.sandbox import QueryRunner
+from reasoners.operations import Operation, OperationResult
 
 __all__ = ["Context", "Outcome"]
 
@@ -26,8 +27,10 @@ class Outcome:
     exit_code: int = 0
     error_description: str = ""
     timeout: bool = False
-    deferred: Callable[[ArmorDirectiveRes], None] | None = None
-    """Work to run after the list commits (the memory pipeline); it fills in the response."""
+    operation: Operation | None = None
+    """A scene memory operation that the list's commit runs, in its transaction."""
+    answer: Callable[[OperationResult, ArmorDirectiveRes], None] | None = None
+    """Fills in the response from the operation's result, once the list has committed."""
 
 
 @dataclass

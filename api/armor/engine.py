@@ -376,8 +376,8 @@ def _response(outcome: Outcome, session: Session) -> ArmorDirectiveRes:
         queried_objects=outcome.queried_objects,
         sparql_queried_objects=outcome.sparql_queried_objects,
     )
-    if outcome.deferred is not None:
-        session.after_commit.append((outcome.deferred, response))
+    if outcome.operation is not None:
+        session.queue(outcome.operation, outcome.answer, response)
     return response
 
 

@@ -9,9 +9,11 @@ primitives as ordinary ADD directives, and closes it::
     SCENE UPDATED ""    [] or [episode IRI]    close it: encode, recognise, learn or reinforce
 
 While a scene is open, those ADDs feed the scene, not the reference (which need not be loaded).
-The memory pipeline runs when the directive list commits, in order, and its writes join the
-list's one transaction: a list that fails stores no scene, and a list with two scenes stores
-both or neither (so a directive later in the same list does not see a scene's effect yet).
+Each memory directive that changes the memory queues an operation as a value
+(:mod:`reasoners.operations`); the scene memory runs them when the directive list commits, in
+order, in the list's one transaction (:meth:`reasoners.memory.SceneMemory.commit`): a list that
+fails stores no scene, and a list with two scenes stores both or neither (so a directive later
+in the same list does not see a scene's effect yet).
 Results come as ``queried_objects`` (the main answer, in the request's value style) and
 ``sparql_queried_objects`` (every detail as key/value).
 """
@@ -37,6 +39,7 @@ from ontologies.vocab import ENGRAM_NS
 from reasoners.clock import SettableClock
 from reasoners.errors import MemoryReasonerError
 from reasoners.memory import SceneMemory
+from reasoners.operations import AdvanceClock, Pin, Restore, Retrieve, SetClock, Sleep, StoreScene
 from reasoners.scoring import SCORE_DECIMALS, rounded
 
 __all__ = ["MEMORY_COMMANDS", "MemoryDirectives", "SceneDraft", "sleep_if_due"]
@@ -106,22 +109,6 @@ def _key(ctx: Context) -> SceneKey:
 def _errors(*more: type[Exception]) -> tuple[type[Exception], ...]:
     """The scene memory's errors, and ``more``."""
     return (MemoryReasonerError, ValueError, *more)
-
-
-def _deferred(
-    ctx: Context, work: Callable[[], Any], fill: Callable[[Any, ArmorDirectiveRes], None]
-) -> Outcome:
-    """Run ``work`` at the list's commit, into its transaction; write its result into the
-    response. A failure there fails the list (nothing stays)."""
-    failures = _errors()
-
-    def run(response: ArmorDirectiveRes) -> None:
-        try:
-            fill(work(), response)
-        except failures as error:
-            raise MemoryDirectiveError(str(error)) from None
-
-    return Outcome(deferred=run)
 
 
 # Scenes ----------------------------------------------------------------------------------------
@@ -206,12 +193,8 @@ def scene_updated(ctx: Context) -> Outcome:
         pairs += [("level", result.scores.level), ("score", f"{result.scores.normalised:.6g}")]
         response.sparql_queried_objects = _items(pairs)
 
-    def store() -> Any:
-        result = memory.store_scene(primitives, episode=episode)
-        memory.maybe_sleep()  # the periodic pass, in the list's transaction too
-        return result
-
-    return _deferred(ctx, store, fill)
+    # the periodic sleep pass follows, when due, in the list's transaction too
+    return Outcome(operation=StoreScene(tuple(primitives), episode), answer=fill)
 
 
 def sleep_if_due(memory: SceneMemory) -> None:
@@ -292,12 +275,7 @@ def _retrieve(ctx: Context, *, spread: bool) -> Outcome:
         ]
         response.sparql_queried_objects = _items(pairs)
 
-    def retrieve() -> Any:
-        result = memory.retrieve(cue, spread=spread)
-        memory.maybe_sleep()
-        return result
-
-    return _deferred(ctx, retrieve, fill)
+    return Outcome(operation=Retrieve(cue, spread), answer=fill)
 
 
 def retrieve_scene(ctx: Context) -> Outcome:
@@ -309,8 +287,6 @@ def retrieve_scene_spread(ctx: Context) -> Outcome:
 
 
 def memory_sleep(ctx: Context) -> Outcome:
-    memory = ctx.session.memory.memory
-
     def fill(report: Any, response: ArmorDirectiveRes) -> None:
         s = ctx.style
         response.queried_objects = [styled(c, s) for c in report.forgotten_classes]
@@ -323,17 +299,17 @@ def memory_sleep(ctx: Context) -> Outcome:
         ]
         response.sparql_queried_objects = _items(pairs)
 
-    return _deferred(ctx, memory.sleep, fill)
+    return Outcome(operation=Sleep(), answer=fill)
 
 
 def _pin(ctx: Context, pinned: bool) -> Outcome:
     iri = _memory_iri(ctx.arg(0, "class or scene item"), "args[0]")
     memory = ctx.session.memory.memory
     try:
-        memory.item_scores(iri)  # checks the item is live now
+        memory.reads.item_scores(iri)  # checks the item is live now
     except _errors(KeyError) as error:
         raise MemoryDirectiveError(f"args[0]: {error}") from None
-    return _deferred(ctx, lambda: memory.pin(iri, pinned), lambda _, response: None)
+    return Outcome(operation=Pin(iri, pinned))
 
 
 def memory_pin(ctx: Context) -> Outcome:
@@ -347,20 +323,20 @@ def memory_unpin(ctx: Context) -> Outcome:
 def memory_restore(ctx: Context) -> Outcome:
     iri = _memory_iri(ctx.arg(0, "forgotten class or scene item"), "args[0]")
     memory = ctx.session.memory.memory
-    if iri not in memory.trash():
+    if iri not in memory.reads.trash():
         raise MemoryDirectiveError(f"args[0]: {iri.value} is not in the trash")
 
     def fill(restored: Any, response: ArmorDirectiveRes) -> None:
         response.queried_objects = [styled(i, ctx.style) for i in restored]
 
-    return _deferred(ctx, lambda: memory.restore(iri), fill)
+    return Outcome(operation=Restore(iri), answer=fill)
 
 
 def _scores(ctx: Context) -> Any:
     iri = _memory_iri(ctx.arg(0, "class or scene item"), "args[0]")
     memory = ctx.session.memory.memory
     try:
-        return memory.item_scores(iri)
+        return memory.reads.item_scores(iri)
     except _errors(KeyError) as error:
         raise MemoryDirectiveError(f"args[0]: {error}") from None
 
@@ -410,8 +386,8 @@ def _settable_clock(ctx: Context) -> SettableClock:
     return clock
 
 
-def _clock_answer(clock: SettableClock, response: ArmorDirectiveRes) -> None:
-    response.queried_objects = [clock().isoformat()]
+def _clock_answer(now: Any, response: ArmorDirectiveRes) -> None:
+    response.queried_objects = [now.isoformat()]
 
 
 def memory_clock_set(ctx: Context) -> Outcome:
@@ -431,16 +407,11 @@ def memory_clock_set(ctx: Context) -> Outcome:
             f"args[0]: got {text!r}, expected {clock().isoformat()} or later "
             "(the memory's clock never goes back)"
         )
-
-    def set_clock() -> SettableClock:
-        clock.set(when)
-        return clock
-
-    return _deferred(ctx, set_clock, _clock_answer)
+    return Outcome(operation=SetClock(when), answer=_clock_answer)
 
 
 def memory_clock_advance(ctx: Context) -> Outcome:
-    clock = _settable_clock(ctx)
+    _settable_clock(ctx)  # refused now, not at the commit, when the clock is the real one
     text = ctx.arg(0, "seconds")
     try:
         seconds = float(text) if text.strip().isascii() else math.nan
@@ -450,12 +421,7 @@ def memory_clock_advance(ctx: Context) -> Outcome:
         raise MemoryDirectiveError(
             f"args[0]: got {text!r}, expected a number of seconds from 0 to 1e11"
         )
-
-    def advance_clock() -> SettableClock:
-        clock.advance(seconds)
-        return clock
-
-    return _deferred(ctx, advance_clock, _clock_answer)
+    return Outcome(operation=AdvanceClock(seconds), answer=_clock_answer)
 
 
 def query_memory_clock(ctx: Context) -> Outcome:

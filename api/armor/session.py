@@ -10,10 +10,13 @@ change). Other clients never see a list's changes before its commit.
 
 Reasoning never copies a reference: the list tells the reasoner what it wrote since it last
 reasoned (:mod:`api.armor.reasoning`), gets the inferred graph's delta back, and commits that
-delta with its own changes. Memory directives (:mod:`api.armor.memory`) queue their work; at
-the commit the scene memory runs it, in order, into pending writes that join the same
-transaction (:meth:`reasoners.memory.SceneMemory.batch`), so a list with two scenes, or a
-reference write and a scene, commits all of it or none.
+delta with its own changes. Memory directives (:mod:`api.armor.memory`) queue scene memory
+operations as values (:mod:`reasoners.operations`); at the commit the session hands them and the
+list's other writes, as a :class:`kg.transaction.Transaction`, to
+:meth:`reasoners.memory.SceneMemory.commit`, which runs the operations in order and writes
+everything in one transaction, so a list with two scenes, or a reference write and a scene,
+commits all of it or none. The results come back as values that the directives turn into their
+responses.
 """
 
 import logging
@@ -25,11 +28,14 @@ from pyoxigraph import BlankNode, Literal, NamedNode, Quad, QuerySolutions
 
 import sparql
 from api.armor import reasoning
-from api.armor.errors import MEMORY_ERROR, DirectiveError, SparqlError
+from api.armor.errors import MEMORY_ERROR, SparqlError
+from api.armor.models import ArmorDirectiveRes
 from api.armor.references import Reference, Registry
 from kg import QueryError, Store
 from kg.literals import from_store
 from kg.transaction import Transaction
+from reasoners.errors import MemoryReasonerError, OperationFailedError
+from reasoners.operations import Operation, OperationResult
 
 __all__ = ["ChangeSet", "MemoryWorkFailed", "Row", "Session"]
 
@@ -40,6 +46,19 @@ Row = dict[str, NamedNode | Literal]
 
 class MemoryWorkFailed(Exception):
     """A memory directive's work failed at the commit; its response says why, nothing stayed."""
+
+
+Answer = Callable[[OperationResult, ArmorDirectiveRes], None]
+"""Fills in a directive's response from its operation's result."""
+
+
+@dataclass(frozen=True)
+class _Queued:
+    """A memory directive's operation, waiting for the commit, and where its answer goes."""
+
+    operation: Operation
+    answer: Answer | None
+    response: ArmorDirectiveRes
 
 
 @dataclass
@@ -149,7 +168,8 @@ class Session:
         self.memory = memory
         self._scenes_base = scenes if scenes is not None else {}
         self.scenes: dict[tuple[str, str], Any] = {}
-        self.after_commit: list[tuple[Callable[[Any], None], Any]] = []
+        self.queued: list[_Queued] = []
+        """The memory directives' operations, run at the commit in this order."""
         self.references: dict[str, Reference | None] = {}
         self.changes: dict[NamedNode, ChangeSet] = {}
         self.workspaces: dict[str, Store] = {}
@@ -207,6 +227,13 @@ class Session:
 
     def set_scene(self, key: tuple[str, str], draft: Any) -> None:
         self.scenes[key] = draft
+
+    def queue(
+        self, operation: Operation, answer: Answer | None, response: ArmorDirectiveRes
+    ) -> None:
+        """Run ``operation`` at the commit, in the list's transaction; then ``answer`` fills in
+        ``response`` from its result."""
+        self.queued.append(_Queued(operation, answer, response))
 
     # Writes -------------------------------------------------------------------------------------
 
@@ -439,10 +466,11 @@ class Session:
                 self.reason_now(reference)
             except Exception:  # the assertions still commit; the next REASON recomputes
                 log.exception("reasoning over the list's writes failed for reference %s", name)
-        if self.after_commit:
+        if self.queued:
             self._commit_with_memory()
         elif self.changes or self.references:  # a list that only read takes no store lock
-            self._write()
+            with self.store.transaction() as tx:
+                self._add_writes(tx)
         self._settle_reasoner()
         self.registry.publish(self.references)
         for key, draft in self.scenes.items():
@@ -453,51 +481,48 @@ class Session:
         self.changes, self.workspaces = {}, {}
 
     def _commit_with_memory(self) -> None:
-        """Run the list's memory work into the scene memory's pending writes, then commit them
-        with the list's other writes, as one transaction.
+        """Hand the queued operations and the list's other writes to the scene memory, which
+        commits them in one transaction; then answer each operation's directive.
 
-        The memory's lock is held from the first piece of work to the commit, so no other
-        thread sees its model in between; if a piece of work or the commit fails, the memory
-        rebuilds its model from the store and nothing of the list stays. Raises
-        :class:`MemoryWorkFailed` (after writing the error into the directive's response) when
-        a piece of work fails.
+        Raises :class:`MemoryWorkFailed` (after writing the error into the failing directive's
+        response) when an operation fails: nothing of the list stays, and the memory's model is
+        as before the list.
         """
-        memory = self.memory.memory
-        work, self.after_commit = self.after_commit, []
-        with memory.batch() as writes:
-            for run, response in work:
-                try:
-                    run(response)
-                except DirectiveError as error:
-                    response.success, response.exit_code = False, error.exit_code
-                    response.error_description = f"{error.description} (nothing of the list stayed)"
-                    raise MemoryWorkFailed(error.description) from None
-                except Exception as error:
-                    log.exception("memory work failed")
-                    response.success, response.exit_code = False, MEMORY_ERROR
-                    response.error_description = (
-                        f"memory pipeline failed, nothing of the list stayed: {error!r}"
-                    )
-                    raise MemoryWorkFailed(repr(error)) from None
-            self._write(writes)
+        queued, self.queued = self.queued, []
+        writes = Transaction()
+        self._add_writes(writes)
+        try:
+            results = self.memory.memory.commit(
+                [q.operation for q in queued], writes, sleep_if_due=True
+            )
+        except OperationFailedError as failure:
+            response, error = queued[failure.index].response, failure.error
+            response.success, response.exit_code = False, MEMORY_ERROR
+            if isinstance(error, MemoryReasonerError | ValueError):  # refused: the message says why
+                response.error_description = f"{error} (nothing of the list stayed)"
+            else:
+                log.error("memory operation failed", exc_info=error)
+                response.error_description = (
+                    f"memory pipeline failed, nothing of the list stayed: {error!r}"
+                )
+            raise MemoryWorkFailed(response.error_description) from None
+        for item, result in zip(queued, results, strict=True):
+            if item.answer is not None:
+                item.answer(result, item.response)
 
-    def _write(self, memory_writes: Transaction | None = None) -> None:
-        with self.store.transaction() as tx:
-            if memory_writes is not None:  # graphs of the scene memory, none of a reference
-                tx.deletes.extend(memory_writes.deletes)
-                tx.patterns.extend(memory_writes.patterns)
-                tx.inserts.extend(memory_writes.inserts)
-            for graph, changes in self.changes.items():
-                if changes.cleared:
-                    tx.clear_graph(graph)
-                tx.deletes.extend(changes.removed)
-                tx.inserts.extend(changes.added)
-            for name, reference in self.references.items():
-                old = self.registry.get(name)
-                if old is not None and (reference is None or _settings_changed(old, reference)):
-                    tx.deletes.extend(old.settings_quads())
-                if reference is not None and (old is None or _settings_changed(old, reference)):
-                    tx.inserts.extend(reference.settings_quads())
+    def _add_writes(self, tx: Transaction) -> None:
+        """Add every change of the list (its graphs, its references' settings) to ``tx``."""
+        for graph, changes in self.changes.items():
+            if changes.cleared:
+                tx.clear_graph(graph)
+            tx.deletes.extend(changes.removed)
+            tx.inserts.extend(changes.added)
+        for name, reference in self.references.items():
+            old = self.registry.get(name)
+            if old is not None and (reference is None or _settings_changed(old, reference)):
+                tx.deletes.extend(old.settings_quads())
+            if reference is not None and (old is None or _settings_changed(old, reference)):
+                tx.inserts.extend(reference.settings_quads())
 
 
 def _settings_changed(old: Reference, new: Reference) -> bool:

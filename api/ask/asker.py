@@ -253,12 +253,12 @@ class Asker:
         return triples
 
     def _class_words(self, cls: NamedNode) -> str:
-        scores = self.scenes.item_scores(cls)
-        seen = self.scenes.seen(cls)
+        scores = self.scenes.reads.item_scores(cls)
+        seen = self.scenes.reads.seen(cls)
         last = seen[-1][1] if seen else None
         how = f"seen {_times(scores.store_count)}"
         if last is not None:
-            how += f", last {say_when(last, self.scenes.now())}"
+            how += f", last {say_when(last, self.scenes.reads.now())}"
         return f"{local(cls)} ({how}; level {scores.level})"
 
     def _recall(self, parsed: Parsed) -> tuple[Any, str]:
@@ -318,8 +318,8 @@ class Asker:
         )
 
     def _scene_best(self, parsed: Parsed) -> _Reply:
-        counts = self.scenes.maxima()
-        classes, items, best = counts["classes"], counts["items"], self.scenes.best(3)
+        counts = self.scenes.reads.maxima()
+        classes, items, best = counts["classes"], counts["items"], self.scenes.reads.best(3)
         if not best:
             return _Reply("I remember nothing yet.", {"best": []})
         top = best[0][1] or 1.0
@@ -339,7 +339,7 @@ class Asker:
         bound: dict[str, NamedNode | Literal] = {"g": TRASH}
         data: dict[str, Any] = {}
         if phrase is not None:
-            start, end = time_window(phrase, self.scenes.now())
+            start, end = time_window(phrase, self.scenes.reads.now())
             bound["from"] = _time(start)
             bound["to"] = _time(end)
             data |= {"from": start.isoformat(), "to": end.isoformat()}
@@ -356,7 +356,7 @@ class Asker:
         explanations: list[Explanation] = [
             explain_forgetting(self.scenes, c)  # type: ignore[arg-type]
             for c in classes[:3]
-            if self.scenes.trashed(c) is not None  # type: ignore[arg-type]
+            if self.scenes.reads.trashed(c) is not None  # type: ignore[arg-type]
         ]
         return _Reply(f"{when.capitalize()} I forgot {_join(parts)}.", data, explanations)
 
@@ -365,7 +365,7 @@ class Asker:
     def _explain_forget(self, parsed: Parsed) -> _Reply:
         name = parsed.slots["name"]
         iri = _iri(name)
-        if self.scenes.trashed(iri) is not None:
+        if self.scenes.reads.trashed(iri) is not None:
             forgetting = explain_forgetting(self.scenes, iri)
             return _Reply(forgetting.words, {"forgotten": True}, [forgetting])
         try:
@@ -381,12 +381,12 @@ class Asker:
     def _explain_kind(self, parsed: Parsed) -> _Reply:
         name, other = parsed.slots["name"], parsed.slots["other"]
         for each in (name, other):
-            if self.scenes.trashed(_iri(each)) is not None:
+            if self.scenes.reads.trashed(_iri(each)) is not None:
                 return _Reply(f"I forgot {each}; restore it to compare.", {"kind_of": None})
         try:
             placement = explain_subsumption(self.scenes, _iri(name), _iri(other))
         except MemoryReasonerError:
-            unknown = name if self.scenes.trashed(_iri(name)) is None else other
+            unknown = name if self.scenes.reads.trashed(_iri(name)) is None else other
             return _Reply(f"I do not know {unknown}.", {"kind_of": None})
         words = ("Yes. " if placement.is_kind else "No. ") + placement.words
         return _Reply(words, {"kind_of": placement.is_kind}, [placement])
@@ -420,7 +420,7 @@ class Asker:
         return _Reply(" ".join(words), {"known": True}, explanations)
 
     def _explain_last_scene(self, parsed: Parsed) -> _Reply:
-        items = self.scenes.items()
+        items = self.scenes.reads.items()
         if not items:
             return _Reply("I have not seen any scene yet.", {"scene": None})
         last = items[-1]
@@ -441,7 +441,7 @@ class Asker:
         if not events:
             return _Reply(f"I have no history of {name}.", data)
         first, last = events[0], events[-1]
-        when = self.scenes.now()
+        when = self.scenes.reads.now()
         parts = [f"I {_past(first.kind)} {name} {say_when(_parse(first.time), when)}"]
         counts = {k: sum(1 for e in events if e.kind == k) for k in ("reinforced", "retrieved")}
         if counts["reinforced"]:
@@ -461,7 +461,7 @@ class Asker:
 
     def _history_as_of(self, parsed: Parsed) -> _Reply:
         phrase = parsed.slots["time"]
-        end = time_window(phrase, self.scenes.now())[1]
+        end = time_window(phrase, self.scenes.reads.now())[1]
         states = history.as_of(self.store, end)
         data: dict[str, Any] = {
             "time": end.isoformat(),

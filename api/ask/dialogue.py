@@ -19,8 +19,8 @@ def questions_for(asker: Asker, *, agent: str, activity: str) -> list[str]:
         "What do you remember best?",
         "What did you forget this week?",
     ]
-    trash = scenes.trash()  # forgotten classes first, then forgotten scenes
-    classes = scenes.classes()
+    trash = scenes.reads.trash()  # forgotten classes first, then forgotten scenes
+    classes = scenes.reads.classes()
     if trash or classes:
         questions.append(f"Why did you forget {local(trash[0] if trash else classes[0].iri)}?")
     child = next((c for c in classes if c.parents), None)

@@ -21,9 +21,9 @@ async def health(store: StoreDep, request: Request) -> dict[str, Any]:
     services = request.app.state.services
     version = services.ontology.version
     memory = services.scene_memory
-    if memory.ready:
+    if memory.loaded.ready:
         state = "ready"
-    elif memory.wait_ready(timeout_s=0):
+    elif memory.loaded.wait_ready(timeout_s=0):
         state = "failed"
     else:
         state = "loading"
@@ -31,5 +31,5 @@ async def health(store: StoreDep, request: Request) -> dict[str, Any]:
         "status": {"ready": "ok", "loading": "loading", "failed": "degraded"}[state],
         "ontology_version": version.value if version else None,
         "transactions": store.generation,
-        "memory": {"state": state, "loaded_from": memory.loaded_from or None},
+        "memory": {"state": state, "loaded_from": memory.loaded.source or None},
     }

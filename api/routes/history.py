@@ -79,10 +79,10 @@ def _parse_time(text: str) -> dt.datetime:
 
 def _known(memory: Any, iri: NamedNode) -> bool:
     """Whether the memory holds ``iri`` live or in the trash (a store older than its history)."""
-    if memory.trashed(iri) is not None:
+    if memory.reads.trashed(iri) is not None:
         return True
     try:
-        memory.item_scores(iri)
+        memory.reads.item_scores(iri)
     except UnknownItemError:
         return False
     return True

@@ -265,7 +265,7 @@ async def warm_up(memory: SceneMemory, *, poll_s: float = 0.5) -> None:
     """Once the memory has loaded, derive the class list the graph page reads first (seconds for
     10,000 classes), in a worker thread, so the first page load finds it ready. Run as a task by
     the app's lifespan and cancelled with it."""
-    while not memory.wait_ready(timeout_s=0):
+    while not memory.loaded.wait_ready(timeout_s=0):
         await asyncio.sleep(poll_s)
     try:
         await run_in_threadpool(graph.warm, memory)

@@ -1,7 +1,7 @@
 """The memory graph: learned classes (live and forgotten) as nodes, and one class in detail.
 
-Live classes come from :meth:`SceneMemory.classes` (scores and levels derived now); forgotten
-ones from :meth:`SceneMemory.trash` and the trash graph's triples, which keep the class's
+Live classes come from :meth:`MemoryReads.classes` (scores and levels derived now); forgotten
+ones from :meth:`MemoryReads.trash` and the trash graph's triples, which keep the class's
 signature, counters and last score as they were when it was forgotten.
 """
 
@@ -149,7 +149,7 @@ def _forgotten_node(store: Store, iri: NamedNode, top: float) -> ClassNode | Non
 
 def _forgotten_classes(memory: SceneMemory, top: float) -> list[ClassNode]:
     nodes = []
-    for iri in memory.trash():
+    for iri in memory.reads.trash():
         if any(True for _ in memory.store.quads(iri, RDF_TYPE, TRASH_CLASS, TRASH)) or any(
             True for _ in memory.store.quads(iri, FORGOTTEN_SIGNATURE, None, TRASH)
         ):
@@ -215,7 +215,7 @@ class _NodeCache:
                 cached = self._entries.get(key)
             if cached is not None and cached.generation == generation:
                 return cached
-            summaries = memory.classes()
+            summaries = memory.reads.classes()
             nodes = [_node_fields(s) for s in summaries]
             sources: list[Signature | list[str]] = [s.signature for s in summaries]
             if trash:
@@ -282,10 +282,10 @@ def class_list_json(
 
 
 def _find(memory: SceneMemory, name: str) -> tuple[ClassSummary | None, NamedNode | None]:
-    for summary in memory.classes():
+    for summary in memory.reads.classes():
         if local_name(summary.iri) == name or summary.iri.value == name:
             return summary, None
-    for iri in memory.trash():
+    for iri in memory.reads.trash():
         if local_name(iri) == name or iri.value == name:
             return None, iri
     raise UnknownClassError(
@@ -338,7 +338,7 @@ def class_detail(memory: SceneMemory, name: str) -> ClassDetail:
             scenes=_scenes_of(memory.store, summary.iri, EPISODIC),
         )
     assert trashed is not None
-    top = max((c.scores.raw_score for c in memory.classes()), default=0.0)
+    top = max((c.scores.raw_score for c in memory.reads.classes()), default=0.0)
     forgotten = _forgotten_node(memory.store, trashed, top)
     if forgotten is None:
         raise UnknownClassError(f"name: {name!r} is a forgotten scene, not a class")

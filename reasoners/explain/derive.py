@@ -53,10 +53,10 @@ def _near_misses(
 ) -> tuple[NearMiss, ...]:
     found = []
     # the classes the signature belongs to are skipped below: ask for a few more than needed
-    for match in memory.closest(signature, 3 * limit + 5):
+    for match in memory.reads.closest(signature, 3 * limit + 5):
         if match.cls in exclude:
             continue
-        required = memory.signature(match.cls)
+        required = memory.reads.signature(match.cls)
         if signature.satisfies(required):
             continue
         missed = tuple(c for c in checks(required, signature) if not c.met)
@@ -91,7 +91,7 @@ def scene_signature(memory: SceneMemory, item: NamedNode, graph: NamedNode = EPI
 
 def _learned_before(memory: SceneMemory, cls: NamedNode, other: NamedNode) -> bool:
     """Whether ``other`` was learned before ``cls`` (by time, then by number)."""
-    a, b = memory.learned_at(cls), memory.learned_at(other)
+    a, b = memory.reads.learned_at(cls), memory.reads.learned_at(other)
     return (b, _number(other)) < (a, _number(cls))
 
 
@@ -103,8 +103,8 @@ def _number(cls: NamedNode) -> int:
 def _learned_from(memory: SceneMemory, cls: NamedNode, item: NamedNode) -> bool:
     """Whether ``cls`` was learned from the experienced scene ``item``: the first scene stored
     as it at the moment it was learned (scene numbers grow with each update)."""
-    created = memory.learned_at(cls)
-    first = min((i for i, t in memory.seen(cls) if t == created), key=_number, default=None)
+    created = memory.reads.learned_at(cls)
+    first = min((i for i, t in memory.reads.seen(cls) if t == created), key=_number, default=None)
     return first == item
 
 
@@ -112,10 +112,10 @@ def explain_learning(
     memory: SceneMemory, cls: NamedNode, *, scene: NamedNode | None = None
 ) -> LearningExplanation:
     """Why ``cls`` was learned (raises UnknownItemError for an IRI that is not a live class)."""
-    signature = memory.signature(cls)
+    signature = memory.reads.signature(cls)
     earlier = [
         r
-        for r in memory.recognitions(signature)
+        for r in memory.reads.recognitions(signature)
         if r.cls != cls and _learned_before(memory, cls, r.cls)
     ]
     best = earlier[0] if earlier else None
@@ -153,11 +153,11 @@ def explain_scene(
 ) -> RecognitionExplanation | LearningExplanation:
     """Why an experienced scene was stored as its class: recognised (its class fitted it well
     enough), or learned (no class did)."""
-    scores = memory.item_scores(item)
+    scores = memory.reads.item_scores(item)
     cls = scores.cls
     assert cls is not None  # an item's scores name its class
     signature = scene_signature(memory, item)
-    required = memory.signature(cls)
+    required = memory.reads.signature(cls)
     if required == signature and _learned_from(memory, cls, item):
         return explain_learning(memory, cls, scene=item)
     d_scene = signature.complexity or scores.complexity
@@ -171,7 +171,7 @@ def explain_scene(
         met=checks(required, signature),
         beyond=beyond(signature, required),
         near_misses=_near_misses(
-            memory, signature, {cls, *(r.cls for r in memory.recognitions(signature))}
+            memory, signature, {cls, *(r.cls for r in memory.reads.recognitions(signature))}
         ),
     )
 
@@ -181,19 +181,19 @@ def explain_subsumption(
 ) -> PlacementExplanation:
     """Which restrictions make ``cls`` a subclass of each direct parent; with ``ancestor``,
     of that class (or which restrictions of it ``cls`` lacks)."""
-    signature = memory.signature(cls)
+    signature = memory.reads.signature(cls)
     if ancestor is not None:
-        required = memory.signature(ancestor)
+        required = memory.reads.signature(ancestor)
         met = checks(required, signature)
         missed = tuple(c for c in met if not c.met)
         link = ParentLink(ancestor.value, met, beyond(signature, required))
         return PlacementExplanation(
             cls=cls.value, parents=() if missed else (link,), missed=missed, asked=ancestor.value
         )
-    parents, _ = memory.relatives(cls)
+    parents, _ = memory.reads.relatives(cls)
     links = []
     for parent in parents:
-        required = memory.signature(parent)
+        required = memory.reads.signature(parent)
         links.append(
             ParentLink(parent.value, checks(required, signature), beyond(signature, required))
         )
@@ -206,11 +206,11 @@ explain_placement = explain_subsumption
 def explain_level(memory: SceneMemory, iri: NamedNode) -> LevelExplanation:
     """The score terms of a live class or experienced scene now, its level and its fate."""
     p = memory.policy
-    scores = memory.item_scores(iri)
-    now = memory.now()
+    scores = memory.reads.item_scores(iri)
+    now = memory.reads.now()
     protected: tuple[str, ...] = ()
     if scores.kind == "class":
-        t = memory.score_terms(iri)
+        t = memory.reads.score_terms(iri)
         a_d, a_c, a_s, a_r = t.weights
         mean = sum(t.children_zeta) / len(t.children_zeta) if t.children_zeta else 0.0
         terms = {
@@ -220,16 +220,18 @@ def explain_level(memory: SceneMemory, iri: NamedNode) -> LevelExplanation:
             "retrieved": a_r * _log_ratio(t.retrieve_count, t.max_retrieve),
         }
         zeta = t.zeta
-        protected = tuple(i.value for i in memory.items_of(iri) if memory.item_scores(i).pinned)
+        protected = tuple(
+            i.value for i in memory.reads.items_of(iri) if memory.reads.item_scores(i).pinned
+        )
     else:
         cls = scores.cls
         assert cls is not None
         age_s = max((now - scores.last_accessed).total_seconds(), 0.0)
-        top = memory.maxima()
+        top = memory.reads.maxima()
         terms = {
             "complexity": p.episodicComplexityWeight
             * _ratio(scores.complexity, top["item_complexity"]),
-            "class": p.episodicChildrenWeight * memory.item_scores(cls).normalised,
+            "class": p.episodicChildrenWeight * memory.reads.item_scores(cls).normalised,
             "stored": p.episodicStoreWeight * _log_ratio(scores.store_count, top["store"]),
             "retrieved": p.episodicRetrieveWeight
             * _log_ratio(scores.retrieve_count, top["retrieve"]),
@@ -263,12 +265,12 @@ def _log_ratio(value: int, maximum: int) -> float:
 
 
 def _restore(memory: SceneMemory, iri: NamedNode) -> RestoreExplanation:
-    entry = memory.trashed(iri)
+    entry = memory.reads.trashed(iri)
     if entry is None:
         raise UnknownItemError(f"about: {iri.value} is not in the trash")
     if entry.kind == "item":
         assert entry.cls is not None
-        if memory.trashed(entry.cls) is not None:
+        if memory.reads.trashed(entry.cls) is not None:
             return RestoreExplanation(
                 iri.value,
                 False,
@@ -277,15 +279,15 @@ def _restore(memory: SceneMemory, iri: NamedNode) -> RestoreExplanation:
             )
         return RestoreExplanation(iri.value, True, f"its class {local(entry.cls)} is live", ())
     assert entry.signature is not None
-    rival = memory.live_class(entry.signature)
+    rival = memory.reads.live_class(entry.signature)
     if rival is not None:
         return RestoreExplanation(
             iri.value, False, f"the live class {local(rival)} has the same signature", ()
         )
     with_it = tuple(
         t.value
-        for t in memory.trash()
-        if (e := memory.trashed(t)) is not None
+        for t in memory.reads.trash()
+        if (e := memory.reads.trashed(t)) is not None
         and e.kind == "item"
         and e.cls == iri
         and e.forgotten_at == entry.forgotten_at
@@ -297,7 +299,7 @@ def explain_forgetting(memory: SceneMemory, iri: NamedNode) -> ForgettingExplana
     """Why ``iri`` is in the trash, from the values the trash keeps (``explain_trash_values``).
 
     Raises UnknownItemError when the trash does not hold it."""
-    entry = memory.trashed(iri)
+    entry = memory.reads.trashed(iri)
     if entry is None:
         raise UnknownItemError(f"about: {iri.value} is not in the trash")
     values = {
@@ -311,7 +313,7 @@ def explain_forgetting(memory: SceneMemory, iri: NamedNode) -> ForgettingExplana
 
     with_class = None
     if entry.kind == "item" and entry.cls is not None:
-        cls_entry = memory.trashed(entry.cls)
+        cls_entry = memory.reads.trashed(entry.cls)
         if cls_entry is not None and cls_entry.forgotten_at == entry.forgotten_at:
             with_class = entry.cls.value
     created = values.get(CREATED)
@@ -338,10 +340,10 @@ def explain(memory: SceneMemory, iri: NamedNode) -> list[Explanation]:
     """Every explanation that applies to ``iri``: a live class (learning, placement, level), a
     live experienced scene (recognition or learning, level), or something in the trash
     (forgetting, restore). Raises UnknownItemError for an IRI the memory never held."""
-    if memory.trashed(iri) is not None:
+    if memory.reads.trashed(iri) is not None:
         forgetting = explain_forgetting(memory, iri)
         return [forgetting, forgetting.restore]
-    scores = memory.item_scores(iri)  # raises UnknownItemError for anything else
+    scores = memory.reads.item_scores(iri)  # raises UnknownItemError for anything else
     if scores.kind == "class":
         return [
             explain_learning(memory, iri),

@@ -45,7 +45,7 @@ def test_health_and_sparql_answer_while_the_memory_loads_and_directives_say_load
         return real(*args, **kwargs)  # type: ignore[arg-type]
 
     monkeypatch.setattr(index_file, "open_model", slow_open)
-    monkeypatch.setattr("reasoners.memory.LOADING_WAIT_S", 0.0)
+    monkeypatch.setattr("reasoners.loading.LOADING_WAIT_S", 0.0)
     server = start_server()
     try:
         health = server.client.get("/health")

@@ -30,9 +30,9 @@ def test_snapshots_hold_the_live_scores_not_the_stored_ones() -> None:
     episode = episodes.begin("watching")
     assert episode.state_at_begin is not None
     snapshot = {e.cls: e.score for e in episode.state_at_begin.best_classes}
-    live = memory.item_scores(alone).raw_score
+    live = memory.reads.item_scores(alone).raw_score
     assert snapshot[alone.value] == live
     stored = {e.cls: e.score for e in read_memory_state(store).best_classes}
     assert stored[alone.value] > live  # written when ALONE was stored, not updated since
-    assert episode.state_at_begin.learned_classes == len(memory.classes())
-    assert episode.state_at_begin.episodic_items == len(memory.items())
+    assert episode.state_at_begin.learned_classes == len(memory.reads.classes())
+    assert episode.state_at_begin.episodic_items == len(memory.reads.items())

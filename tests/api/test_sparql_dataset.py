@@ -33,7 +33,8 @@ def _forgetful_store(path: Path) -> tuple[int, int]:
     clock.advance(days=2)
     for _ in range(memory.policy.weakPassesToForget):
         memory.sleep()
-    counts = len(memory.items()), len(memory.trash()) - 1  # the class is in the trash too
+    reads = memory.reads
+    counts = len(reads.items()), len(reads.trash()) - 1  # the class is in the trash too
     del memory
     gc.collect()  # closes the store, so that the server can open it
     return counts

@@ -32,9 +32,9 @@ def _scene(rng: random.Random, count: int) -> list[Primitive]:
 
 def _view(memory: SceneMemory) -> object:
     return (
-        [(c.iri, c.parents, c.children, c.scores) for c in memory.classes()],  # type: ignore[attr-defined]
-        {i: memory.item_scores(i) for i in memory.items()},
-        memory.state(),
+        [(c.iri, c.parents, c.children, c.scores) for c in memory.reads.classes()],
+        {i: memory.reads.item_scores(i) for i in memory.reads.items()},
+        memory.reads.state(),
     )
 
 
@@ -60,7 +60,7 @@ def test_piecewise_updates_match_a_rebuild(
             follower.catch_up()
         memory.retrieve([("Sphere", "isAboveOf", "Plane")])
         follower.catch_up()
-        first = memory.classes()[0].iri  # type: ignore[attr-defined]
+        first = memory.reads.classes()[0].iri
         memory.pin(first)
         follower.catch_up()
         assert outcomes and all(outcomes)  # every one of these applied piecewise

@@ -176,7 +176,7 @@ def build_memory(data_dir: Path) -> str:
     for day in range(1, 7):  # nights: the scene seen once fades and is forgotten
         clock.now = START + dt.timedelta(days=day)
         memory.sleep()
-    for summary in memory.classes():
+    for summary in memory.reads.classes():
         if summary.scores.store_count >= 3:
             memory.pin(summary.iri)
     store.flush()

@@ -17,9 +17,11 @@ from api.armor import ArmorEngine
 from api.armor.models import ArmorDirectiveReq
 from api.client import ArmorClient, ArmorServiceInternalError, Primitive, primitive_directives
 from kg import Store
+from kg.transaction import Transaction
 from ontologies.vocab import ENGRAM_NS, EPISODIC, MEMORY, TRASH
 from reasoners.clock import SettableClock
 from reasoners.memory import SceneMemory
+from reasoners.operations import StoreScene
 from tests.api.armor.conftest import Armor, start_live_server
 
 TABLE = Primitive("table", "Plane", centre=(0.3, 0.1, 0.1), axis=(0, 0, 1), hessian=-0.1)
@@ -166,8 +168,36 @@ def test_a_list_with_two_scenes_commits_both_in_one_transaction(engine: ArmorEng
     stored = [r.queried_objects for r in result.armor_responses if r.queried_objects]
     assert stored == [[f"<{ENGRAM_NS}Scene-1>"], [f"<{ENGRAM_NS}Scene-2>"]]
     memory = engine.memory.memory
-    assert [c.iri.value.rsplit("#")[-1] for c in memory.classes()] == ["Scene-1", "Scene-2"]
-    assert len(memory.items()) == 2
+    assert [c.iri.value.rsplit("#")[-1] for c in memory.reads.classes()] == ["Scene-1", "Scene-2"]
+    assert len(memory.reads.items()) == 2
+
+
+def test_the_list_hands_the_memory_its_scenes_and_writes_as_values(
+    engine: ArmorEngine, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    memory = engine.memory.memory
+    handed: list[tuple[list[object], Transaction | None]] = []
+    commit = type(memory).commit
+
+    def recorded(
+        self: object,
+        operations: list[object],
+        alongside: Transaction | None = None,
+        **options: bool,
+    ) -> object:
+        handed.append((list(operations), alongside))
+        return commit(memory, operations, alongside, **options)
+
+    monkeypatch.setattr(type(memory), "commit", recorded)
+    assert engine.execute_list(_requests(LOAD_REFERENCE + TWO_SCENES)).success
+    [(operations, alongside)] = handed
+    assert [type(o) for o in operations] == [StoreScene, StoreScene]
+    assert [sorted(p.id for p in o.primitives) for o in operations] == [
+        ["b", "table"],
+        ["c", "table"],
+    ]
+    assert alongside is not None and alongside.inserts  # the reference's settings, as data
+    assert not any(callable(value) for o in operations for value in vars(o).values())
 
 
 @pytest.mark.parametrize(
@@ -184,17 +214,19 @@ def test_a_failing_directive_leaves_nothing_of_two_scenes(
 ) -> None:
     memory = engine.memory.memory
     if failing[0] == "MEMORY":  # passes its check while the list runs, fails at the commit
-        monkeypatch.setattr(type(memory), "trash", lambda self: [NamedNode(ENGRAM_NS + "Scene-1")])
+        monkeypatch.setattr(
+            type(memory.reads), "trash", lambda self: [NamedNode(ENGRAM_NS + "Scene-1")]
+        )
     before = _memory_triples(engine.store)
     result = engine.execute_list(_requests(LOAD_REFERENCE + TWO_SCENES + [failing]))
     assert result.success is False
     assert result.armor_responses[-1].success is False
     assert _memory_triples(engine.store) == before
     assert engine.registry.get("scenes") is None, "the reference write went too"
-    assert memory.classes() == [] and memory.items() == []
+    assert memory.reads.classes() == [] and memory.reads.items() == []
     # the memory is sound afterwards: the same list without the failing directive commits
     assert engine.execute_list(_requests(LOAD_REFERENCE + TWO_SCENES)).success
-    assert [c.iri.value.rsplit("#")[-1] for c in memory.classes()] == ["Scene-1", "Scene-2"]
+    assert [c.iri.value.rsplit("#")[-1] for c in memory.reads.classes()] == ["Scene-1", "Scene-2"]
 
 
 KILLED_WRITER = textwrap.dedent(
@@ -254,9 +286,9 @@ def test_sigkill_while_lists_of_two_scenes_commit_leaves_whole_lists(tmp_path: P
     }
     lists = len(marks)
     assert lists >= 3 and marks == {f"list{n}" for n in range(1, lists + 1)}
-    items = engine.memory.memory.items()
+    items = engine.memory.memory.reads.items()
     assert len(items) == 2 * lists, "every committed list's two scenes, no half list"
-    assert sum(c.scores.store_count for c in engine.memory.memory.classes()) == len(items)
+    assert sum(c.scores.store_count for c in engine.memory.memory.reads.classes()) == len(items)
 
 
 # A settable clock ------------------------------------------------------------------------------
@@ -311,7 +343,7 @@ def test_a_simulated_life_forgets_a_scene_seen_once(settable: ArmorEngine) -> No
         )
         assert result.success, result
         forgotten += result.armor_responses[1].queried_objects
-    assert len(forgotten) == 1 and len(memory.trash()) == 2  # the class and its one scene
+    assert len(forgotten) == 1 and len(memory.reads.trash()) == 2  # the class and its one scene
     now = settable.execute_list(_requests([("QUERY", "MEMORY", "CLOCK", [])]))
     days = memory.policy.weakPassesToForget
     assert now.armor_responses[0].queried_objects == [f"2026-01-0{1 + days}T09:00:00+00:00"]

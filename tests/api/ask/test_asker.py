@@ -70,13 +70,13 @@ def test_who_was_there(asker: Asker) -> None:
 
 
 def test_what_do_you_know_about_a_ball_on_a_table(asker: Asker) -> None:
-    before = asker.scenes.item_scores(engram("Scene-3")).retrieve_count
+    before = asker.scenes.reads.item_scores(engram("Scene-3")).retrieve_count
     body = ask(asker, "What do you know about a ball on a table?")
     assert body["answer"]["recalled"] == engram("Scene-3").value  # type: ignore[index]
     assert str(body["words"]).startswith("I recall Scene-3 (seen once")
     assert "2 kinds of scene I know have a ball on a table" in str(body["words"])
     # recalling strengthens what was recalled, as any retrieval does
-    assert asker.scenes.item_scores(engram("Scene-3")).retrieve_count == before + 1
+    assert asker.scenes.reads.item_scores(engram("Scene-3")).retrieve_count == before + 1
     assert [e["kind"] for e in body["explanations"]] == ["level"]  # type: ignore[union-attr]
 
 

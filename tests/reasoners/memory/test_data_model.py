@@ -51,7 +51,7 @@ def lived(memory: SceneMemory) -> NamedNode:
 
 def many_classes(memory: SceneMemory, n: int) -> None:
     rng = random.Random(5)
-    while len(memory.classes()) < n:
+    while len(memory.reads.classes()) < n:
         try:
             memory.store_scene(random_scene(rng, 2, 4))
         except Exception:  # a scene without relations
@@ -68,8 +68,8 @@ def test_a_sleep_pass_that_moves_every_level_writes_a_few_quads(
     memory.sleep()
     for _ in range(30):
         memory.store_scene(BIG)
-    memory.settle_view()
-    levels_before = {c.iri: c.scores.stored_level for c in memory.classes()}
+    memory.transactions.settle_view()
+    levels_before = {c.iri: c.scores.stored_level for c in memory.reads.classes()}
     before = {g: quads(memory.store, g) for g in (MEMORY, EPISODIC, HISTORY)}
     clock.advance(seconds=1)
     report = memory.sleep()
@@ -87,8 +87,8 @@ def test_a_sleep_pass_that_moves_every_level_writes_a_few_quads(
     weak = [q for q in after[MEMORY] | after[EPISODIC] if q.predicate == CONSECUTIVE_WEAK_COUNT]
     assert all(q.object != Literal(0) for q in weak)  # a zero count is not stored
     reopened = SceneMemory(memory.store, clock=clock)  # the levels come back from the literal
-    assert {c.iri: c.scores.stored_level for c in reopened.classes()} == report.levels
-    assert {i: reopened.item_scores(i).stored_level for i in report.item_levels} == dict(
+    assert {c.iri: c.scores.stored_level for c in reopened.reads.classes()} == report.levels
+    assert {i: reopened.reads.item_scores(i).stored_level for i in report.item_levels} == dict(
         report.item_levels
     )
     assert [e.kind for e in history.events(memory.store, changed[0])][-1] == "level"
@@ -135,7 +135,7 @@ def to_old_layout(memory: SceneMemory) -> None:
     each item, packed score terms, zero WEAK counts written, the trash holding the WEAK count
     of the pass before the one that forgot (a scene forgotten with its class: its own),
     parents one triple each."""
-    store, m = memory.store, memory._model
+    store, m = memory.store, memory.loaded.model
     with store.transaction() as tx:
         tx.delete_matching(MEMORY_STATE_INDIVIDUAL, SLEEP_LEVELS, None, graph=MEMORY)
         for records, graph in ((m.classes, MEMORY), (m.items, EPISODIC)):
@@ -170,11 +170,13 @@ def test_an_old_store_is_migrated_once_when_the_memory_opens(clock: FakeClock) -
     clock.advance(days=1)
     for _ in range(memory.policy.weakPassesToForget):
         memory.sleep()
-    assert memory.trashed(small) is not None
+    assert memory.reads.trashed(small) is not None
     expected_scores = analyst_scores(memory.store)
-    expected_classes = memory.classes()
+    expected_classes = memory.reads.classes()
     expected_items = {
-        i: memory.item_scores(i) for c in expected_classes for i in memory.items_of(c.iri)
+        i: memory.reads.item_scores(i)
+        for c in expected_classes
+        for i in memory.reads.items_of(c.iri)
     }
     parents = history.learned_decision(memory.store, both)
     as_of = history.as_of(memory.store, clock.now)
@@ -187,8 +189,8 @@ def test_an_old_store_is_migrated_once_when_the_memory_opens(clock: FakeClock) -
 
     migrated = SceneMemory(memory.store, clock=clock)
     assert analyst_scores(memory.store) == expected_scores
-    assert migrated.classes() == expected_classes
-    assert {i: migrated.item_scores(i) for i in expected_items} == expected_items
+    assert migrated.reads.classes() == expected_classes
+    assert {i: migrated.reads.item_scores(i) for i in expected_items} == expected_items
     assert history.learned_decision(memory.store, both) == parents  # old parents still read
     assert history.as_of(memory.store, clock.now) == as_of
     levels = memory.store.quads(MEMORY_STATE_INDIVIDUAL, SLEEP_LEVELS, None, MEMORY)
@@ -201,5 +203,5 @@ def test_an_old_store_is_migrated_once_when_the_memory_opens(clock: FakeClock) -
     written: list[str] = []
     with memory.store.tracing(lambda kind, text, _: kind != "query" and written.append(text)):
         again = SceneMemory(memory.store, clock=clock)  # migrated once: nothing to write
-        assert again.classes() == expected_classes
+        assert again.reads.classes() == expected_classes
     assert written == []

@@ -126,7 +126,7 @@ def test_level_terms_add_up_to_the_score(memory: SceneMemory) -> None:
     memory.store_scene(BIG)
     level = explain(memory, cls)[2]
     assert isinstance(level, LevelExplanation)
-    scores = memory.item_scores(cls)
+    scores = memory.reads.item_scores(cls)
     assert sum(level.terms.values()) == pytest.approx(scores.raw_score)
     assert level.normalised == pytest.approx(scores.normalised)
     assert level.level == scores.level
@@ -224,8 +224,8 @@ def test_every_explanation_is_json_with_words(memory: SceneMemory, clock: FakeCl
     import json
 
     lone = forget_lone(memory, clock)
-    live = memory.items()[-1]
-    for iri in (lone, live, memory.item_scores(live).cls):
+    live = memory.reads.items()[-1]
+    for iri in (lone, live, memory.reads.item_scores(live).cls):
         assert iri is not None
         for explanation in explain(memory, iri):
             body = to_jsonable(explanation)
@@ -245,5 +245,5 @@ def test_best_equals_the_state_ranking(memory: SceneMemory) -> None:
     for _ in range(5):
         memory.retrieve(BIG)
     for count in (1, 3, 10, 100):
-        assert memory.best(count) == memory.state(count)[2]
-    assert memory.best(0) == []
+        assert memory.reads.best(count) == memory.reads.state(count)[2]
+    assert memory.reads.best(0) == []

@@ -47,8 +47,8 @@ def slept(memory: SceneMemory, clock: FakeClock) -> SceneMemory:
         for _ in range(memory.policy.weakPassesToForget)
         for cls in memory.sleep().forgotten_classes
     ]
-    assert forgotten and set(forgotten) <= set(memory.trash())
-    assert len(memory.trash()) > len(forgotten)  # the forgotten scene went with its class
+    assert forgotten and set(forgotten) <= set(memory.reads.trash())
+    assert len(memory.reads.trash()) > len(forgotten)  # the forgotten scene went with its class
     return memory
 
 
@@ -102,7 +102,7 @@ def test_hermit_realises_each_exported_scene_into_its_stored_class(tmp_path: Pat
     memory = SceneMemory(Store(), clock=FakeClock())
     results = [memory.store_scene(scene) for scene in (worked_example(), BIG, SMALL, BIG)]
     stored = {r.scene_item: r.stored_as for r in results}
-    classes = {c.iri for c in memory.classes()}
+    classes = {c.iri for c in memory.reads.classes()}
     triples = [
         t
         for t in export_triples(memory.store, ["tbox", "memory", "episodic"])

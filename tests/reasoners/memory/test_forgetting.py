@@ -54,18 +54,18 @@ def test_a_weak_class_is_forgotten_after_k_passes_and_the_grace_period(
     for _ in range(k - 1):
         report = lived.sleep()
         assert report.levels[small] == "WEAK" and report.forgotten_classes == ()
-    assert lived.item_scores(small).consecutive_weak == k - 1
+    assert lived.reads.item_scores(small).consecutive_weak == k - 1
     report = lived.sleep()
     assert report.forgotten_classes == (small,)
     [item] = [i for i in report.forgotten_items]
-    assert small in lived.trash() and item in lived.trash()
+    assert small in lived.reads.trash() and item in lived.reads.trash()
     store = lived.store
     assert not list(store.quads(small, None, None, MEMORY))
     assert not list(store.quads(item, None, None, EPISODIC))
     assert list(store.quads(item, RDF_TYPE, small, TRASH))
     assert lived.recognise(SMALL) == []  # nothing is recognised as a forgotten class
     # consistency: no live experienced scene points at a class that is gone
-    live = {c.iri for c in lived.classes()}
+    live = {c.iri for c in lived.reads.classes()}
     assert all(
         q.object in live or not q.object.value.startswith(engram("Scene-").value)
         for q in store.quads(None, RDF_TYPE, None, EPISODIC)
@@ -85,26 +85,26 @@ def test_pinned_classes_and_classes_of_pinned_scenes_are_kept(
     clock.advance(days=2)
     for _ in range(lived.policy.weakPassesToForget + 1):
         assert small not in lived.sleep().forgotten_classes
-    assert lived.item_scores(small).pinned
+    assert lived.reads.item_scores(small).pinned
 
 
 def test_a_pinned_scene_keeps_its_class(lived: SceneMemory, clock: FakeClock) -> None:
     small = lived.recognise(SMALL)[0].cls
-    [item] = [i for i in lived.items() if lived.item_scores(i).cls == small]
+    [item] = [i for i in lived.reads.items() if lived.reads.item_scores(i).cls == small]
     lived.pin(item)
     clock.advance(days=2)
     for _ in range(lived.policy.weakPassesToForget + 1):
         report = lived.sleep()
         assert small not in report.forgotten_classes and item not in report.forgotten_items
-    assert lived.item_scores(item).pinned
+    assert lived.reads.item_scores(item).pinned
 
 
 def test_restore_brings_back_the_same_definition_and_its_scenes(
     lived: SceneMemory, clock: FakeClock
 ) -> None:
     small = lived.recognise(SMALL)[0].cls
-    signature = lived.signature(small)
-    before = lived.item_scores(small)
+    signature = lived.reads.signature(small)
+    before = lived.reads.item_scores(small)
     triples_before = {(q.predicate, q.object) for q in lived.store.quads(small, None, None, MEMORY)}
     clock.advance(days=1)
     for _ in range(lived.policy.weakPassesToForget):
@@ -114,8 +114,8 @@ def test_restore_brings_back_the_same_definition_and_its_scenes(
         lived.pin(small)
     restored = lived.restore(small)
     assert restored[0] == small and len(restored) == 2
-    assert lived.signature(small) == signature
-    after = lived.item_scores(small)
+    assert lived.reads.signature(small) == signature
+    after = lived.reads.item_scores(small)
     assert (after.store_count, after.retrieve_count, after.created) == (
         before.store_count,
         before.retrieve_count,
@@ -123,7 +123,7 @@ def test_restore_brings_back_the_same_definition_and_its_scenes(
     )
     assert after.consecutive_weak == 0
     assert [r.cls for r in lived.recognise(SMALL)] == [small]
-    assert lived.trash() == []
+    assert lived.reads.trash() == []
     triples_after = {(q.predicate, q.object) for q in lived.store.quads(small, None, None, MEMORY)}
     changing = {engram(n) for n in ("level", "consecutiveWeakCount", "score")} | {
         OWL_EQUIVALENT_CLASS  # a fresh skolem node; the definition is compared via the signature
@@ -132,7 +132,7 @@ def test_restore_brings_back_the_same_definition_and_its_scenes(
         t for t in triples_after if t[0] not in changing
     }
     assert not list(lived.store.quads(None, None, None, TRASH))
-    assert SceneMemory(lived.store, clock=clock).classes() == lived.classes()
+    assert SceneMemory(lived.store, clock=clock).reads.classes() == lived.reads.classes()
 
 
 def test_restore_refuses_a_signature_learned_again(lived: SceneMemory, clock: FakeClock) -> None:
@@ -158,10 +158,10 @@ def test_an_old_scene_can_be_forgotten_while_its_class_stays(clock: FakeClock) -
         report = memory.sleep()
     assert old in report.forgotten_items
     assert report.forgotten_classes == ()
-    cls = memory.classes()[0].iri
-    assert memory.item_scores(cls).store_count == 6  # the semantic knowledge outlives it
+    cls = memory.reads.classes()[0].iri
+    assert memory.reads.item_scores(cls).store_count == 6  # the semantic knowledge outlives it
     assert memory.restore(old) == (old,)
-    assert memory.item_scores(old).cls == cls
+    assert memory.reads.item_scores(old).cls == cls
 
 
 def test_policy_values_are_read_from_the_store(clock: FakeClock) -> None:
@@ -179,13 +179,13 @@ def test_policy_values_are_read_from_the_store(clock: FakeClock) -> None:
 
 def test_a_pinned_class_keeps_its_scenes(lived: SceneMemory, clock: FakeClock) -> None:
     small = lived.recognise(SMALL)[0].cls
-    [item] = [i for i in lived.items() if lived.item_scores(i).cls == small]
+    [item] = [i for i in lived.reads.items() if lived.reads.item_scores(i).cls == small]
     lived.pin(small)
     clock.advance(days=2)
     for _ in range(lived.policy.weakPassesToForget + 1):
         report = lived.sleep()
         assert item not in report.forgotten_items
-    assert item in lived.items()
+    assert item in lived.reads.items()
 
 
 def test_a_scene_forgotten_alone_is_reported_once_and_comes_back_with_its_class(
@@ -197,7 +197,7 @@ def test_a_scene_forgotten_alone_is_reported_once_and_comes_back_with_its_class(
     clock.advance(days=30)
     for _ in range(5):
         memory.store_scene(worked_example())
-    cls = memory.classes()[0].iri
+    cls = memory.reads.classes()[0].iri
     k = memory.policy.weakPassesToForget
     reports = [memory.sleep() for _ in range(k)]
     assert old in reports[-1].forgotten_items and reports[-1].forgotten_classes == ()
@@ -216,4 +216,4 @@ def test_a_scene_forgotten_alone_is_reported_once_and_comes_back_with_its_class(
     assert len(forgotten) == len(set(forgotten)) == 5
     restored = memory.restore(cls)
     assert set(restored) == {cls, old, *forgotten}
-    assert old in memory.items() and memory.trash() == []
+    assert old in memory.reads.items() and memory.reads.trash() == []

@@ -144,7 +144,7 @@ def scene_axioms(memory: SceneMemory) -> list[Triple]:
         [relation] = [q.object for q in store.quads(quad.subject, SIGNATURE_RELATION, None, TBOX)]
         prop[(quad.object, relation)] = quad.subject  # type: ignore[index]
     out: list[Triple] = []
-    for item in memory.items():
+    for item in memory.reads.items():
         out.append(Triple(item, RDF_TYPE, EXPERIENCED_SCENE))
         objects = [q.object for q in store.quads(item, HAS_PRIMITIVE, None, EPISODIC)]
         leaf = {
@@ -189,7 +189,7 @@ def exported_ontology(memory: SceneMemory, classes: set[NamedNode]) -> list[Trip
     """O: Engram's export without the scenes' stored classes (the export carries the scene
     axioms itself, kg.export_scenes; ``scene_axioms`` here is the independent derivation the
     formulations test compares with)."""
-    items = set(memory.items())
+    items = set(memory.reads.items())
     exported = export_triples(memory.store, ["tbox", "memory", "episodic"])
     derived = {t for t in scene_axioms(memory) if not isinstance(t.subject, BlankNode)}
     assert derived <= set(exported), "the export's scene links are the ones derived here"
@@ -351,7 +351,7 @@ class Oracle:
 
     def __init__(self, count: int, workdir: Path) -> None:
         self.memory, self.scenes = stored_memory(count)
-        self.classes = {c.iri for c in self.memory.classes()}
+        self.classes = {c.iri for c in self.memory.reads.classes()}
         store = self.memory.store
         signature_properties = {
             q.subject for q in store.quads(None, SIGNATURE_SUBJECT_TYPE, None, TBOX)
@@ -408,7 +408,8 @@ def test_engram_recognises_exactly_what_hermit_infers(tmp_path: Path) -> None:
     count = int(os.environ.get("ENGRAM_ORACLE_SCENES", SCENES))
     oracle = Oracle(count, tmp_path)
     assert 5 < len(oracle.classes) <= count
-    assert any(c.parents for c in oracle.memory.classes())  # there is a hierarchy to get right
+    # there is a hierarchy to get right
+    assert any(c.parents for c in oracle.memory.reads.classes())
     entailed, consistent = oracle.decides(oracle.recognised, oracle.not_recognised)
     if not (entailed and consistent):
         from .hermit_cli import types
@@ -444,7 +445,9 @@ def test_hermit_formulations_agree(tmp_path: Path) -> None:
 
     # A recognition left out of Engram's answer is entailed by O_R: the model check fails.
     # A recognition added to it is not entailed: the entailment check fails.
-    item, cls = max(oracle.recognised, key=lambda pair: oracle.memory.signature(pair[1]).complexity)
+    item, cls = max(
+        oracle.recognised, key=lambda pair: oracle.memory.reads.signature(pair[1]).complexity
+    )
     wrong = min(oracle.not_recognised, key=str)
     assert oracle.decides(
         (oracle.recognised - {(item, cls)}) | {wrong},

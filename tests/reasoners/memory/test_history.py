@@ -54,7 +54,7 @@ def test_every_kind_of_event_is_recorded_with_its_time_score_and_level(
         "2025-03-01T09:00:01.000+00:00",
         "2025-03-01T09:00:02.000+00:00",
     ]
-    scores = memory.item_scores(big)
+    scores = memory.reads.item_scores(big)
     assert events[-1].level == scores.stored_level == "HIGH"
     assert events[-1].score == pytest.approx(scores.raw_score)
     assert events[0].level is None and events[0].score is not None
@@ -91,7 +91,7 @@ def test_as_of_rebuilds_the_classes_across_forgetting_and_restore(
     [state] = [s for s in history.as_of(memory.store, restored) if s.cls == small]
     assert state.last_event == "restored" and state.score is not None
     assert [e.kind for e in history.events(memory.store, small)][-2:] == ["forgotten", "restored"]
-    [item] = memory.items_of(small)
+    [item] = memory.reads.items_of(small)
     assert kinds(memory, item) == ["forgotten", "restored"]
     for at in (learned, forgotten - dt.timedelta(seconds=1), forgotten, restored):  # the SPARQL
         rows = memory.store.select("history_as_of", asOf=history._time_literal(at))
@@ -112,9 +112,11 @@ def test_an_event_is_stored_if_and_only_if_its_change_is(
         memory.store_scene(BIG)  # the event is written before the step that fails
     assert history_quads(memory.store) == before
     assert kinds(memory, big) == ["learned"]
-    assert memory.item_scores(big).store_count == 1
+    assert memory.reads.item_scores(big).store_count == 1
     monkeypatch.undo()
-    with memory.batch() as writes:  # a batch the caller never commits records nothing either
+    with (
+        memory.transactions.batch() as writes
+    ):  # a batch the caller never commits records nothing either
         memory.store_scene(BIG)
         assert any(True for _ in writes.quads(memory.store, None, None, None, HISTORY))
     assert kinds(memory, big) == ["learned"]

@@ -158,24 +158,24 @@ def test_as_of_with_checkpoints_is_the_full_scan(seed: int, steps: int, legacy_a
                 memory.retrieve(rng.choice(scenes))
             elif action < 0.75:
                 memory.sleep()
-            elif action < 0.82 and memory.trash():
+            elif action < 0.82 and memory.reads.trash():
                 with contextlib.suppress(UnknownItemError):  # a scene whose class is trashed
-                    memory.restore(rng.choice(memory.trash()))
-            elif action < 0.87 and memory.classes():
-                cls = rng.choice(memory.classes()).iri
+                    memory.restore(rng.choice(memory.reads.trash()))
+            elif action < 0.87 and memory.reads.classes():
+                cls = rng.choice(memory.reads.classes()).iri
                 memory.pin(cls, rng.random() < 0.5)
             elif action < 0.92:  # a restart: the epoch is read back from the store
                 memory = SceneMemory(store, clock=clock)
             elif action < 0.96:  # a batch the caller never commits writes nothing
                 try:
-                    with memory.batch():
+                    with memory.transactions.batch():
                         memory.store_scene(rng.choice(scenes))
                         memory.sleep()
                         raise RuntimeError("rolled back")
                 except RuntimeError:
                     pass
             else:  # a batch the caller commits
-                with memory.batch() as writes:
+                with memory.transactions.batch() as writes:
                     memory.store_scene(rng.choice(scenes))
                     memory.sleep()
                     with store.transaction() as tx:

@@ -52,7 +52,7 @@ def filled(directory: Path, clock: FakeClock) -> SceneMemory:
         memory.store_scene(scene)
         clock.advance(minutes=5)
     memory.retrieve([("Sphere", "isAboveOf", "Plane")])
-    memory.pin(memory.classes()[0].iri)
+    memory.pin(memory.reads.classes()[0].iri)
     return memory
 
 
@@ -91,8 +91,8 @@ def test_a_saved_memory_opens_from_its_index_file_equal_to_the_rebuilt_one(
     assert not memory.save_index()  # nothing changed since
     del memory
     opened = reopen(tmp_path / "store", clock)
-    assert opened.loaded_from == "index file"
-    assert_same_model(opened._model, persist.load_model(opened.store))
+    assert opened.loaded.source == "index file"
+    assert_same_model(opened.loaded.model, persist.load_model(opened.store))
     # and it goes on working: the next scene is recognised as before
     result = opened.store_scene(scenes()[3])
     assert not result.learned
@@ -108,8 +108,8 @@ def test_every_committed_transaction_changes_the_revision_and_a_failed_one_does_
         seen.add(index_file.stored_revision(memory.store))
     assert None in seen and len(seen) == 4
     before = index_file.stored_revision(memory.store)
-    with pytest.raises(ValueError, match="the caller failed"), memory._write() as tx:
-        tx.insert(memory.classes()[0].iri, RDFS_LABEL, Literal("x"), MEMORY)
+    with pytest.raises(ValueError, match="the caller failed"), memory.transactions.write() as tx:
+        tx.insert(memory.reads.classes()[0].iri, RDFS_LABEL, Literal("x"), MEMORY)
         raise ValueError("the caller failed")
     assert index_file.stored_revision(memory.store) == before
 
@@ -119,14 +119,14 @@ def test_an_index_file_older_than_the_store_is_detected_and_rebuilt(
 ) -> None:
     memory = filled(tmp_path / "store", clock)
     memory.save_index()
-    learned = len(memory.classes())
+    learned = len(memory.reads.classes())
     new = memory.store_scene([sphere("a", 0.0, 0.0, 0.5), plane("b", 0.0, 0.0, 0.0)])  # unsaved
     assert new.learned
     del memory
     opened = reopen(tmp_path / "store", clock)
-    assert opened.loaded_from == "store"
-    assert_same_model(opened._model, persist.load_model(opened.store))
-    assert len(opened.classes()) == learned + 1
+    assert opened.loaded.source == "store"
+    assert_same_model(opened.loaded.model, persist.load_model(opened.store))
+    assert len(opened.reads.classes()) == learned + 1
 
 
 def _truncate(path: Path) -> None:
@@ -180,11 +180,11 @@ def _empty(path: Path) -> None:
 def test_a_damaged_index_file_falls_back_to_the_store(
     saved_copy: Path, clock: FakeClock, damage: Callable[[Path], None]
 ) -> None:
-    assert reopen(saved_copy, clock).loaded_from == "index file"  # undamaged
+    assert reopen(saved_copy, clock).loaded.source == "index file"  # undamaged
     damage(saved_copy.with_name(saved_copy.name + index_file.SUFFIX))
     opened = reopen(saved_copy, clock)
-    assert opened.loaded_from == "store"
-    assert_same_model(opened._model, persist.load_model(opened.store))
+    assert opened.loaded.source == "store"
+    assert_same_model(opened.loaded.model, persist.load_model(opened.store))
 
 
 def test_an_index_file_written_for_other_weights_is_not_used(saved_copy: Path) -> None:
@@ -225,15 +225,15 @@ def test_a_process_killed_while_saving_leaves_a_memory_that_opens_correctly(
     leftovers = list(tmp_path.glob("store.memory-index.*.tmp"))
     assert len(leftovers) == 1  # the kill happened inside the save
     opened = SceneMemory(Store(directory), clock=clock)
-    assert opened.loaded_from == "store"  # the complete file is one scene behind
-    assert_same_model(opened._model, persist.load_model(opened.store))
-    assert len(opened.items()) == 10  # the scene stored after the complete save is there
+    assert opened.loaded.source == "store"  # the complete file is one scene behind
+    assert_same_model(opened.loaded.model, persist.load_model(opened.store))
+    assert len(opened.reads.items()) == 10  # the scene stored after the complete save is there
     assert opened.save_index()
     assert not list(tmp_path.glob("store.memory-index.*.tmp"))
     del opened
     again = reopen(directory, clock)
-    assert again.loaded_from == "index file"
-    assert_same_model(again._model, persist.load_model(again.store))
+    assert again.loaded.source == "index file"
+    assert_same_model(again.loaded.model, persist.load_model(again.store))
 
 
 def test_a_memory_opening_in_the_background_answers_loading_until_it_is_ready(
@@ -250,17 +250,17 @@ def test_a_memory_opening_in_the_background_answers_loading_until_it_is_ready(
         return real(*args, **kwargs)  # type: ignore[arg-type]
 
     monkeypatch.setattr(index_file, "open_model", slow_open)
-    monkeypatch.setattr("reasoners.memory.LOADING_WAIT_S", 0.0)
+    monkeypatch.setattr("reasoners.loading.LOADING_WAIT_S", 0.0)
     opening = SceneMemory(Store(tmp_path / "store"), clock=clock, background=True)
-    assert not opening.ready and opening.loaded_from == ""
+    assert not opening.loaded.ready and opening.loaded.source == ""
     with pytest.raises(MemoryLoadingError, match="still loading"):
         opening.store_scene(scenes()[0])
     with pytest.raises(MemoryLoadingError):
-        opening.classes()
+        opening.reads.classes()
     release.set()
-    assert opening.wait_ready(10)
-    assert opening.loaded_from == "store"
-    assert len(opening.items()) == 10
+    assert opening.loaded.wait_ready(10)
+    assert opening.loaded.source == "store"
+    assert len(opening.reads.items()) == 10
     assert not opening.store_scene(scenes()[0]).learned
 
 
@@ -272,9 +272,9 @@ def test_a_memory_that_fails_to_open_in_the_background_says_why(
 
     monkeypatch.setattr(index_file, "open_model", broken)
     opening = SceneMemory(Store(tmp_path / "store"), clock=clock, background=True)
-    assert not opening.wait_ready(10)
+    assert not opening.loaded.wait_ready(10)
     with pytest.raises(MemoryLoadingError, match="disk on fire"):
-        opening.classes()
+        opening.reads.classes()
 
 
 def test_opening_from_the_index_file_writes_nothing_and_keeps_the_file_current(
@@ -283,28 +283,30 @@ def test_opening_from_the_index_file_writes_nothing_and_keeps_the_file_current(
     path = saved_copy.with_name(saved_copy.name + index_file.SUFFIX)
     saved = index_file.read(path)["revision"]
     opened = reopen(saved_copy, clock)
-    assert opened.loaded_from == "index file"
+    assert opened.loaded.source == "index file"
     # the score view the file says the store holds is taken as written: no repair transaction
     assert index_file.stored_revision(opened.store) == saved
-    assert not opened._model.unwritten
+    assert not opened.loaded.model.unwritten
     assert not opened.save_index()  # still current
     del opened
-    assert reopen(saved_copy, clock).loaded_from == "index file"
+    assert reopen(saved_copy, clock).loaded.source == "index file"
 
 
 def test_an_index_file_after_a_forgotten_class_holds_the_index_without_its_hole(
     tmp_path: Path, clock: FakeClock
 ) -> None:
     memory = filled(tmp_path / "store", clock)
-    first = memory.classes()[0].iri
-    with memory._write() as tx:  # a class leaves the index: its position becomes a hole
-        forgetting.move_to_trash(tx, memory._model, memory._reader, [first], [], memory._now())
-    assert None in memory._model.index.slots()
+    first = memory.reads.classes()[0].iri
+    with memory.transactions.write() as tx:  # a class leaves the index: its position becomes a hole
+        forgetting.move_to_trash(
+            tx, memory.loaded.model, memory.transactions.reader, [first], [], memory._now()
+        )
+    assert None in memory.loaded.model.index.slots()
     assert memory.save_index()
     del memory
     opened = reopen(tmp_path / "store", clock)
-    assert opened.loaded_from == "index file"
-    assert_same_model(opened._model, persist.load_model(opened.store))
+    assert opened.loaded.source == "index file"
+    assert_same_model(opened.loaded.model, persist.load_model(opened.store))
 
 
 def test_the_saved_bitsets_of_an_index_with_holes_are_those_of_its_live_classes() -> None:

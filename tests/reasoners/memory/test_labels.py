@@ -17,7 +17,7 @@ def test_a_learned_class_is_labelled_by_its_definition(memory: SceneMemory) -> N
     assert isinstance(label, Literal) and label.language == "en"
     phrases = label.value.split("; ")
     assert "sphere above a plane" in phrases and "plane below a sphere" in phrases
-    assert len(phrases) == len(memory.signature(cls))  # one phrase per restriction
+    assert len(phrases) == len(memory.reads.signature(cls))  # one phrase per restriction
 
 
 def test_the_export_declares_the_notation_an_annotation_property(memory: SceneMemory) -> None:

@@ -38,7 +38,7 @@ FIELDS = [
 
 
 def model_of(memory: SceneMemory) -> MemoryModel:
-    return memory._model  # the mirror under test; the public API only shows parts of it
+    return memory.loaded.model  # the mirror under test; the public API only shows parts of it
 
 
 def assert_same_model(loaded: MemoryModel, built: MemoryModel) -> None:
@@ -67,7 +67,7 @@ def test_the_loaded_model_equals_the_one_built_in_the_same_process(
         clock.advance(seconds=5)
     big = memory.recognise(BIG)[0].cls
     memory.pin(big)
-    [kept] = [i for i in memory.items() if memory.item_scores(i).cls == big][:1]
+    [kept] = [i for i in memory.reads.items() if memory.reads.item_scores(i).cls == big][:1]
     memory.pin(kept)
     clock.advance(days=2)
     for _ in range(memory.policy.weakPassesToForget):

@@ -1,6 +1,7 @@
 """The scene memory end to end: learn, reinforce, structure, retrieve, transactions, restart."""
 
 import threading
+from operator import attrgetter
 from pathlib import Path
 
 import pytest
@@ -32,6 +33,7 @@ from ontologies.vocab import (
 )
 from reasoners.errors import InvalidSceneError, NotInTrashError, UnknownItemError
 from reasoners.memory import SceneMemory
+from reasoners.score_view import ScoreView
 
 from .conftest import FakeClock, plane, sphere, worked_example
 
@@ -91,7 +93,7 @@ def test_the_same_scene_again_reinforces_its_class(memory: SceneMemory, clock: F
     assert again.confidence == 1.0
     assert again.scene_item != first.scene_item
     assert value(memory.store, first.stored_as, STORE_COUNT) == "2"
-    assert memory.item_scores(first.stored_as).last_accessed == clock.now
+    assert memory.reads.item_scores(first.stored_as).last_accessed == clock.now
 
 
 def test_a_scene_close_enough_reinforces_instead_of_learning(memory: SceneMemory) -> None:
@@ -121,7 +123,7 @@ def test_a_class_learned_in_between_replaces_the_edge_it_splits(memory: SceneMem
     far = [sphere("s", 0.3, 0.1, 0.3), plane("p", 0.3, 0.1, 0.1), sphere("q", 0.3, 0.1, 0.6)]
     bottom = memory.store_scene([*far, plane("r", 0.9, 0.9, 0.9)]).stored_as
     middle = memory.store_scene(far).stored_as
-    summary = {c.iri: c for c in memory.classes()}
+    summary = {c.iri: c for c in memory.reads.classes()}
     assert summary[bottom].parents == (middle,)
     assert summary[middle].parents == (top,)
     assert summary[top].children == (middle,)
@@ -142,7 +144,7 @@ def test_retrieve_finds_exact_generalisations_specialisations_and_similar(
     small = memory.store_scene([sphere("s", 0.3, 0.1, 0.3), plane("p", 0.9, 0.1, 0.1)])
     full = memory.store_scene(worked_example()).stored_as
     other = memory.store_scene([sphere("a", 0, 0, 0), sphere("b", 0.5, 0, 0)]).stored_as
-    classes_before = {c.iri for c in memory.classes()}
+    classes_before = {c.iri for c in memory.reads.classes()}
 
     result = memory.retrieve(worked_example(), spread=True)
     assert result.exact == full and result.recalled == full
@@ -155,7 +157,7 @@ def test_retrieve_finds_exact_generalisations_specialisations_and_similar(
     assert partial.exact is None
     assert {m.cls for m in partial.specialisations} == {full, small.stored_as}
     assert partial.recalled == partial.specialisations[0].cls
-    assert {c.iri for c in memory.classes()} == classes_before  # the cue was never stored
+    assert {c.iri for c in memory.reads.classes()} == classes_before  # the cue was never stored
     assert value(memory.store, partial.recalled, RETRIEVE_COUNT) == "1"
 
     bigger = memory.retrieve([*worked_example(), plane("q", 0.9, 0.9, 0.9)])
@@ -172,7 +174,7 @@ def test_retrieval_raises_the_counters_of_the_whole_branch(memory: SceneMemory) 
     assert result.exact == child.stored_as
     assert set(result.branch) == {child.stored_as, parent.stored_as}
     for cls in result.branch:
-        assert memory.item_scores(cls).retrieve_count == 1
+        assert memory.reads.item_scores(cls).retrieve_count == 1
 
 
 def test_episode_link(memory: SceneMemory) -> None:
@@ -201,10 +203,10 @@ def test_bad_scenes_change_nothing(
     assert snapshot(memory.store) == before
 
 
-@pytest.mark.parametrize("call", ["pin", "item_scores", "signature"])
+@pytest.mark.parametrize("call", ["pin", "reads.item_scores", "reads.signature"])
 def test_unknown_iris_are_refused_clearly(memory: SceneMemory, call: str) -> None:
     with pytest.raises(UnknownItemError, match="expected a learned scene class"):
-        getattr(memory, call)(engram("Scene-99"))
+        attrgetter(call)(memory)(engram("Scene-99"))
 
 
 def test_restore_refuses_what_is_not_in_the_trash(memory: SceneMemory) -> None:
@@ -217,26 +219,26 @@ def test_a_clock_without_time_zone_is_refused(memory: SceneMemory, clock: FakeCl
     clock.now = clock.now.replace(tzinfo=None)
     with pytest.raises(ValueError, match="expected a timezone-aware datetime"):
         memory.store_scene(worked_example())
-    assert memory.classes() == []
+    assert memory.reads.classes() == []
 
 
 def test_failure_after_the_store_step_leaves_the_store_and_the_memory_unchanged(
     memory: SceneMemory, monkeypatch: pytest.MonkeyPatch
 ) -> None:
     memory.store_scene([sphere("s", 0.3, 0.1, 0.3), plane("p", 0.3, 0.1, 0.1)])
-    before, classes_before = snapshot(memory.store), memory.classes()
+    before, classes_before = snapshot(memory.store), memory.reads.classes()
 
     def broken(*args: object) -> None:
         raise RuntimeError("power cut during consolidation")
 
-    monkeypatch.setattr(SceneMemory, "_rescore", broken)
+    monkeypatch.setattr(ScoreView, "rescore", broken)
     two = [sphere("s1", 0.29, 0.1, 0.3), sphere("s2", 0.31, 0.1, 0.3), plane("p", 0.3, 0.1, 0.1)]
     with pytest.raises(RuntimeError, match="power cut"):
         memory.store_scene(two)
     with pytest.raises(RuntimeError, match="power cut"):
         memory.retrieve([("Sphere", "isAboveOf", "Plane")])
     assert snapshot(memory.store) == before
-    assert memory.classes() == classes_before
+    assert memory.reads.classes() == classes_before
     monkeypatch.undo()
     assert memory.store_scene(two).stored_as == engram("Scene-2")
 
@@ -253,11 +255,11 @@ def test_a_reopened_disk_store_rebuilds_the_index(tmp_path: Path, clock: FakeClo
     two = memory.store_scene(two_scene).stored_as
     memory.retrieve([("Sphere", "isAboveOf", "Plane")])
     memory.sleep()
-    classes = memory.classes()
+    classes = memory.reads.classes()
     del memory, store
 
     reopened = SceneMemory(Store(tmp_path / "store"), clock=clock)
-    assert reopened.classes() == classes
+    assert reopened.reads.classes() == classes
     assert [r.cls for r in reopened.recognise(two_scene)] == [two, one]
     third = reopened.store_scene(worked_example())
     assert third.stored_as == engram("Scene-3") and third.scene_item == engram("experience-3")
@@ -283,9 +285,9 @@ def test_concurrent_stores_are_serialised(memory: SceneMemory) -> None:
     for thread in threads:
         thread.join()
     assert errors == []
-    assert len(memory.items()) == 24
-    assert sum(c.scores.store_count for c in memory.classes()) == 24
-    assert memory.classes() == SceneMemory(memory.store).classes()
+    assert len(memory.reads.items()) == 24
+    assert sum(c.scores.store_count for c in memory.reads.classes()) == 24
+    assert memory.reads.classes() == SceneMemory(memory.store).reads.classes()
 
 
 def test_sleep_levels_and_score_bounds(memory: SceneMemory, clock: FakeClock) -> None:
@@ -293,7 +295,7 @@ def test_sleep_levels_and_score_bounds(memory: SceneMemory, clock: FakeClock) ->
         memory.store_scene(worked_example())
     memory.store_scene([sphere("a", 0, 0, 0), sphere("b", 0.5, 0, 0)])
     report = memory.sleep()
-    scores = [c.scores for c in memory.classes()]
+    scores = [c.scores for c in memory.reads.classes()]
     assert max(s.normalised for s in scores) == 1.0
     assert all(0.0 <= s.normalised <= 1.0 for s in scores)
     assert {s.iri: s.stored_level for s in scores} == report.levels
@@ -316,10 +318,10 @@ def test_scores_stay_in_the_unit_interval_for_items(memory: SceneMemory, clock: 
     items = [memory.store_scene(worked_example()).scene_item]
     clock.advance(hours=30)
     items.append(memory.store_scene(worked_example()).scene_item)
-    old, new = (memory.item_scores(i) for i in items)
+    old, new = (memory.reads.item_scores(i) for i in items)
     assert new.normalised == 1.0
     assert 0.0 <= old.normalised < new.normalised
-    assert old.cls == new.cls == memory.classes()[0].iri
+    assert old.cls == new.cls == memory.reads.classes()[0].iri
 
 
 def test_literal_counts_in_the_store_are_integers(memory: SceneMemory) -> None:

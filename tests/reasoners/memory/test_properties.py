@@ -51,14 +51,14 @@ def test_a_scene_always_belongs_to_the_class_it_was_stored_as(seed: int, count: 
 @given(seed=st.integers(0, 10_000), count=st.integers(2, 30))
 def test_edges_are_the_transitive_reduction_of_signature_dominance(seed: int, count: int) -> None:
     memory, _, _ = stored_memory(seed, count)
-    classes = {c.iri: c.signature for c in memory.classes()}
+    classes = {c.iri: c.signature for c in memory.reads.classes()}
     below = {  # a ⊏ b: a meets all of b's restrictions and differs
         (a, b) for a in classes for b in classes if a != b and classes[a].satisfies(classes[b])
     }
     reduction = {
         (a, b) for a, b in below if not any((a, c) in below and (c, b) in below for c in classes)
     }
-    edges = {(c.iri, p) for c in memory.classes() for p in c.parents}
+    edges = {(c.iri, p) for c in memory.reads.classes() for p in c.parents}
     assert edges == reduction
 
 
@@ -72,9 +72,9 @@ def test_scores_lie_in_the_unit_interval_and_the_best_is_one(
         memory.sleep()
     if not results:
         return
-    scores = [c.scores.normalised for c in memory.classes()]
+    scores = [c.scores.normalised for c in memory.reads.classes()]
     assert all(0.0 <= s <= 1.0 for s in scores) and max(scores) == 1.0
-    items = [memory.item_scores(i).normalised for i in memory.items()]
+    items = [memory.reads.item_scores(i).normalised for i in memory.reads.items()]
     assert all(0.0 <= s <= 1.0 for s in items) and max(items) == 1.0
 
 
@@ -91,24 +91,24 @@ def test_nothing_pinned_is_forgotten_and_restore_gives_back_the_definition(
         memory.store, weakLevelThreshold=0.99, weakPassesToForget=1, forgetGracePeriodSeconds=0.0
     )
     memory = SceneMemory(memory.store, clock=clock)
-    classes = [c.iri for c in memory.classes()]
+    classes = [c.iri for c in memory.reads.classes()]
     pinned = data.draw(st.sets(st.sampled_from(classes)))
-    pinned_items = data.draw(st.sets(st.sampled_from(memory.items())))
+    pinned_items = data.draw(st.sets(st.sampled_from(memory.reads.items())))
     for iri in [*pinned, *pinned_items]:
         memory.pin(iri)
-    signatures = {c: memory.signature(c) for c in classes}
+    signatures = {c: memory.reads.signature(c) for c in classes}
     clock.advance(hours=1)
     report = memory.sleep()
     assert not set(report.forgotten_classes) & pinned
     assert not set(report.forgotten_items) & pinned_items
-    live = {c.iri for c in memory.classes()}
-    for item in memory.items():  # semantic and episodic memory stay consistent
-        assert memory.item_scores(item).cls in live
+    live = {c.iri for c in memory.reads.classes()}
+    for item in memory.reads.items():  # semantic and episodic memory stay consistent
+        assert memory.reads.item_scores(item).cls in live
     for cls in report.forgotten_classes:
         memory.restore(cls)
-        assert memory.signature(cls) == signatures[cls]
-    assert {c.iri for c in memory.classes()} == set(classes)
-    assert SceneMemory(memory.store, clock=clock).classes() == memory.classes()
+        assert memory.reads.signature(cls) == signatures[cls]
+    assert {c.iri for c in memory.reads.classes()} == set(classes)
+    assert SceneMemory(memory.store, clock=clock).reads.classes() == memory.reads.classes()
 
 
 keys = st.tuples(

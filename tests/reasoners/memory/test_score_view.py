@@ -47,7 +47,7 @@ def analyst_scores(store: Store) -> dict[NamedNode, tuple[float, str]]:
 
 
 def api_scores(memory: SceneMemory) -> dict[NamedNode, tuple[float, str]]:
-    return {c.iri: (rounded(c.scores.normalised), c.scores.level) for c in memory.classes()}
+    return {c.iri: (rounded(c.scores.normalised), c.scores.level) for c in memory.reads.classes()}
 
 
 def run(memory: SceneMemory, clock: FakeClock, op: Op) -> None:
@@ -60,8 +60,8 @@ def run(memory: SceneMemory, clock: FakeClock, op: Op) -> None:
             memory.retrieve(random_scene(rng, 2, 3))
         elif kind == "sleep":
             memory.sleep()
-        elif kind == "pin" and memory.classes():
-            memory.pin(rng.choice(memory.classes()).iri)
+        elif kind == "pin" and memory.reads.classes():
+            memory.pin(rng.choice(memory.reads.classes()).iri)
         else:
             clock.advance(hours=seed % 48)
     except InvalidSceneError:  # a random scene without relations: nothing happens
@@ -92,7 +92,7 @@ def test_untouched_classes_read_their_live_scores_between_sleep_passes() -> None
     for _ in range(3):
         memory.store_scene(SMALL)
     view = analyst_scores(memory.store)
-    assert set(view) == {c.iri for c in memory.classes()} and len(view) == 2
+    assert set(view) == {c.iri for c in memory.reads.classes()} and len(view) == 2
     assert view == api_scores(memory)
     assert {level for _, level in view.values()} <= {"HIGH", "LOW", "WEAK"}
 
@@ -121,9 +121,9 @@ def test_the_view_of_an_update_is_its_branch_written_before_the_next_read() -> N
     read: list[str] = []
     with memory.store.tracing(lambda kind, text, _: kind != "query" and read.append(text)):
         view = analyst_scores(memory.store)
-    branch = {result.stored_as} | memory._model.ancestors(result.stored_as)
+    branch = {result.stored_as} | memory.loaded.model.ancestors(result.stored_as)
     rewritten = _terms_written(read)
-    assert len(memory.classes()) > len(branch) + 5
+    assert len(memory.reads.classes()) > len(branch) + 5
     assert rewritten and rewritten <= branch, "only the branch's terms are rewritten"
     assert view == api_scores(memory)
 
@@ -138,7 +138,7 @@ def test_the_updates_between_two_reads_write_each_changed_class_once() -> None:
                 memory.store_scene(scene)
         view = analyst_scores(memory.store)
     writes = re.findall(f"<(?:{TERMS})>", "\n".join(written))
-    assert len(writes) == 3 * len(memory.classes()) == 3 * len(_terms_written(written))
+    assert len(writes) == 3 * len(memory.reads.classes()) == 3 * len(_terms_written(written))
     assert view == api_scores(memory)
 
 
@@ -158,7 +158,7 @@ for seed in range(30):
         memory.store_scene(random_scene(random.Random(seed)))
     except Exception:
         pass
-assert memory._begun > memory._viewed
+assert memory.transactions.begun > memory.transactions.viewed
 memory.store.flush()
 os._exit(0)  # no read, no shutdown: the view was never written
 """
@@ -167,7 +167,7 @@ os._exit(0)  # no read, no shutdown: the view was never written
     found = store._store.quads_for_pattern(None, SCORE_TERM_PROPERTIES[0], None, MEMORY)
     terms = {q.subject for q in found}
     memory = SceneMemory(store)
-    assert len(terms) < len(memory.classes()), "the crash left the view behind"
+    assert len(terms) < len(memory.reads.classes()), "the crash left the view behind"
     assert analyst_scores(store) == api_scores(memory)
 
 
@@ -178,12 +178,12 @@ def test_a_store_written_before_the_view_gets_it_when_the_memory_opens() -> None
     memory.store_scene(BIG)
     memory.store_scene(SMALL)
     expected = api_scores(memory)
-    memory.settle_view()
+    memory.transactions.settle_view()
     with store.transaction() as tx:  # as an older Engram left it
         for prop in SCORE_TERM_PROPERTIES:
             tx.delete_matching(None, prop, None, graph=MEMORY)
-        tx.insert(memory.classes()[0].iri, LEGACY_SCORE, Literal(0.5), MEMORY)
-        tx.insert(memory.classes()[0].iri, LEGACY_LEVEL, Literal("HIGH"), MEMORY)
+        tx.insert(memory.reads.classes()[0].iri, LEGACY_SCORE, Literal(0.5), MEMORY)
+        tx.insert(memory.reads.classes()[0].iri, LEGACY_LEVEL, Literal("HIGH"), MEMORY)
     assert analyst_scores(store) == {}
     reopened = SceneMemory(store, clock=clock)
     assert analyst_scores(store) == expected == api_scores(reopened)

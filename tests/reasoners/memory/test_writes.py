@@ -29,16 +29,16 @@ def test_learning_a_child_rewrites_only_the_score_view_of_its_ancestors(
     parent = memory.store_scene([sphere("s", 0.3, 0.1, 0.3), plane("p", 0.3, 0.1, 0.1)]).stored_as
     view = persist.VIEW_PREDICATES
     before = memory_quads(memory, parent)
-    zeta_before = memory.item_scores(parent).raw_score
+    zeta_before = memory.reads.item_scores(parent).raw_score
     child = memory.store_scene(TWO_SPHERES)
     assert child.learned and child.parents == (parent,)
     after = memory_quads(memory, parent)
     assert {t for t in after if t[0] not in view} == {t for t in before if t[0] not in view}
     assert {t for t in after if t[0] in view} != {t for t in before if t[0] in view}
-    assert memory.item_scores(parent).raw_score != zeta_before  # the live ζ is derived now
+    assert memory.reads.item_scores(parent).raw_score != zeta_before  # the live ζ is derived now
     rows = memory.store.select("memory_class_scores")
     [raw] = [float(r["raw"].value) for r in rows if r["class"] == parent]  # type: ignore[union-attr]
-    assert raw == memory.item_scores(parent).raw_score  # the view gives it exactly
+    assert raw == memory.reads.item_scores(parent).raw_score  # the view gives it exactly
     quads = memory_quads(memory, parent)
     memory.sleep()  # the level and ζ are derived: a sleep pass rewrites neither
     assert memory_quads(memory, parent) == quads
@@ -51,7 +51,7 @@ def test_classes_share_restriction_nodes_and_the_export_unshares_them(
 ) -> None:
     memory.store_scene([sphere("s", 0.3, 0.1, 0.3), plane("p", 0.3, 0.1, 0.1)])
     memory.store_scene(TWO_SPHERES)
-    signatures = [c.signature for c in memory.classes()]
+    signatures = [c.signature for c in memory.reads.classes()]
     distinct = {item for signature in signatures for item in signature.items()}
     assert len(distinct) < sum(len(s) for s in signatures)  # some restriction is shared
     shared = [
@@ -89,7 +89,9 @@ def test_forgetting_the_last_user_of_a_restriction_deletes_its_node(
     report = memory.sleep()
     assert report.forgotten_classes
     used = {
-        persist.restriction_iri(key, n) for c in memory.classes() for key, n in c.signature.items()
+        persist.restriction_iri(key, n)
+        for c in memory.reads.classes()
+        for key, n in c.signature.items()
     }
     stored = {
         q.subject
@@ -99,7 +101,7 @@ def test_forgetting_the_last_user_of_a_restriction_deletes_its_node(
     assert stored == used
     for cls in report.forgotten_classes:
         memory.restore(cls)
-    assert SceneMemory(memory.store, clock=clock).classes() == memory.classes()
+    assert SceneMemory(memory.store, clock=clock).reads.classes() == memory.reads.classes()
 
 
 def test_a_reopened_memory_derives_the_same_scores_without_a_sleep_pass(
@@ -110,8 +112,8 @@ def test_a_reopened_memory_derives_the_same_scores_without_a_sleep_pass(
         memory.store_scene(scene)
         clock.advance(minutes=5)
     memory.retrieve([("Sphere", "isAboveOf", "Plane")])
-    classes, store = memory.classes(), memory.store
+    classes, store = memory.reads.classes(), memory.store
     assert any(p == RDFS_SUBCLASSOF for c in classes for p, _ in memory_quads(memory, c.iri))
     del memory, store
     reopened = SceneMemory(Store(tmp_path / "store"), clock=clock)
-    assert reopened.classes() == classes
+    assert reopened.reads.classes() == classes

@@ -1,0 +1,245 @@
+"""What the scene memory holds, read from its model without writing anything.
+
+:class:`MemoryReads` answers the views, the explanations (:mod:`reasoners.explain`), the ARMOR
+score queries and the question grammar: the live classes and experienced scenes, their scores
+and scores' terms, their relatives, what a signature is recognised as, and the trash. Every read
+holds the model's lock, so it sees the model between two operations, never during one.
+
+>>> import datetime as dt
+>>> from kg import Store
+>>> from reasoners.memory import SceneMemory
+>>> from kg.primitive import Primitive
+>>> memory = SceneMemory(Store(), clock=lambda: dt.datetime(2025, 1, 1, tzinfo=dt.UTC))
+>>> stored = memory.store_scene([Primitive("ball", "Sphere", centre=(.3, .3, .3), radius=.05),
+...                              Primitive("table", "Plane", centre=(.3, .1, .1), axis=(0, 0, 1))])
+>>> memory.reads.items_of(stored.stored_as) == [stored.scene_item]
+True
+>>> memory.reads.item_scores(stored.stored_as).level
+'HIGH'
+"""
+
+import datetime as dt
+import heapq
+from operator import attrgetter
+
+from pyoxigraph import NamedNode
+
+from reasoners import forgetting
+from reasoners.clock import Clock, read_clock
+from reasoners.errors import UnknownItemError
+from reasoners.loading import LoadedModel
+from reasoners.model import ClassRecord, MemoryModel
+from reasoners.policy import Policy
+from reasoners.results import ClassSummary, ItemScores, Match, Recognition, ScoreTerms, TrashEntry
+from reasoners.score_view import ScoreView
+from reasoners.signature import Signature
+
+__all__ = ["MemoryReads", "recognitions_in", "unknown_item"]
+
+_BY_IRI = attrgetter("iri.value")
+_BY_COMPLEXITY_AND_STORES = attrgetter("signature.complexity", "store_count")
+"""The order of recognitions (:func:`recognitions_in`): a memory of 100,000 classes recognises
+thousands of them in every update."""
+
+
+def recognitions_in(model: MemoryModel, signature: Signature) -> list[Recognition]:
+    """The classes of ``model`` that ``signature`` belongs to: most complex (most confident)
+    first, then most stored, then by IRI."""
+    classes, d = model.classes, signature.complexity
+    records = [classes[cls] for cls in model.index.recognised(signature)]
+    # two stable sorts on keys read in C (last key first): most complex, then most stored
+    # (reverse keeps the order of equals), then by IRI
+    records.sort(key=_BY_IRI)
+    records.sort(key=_BY_COMPLEXITY_AND_STORES, reverse=True)
+    return [Recognition(r.iri, r.signature.complexity / d, r.signature.complexity) for r in records]
+
+
+def unknown_item(model: MemoryModel, iri: NamedNode) -> UnknownItemError:
+    """The error for an IRI that is not a live class or experienced scene of ``model``."""
+    if iri in model.trashed_classes or iri in model.trashed_items:
+        return UnknownItemError(f"iri: {iri.value} is in the trash; restore it first")
+    return UnknownItemError(
+        f"iri: got {iri.value!r}, expected a learned scene class or an experienced scene"
+    )
+
+
+class MemoryReads:
+    """Reads of ``loaded``'s model; scores as ``view`` gives them under ``policy``, at the time
+    ``clock`` gives."""
+
+    def __init__(self, loaded: LoadedModel, view: ScoreView, policy: Policy, clock: Clock) -> None:
+        self._loaded = loaded
+        self._view = view
+        self._policy = policy
+        self._clock = clock
+
+    def _live(self, iri: NamedNode) -> ClassRecord:
+        """The record of a live class (the caller holds the lock); UnknownItemError otherwise."""
+        m = self._loaded.model
+        record = m.classes.get(iri)
+        if record is None:
+            raise unknown_item(m, iri)
+        return record
+
+    def now(self) -> dt.datetime:
+        """The memory clock's current time (to the millisecond)."""
+        return read_clock(self._clock)
+
+    def item_scores(self, iri: NamedNode) -> ItemScores:
+        """The raw terms, normalised score and level of a class or experienced scene, now.
+
+        Raises :class:`~reasoners.errors.UnknownItemError` for an IRI that is not live."""
+        with self._loaded.lock:
+            m, p = self._loaded.model, self._policy
+            if iri in m.classes:
+                return self._view.class_scores(m.classes[iri])
+            if iri not in m.items:
+                raise unknown_item(m, iri)
+            now, record = self.now(), m.items[iri]
+            raw = forgetting.item_raw(m, p, record, now)
+            top = max((forgetting.item_raw(m, p, r, now) for r in m.items.values()), default=0.0)
+            return self._view.scores(record, raw, top)
+
+    def classes(self) -> list[ClassSummary]:
+        """Every live learned class with its signature, direct edges and scores, simplest first."""
+        with self._loaded.lock:
+            m = self._loaded.model
+            zetas, top = m.zetas(), m.max_score
+            return [
+                ClassSummary(
+                    iri=record.iri,
+                    signature=record.signature,
+                    parents=tuple(sorted(m.parents[record.iri], key=str)),
+                    children=tuple(sorted(m.children[record.iri], key=str)),
+                    items=len(m.items_of.get(record.iri, ())),
+                    scores=self._view.class_scores(record, (zetas[record.iri], top)),
+                )
+                for record in sorted(
+                    m.classes.values(), key=lambda r: (r.signature.complexity, r.iri.value)
+                )
+            ]
+
+    def state(self, best: int = 10) -> tuple[int, int, list[tuple[NamedNode, float]]]:
+        """(learned classes, experienced scenes, the ``best`` classes by live raw score ζ as
+        (class, ζ), best first, ties by IRI)."""
+        with self._loaded.lock:
+            m = self._loaded.model
+            zetas = m.zetas()
+            top = heapq.nsmallest(best, zetas.items(), key=lambda kv: (-kv[1], kv[0].value))
+            return len(m.classes), len(m.items), top
+
+    def items(self) -> list[NamedNode]:
+        """Every live experienced scene, oldest first."""
+        with self._loaded.lock:
+            items = self._loaded.model.items
+            return sorted(items, key=lambda i: items[i].created)
+
+    def trash(self) -> list[NamedNode]:
+        """Everything in the trash that :meth:`~reasoners.memory.SceneMemory.restore` accepts."""
+        with self._loaded.lock:
+            m = self._loaded.model
+            return [*m.trashed_classes, *m.trashed_items]
+
+    def signature(self, iri: NamedNode) -> Signature:
+        """The signature of a live class. Raises UnknownItemError otherwise."""
+        with self._loaded.lock:
+            return self._live(iri).signature
+
+    def relatives(self, iri: NamedNode) -> tuple[tuple[NamedNode, ...], tuple[NamedNode, ...]]:
+        """(direct parents, direct children) of a live class, each sorted by IRI.
+
+        Raises :class:`~reasoners.errors.UnknownItemError` for an IRI that is not a live class."""
+        with self._loaded.lock:
+            m = self._loaded.model
+            self._live(iri)
+            return (
+                tuple(sorted(m.parents[iri], key=str)),
+                tuple(sorted(m.children[iri], key=str)),
+            )
+
+    def score_terms(self, iri: NamedNode) -> ScoreTerms:
+        """The terms ζ of a live class adds up now (raises UnknownItemError otherwise)."""
+        with self._loaded.lock:
+            m, record = self._loaded.model, self._live(iri)
+            children = sorted(m.children[iri], key=str)
+            return ScoreTerms(
+                complexity=record.signature.complexity,
+                max_complexity=m.max_complexity,
+                store_count=record.store_count,
+                max_store=m.max_store,
+                retrieve_count=record.retrieve_count,
+                max_retrieve=m.max_retrieve,
+                children_zeta=tuple(m.zeta(m.classes[c]) for c in children),
+                weights=m.weights,
+                zeta=m.zeta(record),
+                max_zeta=m.max_score,
+            )
+
+    def recognitions(self, signature: Signature) -> list[Recognition]:
+        """The live classes a signature belongs to, most confident first."""
+        with self._loaded.lock:
+            return recognitions_in(self._loaded.model, signature)
+
+    def closest(self, signature: Signature, limit: int = 5) -> list[Match]:
+        """The ``limit`` live classes most similar to a signature, best first."""
+        with self._loaded.lock:
+            similar = self._loaded.model.index.most_similar(signature, limit)
+            return [Match(c, s) for c, s in similar]
+
+    def trashed(self, iri: NamedNode) -> TrashEntry | None:
+        """What the trash holds under ``iri``, or None."""
+        with self._loaded.lock:
+            m = self._loaded.model
+            if iri in m.trashed_classes:
+                c = m.trashed_classes[iri]
+                return TrashEntry(iri, "class", c.forgotten_at, signature=c.signature)
+            if iri in m.trashed_items:
+                i = m.trashed_items[iri]
+                return TrashEntry(iri, "item", i.forgotten_at, cls=i.cls)
+            return None
+
+    def maxima(self) -> dict[str, int]:
+        """How many live classes and experienced scenes there are, and the largest class
+        complexity, experienced-scene complexity, store and retrieve counts that the scores
+        are normalised by."""
+        with self._loaded.lock:
+            m = self._loaded.model
+            return {
+                "classes": len(m.classes),
+                "items": len(m.items),
+                "complexity": m.max_complexity,
+                "item_complexity": m.max_item_complexity,
+                "store": m.max_store,
+                "retrieve": m.max_retrieve,
+            }
+
+    def best(self, count: int = 3) -> list[tuple[NamedNode, float]]:
+        """The ``count`` live classes of largest live raw score ζ as (class, ζ), best first,
+        ties by IRI (as :meth:`state`, without a pass over every class in Python)."""
+        with self._loaded.lock:
+            return self._loaded.model.top(count)
+
+    def learned_at(self, cls: NamedNode) -> dt.datetime:
+        """When a live class was learned (raises UnknownItemError otherwise)."""
+        with self._loaded.lock:
+            return self._live(cls).created
+
+    def seen(self, cls: NamedNode) -> list[tuple[NamedNode, dt.datetime]]:
+        """The live experienced scenes stored as ``cls`` and when each was seen, oldest first
+        (ties by IRI)."""
+        with self._loaded.lock:
+            m = self._loaded.model
+            return sorted(
+                ((i, m.items[i].created) for i in m.items_of.get(cls, ())),
+                key=lambda pair: (pair[1], pair[0].value),
+            )
+
+    def items_of(self, cls: NamedNode) -> list[NamedNode]:
+        """The live experienced scenes stored as ``cls``, sorted by IRI."""
+        with self._loaded.lock:
+            return sorted(self._loaded.model.items_of.get(cls, ()), key=str)
+
+    def live_class(self, signature: Signature) -> NamedNode | None:
+        """The live class learned with exactly this signature, or None."""
+        with self._loaded.lock:
+            return self._loaded.model.index.with_signature(signature)
