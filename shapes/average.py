@@ -8,6 +8,9 @@ flying pixels or noise spoil the fit weighs less. The object's current primitive
 kind with that kind's averages, so a frame that calls a cylinder a cone does not drag the cylinder's
 height or centre. Colour is averaged over every observation.
 
+An observation that is only a piece of an object seen whole in the same frame (``part``, from
+the tracker) is left out of the averages.
+
 Scene changes (which the seed could only handle by a manual restart): the current scene is the
 set of confirmed objects. It changes when
 
@@ -47,6 +50,9 @@ class Observation:
     cluster_centroid: FloatArray
     support: bool = False
     """The primitive is a support (a table or the floor) that objects stand on."""
+    part: bool = False
+    """The primitive is a piece of an object whose main piece has another observation with the
+    same id this frame (:attr:`shapes.track.Tracker.parts`); it is not averaged."""
 
     @property
     def tracking_id(self) -> int:
@@ -180,6 +186,8 @@ class SceneAverager:
         self.frame += 1
         appeared, moved = [], []
         for obs in observations:
+            if obs.part:
+                continue
             tid = obs.tracking_id
             obj = self.objects.setdefault(tid, _Object())
             if tid in self.members and obj.ref_n:
