@@ -54,6 +54,7 @@ from ontologies.vocab import (
     CREATED,
     EPISODIC,
     EXPERIENCED_SCENE,
+    EXTENT,
     FORGOTTEN_AT,
     FORGOTTEN_SIGNATURE,
     HAPPENED_DURING,
@@ -374,6 +375,9 @@ def write_item(
                 tx.insert(iri, prop, Literal(number), graph)
         if primitive.hessian is not None:
             tx.insert(iri, HESSIAN_OFFSET, Literal(primitive.hessian), graph)
+        for prop, side in zip(EXTENT, (primitive.extent_x, primitive.extent_y), strict=True):
+            if side is not None:
+                tx.insert(iri, prop, Literal(side), graph)
         if primitive.tracking_id is not None:
             tx.insert(iri, TRACKING_ID, Literal(primitive.tracking_id), graph)
     for relation in relations:
@@ -417,6 +421,8 @@ def read_primitive(store: QuadReader, iri: NamedNode, graph: NamedNode) -> Primi
             apex=vector(APEX),
             point_on_axis=vector(POINT_ON_AXIS),
             hessian=number(HESSIAN_OFFSET),
+            extent_x=number(EXTENT[0]),
+            extent_y=number(EXTENT[1]),
             colour=vector(COLOUR),
             tracking_id=int(tracking.value) if tracking is not None else None,
         )

@@ -27,6 +27,7 @@ ORIENTABLE_KINDS = frozenset({"Cylinder", "Cone", "Plane"})
 Vector = tuple[float, float, float]
 
 _ONLY_FOR = {"apex": "Cone", "point_on_axis": "Cylinder", "hessian": "Plane"}
+_EXTENT = ("extent_x", "extent_y")
 
 
 @dataclass(frozen=True)
@@ -36,7 +37,9 @@ class Primitive:
     ``axis`` is required for cylinders, cones (axis) and planes (normal) and refused for spheres;
     it is normalised to unit length. ``apex`` is for cones, ``point_on_axis`` for cylinders,
     ``hessian`` (offset d of n . x + d = 0) for planes. ``radius`` and ``height`` are positive,
-    ``colour`` is RGB in [0, 1], ``tracking_id`` a non-negative integer.
+    ``colour`` is RGB in [0, 1], ``tracking_id`` a non-negative integer. ``extent_x`` and
+    ``extent_y`` (planes only, positive, metres) are the sides along x and y of the rectangle
+    that bounds the plane's measured points: how large a table or floor was seen.
 
     Raises :class:`~reasoners.errors.InvalidPrimitiveError` (a ``ValueError``) naming the field,
     the value and what was expected.
@@ -53,6 +56,8 @@ class Primitive:
     hessian: float | None = None
     colour: Vector | None = None
     tracking_id: int | None = None
+    extent_x: float | None = None
+    extent_y: float | None = None
 
     def __post_init__(self) -> None:
         if not isinstance(self.id, str) or not self.id.strip():
@@ -91,6 +96,16 @@ class Primitive:
                 self._fail(name, value, f"None (only a {kind} has it)")
             checked = self._number(name, value) if name == "hessian" else self._vector(name, value)
             self._set(name, checked)
+        for name in _EXTENT:
+            value = getattr(self, name)
+            if value is None:
+                continue
+            if self.kind != "Plane":
+                self._fail(name, value, "None (only a Plane has an extent)")
+            number = self._number(name, value)
+            if number <= 0:
+                self._fail(name, value, "a positive length in metres")
+            self._set(name, number)
         if self.colour is not None:
             colour = self._vector("colour", self.colour)
             if not all(0.0 <= c <= 1.0 for c in colour):
