@@ -95,6 +95,7 @@ def _supports_under(fitted: list[tuple[Cluster, Primitive]]) -> list[tuple[Clust
             support.centre,
             axis=support.normal,
             hessian_offset=-float(np.asarray(support.normal) @ centre),
+            extent=support.extent,
         )
         out.append((Cluster(centre[None, :], None, centre[None, :], support), primitive))
     return out

@@ -248,3 +248,28 @@ def test_three_frames_of_a_static_real_scene_keep_one_id_per_object():
         per_frame.append({p.tracking_id for p in result.primitives + result.supports})
     assert per_frame[0] == per_frame[1] == per_frame[2]
     assert len(per_frame[0]) == 7
+
+
+def test_a_supports_extent_is_averaged_and_kept_in_the_stable_scene():
+    avg = SceneAverager(min_hits=1)
+    for extent in ((1.0, 0.5), (1.2, 0.7)):
+        floor = Primitive(
+            ShapeKind.PLANE,
+            centre=(0, 0, 0),
+            axis=(0, 0, 1),
+            hessian_offset=0.0,
+            tracking_id=2,
+            extent=extent,
+        )
+        avg.update([Observation(floor, c(0, 0, 0), support=True)])
+    (floor,) = avg.stable_scene().supports
+    assert floor.extent is not None
+    np.testing.assert_allclose(floor.extent, (1.1, 0.6))
+    assert floor.attributes()["extentX"] == pytest.approx(1.1)
+
+
+def test_the_support_of_a_real_scan_carries_its_measured_extent():
+    frame = next(open_source(REAL_SCANS / "mug_stereo.npz"))
+    result = Perception(PerceptionParams(gravity_from_scene=True), seed=0).process(frame)
+    assert result.support is not None and result.support.extent is not None
+    assert [p.extent for p in result.supports] == [result.support.extent]
