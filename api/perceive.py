@@ -84,6 +84,8 @@ def scene_primitives(scene: StableScene) -> list[ScenePrimitive]:
             hessian=p.hessian_offset,
             colour=p.colour,
             tracking_id=p.tracking_id,
+            extent_x=None if p.extent is None else p.extent[0],
+            extent_y=None if p.extent is None else p.extent[1],
         )
         for position, p in enumerate(scene.primitives + scene.supports)
     ]

@@ -50,7 +50,13 @@ _VECTORS = {
     "apex": "apex",
     "pointOnAxis": "point_on_axis",
 }
-_SCALARS = {"radius": "radius", "height": "height", "hessianOffset": "hessian"}
+_SCALARS = {
+    "radius": "radius",
+    "height": "height",
+    "hessianOffset": "hessian",
+    "extentX": "extent_x",
+    "extentY": "extent_y",
+}
 _COLOUR = {"colourR": 0, "colourG": 1, "colourB": 2}
 SceneKey = tuple[str, str]
 
@@ -151,6 +157,7 @@ def scene_add_dataprop(ctx: Context, draft: SceneDraft) -> Outcome:
     raise MemoryDirectiveError(
         f"args[0]: got {prop!r}, expected a primitive attribute of engram.ttl "
         "(centreX/Y/Z, axisX/Y/Z, radius, height, apexX/Y/Z, pointOnAxisX/Y/Z, hessianOffset, "
+        "extentX/Y, "
         "colourR/G/B, trackingId)"
     )
 

@@ -33,12 +33,15 @@ class ScenePrimitive:
     hessian: float | None = None
     colour: tuple[float, float, float] | None = None
     tracking_id: int | None = None
+    extent_x: float | None = None
+    extent_y: float | None = None
+    """A plane's extent along x and y in metres (a support's), sent as ``extentX``/``extentY``."""
 
     def __post_init__(self) -> None:
         """Refuse what no primitive can be, before anything is sent: raises ``ValueError``
         naming the primitive, the field, the value and what was expected, for a kind that is
-        none of the four, a number that is not finite, a radius or height that is not positive,
-        a zero axis, a colour outside [0, 1] or a negative tracking id."""
+        none of the four, a number that is not finite, a radius, height or extent that is not
+        positive, a zero axis, a colour outside [0, 1] or a negative tracking id."""
         where = f"primitive {self.name!r}"
         if not isinstance(self.name, str) or not self.name.strip():
             raise ValueError(f"primitive name: got {self.name!r}, expected a non-empty string")
@@ -52,7 +55,7 @@ class ScenePrimitive:
                 raise ValueError(
                     f"{where}: {attribute}: got {vector!r}, expected three finite numbers"
                 )
-        for attribute in ("radius", "height"):
+        for attribute in ("radius", "height", "extent_x", "extent_y"):
             number = getattr(self, attribute)
             if number is not None and not (_finite(number) and number > 0):
                 raise ValueError(
@@ -89,6 +92,9 @@ class ScenePrimitive:
                 value(prop, float(getattr(self, attribute)))
         if self.hessian is not None:
             value("hessianOffset", float(self.hessian))
+        for attribute, prop in (("extent_x", "extentX"), ("extent_y", "extentY")):
+            if getattr(self, attribute) is not None:
+                value(prop, float(getattr(self, attribute)))
         if self.tracking_id is not None:
             out.append(
                 (
