@@ -52,7 +52,13 @@ Vector = tuple[float, float, float]
 _UNIT_TOLERANCE = 1e-12
 """An axis whose length is this close to 1 is unit already; dividing it again by its computed
 length could change its last bits, so normalising would not be idempotent."""
-_ONLY_FOR = {"apex": "Cone", "point_on_axis": "Cylinder", "hessian": "Plane"}
+_ONLY_FOR = {
+    "apex": "Cone",
+    "point_on_axis": "Cylinder",
+    "hessian": "Plane",
+    "extent_x": "Plane",
+    "extent_y": "Plane",
+}
 _VECTOR_ATTRIBUTES: dict[str, tuple[str, str, str]] = {
     "centre": ("centreX", "centreY", "centreZ"),
     "axis": ("axisX", "axisY", "axisZ"),
@@ -64,6 +70,8 @@ _NUMBER_ATTRIBUTES = {
     "radius": "radius",
     "height": "height",
     "hessian": "hessianOffset",
+    "extent_x": "extentX",
+    "extent_y": "extentY",
     "tracking_id": "trackingId",
 }
 ATTRIBUTES: dict[str, tuple[str, int | None]] = {
@@ -86,7 +94,9 @@ class Primitive:
     it is normalised to unit length (one within 1e-12 of it is kept as given). ``apex`` is for
     cones, ``point_on_axis`` for cylinders, ``hessian`` (offset d of n . x + d = 0) for planes.
     ``radius`` and ``height`` are positive, ``colour`` is RGB in [0, 1], ``tracking_id`` a
-    non-negative integer.
+    non-negative integer. ``extent_x`` and ``extent_y`` (planes only, positive, metres) are the
+    sides along x and y of the rectangle bounding the plane's measured points: how large a table
+    or floor was seen.
 
     Raises :class:`~kg.errors.InvalidPrimitiveError` (a ``ValueError``) naming the primitive,
     the field, the value and what was expected.
@@ -103,6 +113,8 @@ class Primitive:
     hessian: float | None = None
     colour: Vector | None = None
     tracking_id: int | None = None
+    extent_x: float | None = None
+    extent_y: float | None = None
 
     def __post_init__(self) -> None:
         if not isinstance(self.id, str) or not self.id.strip():
@@ -141,8 +153,13 @@ class Primitive:
                 continue
             if self.kind != kind:
                 self._fail(name, value, f"None (only a {kind} has it)")
-            checked = self._number(name, value) if name == "hessian" else self._vector(name, value)
-            self._set(name, checked)
+            if name in ("apex", "point_on_axis"):
+                self._set(name, self._vector(name, value))
+                continue
+            number = self._number(name, value)
+            if name != "hessian" and number <= 0:
+                self._fail(name, value, "a positive length in metres")
+            self._set(name, number)
         if self.colour is not None:
             colour = self._vector("colour", self.colour)
             if not all(0.0 <= c <= 1.0 for c in colour):

@@ -312,6 +312,8 @@ COLOUR = (engram("colourR"), engram("colourG"), engram("colourB"))
 RADIUS = engram("radius")
 HEIGHT = engram("height")
 HESSIAN_OFFSET = engram("hessianOffset")
+EXTENT = (engram("extentX"), engram("extentY"))
+"""A plane's extent: the sides of its points' bounding rectangle along the scene's x and y."""
 TRACKING_ID = engram("trackingId")
 OBSERVED_AT = engram("observedAt")
 IS_RIGHT_OF = engram("isRightOf")

@@ -1,12 +1,16 @@
 """Averaging per tracked object (the seed's VisNode) and scene-change detection.
 
 For each tracking id the averager keeps, **separately for each shape kind**, the running mean of
-that kind's attributes (centre, axis, radius, height, apex, point on axis, Hessian offset) and
-how often the object was seen as that kind, each frame weighted by its fit quality (the share of
-the cluster within the selection threshold of the model, ``inlier_ratio``): a frame whose
-flying pixels or noise spoil the fit weighs less. The object's current primitive is its majority
-kind with that kind's averages, so a frame that calls a cylinder a cone does not drag the cylinder's
-height or centre. Colour is averaged over every observation.
+that kind's attributes (centre, axis, radius, height, apex, point on axis, Hessian offset, a
+support's extent) and how often the object was seen as that kind, each frame weighted by its fit
+quality (the share of the cluster within the selection threshold of the model,
+``inlier_ratio``): a frame whose flying pixels or noise spoil the fit weighs less. The object's
+current primitive is its majority kind with that kind's averages, so a frame that calls a
+cylinder a cone does not drag the cylinder's height or centre. Colour is averaged over every
+observation.
+
+An observation that is only a piece of an object seen whole in the same frame (``part``, from
+the tracker) is left out of the averages.
 
 Scene changes (which the seed could only handle by a manual restart): the current scene is the
 set of confirmed objects. It changes when
@@ -37,6 +41,7 @@ log = logging.getLogger(__name__)
 
 _VECTORS = ("centre", "axis", "apex", "point_on_axis")
 _SCALARS = ("radius", "height", "hessian_offset", "inlier_ratio")
+_PAIRS = ("extent",)
 
 
 @dataclass(frozen=True)
@@ -47,6 +52,9 @@ class Observation:
     cluster_centroid: FloatArray
     support: bool = False
     """The primitive is a support (a table or the floor) that objects stand on."""
+    part: bool = False
+    """The primitive is a piece of an object whose main piece has another observation with the
+    same id this frame (:attr:`shapes.track.Tracker.parts`); it is not averaged."""
 
     @property
     def tracking_id(self) -> int:
@@ -96,7 +104,7 @@ class _KindMean:
         flip = 1.0
         if p.axis is not None and "axis" in self.sums:
             flip = 1.0 if np.dot(self.sums["axis"], p.axis) >= 0 else -1.0
-        for name in _VECTORS + _SCALARS:
+        for name in _VECTORS + _SCALARS + _PAIRS:
             value = getattr(p, name)
             if value is None:
                 continue
@@ -113,7 +121,10 @@ class _KindMean:
             m = total / self.count
             if name == "axis":
                 m = m / max(float(np.linalg.norm(m)), 1e-12)
-            out[name] = vec3(m) if name in _VECTORS else float(m)
+            if name in _PAIRS:
+                out[name] = (float(m[0]), float(m[1]))
+            else:
+                out[name] = vec3(m) if name in _VECTORS else float(m)
         if kind is ShapeKind.PLANE and "axis" in out:
             normal = np.asarray(out["axis"], dtype=np.float64)
             out["hessian_offset"] = -float(normal @ np.asarray(out["centre"], dtype=np.float64))
@@ -180,6 +191,8 @@ class SceneAverager:
         self.frame += 1
         appeared, moved = [], []
         for obs in observations:
+            if obs.part:
+                continue
             tid = obs.tracking_id
             obj = self.objects.setdefault(tid, _Object())
             if tid in self.members and obj.ref_n:

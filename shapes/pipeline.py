@@ -25,7 +25,7 @@ from shapes.fit import FitParams, fit_cluster
 from shapes.frame import Frame
 from shapes.gravity import gravity_from_scene
 from shapes.segment import Cluster, SegmentationParams, segment
-from shapes.track import Tracker
+from shapes.track import Tracker, box_of
 from shapes.types import FloatArray, Primitive, ShapeKind, SupportPlane
 
 __all__ = ["FrameResult", "Perception", "PerceptionParams"]
@@ -95,6 +95,7 @@ def _supports_under(fitted: list[tuple[Cluster, Primitive]]) -> list[tuple[Clust
             support.centre,
             axis=support.normal,
             hessian_offset=-float(np.asarray(support.normal) @ centre),
+            extent=support.extent,
         )
         out.append((Cluster(centre[None, :], None, centre[None, :], support), primitive))
     return out
@@ -155,7 +156,9 @@ class Perception:
         self.last_stamp = frame.stamp
         tracked = fitted + supports
         ids = self.tracker.update(
-            [c.centroid for c, _ in tracked], [_signature(p) for _, p in tracked]
+            [c.centroid for c, _ in tracked],
+            [_signature(p) for _, p in tracked],
+            [box_of(c.points) for c, _ in tracked],
         )
         primitives: list[Primitive] = []
         planes: list[Primitive] = []
@@ -164,7 +167,11 @@ class Perception:
             colour = None if cluster.colours is None else mean_colour(cluster.colours)
             prim = replace(prim, tracking_id=tid, colour=colour, stamp=frame.stamp)
             (primitives if k < len(fitted) else planes).append(prim)
-            observations.append(Observation(prim, cluster.centroid, support=k >= len(fitted)))
+            observations.append(
+                Observation(
+                    prim, cluster.centroid, support=k >= len(fitted), part=self.tracker.parts[k]
+                )
+            )
         events = self.averager.update(observations, self.tracker.deleted, frame.stamp)
         log.debug("frame %d: %d primitives, %d events", index, len(primitives), len(events))
         return FrameResult(

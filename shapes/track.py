@@ -9,9 +9,26 @@ Fixed here (reference §4.16 #9): one update per frame over all detections; matc
 nearest-first (all detection-track pairs within the gate, closest pair first, each track and
 detection used once) instead of PITT's order-dependent greedy loop that dropped a detection whose
 nearest track was taken; a detection whose nearest track is taken can still join another track
-in its gate or start a new one; tracks age on empty frames too. A detection outside every gate
-takes the nearest unmatched track of the same shape kind and size (within ``reid_gate_m`` and
-``reid_size_m``): an object moved far in one step keeps its id.
+in its gate or start a new one; tracks age on empty frames too.
+
+Added:
+
+- **Extent.** A detection may carry its points' bounding box in the gravity frame. A track keeps
+  the smoothed box of its object (the union of the boxes of the detections that got its id in a
+  frame). A detection and a track with boxes match only if the boxes, each grown by
+  ``jitter_m``, overlap: a small part of one object whose centroid lies 17 cm from another
+  track's no longer takes that track's id.
+- **Parts of one object.** Segmentation of a real scan cuts a thin or far object (a chair's
+  tubes, the strip at the edge of a box) into pieces that change from frame to frame. A
+  detection left without a track whose box, grown by nothing, lies inside the box of a larger
+  track grown by ``jitter_m`` is a part of that object and gets its id; several detections of
+  one frame may therefore share an id (:meth:`Tracker.update` says which, in ``parts``). Within
+  a frame, larger detections are placed first, so a part seen in the first frame joins the
+  object it belongs to. A detection whose box is a point (a support given by its centre) has no
+  extent: it is matched by its centroid alone and is never a part.
+- **Re-identification.** A detection outside every gate takes the nearest unmatched track of
+  the same shape kind and size (within ``reid_gate_m`` and ``reid_size_m``): an object moved far
+  in one step keeps its id.
 
 >>> t = Tracker()
 >>> t.update([np.array([0.0, 0.0, 0.0])])
@@ -30,25 +47,64 @@ import numpy as np
 
 from shapes.types import FloatArray
 
-__all__ = ["Track", "Tracker"]
+__all__ = ["Box", "Track", "Tracker", "box_of"]
 
 log = logging.getLogger(__name__)
+
+Box = tuple[FloatArray, FloatArray]
+"""An axis-aligned box in the gravity frame: its lower and upper corners, in metres."""
+
+
+def box_of(points: FloatArray) -> Box:
+    """The bounding box of an (n, 3) array of points (n >= 1).
+
+    >>> lo, hi = box_of(np.array([[0.0, 1.0, 2.0], [1.0, 0.0, 3.0]]))
+    >>> lo.tolist(), hi.tolist()
+    ([0.0, 0.0, 2.0], [1.0, 1.0, 3.0])
+    """
+    pts = np.asarray(points, dtype=np.float64).reshape(-1, 3)
+    return pts.min(axis=0), pts.max(axis=0)
+
+
+def _extent(box: Box | None) -> Box | None:
+    """The box as floats, or None when it is missing or a point (no extent)."""
+    if box is None:
+        return None
+    lo, hi = np.asarray(box[0], dtype=np.float64), np.asarray(box[1], dtype=np.float64)
+    return (lo, hi) if bool(np.any(hi - lo > 0.0)) else None
+
+
+def _size(box: Box) -> float:
+    return float(np.linalg.norm(box[1] - box[0]))
+
+
+def _overlap(a: Box, b: Box, grow_m: float) -> bool:
+    """The boxes overlap once each is grown by ``grow_m`` on every side."""
+    return bool(np.all(a[0] - grow_m <= b[1] + grow_m) and np.all(b[0] - grow_m <= a[1] + grow_m))
+
+
+def _inside(inner: Box, outer: Box, grow_m: float) -> bool:
+    """``inner`` lies inside ``outer`` grown by ``grow_m`` on every side."""
+    return bool(np.all(inner[0] >= outer[0] - grow_m) and np.all(inner[1] <= outer[1] + grow_m))
 
 
 @dataclass
 class Track:
-    """One tracked object: its id, smoothed centroid, and how often it was seen and missed."""
+    """One tracked object: its id, smoothed centroid and box, how often seen and missed."""
 
     id: int
     centroid: FloatArray
     hits: int = 1
     missed: int = 0
     signature: tuple[str, float] | None = None
+    box: Box | None = None
+    """The smoothed bounding box of the object's detections (None when they had no extent)."""
 
 
 @dataclass
 class Tracker:
-    """Gated nearest-centroid tracker with exponential smoothing and deletion after misses."""
+    """Gated nearest-centroid tracker with extents, exponential smoothing and deletion after
+    misses (see the module docstring)."""
 
     gate_m: float = 0.20
     forget_after: int = 3
@@ -59,35 +115,62 @@ class Tracker:
     deleted: list[int] = field(default_factory=list)
     reid_gate_m: float = 1.0
     reid_size_m: float = 0.01
+    jitter_m: float = 0.04
+    """How far a static object's box edges may move between frames of a real scan."""
+    parts: list[bool] = field(default_factory=list)
+    """For each detection of the last update: it was taken as a part of a larger one."""
 
     def __post_init__(self) -> None:
-        if self.gate_m <= 0 or self.forget_after < 1 or self.weight_old < 0 or self.weight_new <= 0:
+        if (
+            self.gate_m <= 0
+            or self.forget_after < 1
+            or self.weight_old < 0
+            or self.weight_new <= 0
+            or self.jitter_m < 0
+        ):
             raise ValueError(
-                "Tracker: expected gate_m > 0, forget_after >= 1, weight_old >= 0 and "
-                f"weight_new > 0, got {self.gate_m}, {self.forget_after}, {self.weight_old}, "
-                f"{self.weight_new}"
+                "Tracker: expected gate_m > 0, forget_after >= 1, weight_old >= 0, "
+                f"weight_new > 0 and jitter_m >= 0, got {self.gate_m}, {self.forget_after}, "
+                f"{self.weight_old}, {self.weight_new}, {self.jitter_m}"
             )
 
     def update(
         self,
         centroids: Sequence[FloatArray],
         signatures: Sequence[tuple[str, float] | None] | None = None,
+        boxes: Sequence[Box | None] | None = None,
     ) -> list[int]:
         """Match this frame's cluster centroids to tracks; return one track id per centroid.
 
         ``signatures`` (the shape kind and size of each detection): a detection left without a
         track in the gate takes the nearest unmatched track within ``reid_gate_m`` that has
         the same kind and a size within ``reid_size_m``, so an object moved far keeps its id.
+        ``boxes`` (each detection's bounding box, :func:`box_of`): matches need overlapping
+        boxes, and a detection inside a larger object's box is a part of it and shares its id
+        (``self.parts`` marks those detections).
 
         Tracks not matched this frame age by one; those missed ``forget_after`` times in a row
         are deleted (their ids are listed in ``self.deleted`` until the next update).
+
+        Raises ValueError when ``signatures`` or ``boxes`` is not one per centroid.
         """
+        n = len(centroids)
+        sigs: list[tuple[str, float] | None] = (
+            list(signatures) if signatures is not None else [None] * n
+        )
+        extents = [_extent(b) for b in (boxes if boxes is not None else [None] * n)]
+        if len(sigs) != n or len(extents) != n:
+            raise ValueError(
+                f"Tracker.update: expected one signature and one box per centroid ({n}), got "
+                f"{len(sigs)} and {len(extents)}"
+            )
         self.deleted = []
+        self.parts = [False] * n
         ids = list(self.tracks)
-        assigned: list[int | None] = [None] * len(centroids)
-        if ids and len(centroids):
+        assigned: list[int | None] = [None] * n
+        if ids and n:
             cur = np.array([self.tracks[i].centroid for i in ids])
-            det = np.asarray(centroids, dtype=np.float64).reshape(len(centroids), 3)
+            det = np.asarray(centroids, dtype=np.float64).reshape(n, 3)
             dist = np.linalg.norm(det[:, None, :] - cur[None, :, :], axis=2)
             used_tracks: set[int] = set()
             for flat in np.argsort(dist, axis=None, kind="stable"):
@@ -96,30 +179,14 @@ class Tracker:
                     break
                 if assigned[d_i] is not None or t_i in used_tracks:
                     continue
-                assigned[d_i] = ids[t_i]
-                used_tracks.add(t_i)
-        sigs: list[tuple[str, float] | None] = (
-            list(signatures) if signatures is not None else [None] * len(centroids)
-        )
+                box, track_box = extents[d_i], self.tracks[ids[t_i]].box
+                if box is None or track_box is None or _overlap(box, track_box, self.jitter_m):
+                    assigned[d_i] = ids[t_i]
+                    used_tracks.add(t_i)
+        self._join_parts(extents, assigned)
         self._reidentify(centroids, sigs, assigned, ids)
-        total = self.weight_old + self.weight_new
-        for i, c in enumerate(centroids):
-            track_id = assigned[i]
-            if track_id is None:
-                track_id = self.next_id
-                self.next_id += 1
-                self.tracks[track_id] = Track(
-                    track_id, np.asarray(c, dtype=np.float64).copy(), signature=sigs[i]
-                )
-                assigned[i] = track_id
-                log.debug("new track %d at %s", track_id, c)
-                continue
-            tr = self.tracks[track_id]
-            tr.centroid = (self.weight_old * tr.centroid + self.weight_new * np.asarray(c)) / total
-            tr.hits += 1
-            tr.missed = 0
-            if sigs[i] is not None:
-                tr.signature = sigs[i]
+        self._start_tracks(centroids, sigs, extents, assigned)
+        self._smooth(centroids, sigs, extents, assigned)
         seen = set(assigned)
         for track_id in list(self.tracks):
             if track_id in seen:
@@ -131,6 +198,111 @@ class Tracker:
                 self.deleted.append(track_id)
                 log.debug("track %d deleted after %d misses", track_id, tr.missed)
         return [int(a) for a in assigned if a is not None]
+
+    def _host(self, box: Box, hosts: Sequence[int]) -> int | None:
+        """The smallest track among ``hosts`` larger than ``box`` whose grown box holds it."""
+        best, best_size = None, np.inf
+        for track_id in hosts:
+            host = self.tracks[track_id].box
+            if host is None or _size(host) <= _size(box) or not _inside(box, host, self.jitter_m):
+                continue
+            if _size(host) < best_size:
+                best, best_size = track_id, _size(host)
+        return best
+
+    def _join_parts(self, extents: list[Box | None], assigned: list[int | None]) -> None:
+        """Give a detection without a track the id of an existing object it is a part of."""
+        existing = list(self.tracks)
+        for i, box in enumerate(extents):
+            if assigned[i] is not None or box is None:
+                continue
+            host = self._host(box, existing)
+            if host is not None:
+                assigned[i] = host
+                self.parts[i] = True
+                log.debug("detection %d is a part of track %d", i, host)
+
+    def _start_tracks(
+        self,
+        centroids: Sequence[FloatArray],
+        sigs: list[tuple[str, float] | None],
+        extents: list[Box | None],
+        assigned: list[int | None],
+    ) -> None:
+        """New tracks for the detections still without one, largest first; a detection inside
+        a larger one started this frame is a part of it."""
+
+        def size(i: int) -> float:
+            box = extents[i]
+            return 0.0 if box is None else _size(box)
+
+        fresh: list[int] = []
+        for i in sorted((i for i, a in enumerate(assigned) if a is None), key=size, reverse=True):
+            box = extents[i]
+            host = None if box is None else self._host(box, fresh)
+            if host is not None:
+                assigned[i] = host
+                self.parts[i] = True
+                continue
+            track_id = self.next_id
+            self.next_id += 1
+            self.tracks[track_id] = Track(
+                track_id,
+                np.asarray(centroids[i], dtype=np.float64).copy(),
+                hits=0,
+                signature=sigs[i],
+                box=box,
+            )
+            fresh.append(track_id)
+            assigned[i] = track_id
+            log.debug("new track %d at %s", track_id, centroids[i])
+
+    def _smooth(
+        self,
+        centroids: Sequence[FloatArray],
+        sigs: list[tuple[str, float] | None],
+        extents: list[Box | None],
+        assigned: list[int | None],
+    ) -> None:
+        """Fold this frame's detections into their tracks: the centroid of the one matched
+        detection (not of parts), the union of the boxes of all detections with the id."""
+        total = self.weight_old + self.weight_new
+        boxes: dict[int, Box] = {}
+        for i, track_id in enumerate(assigned):
+            assert track_id is not None
+            box = extents[i]
+            if box is not None:
+                prev = boxes.get(track_id)
+                union = (
+                    box
+                    if prev is None
+                    else (np.minimum(prev[0], box[0]), np.maximum(prev[1], box[1]))
+                )
+                boxes[track_id] = union
+            tr = self.tracks[track_id]
+            tr.missed = 0
+            if self.parts[i]:
+                continue
+            if tr.hits == 0:  # started this frame
+                continue
+            c = np.asarray(centroids[i], dtype=np.float64)
+            tr.centroid = (self.weight_old * tr.centroid + self.weight_new * c) / total
+            tr.hits += 1
+            if sigs[i] is not None:
+                tr.signature = sigs[i]
+        for track_id, box in boxes.items():
+            tr = self.tracks[track_id]
+            if tr.box is None or tr.hits == 0:
+                tr.box = box
+            else:
+                tr.box = (
+                    (self.weight_old * tr.box[0] + self.weight_new * box[0]) / total,
+                    (self.weight_old * tr.box[1] + self.weight_new * box[1]) / total,
+                )
+        for track_id in set(assigned):
+            assert track_id is not None
+            tr = self.tracks[track_id]
+            tr.hits = max(tr.hits, 1)
 
     def _reidentify(
         self,
@@ -159,4 +331,5 @@ class Tracker:
                 assigned[i] = best
                 taken.add(best)
                 self.tracks[best].centroid = np.asarray(c, dtype=np.float64).copy()
+                self.tracks[best].box = None  # the box it had is where it was
                 log.debug("track %d re-identified %.2f m away", best, best_d)

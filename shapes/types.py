@@ -69,6 +69,9 @@ class Primitive:
     - Plane: ``centre`` (mean of the plane's inliers, on the plane), ``axis`` (the unit normal,
       pointing out of the object), ``hessian_offset`` d with ``axis . x + d = 0``.
 
+    A support (the table or floor the objects stand on) may carry ``extent``: the sides of its
+    points' bounding rectangle along world x and y, in metres (:attr:`SupportPlane.extent`).
+
     ``colour`` is the mean RGB in [0, 1] of the object's points when the cloud has colours,
     ``tracking_id`` the tracker's id (never reused), ``inlier_ratio`` the share of the cluster's
     points within the selection threshold of the chosen model.
@@ -90,6 +93,7 @@ class Primitive:
     tracking_id: int | None = None
     inlier_ratio: float = 1.0
     stamp: float | None = field(default=None, compare=False)
+    extent: tuple[float, float] | None = None
 
     def with_tracking(self, tracking_id: int, colour: Vec3 | None) -> Primitive:
         """A copy carrying a tracking id and a colour."""
@@ -106,7 +110,7 @@ class Primitive:
         """The set attributes keyed by the ontology's property local names.
 
         Keys: centreX/Y/Z, axisX/Y/Z, radius, height, apexX/Y/Z, pointOnAxisX/Y/Z,
-        hessianOffset, colourR/G/B, trackingId. Unset fields are left out.
+        hessianOffset, extentX/Y, colourR/G/B, trackingId. Unset fields are left out.
         """
         out: dict[str, float | int] = {}
 
@@ -125,6 +129,8 @@ class Primitive:
         put3("pointOnAxis", self.point_on_axis)
         if self.hessian_offset is not None:
             out["hessianOffset"] = self.hessian_offset
+        if self.extent is not None:
+            out["extentX"], out["extentY"] = self.extent
         if self.colour is not None:
             for suffix, v in zip("RGB", self.colour, strict=True):
                 out["colour" + suffix] = v

@@ -150,7 +150,7 @@ def scene_add_dataprop(ctx: Context, draft: SceneDraft) -> Outcome:
         raise MemoryDirectiveError(
             f"args[0]: got {prop!r}, expected a primitive attribute of engram.ttl "
             "(centreX/Y/Z, axisX/Y/Z, radius, height, apexX/Y/Z, pointOnAxisX/Y/Z, "
-            "hessianOffset, colourR/G/B, trackingId)"
+            "hessianOffset, extentX/Y, colourR/G/B, trackingId)"
         )
     ctx.session.set_scene(_key(ctx), draft.with_attribute(name, local, number))
     return Outcome()

@@ -28,7 +28,11 @@ the inliers; a cylinder on its lateral band away from the discs), and a refineme
 if it lowers the cost and respects the limits.
 
 The lowest cost wins; candidates within ``tie_margin`` of it are resolved in the order sphere,
-cylinder, cone, plane (fewest parameters first). When the support is known, a cylinder or cone
+cylinder, cone, plane (fewest parameters first). Between a cylinder and a cone standing on the
+support whose costs lie within ``taper_margin`` of each other, the points decide instead: a cone
+is an object whose side narrows upwards by more than ``taper_sigmas`` times the measured spread
+of the side (:func:`standing_taper`), since under range noise the costs of the two no longer
+tell them apart. When the support is known, a cylinder or cone
 whose axis could not rest on it (neither standing nor lying, within ``resting_tolerance_deg``)
 pays ``oblique_penalty`` against the other curved models: a tilted cylinder is what a partly
 hidden cone looks like, not a thing found on tables. The penalty never hands a cluster to the
@@ -102,6 +106,10 @@ class FitParams:
     upright_tolerance_deg: float = 20.0
     snap_distance_m: float = 0.03
     noise_factor: float = 3.0
+    taper_margin: float = 0.03
+    taper_sigmas: float = 0.35
+    taper_upright_deg: float = 30.0
+    taper_min_spread_m: float = 0.002
 
     def for_noise(self, sigma_m: float) -> FitParams:
         """These parameters with every distance threshold raised to at least
@@ -305,16 +313,69 @@ def _cone_on_base(plane: FloatArray, points: FloatArray, threshold: float) -> Fl
     return np.concatenate((base + h * up, -up, [math.atan2(radius, h)]))
 
 
+def standing_taper(
+    points: FloatArray, support: SupportPlane, cut_m: float
+) -> tuple[float, float] | None:
+    """How much an object standing on ``support`` narrows from the bottom to the top of its
+    visible side, and the spread of its side about that straight profile (both in metres).
+
+    The side is the points lower than ``cut_m`` under the object's top (the top, a cylinder's
+    flat end, is left out); the axis is the support's normal through the centre of the circle
+    fitted to the side points (algebraic least squares); the radius is then fitted as a
+    straight line of the height. Returns ``(drop, spread)``: the radius lost over the side's
+    height (positive when it narrows upwards, as a standing cone) and the robust standard
+    deviation of the radii about the line; None with fewer than 20 side points.
+
+    >>> angle = np.linspace(-1.2, 1.2, 40)
+    >>> h = np.repeat(np.linspace(0.0, 0.1, 20), 40)
+    >>> r = 0.05 - 0.3 * h  # a cone narrowing by 3 cm over 10 cm
+    >>> a = np.tile(angle, 20)
+    >>> cone = np.column_stack((r * np.sin(a), -r * np.cos(a), h))
+    >>> drop, spread = standing_taper(cone, SupportPlane((0.0, 0.0, 1.0), 0.0), 0.01)
+    >>> round(drop, 3), round(spread, 3)
+    (0.024, 0.007)
+    """
+    normal = np.asarray(support.normal, dtype=np.float64)
+    height = points @ normal + support.offset
+    side = height < float(np.percentile(height, 99)) - cut_m
+    if side.sum() < 20:
+        return None
+    e1 = np.cross(normal, [1.0, 0.0, 0.0] if abs(normal[0]) < 0.9 else [0.0, 1.0, 0.0])
+    e1 /= np.linalg.norm(e1)
+    e2 = np.cross(normal, e1)
+    a, b, h = points[side] @ e1, points[side] @ e2, height[side]
+    design = np.column_stack((a, b, np.ones_like(a)))
+    sol = np.linalg.lstsq(design, a**2 + b**2, rcond=None)[0]
+    rho = np.hypot(a - sol[0] / 2, b - sol[1] / 2)
+    line = np.column_stack((np.ones_like(h), h))
+    coef = np.linalg.lstsq(line, rho, rcond=None)[0]
+    residual = rho - line @ coef
+    spread = 1.4826 * float(np.median(np.abs(residual - np.median(residual))))
+    lo, hi = np.percentile(h, [5, 95])
+    return -float(coef[1]) * float(hi - lo), spread
+
+
 def _choose(
     costs: dict[ShapeKind, float],
     fitted: dict[ShapeKind, FloatArray],
     support: SupportPlane | None,
     fp: FitParams,
+    points: FloatArray | None = None,
 ) -> ShapeKind:
     """The shape by the rule of the module docstring. The oblique penalty only ranks the curved
     models among themselves (a tilted cylinder is what a partly hidden cone looks like); the
     best curved model then meets the planes on its own cost, so a leaning cone that fits better
-    than the planes stays a cone."""
+    than the planes stays a cone.
+
+    Cylinder or cone, standing (either candidate's axis within ``taper_upright_deg`` of the
+    support's normal): when their costs (without
+    the oblique penalty) lie within ``taper_margin`` of each other, the costs cannot tell them
+    apart (under range noise a cone's extra parameter fits the noise,
+    and a narrow cone is a cylinder within the threshold). The points decide: a cone narrows
+    upwards, so it is a cone when its side's radius drops by more than ``taper_sigmas`` times
+    the spread of the side about its profile (:func:`standing_taper`: the measured residual,
+    taken as at least ``taper_min_spread_m`` so that a noiseless side does not make every
+    tenth of a millimetre significant); else a cylinder."""
     choice = {k: c for k, c in costs.items() if k is not ShapeKind.PLANE}
     if support is not None:
         for kind in (ShapeKind.CYLINDER, ShapeKind.CONE):
@@ -323,10 +384,38 @@ def _choose(
     candidates = {ShapeKind.PLANE: costs[ShapeKind.PLANE]} if ShapeKind.PLANE in costs else {}
     if choice:
         best = min(choice.values())
-        curved = next(k for k in ORDER if k in choice and choice[k] <= best + fp.tie_margin)
+        curved: ShapeKind = next(
+            k for k in ORDER if k in choice and choice[k] <= best + fp.tie_margin
+        )
+        if points is not None and support is not None:
+            curved = _by_taper(curved, costs, fitted, support, fp, points)
         candidates[curved] = costs[curved]
     best = min(candidates.values())
     return next(k for k in ORDER if k in candidates and candidates[k] <= best + fp.tie_margin)
+
+
+def _by_taper(
+    curved: ShapeKind,
+    costs: dict[ShapeKind, float],
+    fitted: dict[ShapeKind, FloatArray],
+    support: SupportPlane,
+    fp: FitParams,
+    points: FloatArray,
+) -> ShapeKind:
+    """Cylinder against cone for an object standing on the support (see :func:`_choose`)."""
+    pair = (ShapeKind.CYLINDER, ShapeKind.CONE)
+    if curved not in pair or not all(k in costs for k in pair):
+        return curved
+    if abs(costs[ShapeKind.CYLINDER] - costs[ShapeKind.CONE]) > fp.taper_margin:
+        return curved
+    if not any(_orient_up(fitted[k][3:6], support, fp.taper_upright_deg) for k in pair):
+        return curved
+    taper = standing_taper(points, support, fp.selection_threshold_m)
+    if taper is None:
+        return curved
+    drop, spread = taper
+    spread = max(spread, fp.taper_min_spread_m)
+    return ShapeKind.CONE if drop > fp.taper_sigmas * spread else ShapeKind.CYLINDER
 
 
 _HEIGHT_PER_DIAGONAL = 2.0
@@ -557,7 +646,7 @@ def fit_cluster(
             model, thr = models[kind]
             score(kind, refine_if_better(model, fitted[kind], sample, thr))
     while True:
-        kind = _choose(costs, fitted, support, fp)
+        kind = _choose(costs, fitted, support, fp, sample)
         if kind is ShapeKind.PLANE:
             plane, inl = max(planes, key=lambda p: len(p[1]))
             prim = _build_plane(plane, sample, inl)

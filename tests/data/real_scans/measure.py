@@ -3,9 +3,9 @@
 Each region is a pixel box chosen by looking at the scan's colour image; the points are
 un-projected with the file's own intrinsics, the support is a least-squares plane (SVD) through
 the points of a box of bare table or floor, an object is the points of its box between 1.5 cm
-and 40 cm above that plane, and a round object's axis and radius come from an algebraic
-least-squares circle (Kasa) through its points in the plane's coordinates. Everything is in
-the sensor's optical frame (x right, y down, z forward), in metres.
+and 40 cm above that plane (60 or 80 cm where said), and a round object's axis and radius come
+from an algebraic least-squares circle (Kasa) through its points in the plane's coordinates.
+Everything is in the sensor's optical frame (x right, y down, z forward), in metres.
 
     python tests/data/real_scans/measure.py > tests/data/real_scans/truth.json
 """
@@ -31,7 +31,26 @@ REGIONS = {
         (380, 470, 50, 600),
         {"laptop": ((140, 320, 130, 375), False), "box": ((175, 315, 372, 505), False)},
     ),
+    # Held out: boxes chosen after the pipeline's code was frozen, never used to change it.
+    "desk_tum": (
+        (215, 245, 180, 232),
+        {
+            "die": ((193, 247, 124, 172), False),
+            "mug": ((197, 228, 526, 552), True),
+            "striped board": ((140, 205, 168, 222), False),
+            "bag": ((97, 195, 465, 540), False),
+            "green bottle": ((118, 188, 336, 350), False),
+        },
+    ),
+    "office_kinect": (
+        (395, 470, 262, 405),
+        {"box": ((378, 455, 482, 590), False), "bag": ((400, 470, 415, 470), False)},
+    ),
 }
+HELD_OUT = {"desk_tum", "office_kinect"}
+MAX_HEIGHT_M = {"desk_tum": 0.6, "office_kinect": 0.8}
+"""Scans whose objects stand taller than the default 40 cm (a bag, an archive box)."""
+"""Scans no parameter or rule of ``shapes`` was chosen by looking at (README.md)."""
 
 
 def points_of(name: str) -> np.ndarray:
@@ -60,12 +79,13 @@ def measure(name: str) -> dict[str, object]:
     offset = float(-normal @ centre)
     rms = float(np.sqrt(np.mean((floor @ normal + offset) ** 2)))
     out: dict[str, object] = {
+        "held_out": name in HELD_OUT,
         "support": {
             "normal": normal.round(4).tolist(),
             "distance_m": round(offset, 4),
             "rms_m": round(rms, 4),
             "points": len(floor),
-        }
+        },
     }
     e1 = np.cross(normal, [1.0, 0.0, 0.0])
     e1 /= np.linalg.norm(e1)
@@ -73,7 +93,8 @@ def measure(name: str) -> dict[str, object]:
     for label, (rows_cols, round_) in objects.items():
         pts = box(image, rows_cols)
         h = pts @ normal + offset
-        pts, h = pts[(h > 0.015) & (h < 0.40)], h[(h > 0.015) & (h < 0.40)]
+        keep = (h > 0.015) & (h < MAX_HEIGHT_M.get(name, 0.40))
+        pts, h = pts[keep], h[keep]
         top = float(np.percentile(h, 99))
         item: dict[str, object] = {"points": len(pts), "height_m": round(top, 4)}
         if round_:

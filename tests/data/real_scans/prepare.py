@@ -5,7 +5,13 @@ Each organised PCD (640 x 480, NaN where the sensor saw nothing) is stored as it
 recovered from the points by least squares, and ``rgb`` (uint8). The Kinect frames' depths are
 whole millimetres, so they come back to within 1e-6 m; the stereo scan's are rounded to 0.1 mm.
 
-    python tests/data/real_scans/prepare.py PCL_CHECKOUT/test
+The TUM RGB-D frame comes as a depth PNG (uint16, 5000 units a metre, registered to the colour
+image) and a colour PNG, from Open3D's test data before it left the repository
+(``isl-org/Open3D``, commit 6e0924e98^, ``examples/test_data/RGBD/other_formats``); its depths
+are copied unchanged (``depth_scale`` 0.2 mm) with the intrinsics the TUM benchmark publishes
+for its Freiburg 3 sensor.
+
+    python tests/data/real_scans/prepare.py PCL_CHECKOUT/test OPEN3D_CHECKOUT/examples/test_data
 """
 
 import sys
@@ -19,7 +25,12 @@ SCANS = {
     "grabber_sequences/pcd/frame_20121214T142255.814212.pcd": ("laptop_box_kinect_0.npz", 1e-3),
     "grabber_sequences/pcd/frame_20121214T142256.068683.pcd": ("laptop_box_kinect_1.npz", 1e-3),
     "grabber_sequences/pcd/frame_20121214T142256.332395.pcd": ("laptop_box_kinect_2.npz", 1e-3),
+    "office1.pcd": ("office_kinect.npz", 1e-3),
 }
+TUM = ("RGBD/other_formats/TUM_depth.png", "RGBD/other_formats/TUM_color.png", "desk_tum.npz")
+TUM_FREIBURG3 = {"fx": 535.4, "fy": 539.2, "cx": 320.1, "cy": 247.6}
+"""The Freiburg 3 sensor's colour intrinsics (the benchmark's depth images of Freiburg 3 are
+registered to the colour camera)."""
 WIDTH, HEIGHT = 640, 480
 
 
@@ -52,7 +63,20 @@ def convert(source: Path, target: Path, depth_scale: float) -> None:
     )
 
 
+def convert_tum(depth_png: Path, colour_png: Path, target: Path) -> None:
+    from PIL import Image
+
+    depth = np.asarray(Image.open(depth_png))
+    assert depth.dtype == np.uint16 and depth.shape == (HEIGHT, WIDTH), depth_png
+    rgb = np.asarray(Image.open(colour_png).convert("RGB"))
+    np.savez_compressed(target, depth=depth, rgb=rgb, depth_scale=1 / 5000, **TUM_FREIBURG3)
+
+
 if __name__ == "__main__":
     root = Path(sys.argv[1])
     for name, (out, scale) in SCANS.items():
         convert(root / name, Path(__file__).with_name(out), scale)
+    if len(sys.argv) > 2:
+        depth_png, colour_png, out = TUM
+        test_data = Path(sys.argv[2])
+        convert_tum(test_data / depth_png, test_data / colour_png, Path(__file__).with_name(out))

@@ -1,0 +1,47 @@
+"""The real scans' ground truth is what measure.py computes from the scans, held-out ones marked."""
+
+import importlib.util
+import json
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from shapes import open_source
+
+SCANS = Path(__file__).parents[1] / "data" / "real_scans"
+
+
+def _measure_module():
+    spec = importlib.util.spec_from_file_location("real_scans_measure", SCANS / "measure.py")
+    assert spec is not None and spec.loader is not None
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+TRUTH = json.loads((SCANS / "truth.json").read_text())
+
+
+@pytest.mark.parametrize("name", sorted(TRUTH))
+def test_truth_json_is_what_measure_py_computes(name: str) -> None:
+    # The JSON round trip turns the measured floats and tuples into what truth.json holds.
+    assert json.loads(json.dumps(_measure_module().measure(name))) == TRUTH[name]
+
+
+def test_the_held_out_scans_are_marked() -> None:
+    assert {name for name, scan in TRUTH.items() if scan["held_out"]} == {
+        "desk_tum",
+        "office_kinect",
+    }
+
+
+def test_the_tum_frame_loads_with_its_depths_unchanged() -> None:
+    """0.2 mm units (TUM's 5000 a metre) and the Freiburg 3 intrinsics, read back by shapes."""
+    data = np.load(SCANS / "desk_tum.npz")
+    frame = next(open_source(SCANS / "desk_tum.npz"))
+    assert frame.pixels is not None
+    depth = data["depth"].reshape(-1)[frame.pixels] / 5000.0
+    np.testing.assert_allclose(frame.points[:, 2], depth, atol=1e-6)
+    u = frame.pixels % 640
+    np.testing.assert_allclose(frame.points[:, 0], (u - 320.1) / 535.4 * depth, atol=1e-6)
