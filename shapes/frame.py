@@ -140,9 +140,12 @@ class Frame:
 
     def world_points(self, mask: npt.NDArray[np.bool_] | None = None) -> FloatArray:
         """The points (optionally a subset) in the world frame."""
-        pts = self.points if mask is None else self.points[mask]
+        return self.world_points_of(self.points if mask is None else self.points[mask])
+
+    def world_points_of(self, points: FloatArray) -> FloatArray:
+        """Any ``(N, 3)`` points given in this frame's sensor frame, in the world frame."""
         t = self.world_from_sensor
-        return np.asarray(pts @ t[:3, :3].T + t[:3, 3], dtype=np.float64)
+        return np.asarray(points @ t[:3, :3].T + t[:3, 3], dtype=np.float64)
 
 
 def frame_from_depth_image(

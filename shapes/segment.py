@@ -9,9 +9,11 @@ Steps (PITT's, with its quirks fixed; see ``shared/reference/pitt-perception.md`
    frame keeps one pixel in four, still about 4 to 13 per 1 cm voxel of a surface facing the
    camera at 1.5 to 0.8 m, and a cluster its hundreds of points), and the points go to the
    world frame (z up, the gravity direction);
-2. voxel grid (``voxel_m``): each occupied voxel becomes the mean of its points, computed in
-   numpy so that every full-resolution point keeps the index of its voxel. Voxels with fewer
-   than two occupied neighbours (stray returns, outliers) are set aside;
+2. voxel grid (``voxel_m``), laid in the *sensor* frame, so that the pose moves the voxels
+   but never changes which points share one (the output does not depend on the pose's last
+   digits): each occupied voxel becomes the mean of its points, computed in numpy so that every
+   full-resolution point keeps the index of its voxel. Voxels with fewer than two occupied
+   neighbours (stray returns, outliers) are set aside;
 3. planes: RANSAC (numpy, seeded) finds up to ``max_planes`` planes one after another, each
    holding at least ``min_support_fraction`` of the voxels and spanning at least
    ``min_plane_extent_m`` (a smaller one is the face of an object, and the search stops).
@@ -385,8 +387,9 @@ def segment(frame: Frame, params: SegmentationParams | None = None, seed: int = 
         # Every stride-th pixel of every stride-th row, once the artefacts are known.
         width = frame.image_shape[1]
         keep &= ((frame.pixels // width) % stride == 0) & ((frame.pixels % width) % stride == 0)
+    sensor_points = frame.points[keep]
     points = frame.world_points(keep)
-    depth = frame.points[keep, 2]
+    depth = sensor_points[:, 2]
     viewpoint: FloatArray | None = frame.world_from_sensor[:3, 3]
     if frame.pixels is None and not (depth > 0.1).all():
         viewpoint = None
@@ -394,7 +397,11 @@ def segment(frame: Frame, params: SegmentationParams | None = None, seed: int = 
         # point is unknown, so the noise is taken as the same everywhere.
         depth = np.ones(len(depth))
     colours = None if frame.colours is None else frame.colours[keep]
-    voxels, voxel_of = voxel_grid(points, params.voxel_m)
+    # The grid is laid in the sensor frame, where the points were measured: laid in the world
+    # frame, a point on a cell boundary changes cells with the least change of the pose, and
+    # every fit downstream with it.
+    sensor_voxels, voxel_of = voxel_grid(sensor_points, params.voxel_m)
+    voxels = frame.world_points_of(sensor_voxels)
     alive = np.ones(len(voxels), dtype=bool)
     alive_idx = np.arange(len(voxels))
     counts = np.bincount(voxel_of, minlength=len(voxels))
@@ -435,7 +442,8 @@ def segment(frame: Frame, params: SegmentationParams | None = None, seed: int = 
     free = alive & ~in_plane
     # Stray returns and outliers: free voxels with fewer than two occupied neighbours.
     free_idx = np.flatnonzero(free)
-    free[free_idx[sparse_voxels(voxels[free_idx], params.voxel_m, among=voxels)]] = False
+    stray = sparse_voxels(sensor_voxels[free_idx], params.voxel_m, among=sensor_voxels)
+    free[free_idx[stray]] = False
     # Each free voxel goes to the nearest horizontal plane below it that covers it.
     best_height = np.full(len(voxels), np.inf)
     owner = np.full(len(voxels), -1)
