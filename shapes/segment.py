@@ -473,17 +473,17 @@ def segment(
     caller has it already (the pipeline takes up from it first).
     """
     params = params or SegmentationParams()
-    found = surveyed if surveyed is not None else survey(frame, params, seed)
-    if found.reason is not None:
-        return Segmentation(None, (), reason=found.reason)
-    keep, depth, sigma_1m, voxel_of = found.keep, found.depth, found.sigma_1m, found.voxel_of
-    points = frame.world_points_of(found.points)
-    voxels = frame.world_points_of(found.voxels)
-    viewpoint = frame.world_from_sensor[:3, 3] if found.in_camera_frame else None
+    scan = surveyed if surveyed is not None else survey(frame, params, seed)
+    if scan.reason is not None:
+        return Segmentation(None, (), reason=scan.reason)
+    keep, depth, sigma_1m, voxel_of = scan.keep, scan.depth, scan.sigma_1m, scan.voxel_of
+    points = frame.world_points_of(scan.points)
+    voxels = frame.world_points_of(scan.voxels)
+    viewpoint = frame.world_from_sensor[:3, 3] if scan.in_camera_frame else None
     colours = None if frame.colours is None else frame.colours[keep]
     alive = np.ones(len(voxels), dtype=bool)
     alive_idx = np.arange(len(voxels))
-    planes = [_in_world(p, frame.world_from_sensor, params) for p in found.planes]
+    planes = [_in_world(p, frame.world_from_sensor, params) for p in scan.planes]
     level = [p for p in planes if p.horizontal]
     faces = {
         id(p)
@@ -509,7 +509,7 @@ def segment(
             None,
             (),
             noise_1m=sigma_1m,
-            reason=f"no support found: no horizontal plane among the planes seen ({seen})",
+            reason=f"no support scan: no horizontal plane among the planes seen ({seen})",
         )
     in_plane = np.zeros(len(voxels), dtype=bool)
     for p in planes:
@@ -518,7 +518,7 @@ def segment(
     free = alive & ~in_plane
     # Stray returns and outliers: free voxels with fewer than two occupied neighbours.
     free_idx = np.flatnonzero(free)
-    stray = sparse_voxels(found.voxels[free_idx], params.voxel_m, among=found.voxels)
+    stray = sparse_voxels(scan.voxels[free_idx], params.voxel_m, among=scan.voxels)
     free[free_idx[stray]] = False
     # Each free voxel goes to the nearest horizontal plane below it that covers it.
     best_height = np.full(len(voxels), np.inf)
