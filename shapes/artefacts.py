@@ -139,7 +139,10 @@ def sparse_voxels(
         return np.asarray((k[:, 0] * span[1] + k[:, 1]) * span[2] + k[:, 2], dtype=np.int64)
 
     occupied = np.sort(flat_keys(every))
-    flat = flat_keys(voxels)
+    # Probed in sorted order (each probe is the sorted keys plus a constant), which
+    # searchsorted walks through far faster than keys in voxel order.
+    order = np.argsort(flat_keys(voxels), kind="stable")
+    flat = flat_keys(voxels)[order]
     count = np.zeros(len(voxels), dtype=np.int64)
     for dx in (-1, 0, 1):
         for dy in (-1, 0, 1):
@@ -150,7 +153,9 @@ def sparse_voxels(
                 at = np.searchsorted(occupied, probe)
                 at = np.minimum(at, len(occupied) - 1)
                 count += occupied[at] == probe
-    return np.asarray(count < min_neighbours, dtype=np.bool_)
+    sparse = np.empty(len(voxels), dtype=np.bool_)
+    sparse[order] = count < min_neighbours
+    return sparse
 
 
 def sparse_points(points: FloatArray, neighbours: int = 8, ratio: float = 2.5) -> BoolArray:

@@ -427,11 +427,12 @@ def _robust_sigma(values: FloatArray) -> float:
 def _focal_px(frame: Frame) -> float:
     """The focal length in pixels of an organised frame, from its points and pixel columns."""
     assert frame.image_shape is not None and frame.pixels is not None
-    u = (frame.pixels % frame.image_shape[1]).astype(np.float64)
-    slope = frame.points[:, 0] / frame.points[:, 2]
+    every = max(1, len(frame.pixels) // 2000)
+    u = (frame.pixels[::every] % frame.image_shape[1]).astype(np.float64)
+    slope = frame.points[::every, 0] / frame.points[::every, 2]
     if np.ptp(u) == 0:
         return 570.0
-    a = np.polyfit(u[:: max(1, len(u) // 2000)], slope[:: max(1, len(u) // 2000)], 1)[0]
+    a = np.polyfit(u, slope, 1)[0]
     return float(1.0 / a) if a > 0 else 570.0
 
 
@@ -509,7 +510,7 @@ def segment(
             None,
             (),
             noise_1m=sigma_1m,
-            reason=f"no support scan: no horizontal plane among the planes seen ({seen})",
+            reason=f"no support found: no horizontal plane among the planes seen ({seen})",
         )
     in_plane = np.zeros(len(voxels), dtype=bool)
     for p in planes:
