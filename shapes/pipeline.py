@@ -131,10 +131,10 @@ class Perception:
             found = gravity_from_survey(frame, surveyed, self.params.segmentation)
             if found is None:
                 gravity = "gravity from the scene: no plane found, the sensor's z axis is up"
-                frame = replace(frame, world_from_sensor=np.eye(4))
+                frame = frame.with_pose(np.eye(4))
             else:
                 gravity = found.describe()
-                frame = replace(frame, world_from_sensor=found.world_from_sensor)
+                frame = frame.with_pose(found.world_from_sensor)
         self.gravity = gravity
         seg = segment(frame, self.params.segmentation, self.seed + index, surveyed=surveyed)
         fitted = []
