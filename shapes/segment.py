@@ -324,8 +324,9 @@ def survey(frame: Frame, params: SegmentationParams, seed: int) -> Survey:
     stride = pixel_stride(int(keep.sum()), params)
     if stride > 1 and frame.pixels is not None and frame.image_shape is not None:
         # Every stride-th pixel of every stride-th row, once the artefacts are known.
-        width = frame.image_shape[1]
-        keep &= ((frame.pixels // width) % stride == 0) & ((frame.pixels % width) % stride == 0)
+        on_grid = np.zeros(frame.image_shape, dtype=np.bool_)
+        on_grid[::stride, ::stride] = True
+        keep &= on_grid.ravel()[frame.pixels]
     points = frame.points[keep]
     depth = points[:, 2]
     in_camera_frame = frame.pixels is not None or bool((depth > 0.1).all())
