@@ -195,8 +195,12 @@ def ransac_plane(
     best, best_count = 0, -1
     for start in range(0, len(normals), _HYPOTHESES_PER_PASS):
         stop = start + _HYPOTHESES_PER_PASS
-        distances = np.abs(points @ normals[start:stop].T + offsets[start:stop])
-        counts = np.count_nonzero(distances <= threshold, axis=0)
+        # One row per hypothesis, summed along the row: a count down the columns of the
+        # transposed matrix (np.count_nonzero with an axis) took seven times as long.
+        distances = normals[start:stop] @ points.T
+        distances += offsets[start:stop, None]
+        np.abs(distances, out=distances)
+        counts = (distances <= threshold).sum(axis=1)
         k = int(np.argmax(counts))
         if counts[k] > best_count:
             best, best_count = start + k, int(counts[k])
