@@ -94,12 +94,14 @@ def flying_pixels(
     jump = np.maximum(np.float32(min_jump_m), np.float32(jump_sigmas * sigma_1m) * z * z)
     padded = np.pad(d, 1, constant_values=np.nan)
     support = np.zeros(d.shape, dtype=np.int8)
-    lo, hi = d.copy(), d.copy()
+    gap = np.empty_like(d)
+    near = np.empty(d.shape, dtype=np.bool_)
     for dy, dx in _NEIGHBOURS:
         n = padded[1 + dy : 1 + dy + h, 1 + dx : 1 + dx + w]
-        support += np.abs(n - d) <= jump
-        np.fmin(lo, n, out=lo)
-        np.fmax(hi, n, out=hi)
+        np.abs(np.subtract(n, d, out=gap), out=gap)
+        support += np.less_equal(gap, jump, out=near)
+    # The 3 x 3 extremes (NaN ignored), a row of three and then a column of three.
+    lo, hi = _extremes_3x3(padded)
     drop = valid & (support < min_support)
     ys, xs = np.nonzero(valid & ~drop & (hi - lo > jump))
     if len(ys):
@@ -118,6 +120,16 @@ def flying_pixels(
         veil = slope > math.tan(math.radians(max_ray_angle_deg))
         drop[ys[veil], xs[veil]] = True
     return np.asarray(drop, dtype=np.bool_)
+
+
+def _extremes_3x3(padded: npt.NDArray[np.float32]) -> tuple[FloatArray, FloatArray]:
+    """The smallest and largest value of each pixel's 3 x 3 neighbourhood (itself included,
+    NaN ignored) of an image padded by one pixel."""
+    out = []
+    for pick in (np.fmin, np.fmax):
+        rows = pick(pick(padded[:, :-2], padded[:, 1:-1]), padded[:, 2:])
+        out.append(pick(pick(rows[:-2], rows[1:-1]), rows[2:]))
+    return out[0], out[1]
 
 
 def sparse_voxels(
@@ -139,7 +151,10 @@ def sparse_voxels(
         return np.asarray((k[:, 0] * span[1] + k[:, 1]) * span[2] + k[:, 2], dtype=np.int64)
 
     occupied = np.sort(flat_keys(every))
-    flat = flat_keys(voxels)
+    # Probed in sorted order (each probe is the sorted keys plus a constant), which
+    # searchsorted walks through far faster than keys in voxel order.
+    order = np.argsort(flat_keys(voxels), kind="stable")
+    flat = flat_keys(voxels)[order]
     count = np.zeros(len(voxels), dtype=np.int64)
     for dx in (-1, 0, 1):
         for dy in (-1, 0, 1):
@@ -150,7 +165,9 @@ def sparse_voxels(
                 at = np.searchsorted(occupied, probe)
                 at = np.minimum(at, len(occupied) - 1)
                 count += occupied[at] == probe
-    return np.asarray(count < min_neighbours, dtype=np.bool_)
+    sparse = np.empty(len(voxels), dtype=np.bool_)
+    sparse[order] = count < min_neighbours
+    return sparse
 
 
 def sparse_points(points: FloatArray, neighbours: int = 8, ratio: float = 2.5) -> BoolArray:

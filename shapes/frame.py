@@ -6,6 +6,7 @@ z axis points up, which is what the support-plane search assumes.
 
 from __future__ import annotations
 
+import copy
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -138,11 +139,29 @@ class Frame:
             object.__setattr__(self, "colours", as_colours(self.colours, len(pts)))
         object.__setattr__(self, "world_from_sensor", as_transform(self.world_from_sensor))
 
+    def with_pose(self, world_from_sensor: npt.ArrayLike) -> Frame:
+        """This frame with another pose; only the pose is validated (the points already were,
+        and checking 300,000 of them again costs milliseconds).
+
+        Raises InvalidCloudError if ``world_from_sensor`` is not rigid.
+
+        >>> up = np.eye(4)
+        >>> up[2, 3] = 1.0
+        >>> Frame(np.zeros((1, 3))).with_pose(up).world_points().tolist()
+        [[0.0, 0.0, 1.0]]
+        """
+        posed = copy.copy(self)
+        object.__setattr__(posed, "world_from_sensor", as_transform(world_from_sensor))
+        return posed
+
     def world_points(self, mask: npt.NDArray[np.bool_] | None = None) -> FloatArray:
         """The points (optionally a subset) in the world frame."""
-        pts = self.points if mask is None else self.points[mask]
+        return self.world_points_of(self.points if mask is None else self.points[mask])
+
+    def world_points_of(self, points: FloatArray) -> FloatArray:
+        """Any ``(N, 3)`` points given in this frame's sensor frame, in the world frame."""
         t = self.world_from_sensor
-        return np.asarray(pts @ t[:3, :3].T + t[:3, 3], dtype=np.float64)
+        return np.asarray(points @ t[:3, :3].T + t[:3, 3], dtype=np.float64)
 
 
 def frame_from_depth_image(

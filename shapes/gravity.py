@@ -30,13 +30,11 @@ from dataclasses import dataclass
 import numpy as np
 
 from shapes.frame import Frame
-from shapes.segment import SegmentationParams, find_planes, voxel_grid
+from shapes.segment import SegmentationParams, Survey, survey
 from shapes.types import FloatArray
 
-__all__ = ["Gravity", "gravity_from_scene", "rotation_to_z"]
+__all__ = ["Gravity", "gravity_from_scene", "gravity_from_survey", "rotation_to_z"]
 
-_POINTS = 20_000
-"""Points the search keeps (every k-th of the frame): a table still has thousands."""
 _MIN_OBJECT_HEIGHT_M = 0.02
 """Voxels at least this far above a plane may be an object standing on it."""
 
@@ -103,25 +101,20 @@ def gravity_from_scene(
 ) -> Gravity | None:
     """Up from the frame's dominant support (see the module doc), or None if no plane is found.
 
-    The search runs in the sensor frame (the frame's own pose is ignored) on about
-    ``_POINTS`` points within ``params.max_depth_m``.
+    The search runs in the sensor frame (the frame's own pose is ignored) on the points and
+    planes that segmentation keeps (:func:`shapes.segment.survey`).
     """
-    keep = frame.points[:, 2] <= params.max_depth_m
-    points = frame.points[keep]
-    if len(points) < 3:
-        return None
-    points = points[:: max(1, len(points) // _POINTS)]
-    voxels, _ = voxel_grid(points, params.voxel_m)
-    flat = SegmentationParams(
-        voxel_m=params.voxel_m,
-        support_threshold_m=params.support_threshold_m,
-        support_iterations=params.support_iterations,
-        max_support_tilt_deg=0.0,
-        min_support_fraction=params.min_support_fraction,
-        max_planes=params.max_planes,
-        min_plane_extent_m=params.min_plane_extent_m,
+    return gravity_from_survey(
+        frame, survey(frame, params, seed), params, max_up_angle_deg=max_up_angle_deg
     )
-    planes = find_planes(voxels, flat, seed)
+
+
+def gravity_from_survey(
+    frame: Frame, surveyed: Survey, params: SegmentationParams, *, max_up_angle_deg: float = 80.0
+) -> Gravity | None:
+    """:func:`gravity_from_scene` from the frame's survey, when the caller has it already (it
+    is segmentation's first step, so a pipeline surveys each frame once)."""
+    voxels, planes = surveyed.voxels, surveyed.planes
     if not planes:
         return None
     in_plane = np.zeros(len(voxels), dtype=bool)
@@ -129,7 +122,7 @@ def gravity_from_scene(
         in_plane |= p.inliers
     free = voxels[~in_plane]
     cos_up = math.cos(math.radians(max_up_angle_deg))
-    from_camera = frame.pixels is not None or bool((points[:, 2] > 0.1).all())
+    from_camera = surveyed.in_camera_frame
     candidates = []
     for p in planes:
         normal, offset = np.asarray(p.normal, dtype=np.float64), float(p.offset)

@@ -23,8 +23,8 @@ from shapes.average import Observation, SceneAverager, SceneEvent, StableScene
 from shapes.colour import mean_colour
 from shapes.fit import FitParams, fit_cluster
 from shapes.frame import Frame
-from shapes.gravity import gravity_from_scene
-from shapes.segment import Cluster, SegmentationParams, segment
+from shapes.gravity import gravity_from_survey
+from shapes.segment import Cluster, SegmentationParams, segment, survey
 from shapes.track import Tracker, box_of
 from shapes.types import FloatArray, Primitive, ShapeKind, SupportPlane
 
@@ -127,16 +127,17 @@ class Perception:
         self.frames += 1
         rng = np.random.default_rng([self.seed, index])
         gravity = "pose"
+        surveyed = survey(frame, self.params.segmentation, self.seed + index)
         if self.params.gravity_from_scene:
-            found = gravity_from_scene(frame, self.params.segmentation, seed=self.seed + index)
+            found = gravity_from_survey(frame, surveyed, self.params.segmentation)
             if found is None:
                 gravity = "gravity from the scene: no plane found, the sensor's z axis is up"
-                frame = replace(frame, world_from_sensor=np.eye(4))
+                frame = frame.with_pose(np.eye(4))
             else:
                 gravity = found.describe()
-                frame = replace(frame, world_from_sensor=found.world_from_sensor)
+                frame = frame.with_pose(found.world_from_sensor)
         self.gravity = gravity
-        seg = segment(frame, self.params.segmentation, seed=self.seed + index)
+        seg = segment(frame, self.params.segmentation, self.seed + index, surveyed=surveyed)
         fitted = []
         for cluster in seg.clusters:
             fit = fit_cluster(

@@ -46,20 +46,12 @@ from scipy.sparse import coo_matrix
 from scipy.sparse.csgraph import connected_components
 from scipy.spatial import cKDTree
 
+from shapes.normals import patch_normals
 from shapes.types import FloatArray
 
 __all__ = ["split_touching"]
 
 log = logging.getLogger(__name__)
-
-
-def _normals(voxels: FloatArray, neighbours: int) -> FloatArray:
-    k = min(neighbours, len(voxels))
-    _, idx = cKDTree(voxels).query(voxels, k=k)
-    patches = voxels[idx]
-    centred = patches - patches.mean(axis=1, keepdims=True)
-    cov = np.einsum("nki,nkj->nij", centred, centred)
-    return np.asarray(np.linalg.eigh(cov)[1][:, :, 0], dtype=np.float64)
 
 
 def split_touching(
@@ -83,14 +75,15 @@ def split_touching(
     n = len(voxels)
     if n < 2 * min_voxels:
         return np.zeros(n, dtype=np.int64)
-    normals = _normals(voxels, neighbours)
+    tree = cKDTree(voxels)
+    normals = patch_normals(voxels, tree.query(voxels, k=min(neighbours, n))[1])
     if viewpoint is not None:
         toward = np.asarray(viewpoint) - voxels
     else:
         toward = voxels - voxels.mean(axis=0)
         toward[:, 2] = np.abs(toward[:, 2]) + 0.01
     normals *= np.where(np.einsum("ij,ij->i", normals, toward) < 0, -1.0, 1.0)[:, None]
-    pairs = cKDTree(voxels).query_pairs(link_m, output_type="ndarray")
+    pairs = tree.query_pairs(link_m, output_type="ndarray")
     if len(pairs) == 0:
         return np.arange(n, dtype=np.int64)
     i, j = pairs[:, 0], pairs[:, 1]

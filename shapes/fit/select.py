@@ -59,6 +59,7 @@ from scipy.spatial import ConvexHull, QhullError, cKDTree
 
 from shapes.fit._ransac import Model, ransac, refine_if_better
 from shapes.fit.models import ConeModel, CylinderModel, PlaneModel, SphereModel, UprightConeModel
+from shapes.normals import patch_normals
 from shapes.types import FloatArray, Primitive, ShapeKind, SupportPlane, vec3
 
 __all__ = [
@@ -170,11 +171,7 @@ def normals_at(points: FloatArray, at: FloatArray, neighbours: int) -> FloatArra
     >>> np.abs(normals_at(flat, flat[:2], 10)).round(6).tolist()
     [[0.0, 0.0, 1.0], [0.0, 0.0, 1.0]]
     """
-    _, idx = cKDTree(points).query(at, k=neighbours)
-    patches = points[idx]
-    centred = patches - patches.mean(axis=1, keepdims=True)
-    cov = np.einsum("nki,nkj->nij", centred, centred)
-    return np.asarray(np.linalg.eigh(cov)[1][:, :, 0], dtype=np.float64)
+    return patch_normals(points, cKDTree(points).query(at, k=neighbours)[1])
 
 
 def estimate_normals(points: FloatArray, neighbours: int) -> FloatArray:
@@ -532,12 +529,11 @@ def fit_cluster(
             preview_points=fp.preview_points,
         )
         if res is not None:
-            pitt_d = (
-                CylinderModel(with_caps=False).distances(res.params[None, :], sample)[0]
-                if kind is ShapeKind.CYLINDER
-                else model.distances(res.params[None, :], sample)[0]
-            )
-            counts[kind] = int((pitt_d < thr).sum())
+            if kind is ShapeKind.CYLINDER:  # PITT's cylinder has no end discs
+                pitt_d = CylinderModel(with_caps=False).distances(res.params[None, :], sample)[0]
+                counts[kind] = int((pitt_d < thr).sum())
+            else:
+                counts[kind] = int(res.inliers.sum())
             score(kind, res.params)
     if support is not None and fp.upright_cone_iterations > 0:
         # Standing cones: hypotheses with the support's normal for an axis need two points,

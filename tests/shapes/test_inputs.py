@@ -202,3 +202,10 @@ def test_bad_sources_are_refused(tmp_path, name, content, error, message):
         np.save(path, np.full((2, 3), np.nan))
     with pytest.raises(error, match=message):
         list(open_source(path))
+
+
+def test_a_frame_given_a_pose_that_is_not_rigid_says_so_and_keeps_its_own():
+    frame = Frame(np.zeros((2, 3)))
+    with pytest.raises(InvalidCloudError, match="world_from_sensor: expected a rigid transform"):
+        frame.with_pose(np.diag([1.0, 1.0, 1.0, 2.0]))
+    np.testing.assert_array_equal(frame.world_from_sensor, np.eye(4))

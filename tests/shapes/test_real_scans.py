@@ -95,6 +95,37 @@ def test_a_pose_changed_by_a_millionth_gives_the_same_primitives(mug: FrameResul
     )
 
 
+def _turned_about_up(pose: np.ndarray, angle: float) -> np.ndarray:
+    c, s = np.cos(angle), np.sin(angle)
+    turned = pose.copy()
+    turned[:3, :3] = np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]]) @ pose[:3, :3]
+    return turned
+
+
+@pytest.mark.parametrize(
+    ("name", "nudge"),
+    [
+        ("bottles_kinect", "moved"),
+        ("bottles_kinect", "turned"),
+        ("laptop_box_kinect_0", "moved"),
+        ("laptop_box_kinect_2", "turned"),
+    ],
+)
+def test_a_pose_changed_by_a_millionth_gives_the_same_primitives_on_a_cluttered_scan(
+    name: str, nudge: str
+) -> None:
+    pose = _without_pose(name).world_from_sensor
+    nudged = _turned_about_up(pose, 1e-6) if nudge == "turned" else pose.copy()
+    if nudge == "moved":
+        nudged[:3, 3] += 1e-6
+    first, second = (_run(name, pose=p) for p in (pose, nudged))
+    kinds = [[p.kind for p in r.primitives + r.supports] for r in (first, second)]
+    assert kinds[0] == kinds[1]
+    pairs = zip(first.primitives + first.supports, second.primitives + second.supports, strict=True)
+    for a, b in pairs:
+        np.testing.assert_allclose(a.centre, b.centre, atol=1e-4)
+
+
 # Hand-measured centroids of the visible points of objects that are none of the four shapes.
 OBJECTS = {
     "bottles_kinect": {
