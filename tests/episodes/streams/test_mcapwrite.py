@@ -1,0 +1,178 @@
+"""Every file Engram writes (``episodes.streams.mcapwrite``): read by the official reader with
+CRC validation, by rosbags and by our reader, with CRCs on the chunks, the data section and the
+summary, so a flipped byte is a ``CorruptRecordingError``, never different data."""
+
+import struct
+from collections.abc import Callable
+from pathlib import Path
+
+import numpy as np
+import pytest
+from mcap.reader import make_reader
+from mcap.records import Chunk, DataEnd, Footer
+from mcap.stream_reader import StreamReader
+from rosbags.highlevel import AnyReader
+
+from episodes.streams import CorruptRecordingError, Recorder, Replayer, export_bag, recover
+from episodes.streams.foxglove import add_scene_channel, scene_entity, scene_message
+from episodes.streams.mcapread import McapFile
+from episodes.streams.mcapwrite import mcap_file
+
+T0 = 1_700_000_000_000_000_000
+MESSAGE = "do not match their CRC"
+BALL = {"id": "ball", "kind": "Sphere", "centre": (0.0, 0.0, 0.05), "radius": 0.05}
+
+
+def record(path: Path, frames: int = 9, **options: object) -> list[np.ndarray]:
+    """Images (each larger than a chunk's worth of joints) on every other tick, joints on all,
+    and a provider that joins mid-recording."""
+    rng = np.random.default_rng(7)
+    images = [rng.integers(0, 256, (240, 320, 3), dtype=np.uint8) for _ in range(frames)]
+    recorder = Recorder(path, episode_id=path.name, **options)  # type: ignore[arg-type]
+    recorder.add_provider("cam", "image", encoding="rgb8")
+    recorder.add_provider("joints", "joint_state", names=["a", "b"])
+    for k, image in enumerate(images):
+        samples = {"joints": [k * 0.1, -k * 0.1]}
+        if k % 2 == 0:
+            samples["cam"] = image
+        recorder.tick(samples, time_ns=T0 + k * 10_000_000)
+        if k == 3:
+            recorder.add_provider("late", "image", encoding="rgb8")
+            recorder.tick({"late": image}, time_ns=T0 + k * 10_000_000 + 1)
+    recorder.close()
+    return images
+
+
+def scenes(bag: Path) -> None:
+    times = [T0 + 15_000_000, T0 + 10**9]  # among the samples, and after the last
+    add_scene_channel(
+        bag,
+        [(t, scene_message(scene_entity("s", [BALL], time_ns=t))) for t in times],
+        episode_id=bag.name,
+    )
+
+
+def recorded(tmp: Path) -> Path:
+    record(tmp / "plain")
+    return tmp / "plain"
+
+
+def zstd(tmp: Path) -> Path:
+    record(tmp / "zstd", compression="zstd")
+    return tmp / "zstd"
+
+
+def lz4(tmp: Path) -> Path:
+    record(tmp / "lz4", compression="lz4")
+    return tmp / "lz4"
+
+
+def with_scenes(tmp: Path) -> Path:
+    record(tmp / "scenes", compression="zstd")
+    scenes(tmp / "scenes")
+    return tmp / "scenes"
+
+
+def scenes_only(tmp: Path) -> Path:
+    scenes(tmp / "only")
+    return tmp / "only"
+
+
+def exported(tmp: Path) -> Path:
+    record(tmp / "source")
+    export_bag(tmp / "source", tmp / "exported")
+    return tmp / "exported"
+
+
+def recovered(tmp: Path) -> Path:
+    record(tmp / "cut")
+    file = mcap_file(tmp / "cut")
+    with file.open("r+b") as stream:
+        summary = make_reader(stream).get_summary()
+        assert summary is not None
+        last = summary.chunk_indexes[-1]
+        # a crash after the last chunk: no metadata, no summary, no footer
+        stream.truncate(last.chunk_start_offset + last.chunk_length + last.message_index_length)
+    (tmp / "cut" / "metadata.yaml").unlink()
+    recover(tmp / "cut")
+    return tmp / "cut"
+
+
+WRITTEN: list[Callable[[Path], Path]] = [
+    recorded,
+    zstd,
+    lz4,
+    with_scenes,
+    scenes_only,
+    exported,
+    recovered,
+]
+
+
+@pytest.mark.parametrize("write", WRITTEN, ids=[w.__name__ for w in WRITTEN])
+def test_every_file_we_write_passes_every_reader_with_crcs(
+    tmp_path: Path, write: Callable[[Path], Path]
+) -> None:
+    bag = write(tmp_path)
+    file = mcap_file(bag)
+
+    with file.open("rb") as stream:
+        reader = make_reader(stream, validate_crcs=True)
+        summary = reader.get_summary()
+        assert summary is not None and summary.statistics is not None
+        official = [(c.topic, m.log_time, m.data) for _, c, m in reader.iter_messages()]
+        assert summary.statistics.message_count == len(official)
+        assert summary.chunk_indexes and all(c.message_index_offsets for c in summary.chunk_indexes)
+    with file.open("rb") as stream:  # forward, every record, every CRC checked
+        records = list(StreamReader(stream, skip_magic=False, validate_crcs=True).records)
+    assert all(r.uncompressed_crc != 0 for r in records if isinstance(r, Chunk))
+    assert [r.data_section_crc != 0 for r in records if isinstance(r, DataEnd)] == [True]
+    assert [r.summary_crc != 0 for r in records if isinstance(r, Footer)] == [True]
+
+    ours = [(m.topic, m.log_time, bytes(m.data)) for m in McapFile.open(file).messages()]
+    assert sorted(ours) == sorted(official)
+    logged = [t for _, t, _ in ours]
+    assert logged == sorted(logged)  # in file order, log times never go backwards
+
+    with AnyReader([bag]) as rosbag:
+        assert rosbag.message_count == len(official)
+        assert sorted((c.topic, t, bytes(raw)) for c, t, raw in rosbag.messages()) == sorted(
+            official
+        )
+
+
+def test_large_samples_read_back_the_same(tmp_path: Path) -> None:
+    images = record(tmp_path / "big", frames=9)
+    replayed = list(Replayer(tmp_path / "big").frames())
+    cams = [f.samples["cam"].value for f in replayed if "cam" in f.samples]
+    assert len(cams) == 5
+    for k, value in enumerate(cams):
+        assert np.array_equal(value, images[2 * k])
+    late = [f.samples["late"].value for f in replayed if "late" in f.samples]
+    assert len(late) == 1 and np.array_equal(late[0], images[3])
+
+
+def _first_image_byte(file: Path) -> int:
+    """The offset of a byte in the middle of the first image's pixels."""
+    data = file.read_bytes()
+    header = struct.pack("<II", 240, 320)  # sensor_msgs/Image: height, width
+    at = data.index(header)
+    return at + 1000
+
+
+@pytest.mark.parametrize("write", [recorded, with_scenes], ids=["recorded", "with scenes"])
+def test_a_flipped_byte_is_a_corrupt_recording_not_other_data(
+    tmp_path: Path, write: Callable[[Path], Path]
+) -> None:
+    bag = write(tmp_path)
+    file = mcap_file(bag)
+    # compressed: a byte inside the first chunk's data; else one of the first image's pixels
+    offset = file.stat().st_size // 3 if write is with_scenes else _first_image_byte(file)
+    data = bytearray(file.read_bytes())
+    data[offset] ^= 0x01
+    file.write_bytes(bytes(data))
+
+    with pytest.raises(CorruptRecordingError, match=MESSAGE):
+        list(McapFile.open(file).messages())
+    with pytest.raises(CorruptRecordingError):
+        list(Replayer(bag).frames())
