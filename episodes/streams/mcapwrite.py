@@ -32,32 +32,63 @@ loses only what came after the last flush; such a file has no summary and is rea
 from __future__ import annotations
 
 import os
+import struct
+import zlib
 from collections.abc import Mapping
 from dataclasses import dataclass
 from importlib.metadata import PackageNotFoundError, version
 from io import StringIO
 from pathlib import Path
-from typing import Any
+from typing import IO, Any
 
-from mcap.writer import LIBRARY_IDENTIFIER, CompressionType, Writer
+import lz4.frame
+import zstandard
+from mcap.data_stream import RecordBuilder
+from mcap.opcode import Opcode
+from mcap.records import (
+    Channel,
+    ChunkIndex,
+    DataEnd,
+    Footer,
+    Header,
+    MessageIndex,
+    Metadata,
+    MetadataIndex,
+    Schema,
+    Statistics,
+    SummaryOffset,
+)
+from mcap.writer import LIBRARY_IDENTIFIER, MCAP0_MAGIC
 from rosbags.typesys.store import Typestore
 from ruamel.yaml import YAML
 
 from episodes.streams.errors import InvalidSampleError, RecordingStateError
 
-__all__ = ["COMPRESSIONS", "BagWriter", "bag_metadata_text", "mcap_file"]
+__all__ = [
+    "COMPRESSIONS",
+    "BagWriter",
+    "McapWriter",
+    "bag_metadata_text",
+    "crc32_combine",
+    "mcap_file",
+]
 
 ROSBAG2_VERSION = 9
 CHUNK_BYTES = 1024 * 1024
 """Chunks close once their records pass this size (the library's and rosbags' default)."""
-COMPRESSIONS: Mapping[str | None, CompressionType] = {
-    None: CompressionType.NONE,
-    "zstd": CompressionType.ZSTD,
-    "lz4": CompressionType.LZ4,
-}
+ALONE_BYTES = 64 * 1024
+"""A recording's messages at least this large (images) get chunks of their own, so a reader
+of other channels (a plot of the joints, replay of some channels from object storage) skips
+them without reading them."""
+COMPRESSIONS = (None, "zstd", "lz4")
 """The chunk compressions a recording may use, by the name MCAP gives them."""
 _NO_QOS = "[]"
 """``offered_qos_profiles`` of a channel with none, as rosbag2 version 9 writes it."""
+_MESSAGE_HEAD = struct.Struct("<BQHIQQ")
+"""A message record's opcode, length, channel, sequence, log time and publish time."""
+_CHUNK_HEAD = struct.Struct("<BQQQQI")
+"""A chunk record's opcode, length, start and end times, records size and records CRC."""
+_CHUNK_FIELDS = 8 + 8 + 8 + 4 + 4 + 8  # times, size, CRC, compression's length, data's length
 
 
 def mcap_file(path: Path) -> Path:
@@ -71,6 +102,289 @@ def _library() -> str:
     except PackageNotFoundError:  # run from a source tree that was never installed
         ours = "0"
     return f"engram-{ours}; {LIBRARY_IDENTIFIER}"
+
+
+class McapWriter:
+    """An MCAP file written to ``stream``: the bytes ``mcap.writer.Writer`` writes for the same
+    calls (chunked, every index, statistics, summary offsets, chunk, data-section and summary
+    CRCs), with each message's payload CRC-checked while it is added and written to the
+    stream once, from the caller's buffer. With ``alone_bytes``, messages that large also
+    get chunks of their own (the library has no such setting).
+
+    The library's writer copies a payload into its chunk buffer, copies the finished chunk
+    into a record buffer, and CRCs it twice; on large images those copies, and the fresh
+    memory they take, cost three times the rest of the recorder's work. Records other than
+    messages and chunks are the library's own record classes, and a test checks this writer
+    against the library's byte for byte.
+    """
+
+    def __init__(
+        self,
+        stream: IO[bytes],
+        *,
+        compression: str | None = None,
+        chunk_bytes: int = CHUNK_BYTES,
+        alone_bytes: int | None = None,
+        profile: str = "",
+        library: str = LIBRARY_IDENTIFIER,
+    ) -> None:
+        if compression not in COMPRESSIONS:
+            raise InvalidSampleError("compression", compression, "None, 'zstd' or 'lz4'")
+        self._stream = stream
+        self._alone_bytes = alone_bytes
+        self._compression = compression or ""
+        self._chunk_bytes = chunk_bytes
+        self._schemas: dict[int, Schema] = {}
+        self._channels: dict[int, Channel] = {}
+        self._chunk_indexes: list[ChunkIndex] = []
+        self._metadata_indexes: list[MetadataIndex] = []
+        self._counts: dict[int, int] = {}
+        self._message_count = 0
+        self._start_ns = 0
+        self._end_ns = 0
+        self._metadata_count = 0
+        self._data_crc = 0
+        self._offset = 0
+        self._new_chunk()
+        self._write(MCAP0_MAGIC, _record(Header(profile, library)))
+
+    def register_schema(self, name: str, encoding: str, data: bytes) -> int:
+        """A new schema; its id."""
+        schema = Schema(id=len(self._schemas) + 1, name=name, encoding=encoding, data=data)
+        self._schemas[schema.id] = schema
+        self._add(_record(schema))
+        return schema.id
+
+    def register_channel(
+        self, topic: str, message_encoding: str, schema_id: int, metadata: Mapping[str, str]
+    ) -> int:
+        """A new channel; its id."""
+        channel = Channel(
+            id=len(self._channels) + 1,
+            topic=topic,
+            message_encoding=message_encoding,
+            schema_id=schema_id,
+            metadata=dict(metadata),
+        )
+        self._channels[channel.id] = channel
+        self._add(_record(channel))
+        return channel.id
+
+    def add_message(
+        self, channel_id: int, log_time: int, data: bytes | memoryview, publish_time: int
+    ) -> None:
+        """A message (sequence 0) into the chunk in progress; ``data`` is kept, not copied,
+        until the chunk is written. A message of at least ``alone_bytes`` closes the chunk
+        before it and gets one of its own."""
+        size = len(data)
+        alone = self._alone_bytes is not None and size >= self._alone_bytes
+        if alone:
+            self._write_chunk()
+        if self._message_count == 0:
+            self._start_ns = log_time
+        self._start_ns = min(self._start_ns, log_time)
+        self._end_ns = max(self._end_ns, log_time)
+        self._counts[channel_id] = self._counts.get(channel_id, 0) + 1
+        self._message_count += 1
+        if self._chunk_messages == 0:
+            self._chunk_start_ns = log_time
+        self._chunk_start_ns = min(self._chunk_start_ns, log_time)
+        self._chunk_end_ns = max(self._chunk_end_ns, log_time)
+        self._chunk_messages += 1
+        self._index.setdefault(channel_id, []).append((log_time, self._chunk_size))
+        head = _MESSAGE_HEAD.pack(Opcode.MESSAGE, 22 + size, channel_id, 0, log_time, publish_time)
+        self._chunk_crc = zlib.crc32(data, zlib.crc32(head, self._chunk_crc))
+        self._parts += (head, data)
+        self._chunk_size += len(head) + size
+        if alone or self._chunk_size > self._chunk_bytes:
+            self._write_chunk()
+
+    def add_metadata(self, name: str, data: Mapping[str, str]) -> None:
+        """A metadata record, written at once (before the chunk in progress)."""
+        record = _record(Metadata(name=name, metadata=dict(data)))
+        self._metadata_indexes.append(MetadataIndex(self._offset, len(record), name))
+        self._metadata_count += 1
+        self._write(record)
+
+    def flush(self) -> None:
+        """Write the chunk in progress (if it holds a message) and flush the stream."""
+        self._write_chunk()
+        self._stream.flush()
+
+    def finish(self) -> None:
+        """Write the last chunk, the data section's end, the summary and the footer."""
+        self._write_chunk()
+        self._write(_record(DataEnd(self._data_crc)))
+        summary_start = self._offset
+        summary = RecordBuilder()
+        offsets: list[SummaryOffset] = []
+
+        def group(opcode: Opcode, records: list[Any]) -> None:
+            begin = summary.count
+            for record in records:
+                record.write(summary)
+            offsets.append(SummaryOffset(opcode, summary_start + begin, summary.count - begin))
+
+        group(Opcode.SCHEMA, list(self._schemas.values()))
+        group(Opcode.CHANNEL, list(self._channels.values()))
+        group(Opcode.STATISTICS, [self._statistics()])
+        group(Opcode.CHUNK_INDEX, self._chunk_indexes)
+        group(Opcode.ATTACHMENT_INDEX, [])
+        group(Opcode.METADATA_INDEX, self._metadata_indexes)
+        offset_start = summary_start + summary.count
+        for offset in offsets:
+            offset.write(summary)
+        data = summary.end()
+        crc = zlib.crc32(
+            struct.pack("<BQQQ", Opcode.FOOTER, 20, summary_start, offset_start),
+            zlib.crc32(data),
+        )
+        self._stream.write(data)
+        self._stream.write(_record(Footer(summary_start, offset_start, crc)))
+        self._stream.write(MCAP0_MAGIC)
+
+    def _statistics(self) -> Statistics:
+        return Statistics(
+            message_count=self._message_count,
+            schema_count=len(self._schemas),
+            channel_count=len(self._channels),
+            attachment_count=0,
+            metadata_count=self._metadata_count,
+            chunk_count=len(self._chunk_indexes),
+            message_start_time=self._start_ns,
+            message_end_time=self._end_ns,
+            channel_message_counts=self._counts,
+        )
+
+    def _new_chunk(self) -> None:
+        self._parts: list[bytes | memoryview] = []
+        self._chunk_size = 0
+        self._chunk_crc = 0
+        self._chunk_messages = 0
+        self._chunk_start_ns = 0
+        self._chunk_end_ns = 0
+        self._index: dict[int, list[tuple[int, int]]] = {}
+
+    def _add(self, record: bytes) -> None:
+        """A schema or channel record into the chunk in progress."""
+        self._chunk_crc = zlib.crc32(record, self._chunk_crc)
+        self._parts.append(record)
+        self._chunk_size += len(record)
+        if self._chunk_size > self._chunk_bytes:
+            self._write_chunk()
+
+    def _write_chunk(self) -> None:
+        if self._chunk_messages == 0:
+            return  # schemas and channels wait for a message, as in the library
+        parts: list[bytes | memoryview] = self._parts
+        if self._compression == "zstd":
+            parts = [zstandard.compress(b"".join(parts))]
+        elif self._compression == "lz4":
+            parts = [lz4.frame.compress(b"".join(parts))]
+        stored = sum(len(p) for p in parts)
+        name = self._compression.encode()
+        head = (
+            _CHUNK_HEAD.pack(
+                Opcode.CHUNK,
+                _CHUNK_FIELDS + len(name) + stored,
+                self._chunk_start_ns,
+                self._chunk_end_ns,
+                self._chunk_size,
+                self._chunk_crc,
+            )
+            + struct.pack("<I", len(name))
+            + name
+            + struct.pack("<Q", stored)
+        )
+        start = self._offset
+        if self._compression:
+            self._write(head, *parts)
+        else:  # the records' CRC is known: the data section's follows without reading them again
+            self._write(head)
+            for part in parts:
+                self._stream.write(part)
+            self._data_crc = crc32_combine(self._data_crc, self._chunk_crc, self._chunk_size)
+            self._offset += self._chunk_size
+        end = self._offset
+        offsets = {}
+        for channel_id, entries in self._index.items():
+            offsets[channel_id] = self._offset
+            self._write(_record(MessageIndex(channel_id, entries)))
+        self._chunk_indexes.append(
+            ChunkIndex(
+                message_start_time=self._chunk_start_ns,
+                message_end_time=self._chunk_end_ns,
+                chunk_start_offset=start,
+                chunk_length=end - start,
+                message_index_offsets=offsets,
+                message_index_length=self._offset - end,
+                compression=self._compression,
+                compressed_size=stored,
+                uncompressed_size=self._chunk_size,
+            )
+        )
+        self._new_chunk()
+
+    def _write(self, *parts: bytes | memoryview) -> None:
+        """Bytes of the data section, counted into its CRC."""
+        for part in parts:
+            self._data_crc = zlib.crc32(part, self._data_crc)
+            self._stream.write(part)
+            self._offset += len(part)
+
+
+_CRC32_POLYNOMIAL = 0xEDB88320  # CRC-32 as zlib computes it, bits reflected
+
+
+def _multiply_mod_p(a: int, b: int) -> int:
+    """``a(x) * b(x)`` modulo the CRC-32 polynomial (reflected: x^0 is the top bit)."""
+    product = 0
+    bit = 1 << 31
+    while a:
+        if a & bit:
+            product ^= b
+            a ^= bit
+        bit >>= 1
+        b = (b >> 1) ^ _CRC32_POLYNOMIAL if b & 1 else b >> 1
+    return product
+
+
+def _powers_of_x() -> list[int]:
+    powers = [1 << 30]  # x^1
+    for _ in range(63):
+        powers.append(_multiply_mod_p(powers[-1], powers[-1]))
+    return powers
+
+
+_X_TO_2_TO_THE = _powers_of_x()
+"""``x^(2^k)`` modulo the polynomial, for k = 0..63."""
+
+
+def crc32_combine(crc_a: int, crc_b: int, length_b: int) -> int:
+    """The CRC-32 of ``a + b`` from those of ``a`` and ``b`` and the length of ``b`` (zlib's
+    ``crc32_combine``, which Python's ``zlib`` does not expose): ``a``'s CRC times
+    ``x^(8 * length_b)``, plus ``b``'s; a few dozen small multiplications, not a pass over ``b``.
+
+    >>> crc32_combine(zlib.crc32(b"chunk "), zlib.crc32(b"records"), 7) == zlib.crc32(
+    ...     b"chunk records"
+    ... )
+    True
+    """
+    shift = 1 << 31  # x^0
+    n, k = length_b, 3  # x^(8 n) = product of x^(2^(k + 3)) over the bits k of n
+    while n:
+        if n & 1:
+            shift = _multiply_mod_p(_X_TO_2_TO_THE[k], shift)
+        n >>= 1
+        k += 1
+    return _multiply_mod_p(shift, crc_a) ^ crc_b
+
+
+def _record(record: Any) -> bytes:
+    """One record's bytes, written by the library's record class."""
+    builder = RecordBuilder()
+    record.write(builder)
+    return builder.end()
 
 
 @dataclass
@@ -92,6 +406,7 @@ class BagWriter:
         compression: ``None``, ``"zstd"`` or ``"lz4"``: how chunks are compressed.
         custom_data: string pairs stored in ``metadata.yaml``'s ``custom_data``.
         chunk_bytes: a chunk closes once its records pass this size.
+        alone_bytes: messages at least this large get chunks of their own.
 
     Raises:
         RecordingStateError: ``path`` exists already.
@@ -106,6 +421,7 @@ class BagWriter:
         compression: str | None = None,
         custom_data: Mapping[str, str] | None = None,
         chunk_bytes: int = CHUNK_BYTES,
+        alone_bytes: int | None = ALONE_BYTES,
     ) -> None:
         if compression not in COMPRESSIONS:
             raise InvalidSampleError("compression", compression, "None, 'zstd' or 'lz4'")
@@ -119,14 +435,14 @@ class BagWriter:
             raise RecordingStateError(f"path: {str(self.path)!r} exists already") from None
         self.file = mcap_file(self.path)
         self._stream = self.file.open("xb")
-        self._mcap = Writer(
+        self._mcap = McapWriter(
             self._stream,
-            chunk_size=chunk_bytes,
-            compression=COMPRESSIONS[compression],
-            enable_crcs=True,
-            enable_data_crcs=True,
+            compression=compression,
+            chunk_bytes=chunk_bytes,
+            alone_bytes=alone_bytes,
+            profile="ros2",
+            library=_library(),
         )
-        self._mcap.start(profile="ros2", library=_library())
         self._schemas: dict[str, int] = {}
         self._topics: dict[int, _Topic] = {}
         self._start_ns: int | None = None
@@ -179,7 +495,7 @@ class BagWriter:
             self._start_ns = time_ns
         self._start_ns = min(self._start_ns, time_ns)
         self._end_ns = max(self._end_ns, time_ns)
-        self._mcap.add_message(channel, time_ns, data, time_ns)  # type: ignore[arg-type]
+        self._mcap.add_message(channel, time_ns, data, time_ns)
 
     def add_metadata(self, name: str, values: Mapping[str, str]) -> None:
         """Write a metadata record (a copy keeps those of the file it copies)."""
@@ -189,7 +505,7 @@ class BagWriter:
     def flush(self, *, fsync: bool = False) -> None:
         """End the chunk in progress and pass everything written to the operating system
         (with ``fsync``, to the disk)."""
-        self._mcap.flush()  # type: ignore[no-untyped-call]
+        self._mcap.flush()
         if fsync:
             os.fsync(self._stream.fileno())
 
@@ -212,9 +528,9 @@ class BagWriter:
         self._check_open()
         self._closed = True
         info = self._info()
-        self._mcap.flush()  # type: ignore[no-untyped-call]  # the last chunk before the record
+        self._mcap.flush()  # the last chunk before the record
         self._mcap.add_metadata("rosbag2", {"serialized_metadata": bag_metadata_text(info).strip()})
-        self._mcap.finish()  # type: ignore[no-untyped-call]
+        self._mcap.finish()
         self._stream.flush()
         os.fsync(self._stream.fileno())
         self._stream.close()

@@ -2,6 +2,7 @@
 CRC validation, by rosbags and by our reader, with CRCs on the chunks, the data section and the
 summary, so a flipped byte is a ``CorruptRecordingError``, never different data."""
 
+import io
 import struct
 from collections.abc import Callable
 from pathlib import Path
@@ -11,14 +12,20 @@ import pytest
 from mcap.reader import make_reader
 from mcap.records import Chunk, DataEnd, Footer
 from mcap.stream_reader import StreamReader
+from mcap.writer import CompressionType, Writer
 from rosbags.highlevel import AnyReader
 
 from episodes.streams import CorruptRecordingError, Recorder, Replayer, export_bag, recover
 from episodes.streams.foxglove import add_scene_channel, scene_entity, scene_message
 from episodes.streams.mcapread import McapFile
-from episodes.streams.mcapwrite import mcap_file
+from episodes.streams.mcapwrite import McapWriter, mcap_file
 
 T0 = 1_700_000_000_000_000_000
+LIBRARY_COMPRESSIONS = {
+    None: CompressionType.NONE,
+    "zstd": CompressionType.ZSTD,
+    "lz4": CompressionType.LZ4,
+}
 MESSAGE = "do not match their CRC"
 BALL = {"id": "ball", "kind": "Sphere", "centre": (0.0, 0.0, 0.05), "radius": 0.05}
 
@@ -152,6 +159,18 @@ def test_large_samples_read_back_the_same(tmp_path: Path) -> None:
     assert len(late) == 1 and np.array_equal(late[0], images[3])
 
 
+def test_images_get_chunks_of_their_own(tmp_path: Path) -> None:
+    """So a reader of the joints (a plot, replay of some channels from storage) skips them."""
+    record(tmp_path / "big", frames=9)
+    with mcap_file(tmp_path / "big").open("rb") as stream:
+        summary = make_reader(stream).get_summary()
+    assert summary is not None
+    topics = {c.id: c.topic for c in summary.channels.values()}
+    held = [{topics[c] for c in i.message_index_offsets} for i in summary.chunk_indexes]
+    assert sum(1 for h in held if h & {"/cam", "/late"}) == 5 + 1
+    assert all(h in ({"/cam"}, {"/late"}) for h in held if h & {"/cam", "/late"})
+
+
 def _first_image_byte(file: Path) -> int:
     """The offset of a byte in the middle of the first image's pixels."""
     data = file.read_bytes()
@@ -176,3 +195,50 @@ def test_a_flipped_byte_is_a_corrupt_recording_not_other_data(
         list(McapFile.open(file).messages())
     with pytest.raises(CorruptRecordingError):
         list(Replayer(bag).frames())
+
+
+@pytest.mark.parametrize("compression", [None, "zstd", "lz4"])
+@pytest.mark.parametrize("seed", [1, 2, 3])
+def test_the_writer_writes_the_bytes_the_library_writes(compression: str | None, seed: int) -> None:
+    """Schemas and channels declared along the way, messages from empty to several chunks
+    long, metadata, flushes: ``McapWriter`` and ``mcap.writer.Writer`` write the same bytes."""
+    rng = np.random.default_rng(seed)
+    ours_out, theirs_out = io.BytesIO(), io.BytesIO()
+    ours = McapWriter(ours_out, compression=compression, chunk_bytes=4096, profile="ros2")
+    theirs = Writer(
+        theirs_out,
+        chunk_size=4096,
+        compression=LIBRARY_COMPRESSIONS[compression],
+        enable_crcs=True,
+        enable_data_crcs=True,
+    )
+    theirs.start(profile="ros2")
+    channels: list[int] = []
+    log_time = 1_000
+    for step in range(200):
+        roll = rng.random()
+        if not channels or roll < 0.05:
+            name = f"pkg/msg/T{len(channels)}"
+            definition = rng.bytes(int(rng.integers(0, 300)))
+            schema = ours.register_schema(name, "ros2msg", definition)
+            assert theirs.register_schema(name, "ros2msg", definition) == schema
+            topic, metadata = f"/t{len(channels)}", {"offered_qos_profiles": "[]"}
+            channel = ours.register_channel(topic, "cdr", schema, metadata)
+            assert theirs.register_channel(topic, "cdr", schema, metadata) == channel
+            channels.append(channel)
+        elif roll < 0.08:
+            ours.flush()
+            theirs.flush()  # type: ignore[no-untyped-call]
+        elif roll < 0.1:
+            ours.add_metadata(f"m{step}", {"key": str(step)})
+            theirs.add_metadata(f"m{step}", {"key": str(step)})
+        else:
+            size = int(rng.choice([0, 10, 300, 5000, 20_000]))
+            data = memoryview(rng.bytes(size))
+            channel = channels[int(rng.integers(len(channels)))]
+            log_time += int(rng.integers(0, 3))
+            ours.add_message(channel, log_time, data, log_time + 1)
+            theirs.add_message(channel, log_time, bytes(data), log_time + 1)
+    ours.finish()
+    theirs.finish()  # type: ignore[no-untyped-call]
+    assert ours_out.getvalue() == theirs_out.getvalue()
