@@ -41,7 +41,7 @@ from io import StringIO
 from pathlib import Path
 from typing import IO, Any
 
-import lz4.frame
+import lz4.frame  # type: ignore[import-untyped,unused-ignore]
 import zstandard
 from mcap.data_stream import RecordBuilder
 from mcap.opcode import Opcode
@@ -145,7 +145,10 @@ class McapWriter:
         self._metadata_count = 0
         self._data_crc = 0
         self._offset = 0
-        self._new_chunk()
+        self._parts: list[bytes | memoryview] = []
+        self._chunk_size = self._chunk_crc = self._chunk_messages = 0
+        self._chunk_start_ns = self._chunk_end_ns = 0
+        self._index: dict[int, list[tuple[int, int]]] = {}
         self._write(MCAP0_MAGIC, _record(Header(profile, library)))
 
     def register_schema(self, name: str, encoding: str, data: bytes) -> int:
@@ -234,7 +237,7 @@ class McapWriter:
         offset_start = summary_start + summary.count
         for offset in offsets:
             offset.write(summary)
-        data = summary.end()
+        data: bytes = summary.end()  # type: ignore[no-untyped-call]
         crc = zlib.crc32(
             struct.pack("<BQQQ", Opcode.FOOTER, 20, summary_start, offset_start),
             zlib.crc32(data),
@@ -257,13 +260,10 @@ class McapWriter:
         )
 
     def _new_chunk(self) -> None:
-        self._parts: list[bytes | memoryview] = []
-        self._chunk_size = 0
-        self._chunk_crc = 0
-        self._chunk_messages = 0
-        self._chunk_start_ns = 0
-        self._chunk_end_ns = 0
-        self._index: dict[int, list[tuple[int, int]]] = {}
+        self._parts = []
+        self._chunk_size = self._chunk_crc = self._chunk_messages = 0
+        self._chunk_start_ns = self._chunk_end_ns = 0
+        self._index = {}
 
     def _add(self, record: bytes) -> None:
         """A schema or channel record into the chunk in progress."""
@@ -384,7 +384,8 @@ def _record(record: Any) -> bytes:
     """One record's bytes, written by the library's record class."""
     builder = RecordBuilder()
     record.write(builder)
-    return builder.end()
+    data: bytes = builder.end()  # type: ignore[no-untyped-call]
+    return data
 
 
 @dataclass
