@@ -1,5 +1,5 @@
-"""Writing recordings: one rosbag2 directory (``metadata.yaml`` and one MCAP file) through the
-official ``mcap`` package's :class:`mcap.writer.Writer`.
+"""Writing recordings: one rosbag2 directory (``metadata.yaml`` and one MCAP file), written as
+the official ``mcap`` package's :class:`mcap.writer.Writer` writes it.
 
 :class:`BagWriter` is the only code that writes an MCAP file: the recorder, bag export, import
 and recovery (through the recorder) and the scene channel's rewrite all use it. The file is what
@@ -11,7 +11,14 @@ package's readers and :mod:`episodes.streams.mcapread` open it.
 
 Every chunk carries the CRC of its records, the data section's CRC is in its end record and the
 summary's in the footer; the summary repeats schemas and channels and holds statistics, chunk
-indexes (each with its message indexes), the metadata index and summary offsets.
+indexes (each with its message indexes), the metadata index and summary offsets. Messages of
+``ALONE_BYTES`` or more (images) get chunks of their own.
+
+:class:`McapWriter` assembles chunks by hand around the library's record classes, and writes
+the bytes the library's writer writes (a test compares them): the library's writer copies
+each payload twice into fresh buffers and reads it twice for CRCs, which tripled the
+recorder's CPU per camera frame; here a payload is read once for its CRC (``isal``'s CRC-32)
+and written once from the caller's buffer (figures: ``bench/README.md``).
 
 Messages must be written in log-time order (the caller's contract: the recorder's ticks only
 move forward, the scene channel's rewrite merges its updates by log time). :meth:`BagWriter.flush`
@@ -33,7 +40,6 @@ from __future__ import annotations
 
 import os
 import struct
-import zlib
 from collections.abc import Mapping
 from dataclasses import dataclass
 from importlib.metadata import PackageNotFoundError, version
@@ -43,6 +49,7 @@ from typing import IO, Any
 
 import lz4.frame  # type: ignore[import-untyped,unused-ignore]
 import zstandard
+from isal.isal_zlib import crc32
 from mcap.data_stream import RecordBuilder
 from mcap.opcode import Opcode
 from mcap.records import (
@@ -112,10 +119,10 @@ class McapWriter:
     get chunks of their own (the library has no such setting).
 
     The library's writer copies a payload into its chunk buffer, copies the finished chunk
-    into a record buffer, and CRCs it twice; on large images those copies, and the fresh
-    memory they take, cost three times the rest of the recorder's work. Records other than
-    messages and chunks are the library's own record classes, and a test checks this writer
-    against the library's byte for byte.
+    into a record buffer (both fresh memory: ~430 page faults a 640x480 frame), and CRCs it
+    twice. Here the data section's CRC is combined from the chunk's (:func:`crc32_combine`)
+    for uncompressed chunks. Records other than messages and chunks are the library's own
+    record classes.
     """
 
     def __init__(
@@ -196,7 +203,7 @@ class McapWriter:
         self._chunk_messages += 1
         self._index.setdefault(channel_id, []).append((log_time, self._chunk_size))
         head = _MESSAGE_HEAD.pack(Opcode.MESSAGE, 22 + size, channel_id, 0, log_time, publish_time)
-        self._chunk_crc = zlib.crc32(data, zlib.crc32(head, self._chunk_crc))
+        self._chunk_crc = crc32(data, crc32(head, self._chunk_crc))
         self._parts += (head, data)
         self._chunk_size += len(head) + size
         if alone or self._chunk_size > self._chunk_bytes:
@@ -238,9 +245,9 @@ class McapWriter:
         for offset in offsets:
             offset.write(summary)
         data: bytes = summary.end()  # type: ignore[no-untyped-call]
-        crc = zlib.crc32(
+        crc = crc32(
             struct.pack("<BQQQ", Opcode.FOOTER, 20, summary_start, offset_start),
-            zlib.crc32(data),
+            crc32(data),
         )
         self._stream.write(data)
         self._stream.write(_record(Footer(summary_start, offset_start, crc)))
@@ -267,7 +274,7 @@ class McapWriter:
 
     def _add(self, record: bytes) -> None:
         """A schema or channel record into the chunk in progress."""
-        self._chunk_crc = zlib.crc32(record, self._chunk_crc)
+        self._chunk_crc = crc32(record, self._chunk_crc)
         self._parts.append(record)
         self._chunk_size += len(record)
         if self._chunk_size > self._chunk_bytes:
@@ -328,7 +335,7 @@ class McapWriter:
     def _write(self, *parts: bytes | memoryview) -> None:
         """Bytes of the data section, counted into its CRC."""
         for part in parts:
-            self._data_crc = zlib.crc32(part, self._data_crc)
+            self._data_crc = crc32(part, self._data_crc)
             self._stream.write(part)
             self._offset += len(part)
 
@@ -365,7 +372,7 @@ def crc32_combine(crc_a: int, crc_b: int, length_b: int) -> int:
     ``crc32_combine``, which Python's ``zlib`` does not expose): ``a``'s CRC times
     ``x^(8 * length_b)``, plus ``b``'s; a few dozen small multiplications, not a pass over ``b``.
 
-    >>> crc32_combine(zlib.crc32(b"chunk "), zlib.crc32(b"records"), 7) == zlib.crc32(
+    >>> crc32_combine(crc32(b"chunk "), crc32(b"records"), 7) == crc32(
     ...     b"chunk records"
     ... )
     True
