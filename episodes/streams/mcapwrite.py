@@ -38,6 +38,7 @@ loses only what came after the last flush; such a file has no summary and is rea
 
 from __future__ import annotations
 
+import functools
 import os
 import struct
 from collections.abc import Mapping
@@ -377,14 +378,20 @@ def crc32_combine(crc_a: int, crc_b: int, length_b: int) -> int:
     ... )
     True
     """
-    shift = 1 << 31  # x^0
-    n, k = length_b, 3  # x^(8 n) = product of x^(2^(k + 3)) over the bits k of n
+    return _multiply_mod_p(_x_to_8_times(length_b), crc_a) ^ crc_b
+
+
+@functools.lru_cache(maxsize=256)  # a camera's frames, and so its chunks, repeat their sizes
+def _x_to_8_times(n: int) -> int:
+    """``x^(8 n)`` modulo the polynomial: the product of ``x^(2^(k + 3))`` over the bits k of n."""
+    power = 1 << 31  # x^0
+    k = 3
     while n:
         if n & 1:
-            shift = _multiply_mod_p(_X_TO_2_TO_THE[k], shift)
+            power = _multiply_mod_p(_X_TO_2_TO_THE[k], power)
         n >>= 1
         k += 1
-    return _multiply_mod_p(shift, crc_a) ^ crc_b
+    return power
 
 
 def _record(record: Any) -> bytes:
