@@ -1,5 +1,5 @@
 """The recorder's writer thread on large samples: CPU time per 640x480 RGB frame (serialising
-and writing it through ``episodes.streams.mcapwrite``), measured by the thread's own clock
+and writing it through ``episodes.streams.bagwrite``), measured by the thread's own clock
 (``Recorder.writer_cpu_s``), so the machine's load does not enter the figure.
 
 With ``--against <checkout>`` the same recording is also made by another checkout's recorder

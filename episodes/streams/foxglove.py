@@ -14,7 +14,7 @@ schema the file carries). A ``jsonschema`` channel, Foxglove's other encoding, w
 ``rosbags`` refuse the file.
 
 :func:`add_scene_channel` adds the channel to a closed recording (a copy written through
-:class:`episodes.streams.mcapwrite.BagWriter`, the recorder's own writer, with the updates
+:class:`episodes.streams.bagwrite.BagWriter`, the recorder's own writer, with the updates
 placed among the messages in log-time order), or creates a recording holding only the scenes
 when the episode recorded no streams. Pure files, no RDF: :mod:`episodes.scene_channel` reads
 the scenes from the graph.
@@ -40,9 +40,9 @@ from rosbags.typesys import Stores, get_types_from_msg, get_typestore
 from rosbags.typesys.store import Typestore
 from ruamel.yaml import YAML
 
+from episodes.streams.bagwrite import BagWriter, mcap_file
 from episodes.streams.errors import CorruptRecordingError
 from episodes.streams.mcapread import McapFile
-from episodes.streams.mcapwrite import BagWriter, mcap_file
 from episodes.streams.recorder import FORMAT_VERSION, RECORDING_TOPIC
 
 __all__ = [

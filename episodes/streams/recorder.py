@@ -3,7 +3,7 @@
 Producers call :meth:`Recorder.tick` with the samples of one recording tick. The samples are
 checked and copied in the producer's thread, given one tick time and one frame number, and put
 on a bounded queue; a writer thread serialises them and writes them through
-:class:`episodes.streams.mcapwrite.BagWriter` (MCAP with chunk, data and summary CRCs). A
+:class:`episodes.streams.bagwrite.BagWriter` (MCAP with chunk, data and summary CRCs). A
 producer never waits for the disk: when the queue's byte budget is spent, the sample is dropped
 and counted (reason ``queue_full``), never lost silently. The writer closes the current MCAP
 chunk and flushes the file every ``flush_interval_s`` (and passes each full chunk to the
@@ -46,12 +46,12 @@ from typing import Any
 import numpy as np
 
 from episodes.streams import messages
+from episodes.streams.bagwrite import COMPRESSIONS, BagWriter, mcap_file
 from episodes.streams.errors import (
     InvalidSampleError,
     RecordingStateError,
     UnknownProviderError,
 )
-from episodes.streams.mcapwrite import COMPRESSIONS, BagWriter, mcap_file
 from episodes.streams.messages import PROVIDER_TYPE, TICK_TYPE, ProviderSpec
 
 __all__ = ["ChannelStats", "Recorder", "TickResult", "mcap_file"]

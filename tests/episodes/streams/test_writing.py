@@ -1,6 +1,7 @@
-"""Every file Engram writes (``episodes.streams.mcapwrite``): read by the official reader with
-CRC validation, by rosbags and by our reader, with CRCs on the chunks, the data section and the
-summary, so a flipped byte is a ``CorruptRecordingError``, never different data."""
+"""Every file Engram writes (``episodes.streams.bagwrite`` over ``mcapwrite``): read by the
+official reader with CRC validation, by rosbags and by our reader, with CRCs on the chunks, the
+data section and the summary, so a flipped byte is a ``CorruptRecordingError``, never different
+data; and ``McapWriter`` writes the bytes the ``mcap`` package's writer writes."""
 
 import io
 import struct
@@ -16,9 +17,10 @@ from mcap.writer import CompressionType, Writer
 from rosbags.highlevel import AnyReader
 
 from episodes.streams import CorruptRecordingError, Recorder, Replayer, export_bag, recover
+from episodes.streams.bagwrite import mcap_file
 from episodes.streams.foxglove import add_scene_channel, scene_entity, scene_message
 from episodes.streams.mcapread import McapFile
-from episodes.streams.mcapwrite import McapWriter, mcap_file
+from episodes.streams.mcapwrite import McapWriter
 
 T0 = 1_700_000_000_000_000_000
 LIBRARY_COMPRESSIONS = {
