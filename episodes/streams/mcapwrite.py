@@ -96,6 +96,9 @@ class McapWriter:
             raise InvalidSampleError("compression", compression, "None, 'zstd' or 'lz4'")
         self._stream = stream
         self._alone_bytes = alone_bytes
+        # one compressor for every chunk: a new one per chunk (``zstandard.compress``) costs
+        # megabytes of fresh tables each time; same level, same bytes
+        self._zstd = zstandard.ZstdCompressor(level=3)
         self._compression = compression or ""
         self._chunk_bytes = chunk_bytes
         self._schemas: dict[int, Schema] = {}
@@ -242,7 +245,7 @@ class McapWriter:
             return  # schemas and channels wait for a message, as in the library
         parts: list[bytes | memoryview] = self._parts
         if self._compression == "zstd":
-            parts = [zstandard.compress(b"".join(parts))]
+            parts = [self._zstd.compress(b"".join(parts))]
         elif self._compression == "lz4":
             parts = [lz4.frame.compress(b"".join(parts))]
         stored = sum(len(p) for p in parts)
