@@ -131,6 +131,13 @@ class Settings(BaseSettings):
         pattern=r"^https?://\S+$",
         description="URL of the S3-compatible service of streams_url (unset: AWS's own).",
     )
+    mcap_read_limit_bytes: int = Field(
+        1024**3,
+        gt=0,
+        description="Most bytes one MCAP record, or one chunk once decompressed, may take when "
+        "a recording is read (replay, export, runs, views); a file declaring more is refused "
+        "as damaged (409). Bounds the memory a decompression bomb can take.",
+    )
     streams_cache_bytes: int = Field(
         10 * 1024**3,
         ge=0,

@@ -141,7 +141,10 @@ class Services:
 
         objects = ObjectStore(settings.streams_url, endpoint_url=settings.streams_endpoint)
         return StreamArchive(
-            objects, settings.data_dir / "streams", cache_bytes=settings.streams_cache_bytes
+            objects,
+            settings.data_dir / "streams",
+            cache_bytes=settings.streams_cache_bytes,
+            read_limit_bytes=settings.mcap_read_limit_bytes,
         )
 
     @cached_property
@@ -162,6 +165,7 @@ class Services:
             recordings=self.recordings,
             memory_state=live_state,
             archive=self.archive,
+            read_limit_bytes=self.settings.mcap_read_limit_bytes,
         )
 
     @cached_property

@@ -34,6 +34,7 @@ from pathlib import Path
 from pyoxigraph import Literal, NamedNode
 
 from episodes.streams.errors import CorruptRecordingError, StreamError
+from episodes.streams.mcapread import LIMIT_BYTES
 from episodes.streams.objects import ObjectStore, StoredObject
 from episodes.streams.ranged import SavedMessages, open_ranged, read_messages, write_messages
 from episodes.streams.recorder import PROVIDERS_TOPIC, RECORDING_TOPIC, TICKS_TOPIC, mcap_file
@@ -59,17 +60,25 @@ CACHE_BYTES = 10 * 1024**3
 class StreamArchive:
     """Episodes' recordings under ``streams_root`` (the local cache) and in ``objects``.
 
-    ``cache_bytes`` bounds what fetched recordings may occupy there (see the module's summary).
+    ``cache_bytes`` bounds what fetched recordings may occupy there (see the module's summary);
+    ``read_limit_bytes`` bounds each record and decompressed chunk a replayer reads
+    (:mod:`episodes.streams.mcapread`).
     """
 
     def __init__(
-        self, objects: ObjectStore, streams_root: Path, *, cache_bytes: int = CACHE_BYTES
+        self,
+        objects: ObjectStore,
+        streams_root: Path,
+        *,
+        cache_bytes: int = CACHE_BYTES,
+        read_limit_bytes: int = LIMIT_BYTES,
     ) -> None:
         if cache_bytes < 0:
             raise ValueError(f"cache_bytes: got {cache_bytes!r}, expected a size in bytes >= 0")
         self.objects = objects
         self.streams_root = streams_root
         self.cache_bytes = cache_bytes
+        self.read_limit_bytes = read_limit_bytes
 
     def archive(self, store: Store, episode_id: str) -> list[StoredObject]:
         """Upload the ended episode's bag, record its objects, then drop the local copy.
@@ -115,8 +124,9 @@ class StreamArchive:
         the replayer's errors for a missing or corrupt recording.
         """
         bag = bag_path(self.streams_root, episode_id)
+        limit = self.read_limit_bytes
         if bag.is_dir():
-            return Replayer(self.local(store, episode_id))
+            return Replayer(self.local(store, episode_id), limit_bytes=limit)
         stored = self.stored(store, episode_id)
         mcap = [s for s in stored if s.name.endswith(".mcap")]
         if len(mcap) == 1:
@@ -125,13 +135,18 @@ class StreamArchive:
                 saved = [s for s in stored if s.name.endswith(REPLAY_MESSAGES_SUFFIX)]
                 found = self._saved_messages(saved[0]) if saved else None
                 scan = open_ranged(
-                    read, mcap[0].size, name=mcap[0].uri, saved=found, topics=REPLAY_TOPICS
+                    read,
+                    mcap[0].size,
+                    name=mcap[0].uri,
+                    saved=found,
+                    topics=REPLAY_TOPICS,
+                    limit_bytes=limit,
                 )
             except CorruptRecordingError as error:
                 log.info("episode %s: fetching the whole recording: %s", episode_id, error)
             else:
                 return Replayer(mcap[0].uri, scan=scan)
-        return Replayer(self.local(store, episode_id))
+        return Replayer(self.local(store, episode_id), limit_bytes=limit)
 
     def _saved_messages(self, saved: StoredObject) -> SavedMessages:
         data = self.objects.read_range(saved.uri, 0, saved.size) if saved.size else b""

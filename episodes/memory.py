@@ -71,6 +71,7 @@ from episodes.streams import (
     Replayer,
     StreamError,
 )
+from episodes.streams.mcapread import LIMIT_BYTES
 from episodes.streams.replay import Frame
 from episodes.terms import ArgumentKind, check_id, episode_iri, new_id
 from episodes.times import Clock, parse_time, system_clock
@@ -102,6 +103,7 @@ class EpisodeMemory:
         recordings: Any = None,
         memory_state: MemoryState = read_memory_state,
         archive: StreamArchive | None = None,
+        read_limit_bytes: int = LIMIT_BYTES,
     ) -> None:
         self.store = store
         self.archive = archive
@@ -111,7 +113,9 @@ class EpisodeMemory:
         self.clock = clock
         self._recordings = recordings
         self.paths = DataPaths(data_dir)
-        self.run_files = RunFiles(store, self.paths, archive)
+        self.read_limit_bytes = read_limit_bytes
+        """Bounds each record and decompressed chunk a replayer reads (``streams.mcapread``)."""
+        self.run_files = RunFiles(store, self.paths, archive, read_limit_bytes=read_limit_bytes)
         """The augmentation runs' stream files (see :mod:`episodes.run_files`)."""
         self._queue: AugmentationQueue | None = None
         if store.remote is None or not store.remote.read_only:
@@ -228,7 +232,7 @@ class EpisodeMemory:
         """A replayer of the episode's recording; one in object storage is read by ranges."""
         if self.archive is not None:
             return self.archive.replayer(self.store, check_id(episode_id, "episode"))
-        return Replayer(self.streams_path(episode_id))
+        return Replayer(self.streams_path(episode_id), limit_bytes=self.read_limit_bytes)
 
     def _close_streams(self, episode_id: str) -> list[StreamDescriptor]:
         """Close the episode's recording if it is open and describe what it holds."""
@@ -239,7 +243,7 @@ class EpisodeMemory:
                 self.recordings.close(episode_id), self.paths.dir("streams")
             )
         if self.data_dir is not None and self.streams_path(episode_id).exists():
-            replayer = Replayer(self.streams_path(episode_id))
+            replayer = Replayer(self.streams_path(episode_id), limit_bytes=self.read_limit_bytes)
             return descriptors_from_recording(replayer, self.paths.dir("streams"))
         return []
 

@@ -18,6 +18,7 @@ from episodes.augmentation import DerivedSpec
 from episodes.errors import EpisodeStateError, InvalidInputError, NotFoundError
 from episodes.paths import DataPaths
 from episodes.streams import Recorder, Replayer, export_bag
+from episodes.streams.mcapread import LIMIT_BYTES
 from episodes.streams.merge import derived_frames, export_merged, merged_frames, run_prefix
 from episodes.streams.replay import Frame
 from episodes.terms import check_id
@@ -34,13 +35,25 @@ class RunFiles:
     """The runs' stream files of one memory; ``archive`` is where ended episodes' recordings
     may have gone (object storage), if anywhere."""
 
-    def __init__(self, store: Store, paths: DataPaths, archive: StreamArchive | None) -> None:
+    def __init__(
+        self,
+        store: Store,
+        paths: DataPaths,
+        archive: StreamArchive | None,
+        *,
+        read_limit_bytes: int = LIMIT_BYTES,
+    ) -> None:
         self.store = store
         self.paths = paths
         self.archive = archive
+        self.read_limit_bytes = read_limit_bytes
+        """Bounds each record and decompressed chunk read (:mod:`episodes.streams.mcapread`)."""
         self._writers: dict[tuple[str, str], _RunWriter] = {}
         self._frames: dict[str, tuple[tuple[object, ...], FrameChannels]] = {}
         self._lock = threading.Lock()
+
+    def _replayer(self, path: Path) -> Replayer:
+        return Replayer(path, limit_bytes=self.read_limit_bytes)
 
     def source(self, episode_id: str) -> Path:
         """The episode's bag directory for reading: fetched from object storage if need be."""
@@ -64,7 +77,7 @@ class RunFiles:
             tick.frame: frozenset(
                 name for provider in tick.providers for name in (provider, "/" + provider)
             )
-            for tick in Replayer(path).ticks
+            for tick in self._replayer(path).ticks
         }
         self._frames[episode_id] = (key, frames)
         return frames
@@ -88,7 +101,9 @@ class RunFiles:
             if writer is None:
                 source = self.source(episode_id)
                 times = (
-                    {t.frame: t.time_ns for t in Replayer(source).ticks} if source.exists() else {}
+                    {t.frame: t.time_ns for t in self._replayer(source).ticks}
+                    if source.exists()
+                    else {}
                 )
                 path = self.paths.run(episode_id, run_id)
                 writer = _RunWriter(Recorder(path, episode_id=episode_id), times)
@@ -119,7 +134,7 @@ class RunFiles:
                 f"run: run {run_id!r} of episode {episode_id!r} has no derived data stored "
                 "(post samples with values)"
             )
-        return run_prefix(run.name, run.version), Replayer(path)
+        return run_prefix(run.name, run.version), self._replayer(path)
 
     def channels(self, episode_id: str, run_id: str) -> list[str]:
         """The derived channels a run's stream file holds (none without one)."""
@@ -139,7 +154,7 @@ class RunFiles:
         ``merge``, the source frames (``channels`` of them) with the derived samples beside
         the originals, named ``augmentations/<name>/v<version>/<channel>``."""
         prefix, run = self.replayer(episode_id, run_id)
-        source = Replayer(self.paths.streams(episode_id))
+        source = self._replayer(self.paths.streams(episode_id))
         if merge:
             return merged_frames(source, [(prefix, run)], channels)
         return derived_frames(source, run, channels)
@@ -155,9 +170,9 @@ class RunFiles:
                     prefix, _ = self.replayer(episode_id, run.id)  # flushes a run still open
                     runs.append((prefix, self.paths.run(episode_id, run.id)))
         if runs:
-            export_merged(source, runs, dest)
+            export_merged(source, runs, dest, limit_bytes=self.read_limit_bytes)
         else:
-            export_bag(source, dest)
+            export_bag(source, dest, limit_bytes=self.read_limit_bytes)
 
     def close_run(self, episode_id: str, run_id: str) -> None:
         """Close the run's stream file if it is open."""

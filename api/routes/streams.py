@@ -348,7 +348,7 @@ def export(
         if with_runs:
             memory.export_streams(episode_id, work / episode_id, with_runs=True)
         else:
-            export_bag(source, work / episode_id)
+            export_bag(source, work / episode_id, limit_bytes=memory.read_limit_bytes)
         archive = work / f"{episode_id}.tar"
         with tarfile.open(archive, "w") as tar:
             tar.add(work / episode_id, arcname=episode_id)

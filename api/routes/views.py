@@ -226,7 +226,9 @@ async def episode_list(
 )
 async def channel_list(memory: EpisodesDep, episode_id: str) -> ChannelList:
     path = memory.streams_path(check_id(episode_id, "episode_id"))
-    return await run_in_threadpool(channels.channel_list, episode_id, path)
+    return await run_in_threadpool(
+        channels.channel_list, episode_id, path, limit_bytes=memory.read_limit_bytes
+    )
 
 
 @router.get(
@@ -242,7 +244,9 @@ async def plot(
 ) -> PlotData:
     """Per bucket of samples its minimum and maximum, at most ``points`` points in all."""
     path = memory.streams_path(check_id(episode_id, "episode_id"))
-    return await run_in_threadpool(channels.plot_data, path, channel, points=points)
+    return await run_in_threadpool(
+        channels.plot_data, path, channel, points=points, limit_bytes=memory.read_limit_bytes
+    )
 
 
 @router.get(
@@ -258,7 +262,14 @@ async def frames(
     limit: Annotated[int, Query(ge=1, le=100_000)] = 10_000,
 ) -> FrameList:
     path = memory.streams_path(check_id(episode_id, "episode_id"))
-    return await run_in_threadpool(channels.frame_list, path, channel, offset=offset, limit=limit)
+    return await run_in_threadpool(
+        channels.frame_list,
+        path,
+        channel,
+        offset=offset,
+        limit=limit,
+        limit_bytes=memory.read_limit_bytes,
+    )
 
 
 async def warm_up(memory: SceneMemory, *, poll_s: float = 0.5) -> None:

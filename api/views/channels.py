@@ -31,6 +31,7 @@ from episodes.streams import (
     Replayer,
     UnknownProviderError,
 )
+from episodes.streams.mcapread import LIMIT_BYTES
 
 __all__ = ["MAX_POINTS", "channel_list", "decimate", "frame_list", "plot_data"]
 
@@ -70,10 +71,10 @@ def _cached(path: Path, key: str, compute: Any) -> Any:
     return value
 
 
-def _replayer(path: Path) -> Replayer:
+def _replayer(path: Path, limit_bytes: int) -> Replayer:
     if not path.exists():
         raise RecordingNotFoundError(f"episode: nothing was recorded at {path.name!r}")
-    replayer: Replayer = _cached(_file(path), "", lambda: Replayer(path))
+    replayer: Replayer = _cached(_file(path), "", lambda: Replayer(path, limit_bytes=limit_bytes))
     return replayer
 
 
@@ -85,18 +86,23 @@ def _file(path: Path) -> Path:
     return path
 
 
-def channel_list(episode_id: str, path: Path) -> ChannelList:
+def channel_list(episode_id: str, path: Path, *, limit_bytes: int = LIMIT_BYTES) -> ChannelList:
     """The channels of the recording at ``path`` with their sample counts and coverage (from
-    the file's indexes when it has them, else by replaying its tick records).
+    the file's indexes when it has them, else by replaying its tick records); ``limit_bytes``
+    bounds each record and decompressed chunk read (here and in the functions below).
 
     Raises ``RecordingNotFoundError`` when nothing was recorded."""
     if not path.exists():
         raise RecordingNotFoundError(f"episode: nothing was recorded at {path.name!r}")
-    indexed = _cached(_file(path), "times", lambda: series_scan.recording_times(_file(path)))
+    indexed = _cached(
+        _file(path),
+        "times",
+        lambda: series_scan.recording_times(_file(path), limit_bytes=limit_bytes),
+    )
     if indexed is not None:
         ticks, providers, samples = indexed.ticks, indexed.providers, indexed.samples
     else:
-        replayer = _replayer(path)
+        replayer = _replayer(path, limit_bytes)
         providers = replayer.providers
         ticks = np.asarray([t.time_ns for t in replayer.ticks], dtype=np.int64)
         times: dict[str, list[int]] = {name: [] for name in providers}
@@ -198,10 +204,12 @@ def _names(channel: str, spec: Any, width: int) -> list[str]:
     return names + [f"{channel}[{i}]" for i in range(len(names), width)]
 
 
-def _scanned_series(path: Path, key: str) -> tuple[Any, int | None, _Series | None]:
+def _scanned_series(
+    path: Path, key: str, limit_bytes: int
+) -> tuple[Any, int | None, _Series | None]:
     """The channel's spec, the first tick time and its series when one scan of the file gives
     them (:mod:`api.views.series`); the series is None when only replay can read it."""
-    scan = series_scan.scan_channel(_file(path), key)
+    scan = series_scan.scan_channel(_file(path), key, limit_bytes=limit_bytes)
     spec = scan.providers.get(key)
     if spec is None or scan.time_ns is None or scan.values is None:
         return spec, scan.start_ns, None
@@ -209,7 +217,7 @@ def _scanned_series(path: Path, key: str) -> tuple[Any, int | None, _Series | No
     return spec, scan.start_ns, _Series(_names(key, spec, values.shape[0]), scan.time_ns, values)
 
 
-def plot_data(path: Path, channel: str, *, points: int) -> PlotData:
+def plot_data(path: Path, channel: str, *, points: int, limit_bytes: int = LIMIT_BYTES) -> PlotData:
     """The numeric channel ``channel`` decimated to at most ``points`` points.
 
     Raises ``UnknownProviderError`` for a channel the file lacks and ``InvalidSampleError`` for
@@ -217,9 +225,11 @@ def plot_data(path: Path, channel: str, *, points: int) -> PlotData:
     if not path.exists():
         raise RecordingNotFoundError(f"episode: nothing was recorded at {path.name!r}")
     key = channel.removeprefix("/")
-    spec, start, series = _cached(_file(path), "scan:" + key, lambda: _scanned_series(path, key))
+    spec, start, series = _cached(
+        _file(path), "scan:" + key, lambda: _scanned_series(path, key, limit_bytes)
+    )
     if series is None:  # baseline-filtered or unusual: replay it (slower, read once and kept)
-        replayer = _replayer(path)
+        replayer = _replayer(path, limit_bytes)
         key, spec = _spec(replayer, channel)
         if spec.kind not in _NUMERIC:
             raise InvalidSampleError(
@@ -241,9 +251,11 @@ def plot_data(path: Path, channel: str, *, points: int) -> PlotData:
     )
 
 
-def frame_list(path: Path, channel: str, *, offset: int, limit: int) -> FrameList:
+def frame_list(
+    path: Path, channel: str, *, offset: int, limit: int, limit_bytes: int = LIMIT_BYTES
+) -> FrameList:
     """The frame numbers and times of the ticks holding a sample of ``channel``."""
-    replayer = _replayer(path)
+    replayer = _replayer(path, limit_bytes)
     key, _ = _spec(replayer, channel)
     ticks = [t for t in replayer.ticks if key in t.providers]
     page = ticks[offset : offset + limit]

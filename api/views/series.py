@@ -26,7 +26,7 @@ from numpy.typing import NDArray
 from episodes.streams import Kind
 from episodes.streams import messages as ros
 from episodes.streams.errors import CorruptRecordingError
-from episodes.streams.mcapread import McapFile
+from episodes.streams.mcapread import LIMIT_BYTES, McapFile
 from episodes.streams.messages import PROVIDER_TYPE, ProviderSpec
 from episodes.streams.recorder import PROVIDERS_TOPIC, TICKS_TOPIC
 
@@ -254,11 +254,11 @@ class RecordingTimes:
     samples: dict[str, NDArray[np.int64]]
 
 
-def recording_times(file: Path) -> RecordingTimes | None:
+def recording_times(file: Path, *, limit_bytes: int = LIMIT_BYTES) -> RecordingTimes | None:
     """From the file's indexes alone (no chunk of samples decompressed); None for a file
     without them, or with a baseline-filtered provider (whose restored samples only the tick
     records list). Raises :class:`CorruptRecordingError` for a damaged file."""
-    recording = McapFile.open(file)
+    recording = McapFile.open(file, limit_bytes=limit_bytes)
     if not recording.indexed:
         return None
     with file.open("rb") as stream:
@@ -309,12 +309,12 @@ def _from_index(recording: McapFile, channel: str) -> ChannelScan | None:
     return ChannelScan(providers, start, time_ns, values)
 
 
-def scan_channel(file: Path, channel: str) -> ChannelScan:
+def scan_channel(file: Path, channel: str, *, limit_bytes: int = LIMIT_BYTES) -> ChannelScan:
     """The providers, the first tick time and ``channel``'s samples (``time_ns`` and
     ``values`` stay None when they cannot be sliced out), through the file's indexes when it
     has them, else by one forward read. Raises :class:`CorruptRecordingError` for a damaged
     file."""
-    recording = McapFile.open(file)
+    recording = McapFile.open(file, limit_bytes=limit_bytes)
     indexed = _from_index(recording, channel)
     if indexed is not None:
         return indexed

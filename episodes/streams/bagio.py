@@ -29,6 +29,7 @@ from episodes.streams.errors import (
     RecordingNotFoundError,
     RecordingStateError,
 )
+from episodes.streams.mcapread import LIMIT_BYTES
 from episodes.streams.messages import IMAGE_ENCODINGS, Kind, ProviderSpec
 from episodes.streams.recorder import ChannelStats, Recorder, mcap_file
 from episodes.streams.replay import Frame, Replayer
@@ -77,8 +78,11 @@ def _tick(recorder: Recorder, frame: Frame) -> None:
         raise RecordingStateError(f"frame {frame.number}: samples dropped {result.dropped}")
 
 
-def export_bag(source: Path | str, dest: Path | str) -> list[ChannelStats]:
-    """Write the episode at ``source`` as a standalone rosbag2 directory ``dest``.
+def export_bag(
+    source: Path | str, dest: Path | str, *, limit_bytes: int = LIMIT_BYTES
+) -> list[ChannelStats]:
+    """Write the episode at ``source`` as a standalone rosbag2 directory ``dest``; each record
+    and decompressed chunk of ``source`` may take at most ``limit_bytes``.
 
     Raises:
         RecordingNotFoundError, CorruptRecordingError: ``source`` is not a recording.
@@ -87,7 +91,7 @@ def export_bag(source: Path | str, dest: Path | str) -> list[ChannelStats]:
     dest = Path(dest)
     if dest.exists():
         raise RecordingStateError(f"dest: {str(dest)!r} exists already")
-    stats = _copy(Replayer(source), dest, keep_baseline=False)
+    stats = _copy(Replayer(source, limit_bytes=limit_bytes), dest, keep_baseline=False)
     log.info("exported %s to %s", source, dest)
     return stats
 

@@ -13,10 +13,11 @@ and Foxglove and Lichtblick draw it in their 3D panel (they decode ROS 2 message
 schema the file carries). A ``jsonschema`` channel, Foxglove's other encoding, would make
 ``rosbags`` refuse the file.
 
-:func:`add_scene_channel` adds the channel to a closed recording (copying its MCAP records and
-completing ``metadata.yaml``), or creates a recording holding only the scenes when the episode
-recorded no streams. Pure files, no RDF: :mod:`episodes.scene_channel` reads the scenes from
-the graph.
+:func:`add_scene_channel` adds the channel to a closed recording (a copy written through
+:class:`episodes.streams.bagwrite.BagWriter`, the recorder's own writer, with the updates
+placed among the messages in log-time order), or creates a recording holding only the scenes
+when the episode recorded no streams. Pure files, no RDF: :mod:`episodes.scene_channel` reads
+the scenes from the graph.
 
 >>> from kg.primitive import Primitive
 >>> ball = Primitive("ball", "Sphere", centre=(0.1, 0.0, 0.05), radius=0.05)
@@ -32,21 +33,18 @@ import os
 import shutil
 from collections.abc import Iterable, Mapping, Sequence
 from functools import lru_cache
-from io import StringIO
 from pathlib import Path
 from typing import Any
 
-from mcap.records import Attachment, Channel, Header, Message, Metadata, Schema
-from mcap.writer import CompressionType, Writer
-from rosbags.rosbag2 import StoragePlugin
-from rosbags.rosbag2 import Writer as BagWriter
+from mcap.records import Attachment, Channel, Message, Metadata, Schema
 from rosbags.typesys import Stores, get_types_from_msg, get_typestore
 from rosbags.typesys.store import Typestore
 from ruamel.yaml import YAML
 
+from episodes.streams.bagwrite import BagWriter, mcap_file
 from episodes.streams.errors import CorruptRecordingError
 from episodes.streams.mcapread import McapFile
-from episodes.streams.recorder import FORMAT_VERSION, RECORDING_TOPIC, mcap_file
+from episodes.streams.recorder import FORMAT_VERSION, RECORDING_TOPIC
 from kg.primitive import Primitive
 
 __all__ = [
@@ -288,14 +286,16 @@ def add_scene_channel(
     """Put ``(time_ns, SceneUpdate CDR)`` pairs into the rosbag2 directory ``bag`` as the
     ``/engram/scenes`` channel (replacing one written before) and return the MCAP file.
 
-    A closed recording keeps every record it had (copied in file order, so replay reads it as
-    before) and gains the channel; ``metadata.yaml`` and the file's ``rosbag2`` metadata record
-    list it. Without a recording, a new bag holds the ``/engram/recording`` record and the
-    scenes. The MCAP file is replaced atomically (a reader sees the old file or the new one);
-    ``metadata.yaml`` follows it.
+    A closed recording keeps its topics, messages and metadata (copied in file order, so replay
+    reads it as before) and gains the channel, each update before the first message logged
+    after it; ``metadata.yaml`` and the file's ``rosbag2`` metadata record list it. Without a
+    recording, a new bag holds the ``/engram/recording`` record and the scenes. The MCAP file
+    is replaced atomically (a reader sees the old file or the new one); ``metadata.yaml``
+    follows it.
 
     Raises:
-        CorruptRecordingError: the recording cannot be read (cut short, or not MCAP).
+        CorruptRecordingError: the recording cannot be read (cut short, not MCAP, damaged, or
+            holding what the recorder never writes); it is left as it was.
     """
     bag = Path(bag)
     ordered = sorted(updates, key=lambda u: u[0])
@@ -312,14 +312,14 @@ def _new_bag(bag: Path, updates: list[tuple[int, bytes]], episode_id: str) -> Pa
     store = scene_typestore()
     staging = bag.parent / f".scenes-{bag.name}"
     shutil.rmtree(staging, ignore_errors=True)
-    staging.mkdir(parents=True)
-    writer = BagWriter(staging / bag.name, version=9, storage_plugin=StoragePlugin.MCAP)
-    writer.set_custom_data("engram.episode", episode_id)
-    writer.set_custom_data("engram.format", str(FORMAT_VERSION))
-    writer.open()
+    writer = BagWriter(
+        staging / bag.name,
+        typestore=store,
+        custom_data={"engram.episode": episode_id, "engram.format": str(FORMAT_VERSION)},
+    )
     record = json.dumps({"episode": episode_id, "format": FORMAT_VERSION})
-    recording = writer.add_connection(RECORDING_TOPIC, "std_msgs/msg/String", typestore=store)
-    scenes = writer.add_connection(SCENE_TOPIC, SCENE_TYPE, typestore=store)
+    recording = writer.add_connection(RECORDING_TOPIC, "std_msgs/msg/String")
+    scenes = writer.add_connection(SCENE_TOPIC, SCENE_TYPE)
     text = store.types["std_msgs/msg/String"](data=record)
     writer.write(recording, updates[0][0], store.serialize_cdr(text, "std_msgs/msg/String"))
     for time_ns, data in updates:
@@ -331,11 +331,7 @@ def _new_bag(bag: Path, updates: list[tuple[int, bytes]], episode_id: str) -> Pa
 
 
 def _extend_bag(bag: Path, updates: list[tuple[int, bytes]]) -> Path:
-    yaml = YAML(typ="safe")
-    yaml.default_flow_style = False
-    metadata_path = bag / "metadata.yaml"
-    document = yaml.load(metadata_path.read_text())
-    info = document["rosbag2_bagfile_information"]
+    info = YAML(typ="safe").load((bag / "metadata.yaml").read_text())["rosbag2_bagfile_information"]
     if str(info.get("compression_mode") or "").lower() not in ("", "none", "storage"):
         raise CorruptRecordingError(
             f"{str(bag)!r}: compression mode {info['compression_mode']!r} is not supported"
@@ -344,165 +340,96 @@ def _extend_bag(bag: Path, updates: list[tuple[int, bytes]]) -> Path:
     if len(files) != 1 or not str(files[0]).endswith(".mcap"):
         raise CorruptRecordingError(f"{str(bag)!r}: not a single-file MCAP bag ({files})")
     file = bag / str(files[0])
-    compression = _chunk_compression(file)  # rosbags' metadata leaves chunk compression out
-    _update_info(info, updates)
-    serialized = StringIO()
-    yaml.dump(info, serialized)
-    partial = file.with_name(file.name + ".part")
+    hashes = {
+        t["topic_metadata"]["name"]: t["topic_metadata"].get("type_description_hash")
+        for t in info.get("topics_with_message_count") or []
+    }
+    staging = bag.parent / f".scenes-{bag.name}"
+    shutil.rmtree(staging, ignore_errors=True)
     try:
-        _copy_with_scenes(file, partial, updates, compression, serialized.getvalue().strip())
-    except CorruptRecordingError:
-        partial.unlink(missing_ok=True)
-        raise
-    except (ValueError, KeyError) as error:
-        partial.unlink(missing_ok=True)
-        raise CorruptRecordingError(f"{str(file)!r} cannot be read: {error}") from error
-    partial.replace(file)
-    text = StringIO()
-    yaml.dump(document, text)
-    _write_atomically(metadata_path, text.getvalue())
-    return file
+        writer = BagWriter(
+            staging / bag.name,
+            typestore=scene_typestore(),
+            compression=_chunk_compression(file),  # rosbags' metadata leaves it out
+            custom_data=info.get("custom_data") or {},
+        )
+        try:
+            _copy_with_scenes(file, writer, updates, hashes)
+        except (ValueError, KeyError, UnicodeDecodeError) as error:
+            raise CorruptRecordingError(f"{str(file)!r} cannot be read: {error}") from error
+        written = writer.close()
+        os.replace(written, mcap_file(bag))  # a reader sees the old file or the new one
+        os.replace(written.with_name("metadata.yaml"), bag / "metadata.yaml")
+        if file != mcap_file(bag):
+            file.unlink()
+    finally:
+        shutil.rmtree(staging, ignore_errors=True)
+    return mcap_file(bag)
 
 
-def _chunk_compression(file: Path) -> CompressionType:
+def _chunk_compression(file: Path) -> str | None:
     """The compression of the file's chunks (from its summary; none when it has no summary)."""
     summary = McapFile.open(file).summary
     found = {c.compression for c in summary.chunk_indexes} if summary is not None else set()
-    return (
-        CompressionType.LZ4
-        if found == {"lz4"}
-        else (CompressionType.ZSTD if "zstd" in found else CompressionType.NONE)
-    )
-
-
-def _update_info(info: dict[str, Any], updates: list[tuple[int, bytes]]) -> None:
-    """Add the scene topic to rosbag2 metadata (counts, times) in place."""
-    store = scene_typestore()
-    topics = [
-        t
-        for t in info.get("topics_with_message_count") or []
-        if t["topic_metadata"]["name"] != SCENE_TOPIC
-    ]
-    topics.append(
-        {
-            "topic_metadata": {
-                "name": SCENE_TOPIC,
-                "type": SCENE_TYPE,
-                "serialization_format": "cdr",
-                "offered_qos_profiles": [] if int(info.get("version", 9)) >= 9 else "",
-                "type_description_hash": store.hash_rihs01(SCENE_TYPE),
-            },
-            "message_count": len(updates),
-        }
-    )
-    info["topics_with_message_count"] = topics
-    count = sum(int(t["message_count"]) for t in topics)
-    begin = int(info["starting_time"]["nanoseconds_since_epoch"])
-    end = begin + int(info["duration"]["nanoseconds"])
-    if int(info.get("message_count") or 0) == 0:
-        begin, end = updates[0][0], updates[-1][0]
-    begin, end = min(begin, updates[0][0]), max(end, updates[-1][0])
-    info["message_count"] = count
-    info["starting_time"] = {"nanoseconds_since_epoch": begin}
-    info["duration"] = {"nanoseconds": end - begin}
-    for entry in info.get("files") or []:
-        entry.update(message_count=count, starting_time=dict(info["starting_time"]))
-        entry["duration"] = dict(info["duration"])
+    return "lz4" if found == {"lz4"} else ("zstd" if "zstd" in found else None)
 
 
 def _copy_with_scenes(
     source: Path,
-    dest: Path,
+    writer: BagWriter,
     updates: list[tuple[int, bytes]],
-    compression: CompressionType,
-    serialized_metadata: str,
+    hashes: Mapping[str, str | None],
 ) -> None:
-    """Copy ``source``'s records to ``dest`` with the scene updates among its messages, each
-    before the first message logged after it, so log times never go backwards in file order
-    (the recorder's own messages are in log-time order)."""
-    store = scene_typestore()
-    with dest.open("wb") as out:
-        writer = Writer(out, compression=compression)
-        schemas: dict[int, int] = {0: 0}
-        channels: dict[int, int] = {}
-        dropped: set[int] = set()
-        metadata: dict[str, dict[str, str]] = {}
-        qos = "[]"
-        started = False
-        pending = list(reversed(updates))  # the earliest last
-        scenes: int | None = None
+    """Copy ``source``'s topics and messages through ``writer`` with the scene updates among
+    the messages, each before the first message logged after it, so log times never go
+    backwards in file order (the recorder's own messages are in log-time order). A scene
+    channel written before is left out: the updates replace it."""
+    recording = McapFile.open(source)
+    if not recording.complete:
+        raise CorruptRecordingError(f"{str(source)!r} is cut short (no footer)")
+    schemas: dict[int, Schema] = {}
+    channels: dict[int, int] = {}
+    dropped: set[int] = set()
+    pending = list(reversed(updates))  # the earliest last
+    scenes: int | None = None
 
-        def scenes_until(time_ns: int | None) -> None:
-            nonlocal scenes
-            while pending and (time_ns is None or pending[-1][0] <= time_ns):
-                if scenes is None:
-                    definition, _ = store.generate_msgdef(SCENE_TYPE, ros_version=2)
-                    schema = writer.register_schema(SCENE_TYPE, "ros2msg", definition.encode())
-                    scenes = writer.register_channel(
-                        SCENE_TOPIC, "cdr", schema, {"offered_qos_profiles": qos}
-                    )
-                time_ns_, data = pending.pop()
-                writer.add_message(
-                    scenes, time_ns_, data, time_ns_, len(updates) - len(pending) - 1
+    def scenes_until(time_ns: int | None) -> None:
+        nonlocal scenes
+        while pending and (time_ns is None or pending[-1][0] <= time_ns):
+            if scenes is None:
+                scenes = writer.add_connection(SCENE_TOPIC, SCENE_TYPE)
+            writer.write(scenes, *pending.pop())
+
+    for record in recording.records():
+        if isinstance(record, Schema):
+            schemas.setdefault(record.id, record)
+        elif isinstance(record, Channel):
+            if record.id in channels or record.id in dropped:
+                continue
+            if record.topic == SCENE_TOPIC:
+                dropped.add(record.id)
+                continue
+            schema = schemas[record.schema_id]
+            type_hash = hashes.get(record.topic)
+            if not type_hash:
+                raise CorruptRecordingError(
+                    f"{str(source)!r}: topic {record.topic!r} is not in metadata.yaml"
                 )
-
-        recording = McapFile.open(source)
-        if not recording.complete:
-            raise CorruptRecordingError(f"{str(source)!r} is cut short (no footer)")
-        for record in recording.records():
-            if isinstance(record, Header):
-                writer.start(profile=record.profile, library=record.library)
-                started = True
-            elif isinstance(record, Schema):
-                if record.id not in schemas:
-                    schemas[record.id] = writer.register_schema(
-                        record.name, record.encoding, record.data
-                    )
-            elif isinstance(record, Channel):
-                if record.id in channels or record.id in dropped:
-                    continue
-                if record.topic == SCENE_TOPIC:
-                    dropped.add(record.id)
-                    continue
-                qos = record.metadata.get("offered_qos_profiles", qos)
-                channels[record.id] = writer.register_channel(
-                    record.topic,
-                    record.message_encoding,
-                    schemas[record.schema_id],
-                    record.metadata,
-                )
-            elif isinstance(record, Message):
-                if record.channel_id not in dropped:
-                    scenes_until(record.log_time)
-                    writer.add_message(
-                        channels[record.channel_id],
-                        record.log_time,
-                        record.data,
-                        record.publish_time,
-                        record.sequence,
-                    )
-            elif isinstance(record, Metadata):
-                metadata[record.name] = dict(record.metadata)
-            elif isinstance(record, Attachment):
-                writer.add_attachment(
-                    record.create_time, record.log_time, record.name, record.media_type, record.data
-                )
-        if not started:
-            raise ValueError("no MCAP header")
-        scenes_until(None)
-        if "rosbag2" in metadata:
-            metadata["rosbag2"]["serialized_metadata"] = serialized_metadata
-        for name, values in metadata.items():
-            writer.add_metadata(name, values)
-        writer.finish()  # type: ignore[no-untyped-call]
-        out.flush()
-        os.fsync(out.fileno())
-
-
-def _write_atomically(path: Path, text: str) -> None:
-    partial = path.with_name(path.name + ".part")
-    with partial.open("w") as stream:
-        stream.write(text)
-        stream.flush()
-        os.fsync(stream.fileno())
-    partial.replace(path)
+            channels[record.id] = writer.add_connection(
+                record.topic,
+                schema.name,
+                definition=(schema.encoding, schema.data.decode()),
+                type_hash=type_hash,
+            )
+        elif isinstance(record, Message):
+            if record.channel_id not in dropped:
+                scenes_until(record.log_time)
+                writer.write(channels[record.channel_id], record.log_time, record.data)
+        elif isinstance(record, Metadata):
+            if record.name != "rosbag2":  # the writer writes the bag's own
+                writer.add_metadata(record.name, record.metadata)
+        elif isinstance(record, Attachment):
+            raise CorruptRecordingError(
+                f"{str(source)!r}: holds attachments, which the recorder never writes"
+            )
+    scenes_until(None)

@@ -364,7 +364,7 @@ class McapFile:
     ) -> Iterator[RawMessage]:
         assert self.summary is not None
         channels = _Channels(self.summary)
-        for run in _runs(self.chunk_indexes(wanted, start_ns)):
+        for run in _runs(self.chunk_indexes(wanted, start_ns), min(RUN_BYTES, self.limit_bytes)):
             start = run[0].chunk_start_offset
             span = self._span(file, start, run[-1].chunk_start_offset + run[-1].chunk_length)
             for index in run:
@@ -375,8 +375,12 @@ class McapFile:
 
     def _span(self, file: IO[bytes], start: int, end: int) -> tuple[int, bytes]:
         """The bytes from ``start`` to ``end`` of the data section, read at once."""
-        if not len(MAGIC) <= start < end <= self.data_end or end - start > self.limit_bytes:
+        if not len(MAGIC) <= start < end <= self.data_end:
             raise self._error(start, f"chunks indexed up to offset {end}, outside the data section")
+        if end - start > self.limit_bytes:
+            raise self._error(
+                start, f"a chunk of {end - start} bytes, over the limit {self.limit_bytes}"
+            )
         file.seek(start)
         data = file.read(end - start)
         if len(data) != end - start:
@@ -621,17 +625,17 @@ class McapFile:
             pos += _HEAD.size + length
 
 
-def _runs(chunks: list[ChunkIndex]) -> Iterator[list[ChunkIndex]]:
+def _runs(chunks: list[ChunkIndex], run_bytes: int) -> Iterator[list[ChunkIndex]]:
     """Chunks in runs read at once: a chunk joins the run before it when at most
     ``GAP_BYTES`` (its message indexes) lie between them and the run stays within
-    ``RUN_BYTES``."""
+    ``run_bytes``."""
     run: list[ChunkIndex] = []
     for chunk in chunks:
         if run:
             last_end = run[-1].chunk_start_offset + run[-1].chunk_length
             gap = chunk.chunk_start_offset - last_end
             end = chunk.chunk_start_offset + chunk.chunk_length
-            if not 0 <= gap <= GAP_BYTES or end - run[0].chunk_start_offset > RUN_BYTES:
+            if not 0 <= gap <= GAP_BYTES or end - run[0].chunk_start_offset > run_bytes:
                 yield run
                 run = []
         run.append(chunk)

@@ -18,6 +18,7 @@ from pathlib import Path
 
 from episodes.streams.bagio import _BACKLOG_BYTES, _settings, _tick
 from episodes.streams.errors import RecordingStateError
+from episodes.streams.mcapread import LIMIT_BYTES
 from episodes.streams.recorder import ChannelStats, Recorder
 from episodes.streams.replay import Frame, Replayer, Sample
 
@@ -86,10 +87,15 @@ def merged_frames(
 
 
 def export_merged(
-    source: Path | str, runs: Sequence[tuple[str, Path]], dest: Path | str
+    source: Path | str,
+    runs: Sequence[tuple[str, Path]],
+    dest: Path | str,
+    *,
+    limit_bytes: int = LIMIT_BYTES,
 ) -> list[ChannelStats]:
     """Write the episode at ``source`` and its runs as one standalone rosbag2 directory: the
-    original topics, and each derived channel as ``/<prefix>/<channel>``.
+    original topics, and each derived channel as ``/<prefix>/<channel>``; each record and
+    decompressed chunk read may take at most ``limit_bytes``.
 
     Raises:
         RecordingStateError: ``dest`` exists already.
@@ -97,8 +103,8 @@ def export_merged(
     dest = Path(dest)
     if dest.exists():
         raise RecordingStateError(f"dest: {str(dest)!r} exists already")
-    original = Replayer(source)
-    replayers = [(prefix, Replayer(path)) for prefix, path in runs]
+    original = Replayer(source, limit_bytes=limit_bytes)
+    replayers = [(prefix, Replayer(path, limit_bytes=limit_bytes)) for prefix, path in runs]
     recorder = Recorder(dest, episode_id=original.episode_id, max_queue_bytes=4 * _BACKLOG_BYTES)
     try:
         for name, spec in original.providers.items():

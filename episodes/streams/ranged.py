@@ -31,7 +31,7 @@ from pathlib import Path
 from typing import IO, cast
 
 from episodes.streams.errors import CorruptRecordingError
-from episodes.streams.mcapread import MAGIC, McapFile, MessageSource, RawMessage
+from episodes.streams.mcapread import LIMIT_BYTES, MAGIC, McapFile, MessageSource, RawMessage
 
 __all__ = [
     "RangedFile",
@@ -159,16 +159,18 @@ def open_ranged(
     name: str,
     saved: SavedMessages | None = None,
     topics: Collection[str] = (),
+    limit_bytes: int = LIMIT_BYTES,
 ) -> MessageSource:
     """The MCAP file of ``size`` bytes read by ``read``, with the ``saved`` messages of
-    ``topics`` when given. Raises :class:`CorruptRecordingError`."""
+    ``topics`` when given; ``limit_bytes`` as :class:`McapFile`'s. Raises
+    :class:`CorruptRecordingError`."""
     # the saved messages were written from this file, read whole (its magic bytes checked)
     known = [(0, MAGIC), saved.tail] if saved is not None else []
 
     def opener() -> IO[bytes]:
         return cast(IO[bytes], RangedFile(read, size, name=name, known=known))
 
-    recording = McapFile(opener, name=name)
+    recording = McapFile(opener, name=name, limit_bytes=limit_bytes)
     return SavedTopics(recording, saved, topics) if saved is not None else recording
 
 

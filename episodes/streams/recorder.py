@@ -2,11 +2,13 @@
 
 Producers call :meth:`Recorder.tick` with the samples of one recording tick. The samples are
 checked and copied in the producer's thread, given one tick time and one frame number, and put
-on a bounded queue; a writer thread serialises them and writes them with ``rosbags``. A
+on a bounded queue; a writer thread serialises them and writes them through
+:class:`episodes.streams.bagwrite.BagWriter` (MCAP with chunk, data and summary CRCs). A
 producer never waits for the disk: when the queue's byte budget is spent, the sample is dropped
 and counted (reason ``queue_full``), never lost silently. The writer closes the current MCAP
-chunk and flushes the file every ``flush_interval_s`` (and whenever rosbags closes a full
-chunk), so a crash leaves a file readable up to the last flushed chunk
+chunk and flushes the file every ``flush_interval_s`` (and passes each full chunk to the
+operating system as soon as it is written), so a crash leaves a file readable up to the last
+flushed chunk
 (:class:`episodes.streams.Replayer` reads it, :func:`episodes.streams.recover` completes it).
 
 File layout (all topics in one MCAP file, log time = tick time):
@@ -33,25 +35,23 @@ from __future__ import annotations
 import datetime as dt
 import json
 import logging
-import os
 import queue
 import threading
 import time
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any, cast
+from typing import Any
 
 import numpy as np
-from rosbags.rosbag2 import CompressionFormat, CompressionMode, StoragePlugin, Writer
 
 from episodes.streams import messages
+from episodes.streams.bagwrite import COMPRESSIONS, BagWriter, mcap_file
 from episodes.streams.errors import (
     InvalidSampleError,
     RecordingStateError,
     UnknownProviderError,
 )
-from episodes.streams.mcap_direct import DIRECT_BYTES, can_write_alone, write_alone
 from episodes.streams.messages import PROVIDER_TYPE, TICK_TYPE, ProviderSpec
 
 __all__ = ["ChannelStats", "Recorder", "TickResult", "mcap_file"]
@@ -64,11 +64,6 @@ RECORDING_TOPIC = "/engram/recording"
 FORMAT_VERSION = 1
 _MAX_NS = 2**63 - 1
 _EPOCH = dt.datetime(1970, 1, 1, tzinfo=dt.UTC)
-
-
-def mcap_file(path: Path) -> Path:
-    """The MCAP file inside a rosbag2 directory written by the recorder."""
-    return path / f"{path.name}.mcap"
 
 
 def _iso(ns: int | None) -> str | None:
@@ -157,7 +152,7 @@ class Recorder:
         max_queue_bytes: memory the queue may hold before samples are dropped (and counted).
         flush_interval_s: the longest time a written sample waits before it is on disk.
         fsync: also ``os.fsync`` the file at each flush (survives power loss, costs I/O).
-        compression: ``None`` or ``"zstd"`` (MCAP chunk compression).
+        compression: ``None``, ``"zstd"`` or ``"lz4"`` (MCAP chunk compression).
         clock: tick times in ns since the UNIX epoch; injectable for tests.
 
     Raises:
@@ -182,8 +177,8 @@ class Recorder:
             raise InvalidSampleError("max_queue_bytes", max_queue_bytes, "a positive size")
         if not flush_interval_s > 0:
             raise InvalidSampleError("flush_interval_s", flush_interval_s, "a positive duration")
-        if compression not in (None, "zstd"):
-            raise InvalidSampleError("compression", compression, "None or 'zstd'")
+        if compression not in COMPRESSIONS:
+            raise InvalidSampleError("compression", compression, "None, 'zstd' or 'lz4'")
         if self.path.exists():
             raise RecordingStateError(f"path: {str(self.path)!r} exists already")
         self.path.parent.mkdir(parents=True, exist_ok=True)
@@ -201,24 +196,20 @@ class Recorder:
         self._failure: BaseException | None = None
         self.writer_cpu_s = 0.0
 
-        self._writer = Writer(self.path, version=9, storage_plugin=StoragePlugin.MCAP)
-        if compression == "zstd":
-            self._writer.set_compression(CompressionMode.STORAGE, CompressionFormat.ZSTD)
-        self._writer.set_custom_data("engram.episode", episode_id)
-        self._writer.set_custom_data("engram.format", str(FORMAT_VERSION))
-        self._writer.open()
-        self._direct = can_write_alone(self._writer)
-        """Large samples skip rosbags' chunk buffer (see :mod:`episodes.streams.mcap_direct`)."""
         self._ts = messages.typestore()
-        self._connections: dict[str, Any] = {}
+        self._writer = BagWriter(
+            self.path,
+            typestore=self._ts,
+            compression=compression,
+            custom_data={"engram.episode": episode_id, "engram.format": str(FORMAT_VERSION)},
+        )
+        self._connections: dict[str, int] = {}
         for topic, msgtype in (
             (RECORDING_TOPIC, "std_msgs/msg/String"),
             (PROVIDERS_TOPIC, PROVIDER_TYPE),
             (TICKS_TOPIC, TICK_TYPE),
         ):
-            self._connections[topic] = self._writer.add_connection(
-                topic, msgtype, typestore=self._ts
-            )
+            self._connections[topic] = self._writer.add_connection(topic, msgtype)
         self._started = False
         self._thread = threading.Thread(
             target=self._run, name=f"engram-recorder-{episode_id}", daemon=True
@@ -428,23 +419,11 @@ class Recorder:
 
     # ----------------------------------------------------------------- writer side
 
-    def _storage(self) -> Any:
-        # rosbags' MCAP storage writer (pinned version): we close chunks and flush the file
-        # ourselves so that a crash loses at most `flush_interval_s` of data.
-        return cast(Any, self._writer).storage
-
-    def _flush_file(self, *, close_chunk: bool) -> None:
-        storage = self._storage()
-        if close_chunk and storage.chunk.bio.tell():
-            storage.close_chunk()
-        storage.bio.flush()
-        if self._fsync:
-            os.fsync(storage.bio.fileno())
-
     def _run(self) -> None:
+        # chunks are closed and the file flushed here, so a crash loses at most
+        # `flush_interval_s` of data
         cpu0 = time.thread_time()
         last_flush = time.monotonic()
-        chunks_seen = 0
         try:
             while True:
                 item = self._queue.get()
@@ -453,7 +432,7 @@ class Recorder:
                 if isinstance(item, threading.Event):
                     if self._failure is None:
                         self._write_pending_providers(self._record_time())
-                        self._flush_file(close_chunk=True)
+                        self._writer.flush(fsync=self._fsync)
                     item.set()
                     continue
                 if self._failure is not None:
@@ -461,14 +440,12 @@ class Recorder:
                     continue
                 try:
                     self._write_tick(item)
-                    chunks = len(self._storage().chunks)
                     now = time.monotonic()
                     if now - last_flush >= self._flush_interval_s:
-                        self._flush_file(close_chunk=True)
-                        last_flush, chunks_seen = now, len(self._storage().chunks)
-                    elif chunks != chunks_seen:
-                        self._flush_file(close_chunk=False)
-                        chunks_seen = chunks
+                        self._writer.flush(fsync=self._fsync)
+                        last_flush = now
+                    else:
+                        self._writer.pass_on()  # a chunk the library completed
                 except Exception as exc:  # disk full, I/O error: count, never lose silently
                     log.exception("episode %s: writing failed", self.episode_id)
                     self._failure = exc
@@ -476,6 +453,8 @@ class Recorder:
             if self._failure is None:
                 self._write_pending_providers(self._record_time())
                 self._writer.close()
+            else:
+                self._writer.abort()
         except Exception as exc:
             log.exception("episode %s: closing the bag failed", self.episode_id)
             self._failure = exc
@@ -513,9 +492,7 @@ class Recorder:
                     else np.zeros(0, dtype=np.uint8)
                 ),
             )
-            self._connections[spec.topic] = self._writer.add_connection(
-                spec.topic, spec.msgtype, typestore=self._ts
-            )
+            self._connections[spec.topic] = self._writer.add_connection(spec.topic, spec.msgtype)
             self._writer.write(
                 self._connections[PROVIDERS_TOPIC],
                 time_ns,
@@ -546,10 +523,7 @@ class Recorder:
                         continue
                 msg = messages.encode(spec, stamp, value, sparse)
                 data = self._ts.serialize_cdr(msg, spec.msgtype)
-                if self._direct and len(data) >= DIRECT_BYTES:
-                    write_alone(self._writer, self._connections[spec.topic], tick.time_ns, data)
-                else:
-                    self._writer.write(self._connections[spec.topic], tick.time_ns, data)
+                self._writer.write(self._connections[spec.topic], tick.time_ns, data)
                 stored.append(1)
                 sizes.append(len(data))
                 spent.append(time.perf_counter() - began)

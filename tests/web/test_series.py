@@ -121,7 +121,7 @@ def test_the_channel_list_from_the_indexes_is_the_one_replay_gives(
     channels._cache.clear()
     indexed = channels.channel_list("ep", path)
     channels._cache.clear()
-    monkeypatch.setattr(series, "recording_times", lambda _file: None)
+    monkeypatch.setattr(series, "recording_times", lambda _file, **_: None)
     replayed = channels.channel_list("ep", path)
     assert indexed.model_dump() == replayed.model_dump()
     counts = {c.name: c.samples for c in indexed.channels}
