@@ -9,9 +9,6 @@ store in a namespace of Engram's own, which Oxigraph keeps verbatim, and every r
 See docs/literals.md for what this costs (SPARQL compares these literals as strings of an unknown
 datatype) and what the store still canonicalises (the lexical forms of the core datatypes).
 
->>> from collections.abc import Iterable
-
-from pyoxigraph import Literal, NamedNode, Quad
 >>> byte = Literal("5", datatype=NamedNode(XSD + "byte"))
 >>> stored = to_store(byte)
 >>> stored.datatype.value

@@ -21,6 +21,7 @@ from episodes.streams.bagwrite import mcap_file
 from episodes.streams.foxglove import add_scene_channel, scene_entity, scene_message
 from episodes.streams.mcapread import McapFile
 from episodes.streams.mcapwrite import McapWriter
+from kg.primitive import Primitive
 
 T0 = 1_700_000_000_000_000_000
 LIBRARY_COMPRESSIONS = {
@@ -29,7 +30,7 @@ LIBRARY_COMPRESSIONS = {
     "lz4": CompressionType.LZ4,
 }
 MESSAGE = "do not match their CRC"
-BALL = {"id": "ball", "kind": "Sphere", "centre": (0.0, 0.0, 0.05), "radius": 0.05}
+BALL = Primitive("ball", "Sphere", centre=(0.0, 0.0, 0.05), radius=0.05)
 
 
 def record(path: Path, frames: int = 9, **options: object) -> list[np.ndarray]:
