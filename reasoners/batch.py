@@ -18,13 +18,12 @@ and it answers reads as the store will be once those writes commit (:meth:`quads
 ['2']
 """
 
-import itertools
 from collections import defaultdict
-from collections.abc import Iterator, Sequence
+from collections.abc import Iterator
 from dataclasses import dataclass, field
 from typing import Protocol
 
-from pyoxigraph import BlankNode, Literal, NamedNode, Quad
+from pyoxigraph import Literal, NamedNode, Quad
 
 from kg.store import Store
 from kg.transaction import Object, Pattern, Subject, Transaction
@@ -86,35 +85,6 @@ class PendingWrites(Transaction):
             self.inserts = [q for q in self.inserts if q != quad]
         self.deletes.append(quad)
         self._deleted.add(quad)
-
-    def replace(self, deletes: Sequence[Quad], inserts: Sequence[Quad]) -> None:
-        """Delete ``deletes``, then insert ``inserts``: the same as :meth:`delete` of each and
-        then :meth:`insert` of each, for quads the caller built (thousands at a time: the score
-        view's terms), without building each quad again.
-
-        Raises ``TypeError`` for a quad outside a named graph or with a blank node (those go
-        through :meth:`insert`, which skolemises them); nothing is then recorded.
-        """
-        for quad in itertools.chain(deletes, inserts):
-            if (
-                type(quad.graph_name) is not NamedNode
-                or type(quad.subject) is BlankNode
-                or type(quad.object) is BlankNode
-            ):
-                raise TypeError(f"replace: got {quad!r}, expected a quad in a named graph")
-        doomed = self._inserted.intersection(deletes)
-        if doomed:
-            self._inserted -= doomed
-            for quad in doomed:
-                self._subjects[quad.subject].discard(quad)
-            self.inserts = [q for q in self.inserts if q not in doomed]
-        self.deletes.extend(deletes)
-        self._deleted.update(deletes)
-        self.inserts.extend(inserts)
-        self._inserted.update(inserts)
-        subjects = self._subjects
-        for quad in inserts:
-            subjects[quad.subject].add(quad)
 
     def delete_matching(
         self,

@@ -103,7 +103,7 @@ from ontologies.vocab import (
     XSD_DATETIME,
     engram,
 )
-from reasoners.batch import PendingWrites, QuadReader
+from reasoners.batch import QuadReader
 from reasoners.encode import Relation
 from reasoners.errors import InvalidPrimitiveError
 from reasoners.labels import label
@@ -614,7 +614,7 @@ def write_levels(tx: Transaction, model: MemoryModel) -> None:
     tx.insert(MEMORY_STATE_INDIVIDUAL, SLEEP_LEVELS, levels_literal(model), MEMORY)
 
 
-def write_view(tx: PendingWrites, model: MemoryModel, policy: NamedNode) -> int:
+def write_view(tx: Transaction, model: MemoryModel, policy: NamedNode) -> int:
     """Bring the score view up to date: the Z terms of every class whose Z changed since they
     were written, and the factors and largest raw ζ on the memory state. Returns the number of
     classes rewritten.
@@ -627,8 +627,6 @@ def write_view(tx: PendingWrites, model: MemoryModel, policy: NamedNode) -> int:
     model.refresh()
     rewritten = 0
     classes = model.classes
-    deletes: list[Quad] = []
-    inserts: list[Quad] = []
     for iri in sorted(model.unwritten, key=_iri_text):
         record = classes.get(iri)
         if record is None or record.written_z == record.z:
@@ -636,13 +634,11 @@ def write_view(tx: PendingWrites, model: MemoryModel, policy: NamedNode) -> int:
         old, new = record.written_z, record.z
         for x, prop in enumerate(SCORE_TERM_PROPERTIES):  # only the terms that changed
             if old is None:  # none stored (what a damaged view held is deleted when it opens)
-                inserts.append(Quad(iri, prop, term_literal(new[x]), MEMORY))
+                tx.insert(iri, prop, term_literal(new[x]), MEMORY)
             elif old[x] != new[x]:
-                deletes.append(Quad(iri, prop, term_literal(old[x]), MEMORY))
-                inserts.append(Quad(iri, prop, term_literal(new[x]), MEMORY))
+                set_value(tx, iri, prop, term_literal(old[x]), term_literal(new[x]), MEMORY)
         record.written_z = new
         rewritten += 1
-    tx.replace(deletes, inserts)
     model.unwritten.clear()
     node = MEMORY_STATE_INDIVIDUAL
     factors = (*model.coefficients(), model.max_score)

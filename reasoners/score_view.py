@@ -28,7 +28,6 @@ from ontologies.vocab import (
     SKOS_NOTATION,
 )
 from reasoners import migration, persist
-from reasoners.batch import PendingWrites
 from reasoners.loading import LoadedModel
 from reasoners.model import ClassRecord
 from reasoners.policy import Policy
@@ -62,7 +61,7 @@ class ScoreView:
         self.policy = policy
         self.policy_iri = policy_iri
 
-    def write(self, tx: PendingWrites) -> None:
+    def write(self, tx: Transaction) -> None:
         """Write the view's pending changes into ``tx``."""
         persist.write_view(tx, self.loaded.model, self.policy_iri)
 
