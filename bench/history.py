@@ -14,7 +14,8 @@
 4. The checkpoints the passes wrote (count, bytes of their state literals), and
    ``GET /memory/as-of``'s query (``history.as_of``) at the middle pass and at the end, median
    of ``--repeats`` runs, with the checkpoints and by the full scan (interleaved; the answers
-   compared).
+   compared), and by the analysts' SPARQL (``sparql/history_as_of.rq``, once; ``--no-sparql``
+   skips it).
 
 Run from the repository root::
 
@@ -137,6 +138,9 @@ def main() -> None:
     parser.add_argument("--updates-per-pass", type=int, default=5)
     parser.add_argument("--ab-updates", type=int, default=30)
     parser.add_argument("--repeats", type=int, default=5)
+    parser.add_argument(
+        "--no-sparql", action="store_true", help="skip sparql/history_as_of.rq (slow when long)"
+    )
     parser.add_argument("--quick", action="store_true", help="200 classes, 10 passes")
     args = parser.parse_args()
     if args.quick:
@@ -259,6 +263,17 @@ def main() -> None:
                 f"{statistics.median(times[True]) / statistics.median(times[False]):.3f}, "
                 f"{same}; load {os.getloadavg()[0]:.2f}"
             )
+            if not args.no_sparql:  # once: it tests every class against every pass's text
+                began, cpu = time.perf_counter(), time.process_time()
+                rows = store.select("history_as_of", asOf=history._time_literal(at))
+                wall, cpu = time.perf_counter() - began, time.process_time() - cpu
+                got = sorted((r["class"].value, r["kind"].value) for r in rows)
+                expected = sorted((c.cls.value, c.last_event) for c in answers[True])
+                print(
+                    f"  the same by sparql/history_as_of.rq: {wall * 1000:.0f} ms "
+                    f"(CPU {cpu * 1000:.0f} ms), "
+                    f"{'same answers' if got == expected else 'ANSWERS DIFFER'}"
+                )
         del memory, store
         gc.collect()
     finally:

@@ -8,7 +8,8 @@ writes the view as this code does (``engram:scoreTermComplexity``, ``scoreTermSt
 ``scoreTermRetrieve``: one ``xsd:double`` each, only the terms that changed); the other as Engram
 did before (one ``engram:scoreTerms "Z_d Z_s Z_r"`` string per changed class). The copies
 alternate round by round, so both see the same load. Printed: the median barrier time and
-its quads per round, for each layout, and typed / packed.
+its quads per round, for each layout, and typed / packed, in wall and in CPU time (every
+thread of the process; steadier under load).
 
 Run from the repository root::
 
@@ -95,21 +96,27 @@ def main() -> None:
                     for scene in scenes:
                         memory.store_scene(scene)
                     first = len(timer.quads)
-                    began = time.perf_counter()
+                    began, cpu = time.perf_counter(), time.process_time()
                     memory.transactions.settle_view()
-                    out.append((time.perf_counter() - began, sum(timer.quads[first:])))
+                    wall, cpu = time.perf_counter() - began, time.process_time() - cpu
+                    out.append((wall, sum(timer.quads[first:]), cpu))
                 persist.write_view = TYPED
         print(f"{args.size} classes, {args.rounds} rounds of {args.learns} updates per layout")
-        print(f"{'after':<10} {'layout':<7} {'median ms':>10} {'quads':>7} {'x packed':>9}")
+        print(
+            f"{'after':<10} {'layout':<7} {'median ms':>10} {'quads':>7} {'x packed':>9} "
+            f"{'CPU ms':>8} {'x packed':>9}"
+        )
         for k, name in ((3, "learns"), (4, "reinforces")):
-            base = statistics.median(t for t, _ in memories["packed"][k])
+            base = statistics.median(t for t, _, _ in memories["packed"][k])
+            base_cpu = statistics.median(c for _, _, c in memories["packed"][k])
             for layout in ("typed", "packed"):
                 runs = memories[layout][k]
-                median = statistics.median(t for t, _ in runs)
-                quads = statistics.median(q for _, q in runs)
+                median = statistics.median(t for t, _, _ in runs)
+                quads = statistics.median(q for _, q, _ in runs)
+                cpu = statistics.median(c for _, _, c in runs)
                 print(
                     f"{name:<10} {layout:<7} {1000 * median:>10.1f} {quads:>7.0f} "
-                    f"{median / base:>9.2f}"
+                    f"{median / base:>9.2f} {1000 * cpu:>8.1f} {cpu / base_cpu:>9.2f}"
                 )
         print(f"load average at the end: {os.getloadavg()}")
     finally:

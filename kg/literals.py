@@ -92,14 +92,20 @@ def quad_from_store(quad: Quad) -> Quad:
     return quad
 
 
+_REWRITTEN_TYPES = frozenset(NamedNode(XSD + name) for name in REWRITTEN)
+
+
 def quads_to_store(quads: Iterable[Quad]) -> list[Quad]:
-    """The quads to write, each literal object through :func:`to_store`."""
-    return [
-        q
-        if type(q.object) is not Literal
-        else Quad(q.subject, q.predicate, to_store(q.object), q.graph_name)
-        for q in quads
-    ]
+    """The quads to write, each literal object through :func:`to_store` (a quad whose object
+    keeps its datatype is passed on as it is, not rebuilt: a score view's write holds
+    thousands of them)."""
+    out = []
+    for quad in quads:
+        obj = quad.object
+        if type(obj) is Literal and obj.datatype in _REWRITTEN_TYPES:
+            quad = Quad(quad.subject, quad.predicate, to_store(obj), quad.graph_name)
+        out.append(quad)
+    return out
 
 
 def ntriples_to_store(data: bytes) -> bytes:

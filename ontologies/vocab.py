@@ -378,9 +378,15 @@ EVENT_LEVEL = engram("eventLevel")
 EVENT_STATE = engram("eventState")
 """On an event about a class, in histories written before checkpoints: "<kind> <level or ->
 <score or -> <class IRI>" (now a journal entry, :data:`HISTORY_ENTRY`)."""
-HISTORY_PASS_ENTRIES = engram("historyPassEntries")
+HISTORY_PASS_EVENTS = engram("historyPassEvents")
 """On an epoch node of the history: one sleep pass's class events (its level changes and
-periodic re-scorings), as :data:`HISTORY_ENTRY` lines sharing one event IRI, zlib + base64."""
+periodic re-scorings) as plain text that SPARQL string functions read: a first line "<event IRI
+after HISTORY_NS> <time, xsd:dateTime lexical form>", then one line per event "<class IRI>
+<kind> <level> <score>", every line ending with a line feed."""
+HISTORY_PASS_ENTRIES = engram("historyPassEntries")
+"""In histories written before :data:`HISTORY_PASS_EVENTS`: a pass's events as
+:data:`HISTORY_ENTRY` lines, zlib + base64 (read as they are; the memory rewrites them as
+:data:`HISTORY_PASS_EVENTS` when it opens, :mod:`reasoners.migration`)."""
 HISTORY_ENTRY = engram("historyEntry")
 """On an epoch node of the history (``<HISTORY_NS>epoch-<k>``): one class event written in epoch
 k, "<event IRI after HISTORY_NS> <kind> <level or -> <score or -> <class IRI>"."""

@@ -23,11 +23,12 @@ cue recalled; its ancestors' counts rise too, unrecorded), ``rescored``, ``level
 class per pass. A pass records a ``level`` event for each class whose level changed (with its
 new score), and, every :data:`RESCORE_EVERY_PASSES` passes, a ``rescored`` event for each other
 class whose ζ changed since the last update or pass that scored it. These events of one pass
-are not nodes: they are journal lines (below) that share one event IRI, packed in one literal,
-``engram:historyPassEntries`` on the epoch node (:func:`sleep_levels`), so a pass that changes
-the level of every class writes one quad. :func:`as_of` and :func:`events` read them as they
-read the other events; the SPARQL of ``sparql/history_*.rq`` reads only event nodes. The score
-"as of T" is the score the class's last event before T recorded.
+are not nodes: they are lines of one plain-text literal per pass, ``engram:historyPassEvents``
+on the epoch node (:func:`sleep_levels`; layout: :data:`~ontologies.vocab.HISTORY_PASS_EVENTS`),
+so a pass that changes the level of every class writes one quad. :func:`as_of` and
+:func:`events` read them as they read the other events, and ``sparql/history_as_of.rq`` reads
+them with SPARQL's string functions. The score "as of T" is the score the class's last event
+before T recorded.
 
 Event IRIs sort as strings in the order the events happened (the memory clock's time in ms, then
 a sequence that rises across restarts), which the queries use: ``MAX(STR(?event))`` is the last.
@@ -50,8 +51,8 @@ event before T (with a clock that only moves forward: the current one); with no 
 checkpoint, the full scan of every class event (``bench/history.py`` measures both).
 
 **Growth.** The journal line replaces the ``eventState`` quad (the same quads per event, ~33
-bytes more). A sleep pass adds one literal (its events' lines, zlib level 1 + base64), none
-when nothing changed. A checkpoint costs ~24 bytes per class (zlib level 1: 100,000 lines
+bytes more). A sleep pass adds one literal (a line of about 80 bytes per event), none when
+nothing changed. A checkpoint costs ~24 bytes per class (zlib level 1: 100,000 lines
 compress in a quarter of the time level 6 takes, for ~20 bytes a class), and comes only after
 at least ``max(1000, classes / 4)`` class events.
 """
@@ -85,6 +86,7 @@ from ontologies.vocab import (
     HISTORY_ENTRY,
     HISTORY_NS,
     HISTORY_PASS_ENTRIES,
+    HISTORY_PASS_EVENTS,
     PROV_AT_TIME,
     PROV_USED,
     XSD_DATETIME,
@@ -107,6 +109,8 @@ __all__ = [
     "events",
     "forgetting",
     "learned_decision",
+    "pass_entries",
+    "pass_text",
     "record",
     "record_all",
     "sleep_levels",
@@ -203,12 +207,8 @@ def _entry(event: str, kind: str, level: str | None, score: float | None, about:
     return f"{event} {kind} {level or '-'} {value} {about.value}"
 
 
-def _pack(lines: Iterable[str]) -> Literal:
-    """Journal lines in one literal, zlib (level 1: a sleep pass's time) + base64."""
-    return Literal(base64.b64encode(zlib.compress("\n".join(lines).encode(), 1)).decode())
-
-
 def _unpack(term: object) -> list[str]:
+    """The journal lines of a packed pass literal of an older history (zlib + base64)."""
     text = zlib.decompress(base64.b64decode(term.value)).decode()  # type: ignore[attr-defined]
     return text.split("\n") if text else []
 
@@ -300,17 +300,55 @@ def sleep_levels(
     """
     periodic = (model.sleep_passes + 1) % RESCORE_EVERY_PASSES == 0
     scored = model.scored
-    event = event_iri(at).value[len(HISTORY_NS) :]
     lines = []
     for cls, record_ in model.classes.items():
         level, zeta = levels[cls], zetas[cls]
         if record_.level != level:
-            lines.append(_entry(event, "level", level, zeta, cls))
+            lines.append(f"{cls.value} level {level} {float(zeta)!r}\n")
         elif periodic and scored.get(cls, record_.score) != zeta:
-            lines.append(_entry(event, "rescored", level, zeta, cls))
+            lines.append(f"{cls.value} rescored {level} {float(zeta)!r}\n")
     if lines:
-        tx.insert(_epoch_node(_epoch(model)), HISTORY_PASS_ENTRIES, _pack(lines), HISTORY)
+        event = event_iri(at).value[len(HISTORY_NS) :]
+        head = f"{event} {_time_literal(at).value}\n"
+        text = Literal(head + "".join(lines))
+        tx.insert(_epoch_node(_epoch(model)), HISTORY_PASS_EVENTS, text, HISTORY)
     return len(lines)
+
+
+def pass_entries(term: object) -> list[str]:
+    """The journal entries ("<event> <kind> <level> <score> <class IRI>") of one pass's
+    :data:`~ontologies.vocab.HISTORY_PASS_EVENTS` text."""
+    text = term.value  # type: ignore[attr-defined]
+    head, _, body = text.partition("\n")
+    event = head.partition(" ")[0]
+    entries = []
+    for line in body.split("\n"):
+        if line:
+            cls, kind, level, score = line.split(" ")
+            entries.append(f"{event} {kind} {level} {score} {cls}")
+    return entries
+
+
+def pass_text(entries: Sequence[str]) -> Literal:
+    """The :data:`~ontologies.vocab.HISTORY_PASS_EVENTS` text of one pass's journal entries
+    (all of one event), as :func:`sleep_levels` writes it (a migration rewrites a history's
+    older packed pass literals with it)."""
+    event = entries[0].partition(" ")[0]
+    moment = dt.datetime.fromtimestamp(int(event[:13]) / 1000, dt.UTC)
+    lines = [f"{event} {_time_literal(moment).value}\n"]
+    for entry in entries:
+        _, kind, level, score, cls = entry.split(" ")
+        lines.append(f"{cls} {kind} {level} {score}\n")
+    return Literal("".join(lines))
+
+
+def _passes(reader: QuadReader, node: NamedNode | None) -> Iterator[str]:
+    """The journal entries of the sleep passes recorded on epoch ``node`` (every epoch with
+    None), in either layout."""
+    for quad in reader.quads(node, HISTORY_PASS_EVENTS, None, HISTORY):
+        yield from pass_entries(quad.object)
+    for quad in reader.quads(node, HISTORY_PASS_ENTRIES, None, HISTORY):
+        yield from _unpack(quad.object)
 
 
 # Reading ---------------------------------------------------------------------------------------
@@ -376,22 +414,21 @@ def events(store: Store, about: NamedNode) -> list[Event]:
         for row in store.select("history_events", about=about)
     ]
     suffix = f" {about.value}"
-    for quad in store.quads(None, HISTORY_PASS_ENTRIES, None, HISTORY):
-        for entry in _unpack(quad.object):
-            if entry.endswith(suffix):
-                event, kind, level, score, _ = entry.split(" ", 4)
-                time_ = dt.datetime.fromtimestamp(int(event[:13]) / 1000, dt.UTC)
-                found.append(
-                    (
-                        event,
-                        Event(
-                            time=time_.isoformat(timespec="milliseconds"),
-                            kind=kind,
-                            score=None if score == "-" else float(score),
-                            level=None if level == "-" else level,
-                        ),
-                    )
+    for entry in _passes(store, None):
+        if entry.endswith(suffix):
+            event, kind, level, score, _ = entry.split(" ", 4)
+            time_ = dt.datetime.fromtimestamp(int(event[:13]) / 1000, dt.UTC)
+            found.append(
+                (
+                    event,
+                    Event(
+                        time=time_.isoformat(timespec="milliseconds"),
+                        kind=kind,
+                        score=None if score == "-" else float(score),
+                        level=None if level == "-" else level,
+                    ),
                 )
+            )
     return [e for _, e in sorted(found, key=lambda pair: pair[0])]
 
 
@@ -471,8 +508,7 @@ def _entries(reader: QuadReader, epoch: int) -> Iterable[str]:
     node = _epoch_node(epoch)
     for quad in reader.quads(node, HISTORY_ENTRY, None, HISTORY):
         yield quad.object.value  # type: ignore[union-attr]
-    for quad in reader.quads(node, HISTORY_PASS_ENTRIES, None, HISTORY):
-        yield from _unpack(quad.object)
+    yield from _passes(reader, node)
 
 
 def _legacy(reader: QuadReader, last: _Last, bound: str) -> None:
@@ -542,7 +578,7 @@ class _Written:
 
     @classmethod
     def of(cls, tx: Transaction, store: QuadReader) -> "_Written":
-        kept = (HISTORY_ENTRY, HISTORY_PASS_ENTRIES, CHECKPOINT_SUMMARY, CHECKPOINT_STATE)
+        kept = (HISTORY_ENTRY, HISTORY_PASS_EVENTS, CHECKPOINT_SUMMARY, CHECKPOINT_STATE)
         return cls(store, [q for q in tx.inserts if q.predicate in kept])
 
     def quads(

@@ -6,8 +6,10 @@ Before, every sleep pass wrote each class's and experienced scene's level
 the WEAK count of the pass before the one that forgot (k - 1 for a class forgotten at its k-th
 WEAK pass). :func:`migrate` rewrites that into the current layout in the transaction
 :meth:`reasoners.score_view.ScoreView.repair` opens; :func:`needed` says whether there is
-anything to do (a few index lookups). Histories need no migration: events with one
-``engram:eventParent`` per parent and per-class ``level`` event nodes are read as they are.
+anything to do (a few index lookups). In the history, a sleep pass's events packed in one
+literal (``engram:historyPassEntries``, zlib + base64) become the plain text that SPARQL reads
+(``engram:historyPassEvents``); events with one ``engram:eventParent`` per parent and per-class
+``level`` event nodes are read as they are.
 """
 
 import logging
@@ -19,6 +21,9 @@ from kg.transaction import Transaction
 from ontologies.vocab import (
     CONSECUTIVE_WEAK_COUNT,
     EPISODIC,
+    HISTORY,
+    HISTORY_PASS_ENTRIES,
+    HISTORY_PASS_EVENTS,
     LEVEL,
     MEMORY,
     MEMORY_STATE_INDIVIDUAL,
@@ -26,7 +31,7 @@ from ontologies.vocab import (
     SLEEP_LEVELS,
     TRASH,
 )
-from reasoners import persist
+from reasoners import history, persist
 from reasoners.model import MemoryModel
 from reasoners.scoring import WEAK
 
@@ -41,8 +46,10 @@ def _levels_kept(store: Store) -> bool:
 
 def needed(store: Store, model: MemoryModel) -> bool:
     """Whether ``store`` holds what a memory before docs/data-model.md wrote: levels or packed
-    score terms on items, zero WEAK counts, or sleep passes without the levels literal."""
+    score terms on items, zero WEAK counts, sleep passes without the levels literal, or a
+    pass's history events packed."""
     found = (
+        (None, HISTORY_PASS_ENTRIES, None, HISTORY),
         (None, LEVEL, None, MEMORY),
         (None, LEVEL, None, EPISODIC),
         (None, SCORE_TERMS, None, MEMORY),
@@ -60,7 +67,7 @@ def migrate(tx: Transaction, store: Store, model: MemoryModel) -> None:
     become typed ones (the model's view is marked unwritten, so the transaction writes it
     whole); zero WEAK counts go; a class, or an experienced scene forgotten alone, in the trash
     from then gets the WEAK count and level that forgot it (a scene forgotten with its class
-    keeps its own)."""
+    keeps its own); each sleep pass's packed history events become its plain text."""
     if not _levels_kept(store) and model.sleep_passes > 0:
         with_class = {
             iri
@@ -86,4 +93,9 @@ def migrate(tx: Transaction, store: Store, model: MemoryModel) -> None:
         for record in model.classes.values():
             record.written_z = None
         model.unwritten.update(model.classes)
+    for quad in store.quads(None, HISTORY_PASS_ENTRIES, None, HISTORY):
+        entries = history._unpack(quad.object)
+        if entries:
+            tx.insert(quad.subject, HISTORY_PASS_EVENTS, history.pass_text(entries), HISTORY)  # type: ignore[arg-type]
+        tx.delete(quad.subject, HISTORY_PASS_ENTRIES, quad.object, HISTORY)  # type: ignore[arg-type]
     log.info("scene memory: store migrated to the data model of docs/data-model.md")

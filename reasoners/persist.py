@@ -546,7 +546,8 @@ def write_view(tx: Transaction, model: MemoryModel, policy: NamedNode) -> int:
 
     The view is what analysts read (``sparql/memory_class_scores.rq``): raw ζ = f_d·Z_d +
     f_s·Z_s + f_r·Z_r, normalised = ζ / max ζ, the level from the policy's thresholds. A change of
-    maximum rewrites the four values on the memory state, not the classes.
+    maximum rewrites the four values on the memory state, not the classes; a change of a class's
+    Z rewrites the terms that changed, not the others.
     """
     model.refresh()
     rewritten = 0

@@ -2,7 +2,9 @@
 the WEAK count that forgot an item is the one the trash, the history and /explain give; a store
 written before this data model is migrated once when the memory opens."""
 
+import base64
 import random
+import zlib
 
 from pyoxigraph import Literal, NamedNode, Quad
 
@@ -14,6 +16,8 @@ from ontologies.vocab import (
     EVENT_PARENT,
     EVENT_PARENTS,
     HISTORY,
+    HISTORY_PASS_ENTRIES,
+    HISTORY_PASS_EVENTS,
     LEVEL,
     MEMORY,
     MEMORY_STATE_INDIVIDUAL,
@@ -79,7 +83,7 @@ def test_a_sleep_pass_that_moves_every_level_writes_a_few_quads(
     written = {g: after[g] ^ before[g] for g in after}
     assert len(written[HISTORY]) == 1  # one literal with every level change
     [entries] = written[HISTORY]
-    assert len(history._unpack(entries.object)) == len(changed)
+    assert len(history.pass_entries(entries.object)) == len(changed)
     for graph in (MEMORY, EPISODIC):  # WEAK counts (and the memory state) only
         assert {q.predicate for q in written[graph] if q.subject != MEMORY_STATE_INDIVIDUAL} <= {
             CONSECUTIVE_WEAK_COUNT
@@ -205,3 +209,31 @@ def test_an_old_store_is_migrated_once_when_the_memory_opens(clock: FakeClock) -
         again = SceneMemory(memory.store, clock=clock)  # migrated once: nothing to write
         assert again.reads.classes() == expected_classes
     assert written == []
+
+
+def test_a_history_with_packed_sleep_passes_is_rewritten_as_text_when_the_memory_opens(
+    clock: FakeClock,
+) -> None:
+    memory = SceneMemory(Store(), clock=clock)
+    lived(memory)
+    many_classes(memory, 12)
+    clock.advance(days=1)
+    memory.sleep()
+    texts = set(memory.store.quads(None, HISTORY_PASS_EVENTS, None, HISTORY))
+    assert texts  # the pass changed levels
+    at = clock.now
+    expected = history.as_of(memory.store, at)
+    sparql = memory.store.select("history_as_of", asOf=history._time_literal(at))
+    assert {r["level"].value for r in sparql if "level" in r} & {"HIGH", "LOW", "WEAK"}
+    with memory.store.transaction() as tx:  # as the previous data model wrote a pass's events
+        for quad in texts:
+            lines = "\n".join(history.pass_entries(quad.object)).encode()
+            packed = Literal(base64.b64encode(zlib.compress(lines)).decode())
+            tx.delete(quad.subject, quad.predicate, quad.object, HISTORY)  # type: ignore[arg-type]
+            tx.insert(quad.subject, HISTORY_PASS_ENTRIES, packed, HISTORY)  # type: ignore[arg-type]
+    assert history.as_of(memory.store, at) == expected  # read as it is
+
+    SceneMemory(memory.store, clock=clock)
+    assert set(memory.store.quads(None, HISTORY_PASS_EVENTS, None, HISTORY)) == texts
+    assert not list(memory.store.quads(None, HISTORY_PASS_ENTRIES, None, HISTORY))
+    assert memory.store.select("history_as_of", asOf=history._time_literal(at)) == sparql

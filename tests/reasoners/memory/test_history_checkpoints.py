@@ -5,6 +5,8 @@ import contextlib
 import datetime as dt
 import itertools
 import random
+import re
+from pathlib import Path
 from unittest import mock
 
 from hypothesis import HealthCheck, given, settings
@@ -24,7 +26,7 @@ from ontologies.vocab import (
     HISTORY,
     HISTORY_ENTRY,
     HISTORY_NS,
-    HISTORY_PASS_ENTRIES,
+    HISTORY_PASS_EVENTS,
     PROV_AT_TIME,
 )
 from reasoners import history
@@ -56,7 +58,7 @@ def to_legacy(store: Store) -> None:
             tail, state = quad.object.value.split(" ", 1)  # type: ignore[union-attr]
             tx.insert(NamedNode(HISTORY_NS + tail), EVENT_STATE, Literal(state), HISTORY)
             tx.delete(quad.subject, quad.predicate, quad.object, HISTORY)  # type: ignore[arg-type]
-        for quad in store.quads(None, HISTORY_PASS_ENTRIES, None, HISTORY):
+        for quad in store.quads(None, HISTORY_PASS_EVENTS, None, HISTORY):
             for event, line in pass_events(quad.object):  # each an event node then
                 _, kind, level, score, cls = line.split(" ")
                 write_event(tx, event, NamedNode(cls), kind, float(score), level)
@@ -72,17 +74,22 @@ def assert_same_answers(store: Store, times: list[dt.datetime], rng: random.Rand
     for at in times:
         fast = history.as_of(store, at)
         assert fast == history.as_of(store, at, use_checkpoints=False), at
-    # the SPARQL, independent of both, on the history as it was written when a sleep pass's
-    # events were nodes: the answers did not change when they became one literal per pass
+    # the SPARQL, independent of both: on the history as it is (a sleep pass's events are lines
+    # of one text per pass, which the query parses) and as it was written when they were nodes
     nodes = as_event_nodes(store)
     for at in rng.sample(times, min(6, len(times))):
-        rows = nodes.select("history_as_of", asOf=history._time_literal(at))
-        expected = sorted(
-            (r["class"].value, r["kind"].value, _float(r.get("score")), _text(r.get("level")))
-            for r in rows
-        )
         got = [(s.cls.value, s.last_event, s.score, s.level) for s in history.as_of(store, at)]
-        assert got == expected, at
+        assert sparql_as_of(store, at) == got, at
+        assert sparql_as_of(nodes, at) == got, at
+
+
+def sparql_as_of(store: Store, at: dt.datetime) -> list[tuple[str, str, float | None, str | None]]:
+    """The analysts' as-of query's answer, as (class, last event, score, level) by class."""
+    rows = store.select("history_as_of", asOf=history._time_literal(at))
+    return sorted(
+        (r["class"].value, r["kind"].value, _float(r.get("score")), _text(r.get("level")))
+        for r in rows
+    )
 
 
 def _float(term: object) -> float | None:
@@ -100,17 +107,17 @@ def as_event_nodes(store: Store) -> Store:
     with nodes.transaction() as tx:
         for quad in store.quads(None, None, None, HISTORY):
             tx.insert(quad.subject, quad.predicate, quad.object, HISTORY)  # type: ignore[arg-type]
-        for quad in store.quads(None, HISTORY_PASS_ENTRIES, None, HISTORY):
+        for quad in store.quads(None, HISTORY_PASS_EVENTS, None, HISTORY):
             for event, line in pass_events(quad.object):
                 _, kind, level, score, cls = line.split(" ")
                 write_event(tx, event, NamedNode(cls), kind, float(score), level)
     return nodes
 
 
-def pass_events(packed: object) -> list[tuple[NamedNode, str]]:
+def pass_events(text: object) -> list[tuple[NamedNode, str]]:
     """The lines of a pass's literal, each with an event IRI of its own that sorts where the
     pass's does."""
-    lines = history._unpack(packed)
+    lines = history.pass_entries(text)
     return [
         (NamedNode(f"{HISTORY_NS}{line.split()[0]}-{n:06d}"), line) for n, line in enumerate(lines)
     ]
@@ -228,3 +235,25 @@ def test_an_old_history_gets_a_checkpoint_at_the_next_sleep_pass(
     reopened.sleep()
     assert len(checkpoint_times(memory.store)) == 1
     assert history.as_of(memory.store, at) == expected
+
+
+def test_the_readme_as_of_query_is_the_memory_s(memory: SceneMemory, clock: FakeClock) -> None:
+    """The README's SPARQL (the time written in) answers as ``history_as_of.rq``, level changes
+    of sleep passes included."""
+    readme = (Path(__file__).resolve().parents[3] / "README.md").read_text(encoding="utf-8")
+    [query] = [q for q in re.findall(r"```sparql\n(.*?)```", readme, re.S) if "PassEvents" in q]
+    rng = random.Random(11)
+    for _ in range(6):
+        clock.advance(seconds=1)
+        memory.store_scene(random_scene(rng, 2, 3))
+    clock.advance(days=1)
+    memory.sleep()
+    at = clock.now
+    written_in = query.replace("2026-03-02T12:00:00Z", history._time_literal(at).value)
+    rows = memory.store._select(written_in, {})
+    answer = sorted(
+        (r["class"].value, r["kind"].value, _float(r.get("score")), _text(r.get("level")))
+        for r in rows
+    )
+    assert answer == sparql_as_of(memory.store, at)
+    assert {kind for _, kind, _, _ in answer} == {"level"}  # the pass's lines, read by SPARQL
