@@ -1,7 +1,10 @@
 """The README's commands and its worked example still work."""
 
+import os
 import re
 import shlex
+import subprocess
+import sys
 from pathlib import Path
 
 import httpx
@@ -47,3 +50,23 @@ def test_the_client_example_learns_the_class_the_readme_names(
     code = _blocks("python")[0].replace("http://127.0.0.1:8000", live_server.url)
     exec(compile(code, "README.md", "exec"), {})
     assert capsys.readouterr().out.strip() == "['true'] ['4']"
+
+
+def test_perceive_on_a_real_scan_prints_what_the_readme_shows(tmp_path: Path) -> None:
+    """The README's ``console`` block: ``engram perceive`` on a real scan with no pose, run as
+    shown (through the installed executable), prints the block's output lines."""
+    (block,) = _blocks("console")
+    commands = [line[2:] for line in block.splitlines() if line.startswith("$ ")]
+    shown = [line for line in block.splitlines() if not line.startswith("$ ")]
+    engram = str(Path(sys.executable).with_name("engram"))
+    env = {**os.environ, "ENGRAM_DATA_DIR": str(tmp_path / "data"), "COLUMNS": "1000"}
+    printed = ""
+    for command in commands:
+        args = shlex.split(command)
+        assert args[0] == "engram"
+        run = subprocess.run(
+            [engram, *args[1:]], cwd=ROOT, env=env, capture_output=True, text=True, timeout=300
+        )
+        assert run.returncode == 0, run.stderr
+        printed = run.stdout
+    assert printed.splitlines() == shown
