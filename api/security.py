@@ -43,6 +43,7 @@ from urllib.parse import urlsplit
 
 from fastapi import FastAPI, Request
 from starlette.exceptions import HTTPException
+from starlette.requests import ClientDisconnect
 from starlette.types import ASGIApp, Message, Receive, Scope, Send
 
 from api import finite_json
@@ -216,35 +217,34 @@ class SecurityGuard:
                 message = {**message, "headers": [*given, *extra]}
             await send(message)
 
-        if declared in (b"", b"0") and b"transfer-encoding" not in headers:
-            await self.app(scope, receive, send_with_headers)  # no body to limit or check
-            return
-        if finite_json.is_json(headers.get(b"content-type")):
-            await self._json_body(scope, receive, send_with_headers, limit, setting)
-            return
-        received = 0
-
-        async def limited_receive() -> Message:
-            nonlocal received
-            message = await receive()
-            if message["type"] == "http.request":
-                received += len(message.get("body", b""))
-                if received > limit:
-                    raise BodyTooLargeError(limit, setting)
-            return message
-
         try:
-            await self.app(scope, limited_receive, send_with_headers)
+            if declared in (b"", b"0") and b"transfer-encoding" not in headers:
+                await self.app(scope, receive, send_with_headers)  # no body to limit or check
+            elif finite_json.is_json(headers.get(b"content-type")):
+                await self._json_body(scope, receive, send_with_headers, limit, setting)
+            else:
+                await self.app(scope, _limited(receive, limit, setting), send_with_headers)
         except BodyTooLargeError as error:
             if started:
                 raise
             await self._reply(send, error.status_code, type(error).__name__, str(error.detail))
+        except ClientDisconnect:
+            if started:
+                raise
+            # a client that left (or stalled: api/header_timeout.py) has nobody to answer
+            log.info(
+                "%s %s: the client left before its body was complete",
+                scope["method"],
+                scope["path"],
+            )
 
     async def _json_body(
         self, scope: Scope, receive: Receive, send: Send, limit: int, setting: str
     ) -> None:
-        """Read a JSON body whole (within ``limit``), refuse it with 422 if it holds a number
-        that is not finite (:mod:`api.finite_json`), else hand it to the app in one message."""
+        """Read a JSON body whole, refuse it with 422 if it holds a number that is not finite
+        (:mod:`api.finite_json`), else hand it to the app in one message.
+
+        Raises :class:`BodyTooLargeError` once the bytes received pass ``limit``."""
         message = await receive()
         if message["type"] == "http.request" and message.get("more_body", False):
             chunks = [message.get("body", b"")]
@@ -254,17 +254,13 @@ class SecurityGuard:
                 chunks.append(message.get("body", b""))
                 received += len(chunks[-1])
                 if received > limit:
-                    error = BodyTooLargeError(limit, setting)
-                    await self._reply(send, 413, type(error).__name__, str(error.detail))
-                    return
+                    raise BodyTooLargeError(limit, setting)
             if message["type"] == "http.request":
                 message = {"type": "http.request", "body": b"".join(chunks), "more_body": False}
         if message["type"] == "http.request":
             body = message.get("body", b"")
             if len(body) > limit:
-                error = BodyTooLargeError(limit, setting)
-                await self._reply(send, 413, type(error).__name__, str(error.detail))
-                return
+                raise BodyTooLargeError(limit, setting)
             errors = finite_json.non_finite_errors(body)
             if errors:
                 await finite_json.reply(send, errors)
@@ -335,6 +331,22 @@ class SecurityGuard:
         ]
         await send({"type": "http.response.start", "status": status, "headers": headers})
         await send({"type": "http.response.body", "body": body})
+
+
+def _limited(receive: Receive, limit: int, setting: str) -> Receive:
+    """``receive``, raising :class:`BodyTooLargeError` once the body received passes ``limit``."""
+    received = 0
+
+    async def limited_receive() -> Message:
+        nonlocal received
+        message = await receive()
+        if message["type"] == "http.request":
+            received += len(message.get("body", b""))
+            if received > limit:
+                raise BodyTooLargeError(limit, setting)
+        return message
+
+    return limited_receive
 
 
 @asynccontextmanager
