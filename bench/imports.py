@@ -22,6 +22,10 @@ libraries only::
     .venv/bin/python bench/imports.py
     python -m venv /tmp/clientvenv && /tmp/clientvenv/bin/pip install pydantic==X httpx==Y
     .venv/bin/python bench/imports.py --python /tmp/clientvenv/bin/python
+    .venv/bin/python bench/imports.py --against ../other-checkout    # its api.client too
+
+On a loaded machine the importtime figures grow with the load; the CPU figures and the
+difference to the floor much less.
 """
 
 import argparse
@@ -55,11 +59,12 @@ def _load_average() -> str:
     return f"load average {one:.2f} {five:.2f} {fifteen:.2f} on {os.cpu_count()} CPUs"
 
 
-def _once(python: str, statement: str, cache: str) -> tuple[float, float]:
-    """(importtime ms of the statement's imports, CPU ms) in a fresh interpreter."""
+def _once(python: str, statement: str, cache: str, root: Path = ROOT) -> tuple[float, float]:
+    """(importtime ms of the statement's imports, CPU ms) in a fresh interpreter, with the
+    checkout at ``root`` on its path."""
     env = {
         **os.environ,
-        "PYTHONPATH": str(ROOT),
+        "PYTHONPATH": str(root),
         "PYTHONPYCACHEPREFIX": cache,
         "PYTHONDONTWRITEBYTECODE": "",
     }
@@ -69,7 +74,7 @@ def _once(python: str, statement: str, cache: str) -> tuple[float, float]:
         capture_output=True,
         text=True,
         check=True,
-        cwd=ROOT,
+        cwd=root,
         env=env,
     )
     cpu_ms = 1000 * float(done.stdout.strip())
@@ -81,15 +86,19 @@ def _once(python: str, statement: str, cache: str) -> tuple[float, float]:
     return wall_ms, cpu_ms
 
 
-def measure(python: str, runs: int) -> dict[str, tuple[float, float]]:
-    """Median (importtime ms, CPU ms) of each subject, the subjects taken in turns."""
-    figures: dict[str, list[tuple[float, float]]] = {name: [] for name in SUBJECTS}
+def measure(python: str, runs: int, other: Path | None) -> dict[str, tuple[float, float]]:
+    """Median (importtime ms, CPU ms) of each subject, the subjects taken in turns; with
+    ``other``, ``api.client`` of that checkout too."""
+    subjects = {name: (statement, ROOT) for name, statement in SUBJECTS.items()}
+    if other is not None:
+        subjects[f"api.client of {other}"] = (SUBJECTS["api.client"], other)
+    figures: dict[str, list[tuple[float, float]]] = {name: [] for name in subjects}
     with tempfile.TemporaryDirectory(prefix="engram-pycache-") as cache:
-        for statement in SUBJECTS.values():
-            _once(python, statement, cache)  # compile once, as an installed package is
+        for statement, root in subjects.values():
+            _once(python, statement, cache, root)  # compile once, as an installed package is
         for _ in range(runs):
-            for name, statement in SUBJECTS.items():
-                figures[name].append(_once(python, statement, cache))
+            for name, (statement, root) in subjects.items():
+                figures[name].append(_once(python, statement, cache, root))
     return {
         name: (statistics.median(w for w, _ in runs_), statistics.median(c for _, c in runs_))
         for name, runs_ in figures.items()
@@ -100,6 +109,7 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("--python", default=sys.executable, help="the interpreter to measure")
     parser.add_argument("--runs", type=int, default=9, help="fresh interpreters per figure")
+    parser.add_argument("--against", type=Path, metavar="CHECKOUT", help="its api.client too")
     options = parser.parse_args()
     version = subprocess.run(
         [
@@ -113,10 +123,10 @@ def main() -> None:
     ).stdout.split()
     print(f"# import api.client: {options.python} (httpx {version[0]}, pydantic {version[1]})")
     print(f"  {_load_average()}")
-    figures = measure(options.python, options.runs)
+    figures = measure(options.python, options.runs, options.against)
     for name, (wall, cpu) in figures.items():
         print(
-            f"  {name:34s} importtime {wall:6.1f} ms   CPU {cpu:6.1f} ms"
+            f"  {name:40s} importtime {wall:6.1f} ms   CPU {cpu:6.1f} ms"
             f"  (median of {options.runs})"
         )
     wall, cpu = figures["api.client"]
