@@ -77,8 +77,8 @@ class _TimedProtocol(HttpToolsProtocol):
 
     def on_headers_complete(self) -> None:
         super().on_headers_complete()
-        if self.body_timeout_s is None:
-            self._awaiting = None
+        if self.body_timeout_s is None or self.parser.should_upgrade():
+            self._awaiting = None  # (an upgrade hands the connection to another protocol)
         else:  # until on_message_complete, which follows at once for a request without body
             self._await(b"body", self.body_timeout_s)
 

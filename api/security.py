@@ -1,4 +1,4 @@
-"""The HTTP layer's guard against other sites and oversized or stalled requests.
+"""The HTTP layer's guard against other sites, oversized bodies and numbers that are not finite.
 
 :class:`SecurityGuard`, installed by :func:`install` as the app's outermost user middleware,
 checks every HTTP request before any route sees it, in one layer:
