@@ -94,7 +94,8 @@ def _serve(settings: Settings, *, ros: bool = False) -> None:
         log_level="info",
         log_config=log_config,
         access_log=False,  # a line per request costs more than a directive does
-        http=with_header_timeout(settings.header_timeout_s),  # api/header_timeout.py
+        # 408 for stalled headers or bodies (api/header_timeout.py)
+        http=with_header_timeout(settings.header_timeout_s, body_timeout_s=settings.body_timeout_s),
     )
 
 

@@ -188,7 +188,8 @@ class Settings(BaseSettings):
         gt=0,
         le=3600,
         description="Longest wait for the next part of a request body, in seconds; a client "
-        "that stops sending answers 408.",
+        "that stops sending answers 408. Needs the server's protocol from api/header_timeout.py "
+        "(engram serve uses it).",
     )
     header_timeout_s: float = Field(
         10.0,

@@ -12,7 +12,6 @@ from starlette.concurrency import run_in_threadpool
 from api import security
 from api.config import Settings, get_settings
 from api.errors import install_error_handlers
-from api.finite_json import FiniteJsonBodies
 from api.openapi_errors import install_error_docs
 from api.routes import admin, armor, ask, episodes, export, health, history, sparql, streams, views
 from api.services import Services, announce_server, open_services
@@ -99,9 +98,7 @@ def create_app(settings: Settings | None = None) -> FastAPI:
     for module in (health, sparql, export, admin, episodes, streams, ask, history):
         app.include_router(module.router)
     views.install(app)  # the web views: JSON under /views, pages under /web (api/web/)
-    app.add_middleware(
-        FiniteJsonBodies
-    )  # NaN, Infinity, 1e999 in a JSON body: 422 (api/finite_json.py)
     install_error_docs(app)  # the 401/404/409/422 answers in /openapi.json (api/openapi_errors.py)
-    security.install(app, settings)  # hosts, cross-site writes, body limits (api/security.py)
+    # hosts, cross-site writes, body limits, NaN and Infinity in JSON bodies (api/security.py)
+    security.install(app, settings)
     return app

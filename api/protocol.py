@@ -33,7 +33,7 @@ __all__ = [
 
 
 class _Message(BaseModel):
-    model_config = ConfigDict(extra="forbid", strict=True)
+    model_config = ConfigDict(extra="forbid", strict=True, defer_build=True)
 
 
 class ArmorDirectiveReq(_Message):

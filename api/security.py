@@ -1,7 +1,7 @@
-"""The HTTP layer's guard against other sites and oversized or stalled requests.
+"""The HTTP layer's guard against other sites, oversized bodies and numbers that are not finite.
 
 :class:`SecurityGuard`, installed by :func:`install` as the app's outermost user middleware,
-checks every HTTP request before any route sees it:
+checks every HTTP request before any route sees it, in one layer:
 
 - **Host.** The ``Host`` header must name this server (``Settings.allowed_hosts``; by default
   the loopback names, the listening address and this machine's host name), else 400. A page on
@@ -14,15 +14,19 @@ checks every HTTP request before any route sees it:
   neither header and are not affected.
 - **Body size.** A body longer than its route's limit answers 413: at once when
   ``Content-Length`` says so, else as soon as the bytes received pass it.
-- **Stalled bodies.** A client that sends no part of its body for ``Settings.body_timeout_s``
-  answers 408.
+- **Numbers that are not finite.** A JSON body holding ``NaN``, ``Infinity`` or a number too
+  large for a float answers 422 naming the field (:mod:`api.finite_json`); a JSON body is read
+  whole here for this, within its limit, and handed on in one message.
+
+A client that stalls in its headers or body answers 408: that limit is the server protocol's
+(``api/header_timeout.py``, used by ``engram serve``), which keeps a deadline per connection
+instead of a timer per read.
 
 Every answer carries a strict ``Content-Security-Policy`` (scripts only from this server, the
 pages' own import map by its hash; no frames), ``X-Frame-Options: DENY``,
 ``X-Content-Type-Options: nosniff`` and ``Referrer-Policy: no-referrer``.
 """
 
-import asyncio
 import base64
 import hashlib
 import json
@@ -39,13 +43,14 @@ from urllib.parse import urlsplit
 
 from fastapi import FastAPI, Request
 from starlette.exceptions import HTTPException
+from starlette.requests import ClientDisconnect
 from starlette.types import ASGIApp, Message, Receive, Scope, Send
 
+from api import finite_json
 from api.armor.files import FileAccess
 from api.config import Settings
 
 __all__ = [
-    "BodyTimeoutError",
     "BodyTooLargeError",
     "SecurityGuard",
     "allowed_host_names",
@@ -60,6 +65,7 @@ log = logging.getLogger(__name__)
 SAFE_METHODS = frozenset({"GET", "HEAD", "OPTIONS"})
 LOOPBACK_NAMES = ("localhost", "127.0.0.1", "::1")
 _WILDCARD_ADDRESSES = {"0.0.0.0", "::", ""}
+_SERVED_HOSTS_KEPT = 64
 _WEB_DIR = Path(__file__).resolve().parent / "web"
 _INLINE_SCRIPT = re.compile(r"<script(?![^>]*\bsrc=)[^>]*>(.*?)</script>", re.DOTALL)
 
@@ -69,13 +75,6 @@ class BodyTooLargeError(HTTPException):
 
     def __init__(self, limit: int, setting: str) -> None:
         super().__init__(413, f"request body: longer than the limit of {limit} bytes ({setting})")
-
-
-class BodyTimeoutError(HTTPException):
-    """The client stopped sending its request body (408)."""
-
-    def __init__(self, timeout_s: float) -> None:
-        super().__init__(408, f"request body: nothing received for {timeout_s:g} s")
 
 
 def allowed_host_names(settings: Settings) -> frozenset[str] | None:
@@ -166,7 +165,6 @@ class SecurityGuard:
         allowed_origins: Iterable[str] = (),
         max_body_bytes: int,
         route_body_bytes: Mapping[str, tuple[int, str]] | None = None,
-        body_timeout_s: float,
         csp: str,
     ) -> None:
         self.app = app
@@ -176,21 +174,20 @@ class SecurityGuard:
         )
         self.max_body_bytes = max_body_bytes
         self.route_body_bytes = dict(route_body_bytes or {})
-        self.body_timeout_s = body_timeout_s
         self.headers = [
             (b"content-security-policy", csp.encode()),
             (b"x-frame-options", b"DENY"),
             (b"x-content-type-options", b"nosniff"),
             (b"referrer-policy", b"no-referrer"),
         ]
+        self.header_names = frozenset(name for name, _ in self.headers)
+        self._served_hosts: dict[bytes, bool] = {}
 
     async def __call__(self, scope: Scope, receive: Receive, send: Send) -> None:
         if scope["type"] != "http":
             await self.app(scope, receive, send)
             return
-        headers: dict[bytes, bytes] = {}
-        for name, value in scope["headers"]:
-            headers.setdefault(name, value)
+        headers = dict(reversed(scope["headers"]))  # the first value of each name wins
         refusal = self._refusal(scope, headers)
         if refusal is not None:
             status, kind, detail = refusal
@@ -212,44 +209,78 @@ class SecurityGuard:
             nonlocal started
             if message["type"] == "http.response.start":
                 started = True
-                present = {name.lower() for name, _ in message.get("headers", ())}
-                extra = [(n, v) for n, v in self.headers if n not in present]
-                message = {**message, "headers": [*message.get("headers", ()), *extra]}
+                given = message.get("headers", ())
+                extra = self.headers
+                if any(name.lower() in self.header_names for name, _ in given):
+                    present = {name.lower() for name, _ in given}
+                    extra = [(n, v) for n, v in self.headers if n not in present]
+                message = {**message, "headers": [*given, *extra]}
             await send(message)
 
-        received = 0
-        # no body to limit or wait for (GET, an empty POST): the app's receive as it is
-        body_done = declared in (b"", b"0") and b"transfer-encoding" not in headers
-
-        async def limited_receive() -> Message:
-            nonlocal received, body_done
-            if body_done:
-                return await receive()
-            try:  # the body timeout: a timer per part of the body
-                async with asyncio.timeout(self.body_timeout_s):
-                    message = await receive()
-            except TimeoutError:
-                raise BodyTimeoutError(self.body_timeout_s) from None
-            if message["type"] == "http.request":
-                received += len(message.get("body", b""))
-                if received > limit:
-                    raise BodyTooLargeError(limit, setting)
-                body_done = not message.get("more_body", False)
-            else:
-                body_done = True
-            return message
-
         try:
-            await self.app(scope, limited_receive, send_with_headers)
-        except (BodyTooLargeError, BodyTimeoutError) as error:
+            if declared in (b"", b"0") and b"transfer-encoding" not in headers:
+                await self.app(scope, receive, send_with_headers)  # no body to limit or check
+            elif finite_json.is_json(headers.get(b"content-type")):
+                await self._json_body(scope, receive, send_with_headers, limit, setting)
+            else:
+                await self.app(scope, _limited(receive, limit, setting), send_with_headers)
+        except BodyTooLargeError as error:
             if started:
                 raise
             await self._reply(send, error.status_code, type(error).__name__, str(error.detail))
+        except ClientDisconnect:
+            if started:
+                raise
+            # a client that left (or stalled: api/header_timeout.py) has nobody to answer
+            log.info(
+                "%s %s: the client left before its body was complete",
+                scope["method"],
+                scope["path"],
+            )
+
+    async def _json_body(
+        self, scope: Scope, receive: Receive, send: Send, limit: int, setting: str
+    ) -> None:
+        """Read a JSON body whole, refuse it with 422 if it holds a number that is not finite
+        (:mod:`api.finite_json`), else hand it to the app in one message.
+
+        Raises :class:`BodyTooLargeError` once the bytes received pass ``limit``."""
+        message = await receive()
+        if message["type"] == "http.request" and message.get("more_body", False):
+            chunks = [message.get("body", b"")]
+            received = len(chunks[0])
+            while message["type"] == "http.request" and message.get("more_body", False):
+                message = await receive()
+                chunks.append(message.get("body", b""))
+                received += len(chunks[-1])
+                if received > limit:
+                    raise BodyTooLargeError(limit, setting)
+            if message["type"] == "http.request":
+                message = {"type": "http.request", "body": b"".join(chunks), "more_body": False}
+        if message["type"] == "http.request":
+            body = message.get("body", b"")
+            if len(body) > limit:
+                raise BodyTooLargeError(limit, setting)
+            errors = finite_json.non_finite_errors(body)
+            if errors:
+                await finite_json.reply(send, errors)
+                return
+        pending: Message | None = message  # a client that left: the app reads that it did
+
+        async def replay() -> Message:
+            nonlocal pending
+            if pending is None:
+                return await receive()
+            given, pending = pending, None
+            return given
+
+        await self.app(scope, replay, send)
 
     def _refusal(self, scope: Scope, headers: Mapping[bytes, bytes]) -> tuple[int, str, str] | None:
         """(status, error name, message) if the request must be refused, else None."""
-        host = headers.get(b"host", b"").decode("latin-1")
-        if self.allowed_hosts is not None and host and _host_of(host) not in self.allowed_hosts:
+        raw_host = headers.get(b"host", b"")
+        host = raw_host.decode("latin-1")
+        if raw_host and not self._serves(raw_host):
             return (
                 400,
                 "UntrustedHostError",
@@ -280,6 +311,16 @@ class SecurityGuard:
             )
         return None
 
+    def _serves(self, raw_host: bytes) -> bool:
+        """True if the ``Host`` header value ``raw_host`` names this server. The verdicts for
+        the first few names served are kept, as every request asks again."""
+        if self.allowed_hosts is None or self._served_hosts.get(raw_host, False):
+            return True
+        served = _host_of(raw_host.decode("latin-1")) in self.allowed_hosts
+        if served and len(self._served_hosts) < _SERVED_HOSTS_KEPT:
+            self._served_hosts[raw_host] = True
+        return served
+
     async def _reply(self, send: Send, status: int, kind: str, detail: str) -> None:
         body = json.dumps({"detail": detail, "error": kind}).encode()
         headers: list[tuple[bytes, bytes]] = [
@@ -290,6 +331,22 @@ class SecurityGuard:
         ]
         await send({"type": "http.response.start", "status": status, "headers": headers})
         await send({"type": "http.response.body", "body": body})
+
+
+def _limited(receive: Receive, limit: int, setting: str) -> Receive:
+    """``receive``, raising :class:`BodyTooLargeError` once the body received passes ``limit``."""
+    received = 0
+
+    async def limited_receive() -> Message:
+        nonlocal received
+        message = await receive()
+        if message["type"] == "http.request":
+            received += len(message.get("body", b""))
+            if received > limit:
+                raise BodyTooLargeError(limit, setting)
+        return message
+
+    return limited_receive
 
 
 @asynccontextmanager
@@ -329,7 +386,6 @@ def install(app: FastAPI, settings: Settings) -> None:
         "allowed_origins": [o for o in settings.allowed_origins.split(",") if o.strip()],
         "max_body_bytes": settings.max_body_bytes,
         "route_body_bytes": routes,
-        "body_timeout_s": settings.body_timeout_s,
         "csp": content_security_policy(),
     }
     app.add_middleware(SecurityGuard, **options)

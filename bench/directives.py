@@ -81,8 +81,18 @@ import sys, uvicorn
 from api.config import Settings
 from api.main import create_app
 settings = Settings(data_dir=sys.argv[1], host="127.0.0.1", port=int(sys.argv[2]))
+if hasattr(settings, "header_timeout_s"):  # engram serve's protocol, as the checkout has it
+    from api.header_timeout import with_header_timeout
+    try:
+        http = with_header_timeout(
+            settings.header_timeout_s, body_timeout_s=settings.body_timeout_s
+        )
+    except TypeError:
+        http = with_header_timeout(settings.header_timeout_s)
+else:
+    http = "auto"
 uvicorn.run(create_app(settings), host="127.0.0.1", port=int(sys.argv[2]), log_level="warning",
-            access_log=False)
+            access_log=False, http=http)
 """
 BARE = """
 import sys, uvicorn

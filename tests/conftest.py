@@ -13,6 +13,7 @@ import pytest
 import uvicorn
 
 from api.config import Settings
+from api.header_timeout import with_header_timeout
 from api.main import create_app
 from kg import Store, ensure_ontology
 
@@ -58,9 +59,16 @@ def free_port() -> int:
 
 
 def serve(app: Any, settings: Settings) -> tuple[uvicorn.Server, threading.Thread, str]:
-    """Run ``app`` with uvicorn in a daemon thread on ``settings``' host and port; returns once
-    it serves, with its base URL. Stop it with ``server.should_exit = True; thread.join()``."""
-    config = uvicorn.Config(app, host=settings.host, port=settings.port, log_level="warning")
+    """Run ``app`` with uvicorn in a daemon thread on ``settings``' host and port, with ``engram
+    serve``'s protocol and time limits; returns once it serves, with its base URL. Stop it with
+    ``server.should_exit = True; thread.join()``."""
+    config = uvicorn.Config(
+        app,
+        host=settings.host,
+        port=settings.port,
+        log_level="warning",
+        http=with_header_timeout(settings.header_timeout_s, body_timeout_s=settings.body_timeout_s),
+    )
     server = uvicorn.Server(config)
     thread = threading.Thread(target=server.run, daemon=True)
     thread.start()

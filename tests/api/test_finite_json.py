@@ -1,7 +1,12 @@
 """Numbers that are not finite in a JSON body answer 422 naming the field, on every endpoint."""
 
-import pytest
+import re
 
+import pytest
+from hypothesis import given
+from hypothesis import strategies as st
+
+from api.finite_json import could_hold_non_finite
 from tests.conftest import LiveServer
 
 pytestmark = pytest.mark.slow
@@ -60,3 +65,30 @@ def test_finite_numbers_pass_untouched(live_server: LiveServer) -> None:
         headers={"Content-Type": "application/json"},
     )
     assert answer.status_code == 415  # the route's own answer: the middleware let it through
+
+
+SPELLINGS = re.compile(rb"NaN|Infinity|[eE][+-]?\d{3}|\d{300}")
+"""Every way JSON text can spell a number that is not finite (what the scan must catch)."""
+
+
+@pytest.mark.parametrize(
+    ("body", "suspect"),
+    [
+        (b'{"a": 1.5e-7, "b": "Class_3", "c": [1, 22, 333]}', False),
+        (b'{"a": 1e999}', True),
+        (b'{"a": -1E+308}', True),
+        (b'{"a": 2e-400}', True),
+        (b'{"a": NaN}', True),
+        (b'{"a": -Infinity}', True),
+        (b'{"a": ' + b"9" * 300 + b"}", True),
+        (b'{"a": ' + b"9" * 299 + b"}", False),
+    ],
+)
+def test_the_scan_finds_every_spelling_of_a_non_finite_number(body: bytes, suspect: bool) -> None:
+    assert could_hold_non_finite(body) is suspect
+
+
+@given(st.binary(max_size=80) | st.text("0123456789eE+-.NaInfity ", max_size=400).map(str.encode))
+def test_the_scan_misses_nothing_the_pattern_finds(body: bytes) -> None:
+    if SPELLINGS.search(body):
+        assert could_hold_non_finite(body)

@@ -1,0 +1,149 @@
+"""Instructions a simple ARMOR directive costs the server, counted by callgrind: repeatable
+however loaded the machine is, where times are not.
+
+A child process builds the app (``api.main.create_app``, on-disk store in a temporary
+directory), runs its lifespan and sends it N directive requests through its ASGI callable, with
+the headers and body a client sends (``ADD IND CLASS`` and ``QUERY IND`` alternating, as
+``bench/directives.py``): everything the app does for a request (the middleware stack, the
+guard, routing, reading, the engine, the answer), not the socket or uvicorn's parsing. The child
+runs under ``valgrind --tool=callgrind`` twice, with N and 2N requests; the difference divided
+by N is the count per request, start-up and warm-up cancelled out.
+
+``--against DIR`` counts the checkout in ``DIR`` too (its code, this Python environment) and
+prints the ratio. ``--null`` replaces the directive's work (reading the body into directives,
+the engine, the answer) by a fixed answer, leaving the HTTP layers' own count.
+
+Run from the repository root (each count takes a minute or two under valgrind)::
+
+    .venv/bin/python bench/directive_instructions.py --against ../checkout-of-6b1d215
+    .venv/bin/python bench/directive_instructions.py --null --against ../checkout-of-6b1d215
+"""
+
+import argparse
+import os
+import re
+import subprocess
+import sys
+import tempfile
+from concurrent.futures import ThreadPoolExecutor
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parent.parent
+CHILD = r"""
+import asyncio, json, sys, tempfile
+from pathlib import Path
+from api.config import Settings
+from api.main import create_app
+
+COUNT, NULL = int(sys.argv[1]), sys.argv[2] == "null"
+if NULL:  # the directive's own work replaced by a fixed answer: the HTTP layers alone
+    import api.routes.armor as routes
+    async def fixed(*args, **kwargs):
+        return b'{"armor_response":{"success":true}}'
+    if hasattr(routes, "answer"):
+        routes.answer = fixed
+    else:  # a checkout from before api/directives.py
+        routes.answer_single = fixed
+
+def directive(i):
+    if i % 2 == 0:
+        command, second, args = "ADD", "CLASS", [f"c_{i}", f"Class_{i % 7}"]
+    else:
+        command, second, args = "QUERY", "", [f"c_{i - 1}"]
+    request = {"client_name": "c", "reference_name": "bench", "command": command,
+               "primary_command_spec": "IND", "secondary_command_spec": second, "args": args}
+    return json.dumps({"armor_request": request}).encode()
+
+async def post(app, body):
+    scope = {"type": "http", "asgi": {"version": "3.0", "spec_version": "2.3"},
+             "http_version": "1.1", "server": ("127.0.0.1", 8000), "client": ("127.0.0.1", 50000),
+             "scheme": "http", "method": "POST", "root_path": "", "path": "/armor_interface_srv",
+             "raw_path": b"/armor_interface_srv", "query_string": b"", "state": {},
+             "headers": [(b"host", b"127.0.0.1:8000"), (b"accept-encoding", b"identity"),
+                         (b"content-length", str(len(body)).encode()),
+                         (b"content-type", b"application/json")]}
+    messages = [{"type": "http.request", "body": body, "more_body": False}]
+    sent = []
+    async def receive():
+        return messages.pop() if messages else {"type": "http.disconnect"}
+    async def send(message):
+        sent.append(message)
+    await app(scope, receive, send)
+    assert sent[0]["status"] == 200, sent
+
+async def main():
+    with tempfile.TemporaryDirectory() as data:
+        app = create_app(Settings(data_dir=Path(data), host="127.0.0.1", port=8000))
+        async with app.router.lifespan_context(app):
+            load = {"armor_request": {"reference_name": "bench", "command": "LOAD",
+                    "primary_command_spec": "FILE", "args": ["", "http://ex.org/bench", "false",
+                    "PELLET", "True"]}}
+            await post(app, json.dumps(load).encode())
+            for i in range(200):  # warm-up: every model built, every path taken once
+                await post(app, directive(10**6 + i))
+            for i in range(COUNT):
+                await post(app, directive(i))
+
+asyncio.run(main())
+"""
+
+
+def _load_average() -> str:
+    one, five, fifteen = os.getloadavg()
+    return f"load average {one:.2f} {five:.2f} {fifteen:.2f} on {os.cpu_count()} CPUs"
+
+
+def instructions(root: Path, count: int, null: bool) -> int:
+    """Instructions of one child run over the checkout at ``root``."""
+    with tempfile.TemporaryDirectory(prefix="engram-callgrind-") as work:
+        out = Path(work) / "callgrind.out"
+        env = {**os.environ, "PYTHONPATH": str(root)}
+        subprocess.run(
+            [
+                "valgrind",
+                "--tool=callgrind",
+                f"--callgrind-out-file={out}",
+                sys.executable,
+                "-c",
+                CHILD,
+                str(count),
+                "null" if null else "work",
+            ],
+            cwd=root,
+            env=env,
+            check=True,
+            capture_output=True,
+        )
+        summary = re.search(r"^summary: (\d+)", out.read_text(), re.MULTILINE)
+        if summary is None:
+            raise RuntimeError(f"no summary line in {out}")
+        return int(summary.group(1))
+
+
+def per_request(root: Path, count: int, null: bool) -> float:
+    """Instructions per request: (2N run - N run) / N, the two runs side by side."""
+    with ThreadPoolExecutor(2) as pool:
+        once, twice = pool.map(lambda n: instructions(root, n, null), (count, 2 * count))
+    return (twice - once) / count
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    parser.add_argument("--against", type=Path, metavar="CHECKOUT", help="count it too")
+    parser.add_argument("--requests", type=int, default=1000, help="N (default 1000)")
+    parser.add_argument("--null", action="store_true", help="the HTTP layers alone")
+    options = parser.parse_args()
+    what = "HTTP layers alone (fixed answer)" if options.null else "whole directive"
+    print(f"# ARMOR simple directive, in-process ASGI, callgrind: {what}")
+    print(f"  {_load_average()}")
+    this = per_request(ROOT, options.requests, options.null)
+    print(f"  this checkout: {this / 1000:.0f}k instructions a request")
+    if options.against is not None:
+        other = per_request(options.against.resolve(), options.requests, options.null)
+        print(f"  {options.against}: {other / 1000:.0f}k instructions a request")
+        print(f"  this ÷ other: {this / other:.2f}")
+    print(f"  {_load_average()}")
+
+
+if __name__ == "__main__":
+    main()
