@@ -83,9 +83,18 @@ def _overlap(a: Box, b: Box, grow_m: float) -> bool:
     return bool(np.all(a[0] - grow_m <= b[1] + grow_m) and np.all(b[0] - grow_m <= a[1] + grow_m))
 
 
-def _inside(inner: Box, outer: Box, grow_m: float) -> bool:
-    """``inner`` lies inside ``outer`` grown by ``grow_m`` on every side."""
-    return bool(np.all(inner[0] >= outer[0] - grow_m) and np.all(inner[1] <= outer[1] + grow_m))
+def _share_inside(inner: Box, outer: Box, grow_m: float) -> float:
+    """The share of ``inner``'s volume that lies inside ``outer`` grown by ``grow_m`` on every
+    side (along an axis where ``inner`` is flat, 1 if it lies within the grown range, else 0).
+
+    >>> _share_inside((np.zeros(3), np.array([0.1, 0.2, 0.1])), (np.zeros(3), np.full(3, 0.1)), 0.0)
+    0.5
+    """
+    lo, hi = np.maximum(inner[0], outer[0] - grow_m), np.minimum(inner[1], outer[1] + grow_m)
+    length = inner[1] - inner[0]
+    flat = length <= 0.0
+    covered = np.where(flat, (hi >= lo).astype(np.float64), np.clip(hi - lo, 0.0, None))
+    return float(np.prod(covered / np.where(flat, 1.0, length)))
 
 
 @dataclass
@@ -117,6 +126,9 @@ class Tracker:
     reid_size_m: float = 0.01
     jitter_m: float = 0.04
     """How far a static object's box edges may move between frames of a real scan."""
+    part_share: float = 0.5
+    """How much of a detection's box must lie inside a larger track's grown box for it to be a
+    part of that object."""
     parts: list[bool] = field(default_factory=list)
     """For each detection of the last update: it was taken as a part of a larger one."""
 
@@ -200,11 +212,14 @@ class Tracker:
         return [int(a) for a in assigned if a is not None]
 
     def _host(self, box: Box, hosts: Sequence[int]) -> int | None:
-        """The smallest track among ``hosts`` larger than ``box`` whose grown box holds it."""
+        """The smallest track among ``hosts`` larger than ``box`` whose grown box holds at least
+        ``part_share`` of it."""
         best, best_size = None, np.inf
         for track_id in hosts:
             host = self.tracks[track_id].box
-            if host is None or _size(host) <= _size(box) or not _inside(box, host, self.jitter_m):
+            if host is None or _size(host) <= _size(box):
+                continue
+            if _share_inside(box, host, self.jitter_m) < self.part_share:
                 continue
             if _size(host) < best_size:
                 best, best_size = track_id, _size(host)

@@ -642,7 +642,7 @@ def fit_cluster(
             model, thr = models[kind]
             score(kind, refine_if_better(model, fitted[kind], sample, thr))
     while True:
-        kind = _choose(costs, fitted, support, fp, sample)
+        kind = _choose(costs, fitted, support, fp, points)
         if kind is ShapeKind.PLANE:
             plane, inl = max(planes, key=lambda p: len(p[1]))
             prim = _build_plane(plane, sample, inl)
