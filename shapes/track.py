@@ -20,8 +20,11 @@ Added:
   track's no longer takes that track's id.
 - **Parts of one object.** Segmentation of a real scan cuts a thin or far object (a chair's
   tubes, the strip at the edge of a box) into pieces that change from frame to frame. A
-  detection left without a track whose box, grown by nothing, lies inside the box of a larger
-  track grown by ``jitter_m`` is a part of that object and gets its id; several detections of
+  detection left without a track whose box lies, for at least ``part_share`` of its volume,
+  inside the box of a larger track grown by ``jitter_m`` is a part of that object and gets its
+  id (not all of it: where the image's edge or an occluder cuts a large object, its box ends
+  wherever the cut falls in that frame, and a piece of its edge may stick out of the box the
+  object had in the frame before by more than the jitter); several detections of
   one frame may therefore share an id (:meth:`Tracker.update` says which, in ``parts``). Within
   a frame, larger detections are placed first, so a part seen in the first frame joins the
   object it belongs to. A detection whose box is a point (a support given by its centre) has no
@@ -139,11 +142,13 @@ class Tracker:
             or self.weight_old < 0
             or self.weight_new <= 0
             or self.jitter_m < 0
+            or not 0 < self.part_share <= 1
         ):
             raise ValueError(
                 "Tracker: expected gate_m > 0, forget_after >= 1, weight_old >= 0, "
-                f"weight_new > 0 and jitter_m >= 0, got {self.gate_m}, {self.forget_after}, "
-                f"{self.weight_old}, {self.weight_new}, {self.jitter_m}"
+                "weight_new > 0, jitter_m >= 0 and 0 < part_share <= 1, got "
+                f"{self.gate_m}, {self.forget_after}, {self.weight_old}, {self.weight_new}, "
+                f"{self.jitter_m}, {self.part_share}"
             )
 
     def update(
@@ -158,7 +163,7 @@ class Tracker:
         track in the gate takes the nearest unmatched track within ``reid_gate_m`` that has
         the same kind and a size within ``reid_size_m``, so an object moved far keeps its id.
         ``boxes`` (each detection's bounding box, :func:`box_of`): matches need overlapping
-        boxes, and a detection inside a larger object's box is a part of it and shares its id
+        boxes, and a detection mostly inside a larger object's box is a part of it and shares its id
         (``self.parts`` marks those detections).
 
         Tracks not matched this frame age by one; those missed ``forget_after`` times in a row
