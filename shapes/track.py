@@ -20,8 +20,11 @@ Added:
   track's no longer takes that track's id.
 - **Parts of one object.** Segmentation of a real scan cuts a thin or far object (a chair's
   tubes, the strip at the edge of a box) into pieces that change from frame to frame. A
-  detection left without a track whose box, grown by nothing, lies inside the box of a larger
-  track grown by ``jitter_m`` is a part of that object and gets its id; several detections of
+  detection left without a track whose box lies, for at least ``part_share`` of its volume,
+  inside the box of a larger track grown by ``jitter_m`` is a part of that object and gets its
+  id (not all of it: where the image's edge or an occluder cuts a large object, its box ends
+  wherever the cut falls in that frame, and a piece of its edge may stick out of the box the
+  object had in the frame before by more than the jitter); several detections of
   one frame may therefore share an id (:meth:`Tracker.update` says which, in ``parts``). Within
   a frame, larger detections are placed first, so a part seen in the first frame joins the
   object it belongs to. A detection whose box is a point (a support given by its centre) has no
@@ -83,9 +86,18 @@ def _overlap(a: Box, b: Box, grow_m: float) -> bool:
     return bool(np.all(a[0] - grow_m <= b[1] + grow_m) and np.all(b[0] - grow_m <= a[1] + grow_m))
 
 
-def _inside(inner: Box, outer: Box, grow_m: float) -> bool:
-    """``inner`` lies inside ``outer`` grown by ``grow_m`` on every side."""
-    return bool(np.all(inner[0] >= outer[0] - grow_m) and np.all(inner[1] <= outer[1] + grow_m))
+def _share_inside(inner: Box, outer: Box, grow_m: float) -> float:
+    """The share of ``inner``'s volume that lies inside ``outer`` grown by ``grow_m`` on every
+    side (along an axis where ``inner`` is flat, 1 if it lies within the grown range, else 0).
+
+    >>> _share_inside((np.zeros(3), np.array([0.1, 0.2, 0.1])), (np.zeros(3), np.full(3, 0.1)), 0.0)
+    0.5
+    """
+    lo, hi = np.maximum(inner[0], outer[0] - grow_m), np.minimum(inner[1], outer[1] + grow_m)
+    length = inner[1] - inner[0]
+    flat = length <= 0.0
+    covered = np.where(flat, (hi >= lo).astype(np.float64), np.clip(hi - lo, 0.0, None))
+    return float(np.prod(covered / np.where(flat, 1.0, length)))
 
 
 @dataclass
@@ -117,6 +129,9 @@ class Tracker:
     reid_size_m: float = 0.01
     jitter_m: float = 0.04
     """How far a static object's box edges may move between frames of a real scan."""
+    part_share: float = 0.5
+    """How much of a detection's box must lie inside a larger track's grown box for it to be a
+    part of that object."""
     parts: list[bool] = field(default_factory=list)
     """For each detection of the last update: it was taken as a part of a larger one."""
 
@@ -127,11 +142,13 @@ class Tracker:
             or self.weight_old < 0
             or self.weight_new <= 0
             or self.jitter_m < 0
+            or not 0 < self.part_share <= 1
         ):
             raise ValueError(
                 "Tracker: expected gate_m > 0, forget_after >= 1, weight_old >= 0, "
-                f"weight_new > 0 and jitter_m >= 0, got {self.gate_m}, {self.forget_after}, "
-                f"{self.weight_old}, {self.weight_new}, {self.jitter_m}"
+                "weight_new > 0, jitter_m >= 0 and 0 < part_share <= 1, got "
+                f"{self.gate_m}, {self.forget_after}, {self.weight_old}, {self.weight_new}, "
+                f"{self.jitter_m}, {self.part_share}"
             )
 
     def update(
@@ -146,7 +163,7 @@ class Tracker:
         track in the gate takes the nearest unmatched track within ``reid_gate_m`` that has
         the same kind and a size within ``reid_size_m``, so an object moved far keeps its id.
         ``boxes`` (each detection's bounding box, :func:`box_of`): matches need overlapping
-        boxes, and a detection inside a larger object's box is a part of it and shares its id
+        boxes, and a detection mostly inside a larger object's box is a part of it and shares its id
         (``self.parts`` marks those detections).
 
         Tracks not matched this frame age by one; those missed ``forget_after`` times in a row
@@ -200,11 +217,14 @@ class Tracker:
         return [int(a) for a in assigned if a is not None]
 
     def _host(self, box: Box, hosts: Sequence[int]) -> int | None:
-        """The smallest track among ``hosts`` larger than ``box`` whose grown box holds it."""
+        """The smallest track among ``hosts`` larger than ``box`` whose grown box holds at least
+        ``part_share`` of it."""
         best, best_size = None, np.inf
         for track_id in hosts:
             host = self.tracks[track_id].box
-            if host is None or _size(host) <= _size(box) or not _inside(box, host, self.jitter_m):
+            if host is None or _size(host) <= _size(box):
+                continue
+            if _share_inside(box, host, self.jitter_m) < self.part_share:
                 continue
             if _size(host) < best_size:
                 best, best_size = track_id, _size(host)

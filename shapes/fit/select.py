@@ -368,7 +368,9 @@ def _choose(
     support's normal): when their costs (without
     the oblique penalty) lie within ``taper_margin`` of each other, the costs cannot tell them
     apart (under range noise a cone's extra parameter fits the noise,
-    and a narrow cone is a cylinder within the threshold). The points decide: a cone narrows
+    and a narrow cone is a cylinder within the threshold). The points decide (``points``: all
+    the cluster's, not the fit sample, as the measured drop of a cylinder's side is noise that
+    shrinks with the square root of their number): a cone narrows
     upwards, so it is a cone when its side's radius drops by more than ``taper_sigmas`` times
     the spread of the side about its profile (:func:`standing_taper`: the measured residual,
     taken as at least ``taper_min_spread_m`` so that a noiseless side does not make every
@@ -642,7 +644,8 @@ def fit_cluster(
             model, thr = models[kind]
             score(kind, refine_if_better(model, fitted[kind], sample, thr))
     while True:
-        kind = _choose(costs, fitted, support, fp, sample)
+        # The taper is measured on every point: on the sample its noise alone passed the rule.
+        kind = _choose(costs, fitted, support, fp, points)
         if kind is ShapeKind.PLANE:
             plane, inl = max(planes, key=lambda p: len(p[1]))
             prim = _build_plane(plane, sample, inl)
