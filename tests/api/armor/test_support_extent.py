@@ -10,15 +10,16 @@ from api.armor.models import ArmorDirectiveReq
 from api.client import primitive_directives
 from api.perceive import scene_primitives
 from kg import Store
-from kg.primitive import Primitive as ScenePrimitive
+from kg.primitive import Primitive
 from kg.scene_triples import read_primitive
 from ontologies.vocab import EPISODIC, HAS_PRIMITIVE
-from shapes import Primitive, ShapeKind, StableScene
+from shapes import Primitive as Shape
+from shapes import ShapeKind, StableScene
 
 
 def test_a_supports_extent_is_in_the_scene_the_client_sends() -> None:
-    ball = Primitive(ShapeKind.SPHERE, centre=(0.1, 0.2, 0.05), radius=0.05, tracking_id=3)
-    floor = Primitive(
+    ball = Shape(ShapeKind.SPHERE, centre=(0.1, 0.2, 0.05), radius=0.05, tracking_id=3)
+    floor = Shape(
         ShapeKind.PLANE,
         centre=(0.0, 0.1, 0.0),
         axis=(0.0, 0.0, 1.0),
@@ -39,13 +40,13 @@ def test_a_supports_extent_is_in_the_scene_the_client_sends() -> None:
 @pytest.mark.parametrize("side", [0.0, -1.0, float("nan")])
 def test_the_client_refuses_an_extent_that_is_no_length(side: float) -> None:
     with pytest.raises(ValueError, match="extent_y: got"):
-        ScenePrimitive("t", "Plane", centre=(0, 0, 0), axis=(0, 0, 1), extent_x=1.0, extent_y=side)
+        Primitive("t", "Plane", centre=(0, 0, 0), axis=(0, 0, 1), extent_x=1.0, extent_y=side)
 
 
 def test_the_engine_stores_the_extent_with_the_plane(tmp_path: Path) -> None:
     engine = ArmorEngine(Store(tmp_path / "store"))
-    ball = ScenePrimitive("ball", "Sphere", centre=(0.3, 0.3, 0.3), radius=0.05)
-    table = ScenePrimitive(
+    ball = Primitive("ball", "Sphere", centre=(0.3, 0.3, 0.3), radius=0.05)
+    table = Primitive(
         "table",
         "Plane",
         centre=(0.3, 0.1, 0.1),
