@@ -28,14 +28,13 @@ on top of this one.
 
 from __future__ import annotations
 
-import functools
 import struct
 from collections.abc import Mapping
 from typing import IO, Any
 
 import lz4.frame  # type: ignore[import-untyped,unused-ignore]
 import zstandard
-from isal.isal_zlib import crc32
+from isal.isal_zlib import crc32, crc32_combine
 from mcap.data_stream import RecordBuilder
 from mcap.opcode import Opcode
 from mcap.records import (
@@ -55,7 +54,7 @@ from mcap.writer import LIBRARY_IDENTIFIER, MCAP0_MAGIC
 
 from episodes.streams.errors import InvalidSampleError
 
-__all__ = ["CHUNK_BYTES", "COMPRESSIONS", "McapWriter", "crc32_combine"]
+__all__ = ["CHUNK_BYTES", "COMPRESSIONS", "McapWriter"]
 
 CHUNK_BYTES = 1024 * 1024
 """Chunks close once their records pass this size (the library's and rosbags' default)."""
@@ -77,7 +76,7 @@ class McapWriter:
 
     The library's writer copies a payload into its chunk buffer, copies the finished chunk
     into a record buffer (both fresh memory: ~430 page faults a 640x480 frame), and CRCs it
-    twice. Here the data section's CRC is combined from the chunk's (:func:`crc32_combine`)
+    twice. Here the data section's CRC is combined from the chunk's (isal's ``crc32_combine``)
     for uncompressed chunks. Records other than messages and chunks are the library's own
     record classes.
     """
@@ -298,59 +297,6 @@ class McapWriter:
             self._data_crc = crc32(part, self._data_crc)
             self._stream.write(part)
             self._offset += len(part)
-
-
-_CRC32_POLYNOMIAL = 0xEDB88320  # CRC-32 as zlib computes it, bits reflected
-
-
-def _multiply_mod_p(a: int, b: int) -> int:
-    """``a(x) * b(x)`` modulo the CRC-32 polynomial (reflected: x^0 is the top bit)."""
-    product = 0
-    bit = 1 << 31
-    while a:
-        if a & bit:
-            product ^= b
-            a ^= bit
-        bit >>= 1
-        b = (b >> 1) ^ _CRC32_POLYNOMIAL if b & 1 else b >> 1
-    return product
-
-
-def _powers_of_x() -> list[int]:
-    powers = [1 << 30]  # x^1
-    for _ in range(63):
-        powers.append(_multiply_mod_p(powers[-1], powers[-1]))
-    return powers
-
-
-_X_TO_2_TO_THE = _powers_of_x()
-"""``x^(2^k)`` modulo the polynomial, for k = 0..63."""
-
-
-def crc32_combine(crc_a: int, crc_b: int, length_b: int) -> int:
-    """The CRC-32 of ``a + b`` from those of ``a`` and ``b`` and the length of ``b`` (zlib's
-    ``crc32_combine``, which Python's ``zlib`` does not expose): ``a``'s CRC times
-    ``x^(8 * length_b)``, plus ``b``'s; a few dozen small multiplications, not a pass over ``b``.
-
-    >>> crc32_combine(crc32(b"chunk "), crc32(b"records"), 7) == crc32(
-    ...     b"chunk records"
-    ... )
-    True
-    """
-    return _multiply_mod_p(_x_to_8_times(length_b), crc_a) ^ crc_b
-
-
-@functools.lru_cache(maxsize=256)  # a camera's frames, and so its chunks, repeat their sizes
-def _x_to_8_times(n: int) -> int:
-    """``x^(8 n)`` modulo the polynomial: the product of ``x^(2^(k + 3))`` over the bits k of n."""
-    power = 1 << 31  # x^0
-    k = 3
-    while n:
-        if n & 1:
-            power = _multiply_mod_p(_X_TO_2_TO_THE[k], power)
-        n >>= 1
-        k += 1
-    return power
 
 
 def _record(record: Any) -> bytes:
