@@ -181,7 +181,7 @@ def import_command(
         from episodes import to_jsonable
 
         try:
-            report = memory.import_bag_report(
+            report = memory.imports.bag_report(
                 bag, activity, activity_type=type, arguments=specs, episode_id=id
             )
         except StreamError as error:
@@ -530,7 +530,7 @@ def lacking(
             token,
             lambda m: [
                 {"episode": summary, "runs": runs}
-                for summary, runs in m.lacking(activity, augmentation, versions=versions)
+                for summary, runs in m.runs.lacking(activity, augmentation, versions=versions)
             ],
             "GET",
             "/episodes/lacking",
@@ -544,7 +544,16 @@ def runs(
     episode: str, data: DataOption = None, server: ServerOption = None, token: TokenOption = None
 ) -> None:
     """The augmentation runs of an episode."""
-    _print(_run(data, server, token, lambda m: m.runs(episode), "GET", f"/episodes/{episode}/runs"))
+    _print(
+        _run(
+            data,
+            server,
+            token,
+            lambda m: m.runs.of_episode(episode),
+            "GET",
+            f"/episodes/{episode}/runs",
+        )
+    )
 
 
 @app.command()
@@ -569,7 +578,7 @@ def rate(
             data,
             server,
             token,
-            lambda m: m.rate(
+            lambda m: m.ratings.rate(
                 episode,
                 run,
                 person=person,
@@ -603,7 +612,7 @@ def feedback(
             data,
             server,
             token,
-            lambda m: m.begin_feedback(person, rated=rated or [], begin=at, episode_id=id),
+            lambda m: m.ratings.begin_session(person, rated=rated or [], begin=at, episode_id=id),
             "POST",
             "/feedback-sessions",
             json={"person": person, "rated": rated or [], **_given(begin=at, id=id)},
@@ -621,7 +630,7 @@ def session_ratings(
             data,
             server,
             token,
-            lambda m: m.session_ratings(session),
+            lambda m: m.ratings.of_session(session),
             "GET",
             f"/feedback-sessions/{session}/ratings",
         )
@@ -644,7 +653,9 @@ def rank(
             data,
             server,
             token,
-            lambda m: m.rank(augmentation, episode_id=episode, alpha=alpha, question=question),
+            lambda m: m.ratings.rank(
+                augmentation, episode_id=episode, alpha=alpha, question=question
+            ),
             "GET",
             f"/augmentations/{augmentation}/ranking",
             params={"alpha": alpha, **_given(episode=episode, question=question)},

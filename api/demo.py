@@ -265,7 +265,7 @@ def run_demo(store: Store, data_dir: Path, console: Console) -> Path:
         arguments=[ArgumentSpec("agent", "HyungJin"), ArgumentSpec("object", "table")],
         record=True,
     )
-    recorder = demo.episodes.recordings.get(episode.id)
+    recorder = demo.episodes.streams.recordings.get(episode.id)
     recorder.add_provider("camera/rgb", "image", encoding="rgb8")
     recorder.add_provider("camera/depth", "float_array", dtype="float64", shape=[2])
     _see(demo, Perception(seed=0), episode.iri, recorder)

@@ -74,9 +74,9 @@ def build(memory: EpisodeMemory, count: int) -> None:
         )
         if k % 10 == 0:
             memory.annotate(f"e{k}", key="phase", value="reach", start=begun, end=begun)
-            run = memory.start_run(f"e{k}", name="detector", producer="bench")
-            memory.end_run(f"e{k}", run.id)
-            memory.rate(f"e{k}", run.id, person="Ana", value=7)
+            run = memory.runs.start(f"e{k}", name="detector", producer="bench")
+            memory.runs.end(f"e{k}", run.id)
+            memory.ratings.rate(f"e{k}", run.id, person="Ana", value=7)
 
 
 def before(memory: EpisodeMemory, limit: int) -> object:
@@ -85,7 +85,7 @@ def before(memory: EpisodeMemory, limit: int) -> object:
     for recollection in found[:limit]:
         episode_id = recollection.episode.id
         memory.get(episode_id)
-        memory.runs(episode_id)
+        memory.runs.of_episode(episode_id)
         memory.store.select("episodes_ratings", episode=episode_iri(episode_id))
     return found
 

@@ -55,7 +55,7 @@ def build(data_dir: Path, classes: int, samples: int) -> None:
         learned += len(memory.learn_classes(batch))
     episodes = EpisodeMemory(store, data_dir=data_dir)
     episode = episodes.begin("babbling", episode_id="long", record=True)
-    recorder = episodes.recordings.get(episode.id)
+    recorder = episodes.streams.recordings.get(episode.id)
     recorder.add_provider("arm/effort", "float_array", dtype="float64", shape=[4])
     values = np.random.default_rng(SEED).normal(size=(samples, 4))
     for i in range(samples):

@@ -2,7 +2,11 @@
 
 It ties the graph side (episodes, annotations, cues, augmentation runs, ratings) to the stream
 side (``episodes.streams``: one rosbag2 directory per episode under ``<data_dir>/streams``, and
-one per augmentation run under ``<data_dir>/augmentations/<episode>``).
+one per augmentation run under ``<data_dir>/augmentations/<episode>``). The episodes' lifecycle
+and the queries by cue are its own methods; the rest are parts, one idea each:
+``memory.streams`` (the episodes' recordings, :mod:`episodes.stream_files`), ``memory.runs``
+(augmentation runs and their queue, :mod:`episodes.runs`), ``memory.ratings`` (feedback,
+:mod:`episodes.ratings`) and ``memory.imports`` (bags, :mod:`episodes.bag_imports`).
 
 >>> import datetime as dt
 >>> from kg import Store
@@ -18,66 +22,30 @@ one per augmentation run under ``<data_dir>/augmentations/<episode>``).
 import datetime as dt
 import logging
 import shutil
-from collections.abc import Iterator, Mapping, Sequence
+from collections.abc import Sequence
 from pathlib import Path
-from typing import Any
 from typing import Literal as Which
 
-from episodes import (
-    arguments,
-    augmentation,
-    bag_import,
-    cue_index,
-    cues,
-    feedback,
-    lifecycle,
-    sessions,
-    time_index,
-    transfer,
-)
+from episodes import arguments, cue_index, cues, lifecycle, time_index, times, transfer
 from episodes.archive import StreamArchive
-from episodes.augmentation import DerivedSpec
-from episodes.bag_import import BagEpisode
-from episodes.bag_limits import DEFAULT_LIMIT_BYTES
+from episodes.bag_imports import BagImports
 from episodes.cues import Cue
-from episodes.errors import (
-    EpisodeNotFoundError,
-    EpisodeStateError,
-    InvalidInputError,
-)
-from episodes.feedback import Ranking
+from episodes.errors import EpisodeNotFoundError, EpisodeStateError, InvalidInputError
 from episodes.knowledge import ActivityKnowledge, activity_knowledge
 from episodes.lifecycle import ArgumentSpec
-from episodes.model import (
-    Annotation,
-    Argument,
-    AugmentationRun,
-    DerivedSample,
-    Episode,
-    EpisodeSummary,
-    ImportReport,
-    Rating,
-    Recollection,
-    StreamDescriptor,
-)
+from episodes.model import Annotation, Argument, Episode, Recollection
 from episodes.paths import DataPaths
-from episodes.queue import AugmentationQueue
-from episodes.run_files import RunFiles
+from episodes.ratings import Ratings
+from episodes.runs import AugmentationRuns
 from episodes.scene_channel import write_episode_scenes
 from episodes.snapshot import MemoryState, read_memory_state
-from episodes.streamlink import descriptors_from_recording, descriptors_from_stats
-from episodes.streams import (
-    RecordingRegistry,
-    Replayer,
-    StreamError,
-)
+from episodes.stream_files import StreamFiles
+from episodes.streams import RecordingRegistry, StreamError
 from episodes.streams.mcapread import LIMIT_BYTES
-from episodes.streams.replay import Frame
 from episodes.terms import ArgumentKind, check_id, episode_iri, new_id
-from episodes.times import Clock, parse_time, system_clock
+from episodes.times import Clock, system_clock, time_or_now
 from episodes.world import WorldChange, world_change
 from kg import Store
-from ontologies.vocab import EPISODES
 
 __all__ = ["EpisodeMemory"]
 
@@ -85,13 +53,15 @@ log = logging.getLogger(__name__)
 
 
 class EpisodeMemory:
-    """Episodes, their streams, augmentations and feedback.
+    """Episodes: their lifecycle, annotations, arguments and queries by cue; and its parts.
 
     ``data_dir`` holds the stream files (none are written without it); ``clock`` gives "now"
     (time-zone aware) for default times and for phrases like "one month ago"; ``recordings``
     is the process's ``episodes.streams.RecordingRegistry`` (one is made when omitted);
     ``memory_state`` reads the scene memory's state for the episodes' snapshots (by default
-    from the stored scores, see :mod:`episodes.snapshot`).
+    from the stored scores, see :mod:`episodes.snapshot`); ``archive`` is where ended
+    episodes' recordings go (object storage), if anywhere; ``read_limit_bytes`` bounds each
+    record and decompressed chunk a replayer reads (``streams.mcapread``).
     """
 
     def __init__(
@@ -100,53 +70,30 @@ class EpisodeMemory:
         *,
         data_dir: Path | None = None,
         clock: Clock = system_clock,
-        recordings: Any = None,
+        recordings: RecordingRegistry | None = None,
         memory_state: MemoryState = read_memory_state,
         archive: StreamArchive | None = None,
         read_limit_bytes: int = LIMIT_BYTES,
     ) -> None:
         self.store = store
         self.archive = archive
-        """Where ended episodes' recordings go (object storage), if anywhere."""
         self.memory_state = memory_state
         self.data_dir = data_dir
         self.clock = clock
-        self._recordings = recordings
         self.paths = DataPaths(data_dir)
-        self.read_limit_bytes = read_limit_bytes
-        """Bounds each record and decompressed chunk a replayer reads (``streams.mcapread``)."""
-        self.run_files = RunFiles(store, self.paths, archive, read_limit_bytes=read_limit_bytes)
-        """The augmentation runs' stream files (see :mod:`episodes.run_files`)."""
-        self._queue: AugmentationQueue | None = None
+        self.streams = StreamFiles(
+            store, self.paths, archive, recordings=recordings, read_limit_bytes=read_limit_bytes
+        )
+        """The episodes' recordings (see :mod:`episodes.stream_files`)."""
+        self.runs = AugmentationRuns(store, self.streams, clock=clock)
+        """Augmentation runs, their stream files and queue (see :mod:`episodes.runs`)."""
+        self.ratings = Ratings(store, clock=clock, memory_state=memory_state)
+        """People's ratings of the runs, and their ranking (see :mod:`episodes.ratings`)."""
+        self.imports = BagImports(store, self.paths, clock=clock)
+        """Bags imported as finished episodes (see :mod:`episodes.bag_imports`)."""
         if store.remote is None or not store.remote.read_only:
             cue_index.backfill(store)  # arguments stored before the cue index existed
             time_index.backfill(store)  # episodes stored before the time index existed
-
-    # Paths and the stream side ---------------------------------------------------------------
-
-    @property
-    def recordings(self) -> Any:
-        """The registry of open recordings (``episodes.streams.RecordingRegistry``)."""
-        if self._recordings is None:
-            self._recordings = RecordingRegistry()
-        return self._recordings
-
-    def streams_path(self, episode_id: str) -> Path:
-        """The rosbag2 directory of an episode's streams."""
-        return self.paths.streams(episode_id)
-
-    def run_path(self, episode_id: str, run_id: str) -> Path:
-        """The rosbag2 directory of an augmentation run's derived samples."""
-        return self.paths.run(episode_id, run_id)
-
-    def _now(self) -> dt.datetime:
-        now = self.clock()
-        if now.tzinfo is None:
-            raise ValueError("clock: returned a naive datetime; it must be time-zone aware")
-        return now
-
-    def _time(self, value: dt.datetime | str | None, field: str) -> dt.datetime:
-        return self._now() if value is None else parse_time(value, field)
 
     # Episodes --------------------------------------------------------------------------------
 
@@ -162,13 +109,13 @@ class EpisodeMemory:
     ) -> Episode:
         """Begin an episode (now by default); with ``record``, open its stream recording."""
         episode_id = check_id(episode_id, "id") if episode_id is not None else new_id()
-        started = self._time(begin, "begin")
-        path = self.streams_path(episode_id) if record else None
-        if path is not None:
+        started = time_or_now(self.clock, begin, "begin")
+        if record:
+            self.streams.path(episode_id)  # raises first when there is no data directory
             # checked before opening, so that a taken id never touches that episode's streams
             if lifecycle.episode_times(self.store, episode_iri(episode_id)) is not None:
                 raise EpisodeStateError(f"id: an episode {episode_id!r} already exists")
-            self.recordings.open(episode_id, path)
+            self.streams.open(episode_id)
         try:
             lifecycle.begin_episode(
                 self.store,
@@ -180,9 +127,8 @@ class EpisodeMemory:
                 memory_state=self.memory_state,
             )
         except BaseException:
-            if path is not None:
-                self.recordings.close(episode_id)
-                shutil.rmtree(path, ignore_errors=True)
+            if record:
+                self.streams.abandon(episode_id)
             raise
         return self.get(episode_id)
 
@@ -201,7 +147,7 @@ class EpisodeMemory:
 
     def end(self, episode_id: str, *, end: dt.datetime | str | None = None) -> Episode:
         """End a running episode (now by default); close its recording and describe its streams."""
-        ended = self._time(end, "end")
+        ended = time_or_now(self.clock, end, "end")
         episode = self.get(episode_id)
         if episode.end is not None:
             raise EpisodeStateError(
@@ -211,7 +157,7 @@ class EpisodeMemory:
             raise InvalidInputError(
                 "end", ended.isoformat(), f"a time not before the begin {episode.begin.isoformat()}"
             )
-        streams = self._close_streams(episode_id)
+        streams = self.streams.finish(episode_id)
         lifecycle.end_episode(
             self.store, episode_id, end=ended, streams=streams, memory_state=self.memory_state
         )
@@ -223,113 +169,6 @@ class EpisodeMemory:
             except StreamError as error:
                 log.warning("episode %s: recording kept local: %s", episode_id, error)
         return self.get(episode_id)
-
-    def local_streams(self, episode_id: str) -> Path:
-        """The episode's bag directory for reading: fetched from object storage if need be."""
-        return self.run_files.source(episode_id)
-
-    def replayer(self, episode_id: str) -> Replayer:
-        """A replayer of the episode's recording; one in object storage is read by ranges."""
-        if self.archive is not None:
-            return self.archive.replayer(self.store, check_id(episode_id, "episode"))
-        return Replayer(self.streams_path(episode_id), limit_bytes=self.read_limit_bytes)
-
-    def _close_streams(self, episode_id: str) -> list[StreamDescriptor]:
-        """Close the episode's recording if it is open and describe what it holds."""
-        if self.data_dir is None and self._recordings is None:
-            return []
-        if episode_id in self.recordings:
-            return descriptors_from_stats(
-                self.recordings.close(episode_id), self.paths.dir("streams")
-            )
-        if self.data_dir is not None and self.streams_path(episode_id).exists():
-            replayer = Replayer(self.streams_path(episode_id), limit_bytes=self.read_limit_bytes)
-            return descriptors_from_recording(replayer, self.paths.dir("streams"))
-        return []
-
-    def import_bag(
-        self,
-        path: Path | str,
-        activity: str,
-        *,
-        activity_type: str | None = None,
-        arguments: Sequence[ArgumentSpec] = (),
-        episode_id: str | None = None,
-    ) -> Episode:
-        """Import a ROS 1 bag file or ROS 2 bag directory as a finished episode.
-
-        The samples become the episode's recording (channels mapped, times kept, see
-        ``episodes.streams.import_bag``); the episode begins and ends with the bag's first and
-        last message and carries an ``imported_from`` annotation (and one ``skipped_topic``
-        annotation per topic of a type that cannot be imported). The scene memory's state at
-        the time is unknown, so no snapshots are recorded. Nothing stays behind on failure.
-        :meth:`import_bag_report` also returns what was skipped.
-        """
-        return self.import_bag_report(
-            path, activity, activity_type=activity_type, arguments=arguments, episode_id=episode_id
-        ).episode
-
-    def import_bag_report(
-        self,
-        path: Path | str,
-        activity: str,
-        *,
-        activity_type: str | None = None,
-        arguments: Sequence[ArgumentSpec] = (),
-        episode_id: str | None = None,
-        name: str | None = None,
-        max_decompressed_bytes: int = DEFAULT_LIMIT_BYTES,
-    ) -> ImportReport:
-        """:meth:`import_bag`, answering the episode and the topics skipped (type and count).
-        ``name`` is how messages and the ``imported_from`` annotation call the bag (default:
-        ``path``); a compressed piece of the bag may expand to ``max_decompressed_bytes``.
-        Raises :class:`~episodes.bag_limits.DamagedBagError` if the bag cannot be read."""
-        what = BagEpisode(activity, activity_type, arguments, episode_id)
-        return bag_import.import_report(
-            self.store,
-            self.paths,
-            path,
-            what,
-            now=self._now(),
-            name=name,
-            max_decompressed_bytes=max_decompressed_bytes,
-        )
-
-    def import_source(self, path: str) -> Path:
-        """The bag at ``path`` inside the data directory, for an HTTP client (see
-        :func:`episodes.bag_import.import_source`)."""
-        return bag_import.import_source(self.paths, path)
-
-    @property
-    def uploads_dir(self) -> Path:
-        """Where uploaded files wait to be imported (inside the data directory)."""
-        return self.paths.dir("uploads")
-
-    def import_upload(
-        self,
-        upload: Path,
-        activity: str,
-        *,
-        activity_type: str | None = None,
-        arguments: Sequence[ArgumentSpec] = (),
-        episode_id: str | None = None,
-        max_decompressed_bytes: int = DEFAULT_LIMIT_BYTES,
-        max_unpacked_bytes: int = 4 * 1024**3,
-    ) -> ImportReport:
-        """Import a bag received as the file ``upload``: a ROS 1 ``.bag`` file, or a tar of a
-        ROS 2 bag directory (see :func:`episodes.bag_import.import_upload` for the limits).
-        Raises :class:`InvalidInputError` (field ``body``) for anything else, and
-        :class:`~episodes.bag_limits.DamagedBagError` for a bag that cannot be read."""
-        what = BagEpisode(activity, activity_type, arguments, episode_id)
-        return bag_import.import_upload(
-            self.store,
-            self.paths,
-            upload,
-            what,
-            now=self._now(),
-            max_decompressed_bytes=max_decompressed_bytes,
-            max_unpacked_bytes=max_unpacked_bytes,
-        )
 
     def get(self, episode_id: str) -> Episode:
         """Everything about one episode; raises :class:`EpisodeNotFoundError`."""
@@ -352,7 +191,7 @@ class EpisodeMemory:
             episode_id,
             key=key,
             value=value,
-            created=self._now(),
+            created=times.now(self.clock),
             author=author,
             confidence=confidence,
             start=start,
@@ -384,7 +223,9 @@ class EpisodeMemory:
             role=role,
             value=value,
             kind=kind,
-            assertion=arguments.Assertion(self._time(time, "time"), author, confidence),
+            assertion=arguments.Assertion(
+                time_or_now(self.clock, time, "time"), author, confidence
+            ),
             replace=replace,
             replaces=replaces,
         )
@@ -405,7 +246,7 @@ class EpisodeMemory:
             episode_id,
             role=role,
             value=value,
-            assertion=arguments.Assertion(self._time(time, "time"), author),
+            assertion=arguments.Assertion(time_or_now(self.clock, time, "time"), author),
         )
 
     def world(self, episode_id: str) -> WorldChange:
@@ -427,9 +268,8 @@ class EpisodeMemory:
         episode = episode_iri(episode_id)
         if lifecycle.episode_times(self.store, episode) is None:
             raise EpisodeNotFoundError(episode_id)
-        if self._recordings is not None and episode_id in self._recordings:
-            self._recordings.close(episode_id)
-        self.run_files.close_episode(episode_id)
+        self.streams.stop(episode_id)
+        self.runs.files.close_episode(episode_id)
         stored = self.archive.stored(self.store, episode_id) if self.archive else []
         moved: list[tuple[Path, Path]] = []
         if self.data_dir is not None:
@@ -476,11 +316,11 @@ class EpisodeMemory:
         now: dt.datetime | None = None,
     ) -> Recollection:
         """The first, last or n-th episode matching ``cue``, with when it was in words."""
-        return cues.recall(self.store, cue, which=which, n=n, now=now or self._now())
+        return cues.recall(self.store, cue, which=which, n=n, now=now or times.now(self.clock))
 
     def all(self, cue: Cue, *, now: dt.datetime | None = None) -> list[Recollection]:
         """All episodes matching ``cue``, oldest first."""
-        return cues.all_episodes(self.store, cue, now=now or self._now())
+        return cues.all_episodes(self.store, cue, now=now or times.now(self.clock))
 
     def count(self, cue: Cue) -> int:
         """How many episodes match ``cue``."""
@@ -490,219 +330,12 @@ class EpisodeMemory:
         self, start: dt.datetime | str, end: dt.datetime | str, *, now: dt.datetime | None = None
     ) -> list[Recollection]:
         """What happened between ``start`` and ``end``."""
-        return cues.happened_between(self.store, start, end, now=now or self._now())
+        return cues.happened_between(self.store, start, end, now=now or times.now(self.clock))
 
     def knowledge(self, activity: str | None = None) -> list[ActivityKnowledge]:
         """What the episodes say about each activity (or one): how often, when, with whom."""
         return activity_knowledge(self.store, activity)
 
-    # Augmentation ----------------------------------------------------------------------------
-
-    def start_run(
-        self,
-        episode_id: str,
-        *,
-        name: str,
-        producer: str,
-        parameters: Mapping[str, Any] | None = None,
-    ) -> AugmentationRun:
-        """Open a new, versioned run of augmentation ``name`` on an episode."""
-        return augmentation.start_run(
-            self.store,
-            episode_id,
-            name=name,
-            producer=producer,
-            parameters=parameters,
-            started=self._now(),
-        )
-
-    def runs(self, episode_id: str) -> list[AugmentationRun]:
-        return augmentation.list_runs(self.store, episode_id)
-
-    def add_derived(
-        self,
-        episode_id: str,
-        run_id: str,
-        samples: Sequence[DerivedSpec],
-        *,
-        values: Sequence[Any] | None = None,
-        channels: Mapping[str, Mapping[str, Any]] | None = None,
-    ) -> list[DerivedSample]:
-        """Record derived samples of a run, linked to their source frames.
-
-        With ``values`` (one per sample) the data goes into the run's stream file, each sample
-        at the tick time of its source frame so that originals and derivations replay side by
-        side; ``channels`` declares each derived channel's kind and settings the first time
-        (``{"left/edges": {"kind": "image", "encoding": "rgb8"}}``).
-        """
-        if values is not None and len(values) != len(samples):
-            raise InvalidInputError("values", len(values), f"one value per sample ({len(samples)})")
-        recorded = self.run_files.recorded_frames(episode_id)
-        if values is not None:
-            augmentation.check_derived(self.store, episode_id, run_id, samples, recorded)
-            self.run_files.write(episode_id, run_id, samples, values, channels or {})
-        return augmentation.add_derived(self.store, episode_id, run_id, samples, recorded)
-
-    def recorded_frames(self, episode_id: str) -> dict[int, frozenset[str]]:
-        """Frame number -> the providers and channels with a sample at that frame, as the
-        episode's stream file holds them (empty without a recording)."""
-        return self.run_files.recorded_frames(episode_id)
-
-    def replay_run(
-        self,
-        episode_id: str,
-        run_id: str,
-        *,
-        merge: bool = False,
-        channels: Sequence[str] | None = None,
-    ) -> Iterator[Frame]:
-        """Replay a run's derived samples, frame by frame, numbered by their source frames;
-        with ``merge``, the source frames (``channels`` of them) with the derived samples
-        beside the originals, named ``augmentations/<name>/v<version>/<channel>``."""
-        return self.run_files.replay(episode_id, run_id, merge=merge, channels=channels)
-
-    def export_streams(self, episode_id: str, dest: Path, *, with_runs: bool = False) -> None:
-        """Write the episode's streams as a standalone rosbag2 directory ``dest``; with
-        ``with_runs``, every run's derived channels too, each its own topic per version."""
-        self.run_files.export(episode_id, dest, with_runs=with_runs)
-
-    def versions(self, augmentation_name: str, episode_id: str) -> list[dict[str, Any]]:
-        """The runs of one augmentation on one episode side by side, for a rating view: each
-        version with its parameters, derived samples and channels, rating summary, and
-        whether it is among the best (quartile rule, Wilcoxon)."""
-        ranking = self.rank(augmentation_name, episode_id=episode_id)
-        stats = {c.item: c for c in ranking.candidates}
-        out = []
-        for run in augmentation.list_runs(self.store, episode_id):
-            if run.name != augmentation_name:
-                continue
-            item = f"{episode_id}/{run.id}"
-            channels = self.run_files.channels(episode_id, run.id)
-            rated = stats.get(item)
-            out.append(
-                {
-                    "run": run,
-                    "item": item,
-                    "channels": channels,
-                    "ratings": rated,
-                    "best": item in ranking.best,
-                    "leader": item == ranking.leader,
-                }
-            )
-        return out
-
-    @property
-    def queue(self) -> AugmentationQueue:
-        """The pending augmentation work served to augmenter processes (claims and leases)."""
-        if self._queue is None:
-            self._queue = AugmentationQueue(self)
-        return self._queue
-
-    def discard_run(self, episode_id: str, run_id: str) -> None:
-        """Delete an unfinished run everywhere (its triples and derived file), e.g. when the
-        lease of the worker that claimed it runs out. Raises :class:`NotFoundError`."""
-        run = augmentation.get_run(self.store, episode_id, run_id)
-        if run.ended is not None:
-            raise EpisodeStateError(f"run: run {run_id!r} has ended; it is kept")
-        self.run_files.close_run(episode_id, run_id)
-        with self.store.transaction() as tx:
-            for row in self.store.select(
-                "episodes_owned_nodes", episode=augmentation.run_iri(episode_id, run_id)
-            ):
-                tx.delete_matching(row["node"], graph=EPISODES)  # type: ignore[arg-type]
-        if self.data_dir is not None:
-            shutil.rmtree(self.run_path(episode_id, run_id), ignore_errors=True)
-        log.info("run %s of episode %s discarded", run_id, episode_id)
-
-    def end_run(self, episode_id: str, run_id: str) -> AugmentationRun:
-        """Close a run (and its stream file)."""
-        self.run_files.close_run(episode_id, run_id)
-        return augmentation.end_run(self.store, episode_id, run_id, ended=self._now())
-
-    def lacking(
-        self, activity: str, augmentation_name: str, *, versions: int = 1
-    ) -> list[tuple[EpisodeSummary, int]]:
-        """Episodes of ``activity`` with fewer than ``versions`` runs of the augmentation."""
-        return augmentation.episodes_lacking(
-            self.store, activity=activity, augmentation=augmentation_name, versions=versions
-        )
-
-    # Feedback --------------------------------------------------------------------------------
-
-    def rate(
-        self,
-        episode_id: str,
-        run_id: str,
-        *,
-        person: str,
-        value: int,
-        time: dt.datetime | str | None = None,
-        sample: int | None = None,
-        question: str | None = None,
-        replace: bool = False,
-        session: str | None = None,
-    ) -> Rating:
-        """Store a person's 1-10 rating of a run (or of one of its derived samples), as the
-        answer to ``question``; a second answer needs ``replace`` (see ``feedback.rate``).
-        With ``session``, the rating is given in that running feedback episode, whose agent
-        ``person`` must be (see :meth:`begin_feedback`)."""
-        given_in = (
-            sessions.check_session(self.store, check_id(session, "session"), person)
-            if session is not None
-            else None
-        )
-        return feedback.rate(
-            self.store,
-            episode_id,
-            run_id,
-            person=person,
-            value=value,
-            time=self._time(time, "time"),
-            sample=sample,
-            question=question,
-            replace=replace,
-            session=given_in,
-        )
-
-    def begin_feedback(
-        self,
-        person: str,
-        *,
-        rated: Sequence[str] = (),
-        begin: dt.datetime | str | None = None,
-        episode_id: str | None = None,
-    ) -> Episode:
-        """Begin a rating session as a feedback episode: ``person`` (its agent) rates the data
-        of the episodes ``rated``; ratings given with ``session=<its id>`` belong to it, and
-        :meth:`end` ends it. See :mod:`episodes.sessions`."""
-        session_id = sessions.begin_session(
-            self.store,
-            person=person,
-            rated=rated,
-            begin=self._time(begin, "begin"),
-            episode_id=check_id(episode_id, "id") if episode_id is not None else None,
-            memory_state=self.memory_state,
-        )
-        return self.get(session_id)
-
-    def session_ratings(self, session_id: str) -> list[Rating]:
-        """The ratings given in a feedback episode, in the order given."""
-        return sessions.session_ratings(self.store, check_id(session_id, "session"))
-
-    def rank(
-        self,
-        augmentation_name: str,
-        *,
-        episode_id: str | None = None,
-        alpha: float = 0.05,
-        question: str | None = None,
-    ) -> Ranking:
-        """Rank the rated candidates of an augmentation by the answers to ``question``
-        (quartile heuristic, Wilcoxon)."""
-        return feedback.rank(
-            self.store, augmentation_name, episode_id=episode_id, alpha=alpha, question=question
-        )
-
     def close(self) -> None:
         """Close open run files (the recordings belong to whoever owns the registry)."""
-        self.run_files.close()
+        self.runs.files.close()

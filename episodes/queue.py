@@ -32,8 +32,8 @@ MAX_WAIT_S = 60.0
 POLL_S = 0.1
 
 
-class _Memory(Protocol):
-    """What the queue needs of :class:`episodes.EpisodeMemory`."""
+class _Runs(Protocol):
+    """What the queue needs of :class:`episodes.runs.AugmentationRuns`."""
 
     clock: Callable[[], dt.datetime]
 
@@ -41,11 +41,11 @@ class _Memory(Protocol):
         self, activity: str, augmentation_name: str, *, versions: int = 1
     ) -> list[tuple[Any, int]]: ...
 
-    def start_run(self, episode_id: str, *, name: str, producer: str) -> AugmentationRun: ...
+    def start(self, episode_id: str, *, name: str, producer: str) -> AugmentationRun: ...
 
-    def end_run(self, episode_id: str, run_id: str) -> AugmentationRun: ...
+    def end(self, episode_id: str, run_id: str) -> AugmentationRun: ...
 
-    def discard_run(self, episode_id: str, run_id: str) -> None: ...
+    def discard(self, episode_id: str, run_id: str) -> None: ...
 
 
 @dataclass(frozen=True)
@@ -69,13 +69,13 @@ def _number(value: object, field: str, low: float, high: float) -> float:
 
 
 class AugmentationQueue:
-    """The leases of one :class:`episodes.EpisodeMemory` (``memory``), thread-safe.
+    """The leases over one memory's augmentation runs (``runs``), thread-safe.
 
     ``monotonic`` is the clock of the leases (injectable for tests).
     """
 
-    def __init__(self, memory: _Memory, *, monotonic: Callable[[], float] = time.monotonic):
-        self.memory = memory
+    def __init__(self, runs: _Runs, *, monotonic: Callable[[], float] = time.monotonic):
+        self.runs = runs
         self._monotonic = monotonic
         self._lock = threading.Lock()
         self._leases: dict[str, tuple[Claim, float]] = {}
@@ -112,10 +112,10 @@ class AugmentationQueue:
             leased = {
                 c.episode_id for c, _ in self._leases.values() if c.augmentation == augmentation
             }
-            for summary, _ in self.memory.lacking(activity, augmentation, versions=versions):
+            for summary, _ in self.runs.lacking(activity, augmentation, versions=versions):
                 if summary.end is None or summary.id in leased:
                     continue
-                run = self.memory.start_run(summary.id, name=augmentation, producer=worker)
+                run = self.runs.start(summary.id, name=augmentation, producer=worker)
                 token = secrets.token_urlsafe(16)
                 claim = Claim(token, augmentation, summary.id, run, worker, self._expiry(lease_s))
                 self._leases[token] = (claim, self._monotonic() + lease_s)
@@ -123,14 +123,14 @@ class AugmentationQueue:
         return None
 
     def _expiry(self, lease_s: float) -> dt.datetime:
-        return self.memory.clock() + dt.timedelta(seconds=lease_s)
+        return self.runs.clock() + dt.timedelta(seconds=lease_s)
 
     def _expire(self) -> None:
         now = self._monotonic()
         for token, (claim, until) in list(self._leases.items()):
             if until <= now:
                 del self._leases[token]
-                self.memory.discard_run(claim.episode_id, claim.run.id)
+                self.runs.discard(claim.episode_id, claim.run.id)
 
     def _held(self, token: str) -> tuple[Claim, float]:
         self._expire()
@@ -161,4 +161,4 @@ class AugmentationQueue:
         with self._lock:
             claim, _ = self._held(token)
             del self._leases[token]
-        return self.memory.end_run(claim.episode_id, claim.run.id)
+        return self.runs.end(claim.episode_id, claim.run.id)

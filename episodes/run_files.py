@@ -13,15 +13,12 @@ from typing import Any
 from pyoxigraph import Literal
 
 from episodes import augmentation
-from episodes.archive import StreamArchive
 from episodes.augmentation import DerivedSpec
 from episodes.errors import EpisodeStateError, InvalidInputError, NotFoundError
-from episodes.paths import DataPaths
+from episodes.stream_files import StreamFiles
 from episodes.streams import Recorder, Replayer, export_bag
-from episodes.streams.mcapread import LIMIT_BYTES
 from episodes.streams.merge import derived_frames, export_merged, merged_frames, run_prefix
 from episodes.streams.replay import Frame
-from episodes.terms import check_id
 from kg import Store
 from ontologies.vocab import EPISODES, STREAM_FILE
 
@@ -32,21 +29,13 @@ FrameChannels = dict[int, frozenset[str]]
 
 
 class RunFiles:
-    """The runs' stream files of one memory; ``archive`` is where ended episodes' recordings
-    may have gone (object storage), if anywhere."""
+    """The runs' stream files of one memory, beside the episodes' recordings ``streams``."""
 
-    def __init__(
-        self,
-        store: Store,
-        paths: DataPaths,
-        archive: StreamArchive | None,
-        *,
-        read_limit_bytes: int = LIMIT_BYTES,
-    ) -> None:
+    def __init__(self, store: Store, streams: StreamFiles) -> None:
         self.store = store
-        self.paths = paths
-        self.archive = archive
-        self.read_limit_bytes = read_limit_bytes
+        self.streams = streams
+        self.paths = streams.paths
+        self.read_limit_bytes = streams.read_limit_bytes
         """Bounds each record and decompressed chunk read (:mod:`episodes.streams.mcapread`)."""
         self._writers: dict[tuple[str, str], _RunWriter] = {}
         self._frames: dict[str, tuple[tuple[object, ...], FrameChannels]] = {}
@@ -54,12 +43,6 @@ class RunFiles:
 
     def _replayer(self, path: Path) -> Replayer:
         return Replayer(path, limit_bytes=self.read_limit_bytes)
-
-    def source(self, episode_id: str) -> Path:
-        """The episode's bag directory for reading: fetched from object storage if need be."""
-        if self.archive is not None:
-            return self.archive.local(self.store, check_id(episode_id, "episode"))
-        return self.paths.streams(episode_id)
 
     def recorded_frames(self, episode_id: str) -> FrameChannels:
         """Frame number -> the providers and channels with a sample at that frame, as the
@@ -99,7 +82,7 @@ class RunFiles:
         with self._lock:
             writer = self._writers.get(key)
             if writer is None:
-                source = self.source(episode_id)
+                source = self.streams.local(episode_id)
                 times = (
                     {t.frame: t.time_ns for t in self._replayer(source).ticks}
                     if source.exists()

@@ -20,7 +20,16 @@ from pyoxigraph import Literal
 from episodes.errors import InvalidInputError
 from ontologies.vocab import XSD_DATETIME
 
-__all__ = ["Clock", "from_literal", "parse_time", "say_when", "system_clock", "to_literal"]
+__all__ = [
+    "Clock",
+    "from_literal",
+    "now",
+    "parse_time",
+    "say_when",
+    "system_clock",
+    "time_or_now",
+    "to_literal",
+]
 
 Clock = Callable[[], dt.datetime]
 """Returns the current time, time-zone aware; injected so tests and dialogues can fix "now"."""
@@ -46,6 +55,19 @@ _WORDS = [
 def system_clock() -> dt.datetime:
     """The current time in the machine's local time zone."""
     return dt.datetime.now().astimezone()
+
+
+def now(clock: Clock) -> dt.datetime:
+    """What ``clock`` says; raises :class:`ValueError` if it returns a naive datetime."""
+    moment = clock()
+    if moment.tzinfo is None:
+        raise ValueError("clock: returned a naive datetime; it must be time-zone aware")
+    return moment
+
+
+def time_or_now(clock: Clock, value: dt.datetime | str | None, field: str) -> dt.datetime:
+    """``value`` parsed (see :func:`parse_time`), or what ``clock`` says when it is ``None``."""
+    return now(clock) if value is None else parse_time(value, field)
 
 
 def parse_time(value: str | dt.datetime, field: str) -> dt.datetime:

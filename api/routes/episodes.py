@@ -209,9 +209,9 @@ async def import_bag(memory: EpisodesDep, settings: SettingsDep, body: ImportIn)
     """Import a ROS 1 or ROS 2 bag inside the server's data directory as a finished episode;
     the answer lists the topics skipped (no channel kind for their type)."""
     arguments = [ArgumentSpec(a.role, a.value, a.kind) for a in body.arguments]
-    source = await run_in_threadpool(memory.import_source, body.path)
+    source = await run_in_threadpool(memory.imports.source, body.path)
     report = await run_in_threadpool(
-        memory.import_bag_report,
+        memory.imports.bag_report,
         source,
         body.activity,
         activity_type=body.type,
@@ -243,9 +243,9 @@ async def import_upload(
         if not sep:
             raise InvalidInputError(f"argument[{i}]", text, "ROLE=VALUE")
         arguments.append(ArgumentSpec(role, value))
-    async with saved_body(request, memory.uploads_dir) as upload:
+    async with saved_body(request, memory.imports.uploads_dir) as upload:
         report = await run_in_threadpool(
-            memory.import_upload,
+            memory.imports.upload,
             upload,
             activity,
             activity_type=type,
@@ -325,7 +325,7 @@ async def lacking(
     versions: Annotated[int, Query(description="Fewer runs than this count as lacking.")] = 1,
 ) -> Any:
     """Which episodes of <activity> lack <augmentation> (have fewer than ``versions`` runs)."""
-    found = await run_in_threadpool(memory.lacking, activity, augmentation, versions=versions)
+    found = await run_in_threadpool(memory.runs.lacking, activity, augmentation, versions=versions)
     return [{"episode": _answer(summary), "runs": runs} for summary, runs in found]
 
 
@@ -431,7 +431,7 @@ async def link_scene(memory: EpisodesDep, episode_id: str, body: SceneIn) -> Res
 async def start_run(memory: EpisodesDep, episode_id: str, body: RunIn) -> Any:
     """Start a new, versioned augmentation run on an episode."""
     run = await run_in_threadpool(
-        memory.start_run,
+        memory.runs.start,
         episode_id,
         name=body.name,
         producer=body.producer,
@@ -443,7 +443,7 @@ async def start_run(memory: EpisodesDep, episode_id: str, body: RunIn) -> Any:
 @router.get("/episodes/{episode_id}/runs")
 async def runs(memory: EpisodesDep, episode_id: str) -> Any:
     """The augmentation runs of an episode."""
-    return _answer(await run_in_threadpool(memory.runs, episode_id))
+    return _answer(await run_in_threadpool(memory.runs.of_episode, episode_id))
 
 
 @router.post(
@@ -464,7 +464,7 @@ async def add_samples(memory: EpisodesDep, episode_id: str, run_id: str, body: S
         else None
     )
     added = await run_in_threadpool(
-        memory.add_derived, episode_id, run_id, specs, values=values, channels=body.channels
+        memory.runs.add_derived, episode_id, run_id, specs, values=values, channels=body.channels
     )
     return _answer(added)
 
@@ -483,7 +483,7 @@ def replay_run(
 ) -> StreamingResponse:
     """Replay a run's derived samples as NDJSON, one frame per line, numbered by the source
     frames; merged, the derived channels are named ``augmentations/<name>/v<version>/...``."""
-    frames = memory.replay_run(episode_id, run_id, merge=merge, channels=channels)
+    frames = memory.runs.files.replay(episode_id, run_id, merge=merge, channels=channels)
     first = next(frames, None)  # errors (unknown channel) surface before streaming
     lines: Iterator[bytes] = (
         encode_frame(f) for f in (chain([first], frames) if first is not None else ())
@@ -494,7 +494,7 @@ def replay_run(
 @router.post("/episodes/{episode_id}/runs/{run_id}/end", dependencies=WRITE)
 async def end_run(memory: EpisodesDep, episode_id: str, run_id: str) -> Any:
     """Close an augmentation run."""
-    return _answer(await run_in_threadpool(memory.end_run, episode_id, run_id))
+    return _answer(await run_in_threadpool(memory.runs.end, episode_id, run_id))
 
 
 @router.post(
@@ -507,7 +507,7 @@ async def rate(
 ) -> Any:
     """A person's 1-10 rating of a run (or of one of its derived samples)."""
     rating = await run_in_threadpool(
-        memory.rate,
+        memory.ratings.rate,
         episode_id,
         run_id,
         person=body.person,
@@ -527,7 +527,11 @@ async def begin_feedback(memory: EpisodesDep, body: FeedbackIn) -> Any:
     ``rated``: the episodes shown). Ratings sent with ``session`` belong to it; end it with
     ``POST /episodes/{id}/end``."""
     episode = await run_in_threadpool(
-        memory.begin_feedback, body.person, rated=body.rated, begin=body.begin, episode_id=body.id
+        memory.ratings.begin_session,
+        body.person,
+        rated=body.rated,
+        begin=body.begin,
+        episode_id=body.id,
     )
     return _answer(episode)
 
@@ -535,7 +539,7 @@ async def begin_feedback(memory: EpisodesDep, body: FeedbackIn) -> Any:
 @router.get("/feedback-sessions/{session_id}/ratings")
 async def session_ratings(memory: EpisodesDep, session_id: str) -> Any:
     """The ratings given in a feedback episode, in the order given."""
-    return _answer(await run_in_threadpool(memory.session_ratings, session_id))
+    return _answer(await run_in_threadpool(memory.ratings.of_session, session_id))
 
 
 @router.get("/augmentations/{name}/versions")
@@ -546,7 +550,7 @@ async def versions(
 ) -> Any:
     """The versions of one augmentation on one episode side by side (for a rating view):
     parameters, derived channels, rating summary, which are best."""
-    return _answer(await run_in_threadpool(memory.versions, name, episode))
+    return _answer(await run_in_threadpool(memory.runs.versions, name, episode))
 
 
 class ClaimIn(_Strict):
@@ -570,7 +574,7 @@ async def claim(memory: EpisodesDep, name: str, body: ClaimIn) -> Any:
     """Claim an ended episode of the activity that lacks this augmentation: a run is started
     for the worker and the episode leased to it. 204 when there is no work (after waiting)."""
     found = await run_in_threadpool(
-        memory.queue.claim,
+        memory.runs.queue.claim,
         name,
         worker=body.worker,
         activity=body.activity,
@@ -587,13 +591,13 @@ async def claim(memory: EpisodesDep, name: str, body: ClaimIn) -> Any:
 async def heartbeat(memory: EpisodesDep, token: str, body: LeaseIn | None = None) -> Any:
     """Keep a claim's lease; 404 when it expired (its unfinished run was discarded)."""
     lease = body.lease_s if body is not None else 60.0
-    return _answer(await run_in_threadpool(memory.queue.heartbeat, token, lease_s=lease))
+    return _answer(await run_in_threadpool(memory.runs.queue.heartbeat, token, lease_s=lease))
 
 
 @router.post("/augmentations/claims/{token}/complete", dependencies=WRITE)
 async def complete(memory: EpisodesDep, token: str) -> Any:
     """End the claimed run and release the lease."""
-    return _answer(await run_in_threadpool(memory.queue.complete, token))
+    return _answer(await run_in_threadpool(memory.runs.queue.complete, token))
 
 
 @router.get("/augmentations/{name}/ranking")
@@ -608,6 +612,6 @@ async def ranking(
 ) -> Any:
     """Rank the rated candidates of an augmentation: quartile heuristic, then Wilcoxon."""
     found = await run_in_threadpool(
-        memory.rank, name, episode_id=episode, alpha=alpha, question=question
+        memory.ratings.rank, name, episode_id=episode, alpha=alpha, question=question
     )
     return _answer(found)

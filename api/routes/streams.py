@@ -135,7 +135,7 @@ def recording_status(
             "queued_bytes": recorder.queued_bytes,
             "channels": [s.as_dict() for s in recorder.stats()],
         }
-    replayer = episodes.replayer(_episode(episode_id))
+    replayer = episodes.streams.replayer(_episode(episode_id))
     return {
         "episode": episode_id,
         "recording": False,
@@ -308,7 +308,7 @@ def replay(
 ) -> StreamingResponse:
     if episode_id in registry:
         raise RecordingStateError(f"episode_id: {episode_id!r} is still recording")
-    replayer = episodes.replayer(_episode(episode_id))
+    replayer = episodes.streams.replayer(_episode(episode_id))
     if start_ns is not None and start_frame is not None:
         raise InvalidSampleError("start_frame", start_frame, "either start_ns or start_frame")
     if start_ns is not None:
@@ -342,13 +342,13 @@ def export(
 ) -> Response:
     if episode_id in registry:
         raise RecordingStateError(f"episode_id: {episode_id!r} is still recording")
-    source = memory.local_streams(_episode(episode_id))
+    source = memory.streams.local(_episode(episode_id))
     work = Path(tempfile.mkdtemp(prefix="engram-export-"))
     try:
         if with_runs:
-            memory.export_streams(episode_id, work / episode_id, with_runs=True)
+            memory.runs.files.export(episode_id, work / episode_id, with_runs=True)
         else:
-            export_bag(source, work / episode_id, limit_bytes=memory.read_limit_bytes)
+            export_bag(source, work / episode_id, limit_bytes=memory.streams.read_limit_bytes)
         archive = work / f"{episode_id}.tar"
         with tarfile.open(archive, "w") as tar:
             tar.add(work / episode_id, arcname=episode_id)

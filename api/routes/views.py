@@ -225,9 +225,9 @@ async def episode_list(
     responses=_NOT_FOUND,
 )
 async def channel_list(memory: EpisodesDep, episode_id: str) -> ChannelList:
-    path = memory.streams_path(check_id(episode_id, "episode_id"))
+    path = memory.streams.path(check_id(episode_id, "episode_id"))
     return await run_in_threadpool(
-        channels.channel_list, episode_id, path, limit_bytes=memory.read_limit_bytes
+        channels.channel_list, episode_id, path, limit_bytes=memory.streams.read_limit_bytes
     )
 
 
@@ -243,9 +243,13 @@ async def plot(
     points: Annotated[int, Query(ge=2, le=channels.MAX_POINTS)] = channels.MAX_POINTS,
 ) -> PlotData:
     """Per bucket of samples its minimum and maximum, at most ``points`` points in all."""
-    path = memory.streams_path(check_id(episode_id, "episode_id"))
+    path = memory.streams.path(check_id(episode_id, "episode_id"))
     return await run_in_threadpool(
-        channels.plot_data, path, channel, points=points, limit_bytes=memory.read_limit_bytes
+        channels.plot_data,
+        path,
+        channel,
+        points=points,
+        limit_bytes=memory.streams.read_limit_bytes,
     )
 
 
@@ -261,14 +265,14 @@ async def frames(
     offset: Offset = 0,
     limit: Annotated[int, Query(ge=1, le=100_000)] = 10_000,
 ) -> FrameList:
-    path = memory.streams_path(check_id(episode_id, "episode_id"))
+    path = memory.streams.path(check_id(episode_id, "episode_id"))
     return await run_in_threadpool(
         channels.frame_list,
         path,
         channel,
         offset=offset,
         limit=limit,
-        limit_bytes=memory.read_limit_bytes,
+        limit_bytes=memory.streams.read_limit_bytes,
     )
 
 

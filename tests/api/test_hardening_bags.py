@@ -173,7 +173,7 @@ def test_the_python_api_raises_the_limit_error(tmp_path: Path) -> None:
     try:
         bag = ros1_bag(tmp_path / "bomb.bag", text_bytes=BOMB, compression="bz2")
         with pytest.raises(DecompressionLimitError, match=r"bomb\.bag"):
-            memory.import_bag_report(bag, "said", max_decompressed_bytes=LIMIT)
+            memory.imports.bag_report(bag, "said", max_decompressed_bytes=LIMIT)
         assert isinstance(DecompressionLimitError("x"), DamagedBagError)
         assert not (tmp_path / "streams").exists() or not any((tmp_path / "streams").iterdir())
     finally:

@@ -21,7 +21,7 @@ def _replay(data_dir: Path) -> int:
     """Frames replayed from the episode ``ep-1`` of the memory in ``data_dir``, whose
     settings come from the environment."""
     with open_services(Settings(data_dir=data_dir), create=True) as services:
-        return sum(1 for _ in services.episodes.replayer("ep-1").frames())
+        return sum(1 for _ in services.episodes.streams.replayer("ep-1").frames())
 
 
 def _record(data_dir: Path) -> None:
@@ -29,7 +29,7 @@ def _record(data_dir: Path) -> None:
     arrays of 20,000 numbers, each a chunk of about 200 KB, replayed as one run of about 5 MB
     read at once."""
     with open_services(Settings(data_dir=data_dir), create=True) as services:
-        recorder = Recorder(services.episodes.streams_path("ep-1"), episode_id="ep-1")
+        recorder = Recorder(services.episodes.streams.path("ep-1"), episode_id="ep-1")
     recorder.add_provider("cam", "image", encoding="rgb8")
     recorder.add_provider("arm", "float_array", dtype="float64")
     for k in range(12):

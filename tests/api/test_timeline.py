@@ -30,9 +30,9 @@ def memory_with_twelve_episodes() -> EpisodeMemory:
         memory.end(episode.id, end=begin + dt.timedelta(minutes=30))
         if k % 3 == 0:
             memory.annotate(episode.id, key="phase", value=f"step {k}", start=begin, end=begin)
-            run = memory.start_run(episode.id, name="grasp-detector", producer="tests")
-            memory.end_run(episode.id, run.id)
-            memory.rate(episode.id, run.id, person="Ana", value=k % 9 + 1)
+            run = memory.runs.start(episode.id, name="grasp-detector", producer="tests")
+            memory.runs.end(episode.id, run.id)
+            memory.ratings.rate(episode.id, run.id, person="Ana", value=k % 9 + 1)
     return memory
 
 
@@ -54,7 +54,7 @@ def test_pages_are_oldest_first_and_hold_what_the_memory_holds(
         assert [(a.key, a.value) for a in entry.annotations] == [
             (a.key, a.value) for a in episode.annotations
         ]
-        assert [r.name for r in entry.runs] == [r.name for r in memory.runs(entry.id)]
+        assert [r.name for r in entry.runs] == [r.name for r in memory.runs.of_episode(entry.id)]
     six = next(e for e in page.episodes if e.id == "e06")
     assert six.annotations[0].value == "step 6" and six.runs[0].name == "grasp-detector"
     assert [(r.person, r.value) for r in six.ratings] == [("Ana", 7)]

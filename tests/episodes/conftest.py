@@ -46,15 +46,14 @@ def disk_memory(tmp_path: Path) -> Iterator[EpisodeMemory]:
     memory = EpisodeMemory(store, data_dir=tmp_path, clock=fixed_clock)
     yield memory
     memory.close()
-    if memory._recordings is not None:
-        memory._recordings.close_all()
+    memory.streams.close_all()
 
 
 def record_frames(memory: EpisodeMemory, episode_id: str, frames: dict[str, range]) -> None:
     """Record ticks 1..max into the open recording of ``episode_id``: provider ``clock`` (a
     string) at every frame, and each provider ``name`` of ``frames`` (a two-value float array)
     at the frames listed for it, and only there."""
-    recorder = memory.recordings.get(episode_id)
+    recorder = memory.streams.recordings.get(episode_id)
     recorder.add_provider("clock", "string")
     for name in frames:
         recorder.add_provider(name, "float_array", shape=[2])

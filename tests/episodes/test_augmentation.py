@@ -39,12 +39,12 @@ def three_babblings(disk_memory: EpisodeMemory) -> EpisodeMemory:
 
 def test_runs_are_versioned_per_episode_and_augmentation(three_babblings: EpisodeMemory) -> None:
     m = three_babblings
-    first = m.start_run("b1", name="kinematic_structure", producer="ks", parameters={"k": 3})
-    second = m.start_run("b1", name="kinematic_structure", producer="ks", parameters={"k": 4})
-    other = m.start_run("b1", name="edges", producer="canny")
-    elsewhere = m.start_run("b2", name="kinematic_structure", producer="ks")
+    first = m.runs.start("b1", name="kinematic_structure", producer="ks", parameters={"k": 3})
+    second = m.runs.start("b1", name="kinematic_structure", producer="ks", parameters={"k": 4})
+    other = m.runs.start("b1", name="edges", producer="canny")
+    elsewhere = m.runs.start("b2", name="kinematic_structure", producer="ks")
     assert (first.version, second.version, other.version, elsewhere.version) == (1, 2, 1, 1)
-    runs = m.runs("b1")
+    runs = m.runs.of_episode("b1")
     assert [(r.name, r.version, r.parameters) for r in runs] == [
         ("edges", 1, {}),
         ("kinematic_structure", 1, {"k": 3}),
@@ -55,16 +55,18 @@ def test_runs_are_versioned_per_episode_and_augmentation(three_babblings: Episod
 
 def test_which_episodes_lack_an_augmentation_is_one_query(three_babblings: EpisodeMemory) -> None:
     m = three_babblings
-    m.start_run("b1", name="kinematic_structure", producer="ks")
-    m.start_run("b1", name="kinematic_structure", producer="ks")
-    m.start_run("b2", name="kinematic_structure", producer="ks")
-    m.start_run("b3", name="edges", producer="canny")
+    m.runs.start("b1", name="kinematic_structure", producer="ks")
+    m.runs.start("b1", name="kinematic_structure", producer="ks")
+    m.runs.start("b2", name="kinematic_structure", producer="ks")
+    m.runs.start("b3", name="edges", producer="canny")
     seen: list[str] = []
     with m.store.tracing(lambda kind, text, bindings: seen.append(kind)):
-        lacking = m.lacking("babbling", "kinematic_structure")
+        lacking = m.runs.lacking("babbling", "kinematic_structure")
     assert [(e.id, runs) for e, runs in lacking] == [("b3", 0)]
     assert seen.count("query") == 1
-    assert [(e.id, n) for e, n in m.lacking("babbling", "kinematic_structure", versions=2)] == [
+    assert [
+        (e.id, n) for e, n in m.runs.lacking("babbling", "kinematic_structure", versions=2)
+    ] == [
         ("b2", 1),
         ("b3", 0),
     ]
@@ -74,8 +76,8 @@ def test_derived_samples_are_derived_from_their_source_frames(
     three_babblings: EpisodeMemory,
 ) -> None:
     m = three_babblings
-    run = m.start_run("b1", name="edges", producer="canny")
-    added = m.add_derived(
+    run = m.runs.start("b1", name="edges", producer="canny")
+    added = m.runs.add_derived(
         "b1",
         run.id,
         [DerivedSpec(12, "/left", "/left/edges"), DerivedSpec(13, "/left", "/left/edges")],
@@ -92,7 +94,7 @@ def test_derived_samples_are_derived_from_their_source_frames(
         )
     }
     assert numbers == {12, 13}
-    assert m.runs("b1")[0].samples == 2
+    assert m.runs.of_episode("b1")[0].samples == 2
 
 
 @pytest.mark.parametrize(
@@ -106,22 +108,22 @@ def test_derived_samples_are_derived_from_their_source_frames(
 def test_bad_derived_sample_names_field_and_writes_nothing(
     three_babblings: EpisodeMemory, spec: DerivedSpec, field: str
 ) -> None:
-    run = three_babblings.start_run("b1", name="edges", producer="canny")
+    run = three_babblings.runs.start("b1", name="edges", producer="canny")
     before = len(three_babblings.store)
     with pytest.raises(InvalidInputError) as caught:
-        three_babblings.add_derived("b1", run.id, [DerivedSpec(1, "/left", "/x"), spec])
+        three_babblings.runs.add_derived("b1", run.id, [DerivedSpec(1, "/left", "/x"), spec])
     assert caught.value.field == field.replace("[0]", "[1]")
     assert len(three_babblings.store) == before
 
 
 def test_an_ended_run_takes_no_more_samples(three_babblings: EpisodeMemory) -> None:
-    run = three_babblings.start_run("b1", name="edges", producer="canny")
-    ended = three_babblings.end_run("b1", run.id)
+    run = three_babblings.runs.start("b1", name="edges", producer="canny")
+    ended = three_babblings.runs.end("b1", run.id)
     assert ended.ended is not None
     with pytest.raises(EpisodeStateError):
-        three_babblings.add_derived("b1", run.id, [DerivedSpec(1, "/left", "/left/edges")])
+        three_babblings.runs.add_derived("b1", run.id, [DerivedSpec(1, "/left", "/left/edges")])
     with pytest.raises(NotFoundError):
-        three_babblings.end_run("b1", "0123abcd")
+        three_babblings.runs.end("b1", "0123abcd")
 
 
 @pytest.mark.parametrize(
@@ -135,9 +137,9 @@ def test_an_ended_run_takes_no_more_samples(three_babblings: EpisodeMemory) -> N
     ],
 )
 def test_bad_rating_names_field(three_babblings: EpisodeMemory, options: dict, field: str) -> None:
-    run = three_babblings.start_run("b1", name="edges", producer="canny")
+    run = three_babblings.runs.start("b1", name="edges", producer="canny")
     with pytest.raises(InvalidInputError) as caught:
-        three_babblings.rate("b1", run.id, **{"person": "Alice", **options})
+        three_babblings.ratings.rate("b1", run.id, **{"person": "Alice", **options})
     assert caught.value.field == field
 
 
@@ -152,12 +154,12 @@ def rated(three_babblings: EpisodeMemory) -> tuple[EpisodeMemory, dict[str, str]
     m = three_babblings
     ids = {}
     for label, scores in SCORES.items():
-        run = m.start_run(
+        run = m.runs.start(
             "b1", name="kinematic_structure", producer="ks", parameters={"label": label}
         )
         ids[label] = f"b1/{run.id}"
         for person, value in zip(RATERS, scores, strict=True):
-            m.rate("b1", run.id, person=person, value=value)
+            m.ratings.rate("b1", run.id, person=person, value=value)
     return m, ids
 
 
@@ -165,7 +167,7 @@ def test_ranking_applies_the_quartile_heuristic_and_wilcoxon(
     rated: tuple[EpisodeMemory, dict[str, str]],
 ) -> None:
     memory, ids = rated
-    ranking = memory.rank("kinematic_structure")
+    ranking = memory.ratings.rank("kinematic_structure")
     by_item = {c.item: c for c in ranking.candidates}
     assert (by_item[ids["n"]].q1, by_item[ids["n"]].median) == (6.0, 8.0)
     assert (by_item[ids["p"]].q1, by_item[ids["p"]].median) == (6.0, 7.0)
@@ -182,10 +184,10 @@ def test_a_revised_rating_of_a_person_counts(rated: tuple[EpisodeMemory, dict[st
     memory, ids = rated
     run_id = ids["p"].split("/")[1]
     for person in RATERS:
-        memory.rate(
+        memory.ratings.rate(
             "b1", run_id, person=person, value=2, time="2026-02-27T00:00:00+00:00", replace=True
         )
-    ranking = memory.rank("kinematic_structure")
+    ranking = memory.ratings.rank("kinematic_structure")
     assert ranking.best == (ids["n"],)
     assert ranking.comparisons == ()
 
@@ -193,10 +195,10 @@ def test_a_revised_rating_of_a_person_counts(rated: tuple[EpisodeMemory, dict[st
 def test_no_candidate_good_enough_keeps_a_leader_but_no_best(
     three_babblings: EpisodeMemory,
 ) -> None:
-    run = three_babblings.start_run("b1", name="edges", producer="canny")
+    run = three_babblings.runs.start("b1", name="edges", producer="canny")
     for person, value in zip(RATERS, [4, 4, 5, 3, 4], strict=True):
-        three_babblings.rate("b1", run.id, person=person, value=value)
-    ranking = three_babblings.rank("edges")
+        three_babblings.ratings.rate("b1", run.id, person=person, value=value)
+    ranking = three_babblings.ratings.rank("edges")
     assert ranking.leader == f"b1/{run.id}" and ranking.best == ()
 
 
@@ -209,5 +211,5 @@ def test_identical_ratings_are_equivalent_without_a_scipy_warning() -> None:
 
 
 def test_rank_of_an_unrated_augmentation_is_empty(three_babblings: EpisodeMemory) -> None:
-    ranking = three_babblings.rank("nothing")
+    ranking = three_babblings.ratings.rank("nothing")
     assert ranking.candidates == () and ranking.leader is None

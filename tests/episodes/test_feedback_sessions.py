@@ -18,21 +18,25 @@ from tests.conftest import LiveServer
 def run(memory: EpisodeMemory) -> str:
     memory.begin("babbling", episode_id="b1", begin="2026-02-20T10:00:00+00:00")
     memory.end("b1", end="2026-02-20T10:05:00+00:00")
-    return memory.start_run("b1", name="edges", producer="canny").id
+    return memory.runs.start("b1", name="edges", producer="canny").id
 
 
 def test_ratings_given_in_a_session_belong_to_its_feedback_episode(
     memory: EpisodeMemory, run: str
 ) -> None:
-    session = memory.begin_feedback("Martina", rated=["b1"], begin="2026-02-26T09:00:00+00:00")
+    session = memory.ratings.begin_session(
+        "Martina", rated=["b1"], begin="2026-02-26T09:00:00+00:00"
+    )
     assert session.activity == "feedback"
     assert {(a.role, a.value) for a in session.arguments} >= {("agent", "Martina")}
     assert any(a.role == "rated" and a.iri.endswith("/episode/b1") for a in session.arguments)
-    given = memory.rate("b1", run, person="Martina", value=8, question="sharp", session=session.id)
-    memory.rate("b1", run, person="Martina", value=6, question="useful", session=session.id)
-    memory.rate("b1", run, person="Alice", value=2)  # not in the session
+    given = memory.ratings.rate(
+        "b1", run, person="Martina", value=8, question="sharp", session=session.id
+    )
+    memory.ratings.rate("b1", run, person="Martina", value=6, question="useful", session=session.id)
+    memory.ratings.rate("b1", run, person="Alice", value=2)  # not in the session
     assert given.session == session.id
-    listed = memory.session_ratings(session.id)
+    listed = memory.ratings.of_session(session.id)
     assert [(r.person, r.value, r.question) for r in listed] == [
         ("Martina", 8, "sharp"),
         ("Martina", 6, "useful"),
@@ -42,29 +46,29 @@ def test_ratings_given_in_a_session_belong_to_its_feedback_episode(
     found = memory.recall(Cue("feedback", agent="Martina"), which="last")
     assert found.episode.id == session.id
     # the ratings still count in the ranking as any others
-    assert memory.rank("edges", question="sharp").candidates[0].ratings == {"Martina": 8}
+    assert memory.ratings.rank("edges", question="sharp").candidates[0].ratings == {"Martina": 8}
 
 
 def test_a_session_takes_ratings_from_its_agent_while_it_runs(
     memory: EpisodeMemory, run: str
 ) -> None:
-    session = memory.begin_feedback("Martina", rated=["b1"])
+    session = memory.ratings.begin_session("Martina", rated=["b1"])
     with pytest.raises(InvalidInputError) as other:
-        memory.rate("b1", run, person="Alice", value=5, session=session.id)
+        memory.ratings.rate("b1", run, person="Alice", value=5, session=session.id)
     assert "person" in str(other.value) and "Martina" in str(other.value)
     with pytest.raises(InvalidInputError) as not_feedback:
-        memory.rate("b1", run, person="Martina", value=5, session="b1")
+        memory.ratings.rate("b1", run, person="Martina", value=5, session="b1")
     assert "feedback" in str(not_feedback.value)
     with pytest.raises(EpisodeNotFoundError):
-        memory.rate("b1", run, person="Martina", value=5, session="nope")
+        memory.ratings.rate("b1", run, person="Martina", value=5, session="nope")
     memory.end(session.id)
     with pytest.raises(EpisodeStateError) as ended:
-        memory.rate("b1", run, person="Martina", value=5, session=session.id)
+        memory.ratings.rate("b1", run, person="Martina", value=5, session=session.id)
     assert "ended" in str(ended.value)
-    assert memory.session_ratings(session.id) == []
-    assert not memory.rank("edges").candidates
+    assert memory.ratings.of_session(session.id) == []
+    assert not memory.ratings.rank("edges").candidates
     with pytest.raises(EpisodeNotFoundError):
-        memory.begin_feedback("Martina", rated=["missing"])
+        memory.ratings.begin_session("Martina", rated=["missing"])
 
 
 def test_a_feedback_session_over_http(live_server: LiveServer) -> None:

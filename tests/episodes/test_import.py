@@ -66,7 +66,7 @@ def test_a_bag_becomes_a_finished_episode_with_its_times_and_streams(
     disk_memory: EpisodeMemory, tmp_path: Path, write: Any
 ) -> None:
     bag = write(tmp_path / ("nao.bag" if write is write_ros1_bag else "nao"))
-    episode = disk_memory.import_bag(
+    episode = disk_memory.imports.bag(
         bag, "wave", activity_type="action", arguments=[ArgumentSpec("agent", "NAO")]
     )
     assert episode.begin == dt.datetime(2026, 1, 26, 15, 30, tzinfo=dt.UTC)
@@ -77,7 +77,7 @@ def test_a_bag_becomes_a_finished_episode_with_its_times_and_streams(
     assert episode.state_at_begin is None
     assert episode.annotations[0].key == "imported_from"
     assert disk_memory.recall(Cue("wave", agent="NAO"), which="first").episode.id == episode.id
-    frames = list(Replayer(disk_memory.streams_path(episode.id)).frames())
+    frames = list(Replayer(disk_memory.streams.path(episode.id)).frames())
     assert [f.time_ns for f in frames] == [T0 + i * 50_000_000 for i in range(4)]
 
 
@@ -88,9 +88,9 @@ def test_a_file_that_is_not_a_bag_leaves_nothing_behind(
     junk.write_bytes(b"not a bag")
     before = len(disk_memory.store)
     with pytest.raises(DamagedBagError, match=r"junk\.bag"):
-        disk_memory.import_bag(junk, "wave", episode_id="j1")
+        disk_memory.imports.bag(junk, "wave", episode_id="j1")
     assert len(disk_memory.store) == before
-    assert not disk_memory.streams_path("j1").exists()
+    assert not disk_memory.streams.path("j1").exists()
 
 
 def test_import_over_http(live_server: LiveServer, tmp_path: Path) -> None:

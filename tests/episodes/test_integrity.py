@@ -154,7 +154,7 @@ def recorded(disk_memory: EpisodeMemory) -> tuple[EpisodeMemory, str]:
     disk_memory.begin("babbling", episode_id="r1", record=True)
     record_frames(disk_memory, "r1", {"left": range(1, 101), "skin": range(1, 11)})
     disk_memory.end("r1")
-    run = disk_memory.start_run("r1", name="edges", producer="canny")
+    run = disk_memory.runs.start("r1", name="edges", producer="canny")
     return disk_memory, run.id
 
 
@@ -173,10 +173,10 @@ def test_a_derived_sample_needs_a_recorded_frame_holding_its_source(
     memory, run = recorded
     before = len(memory.store)
     with pytest.raises(InvalidInputError) as caught:
-        memory.add_derived("r1", run, [DerivedSpec(5, "skin", "edges"), spec])
+        memory.runs.add_derived("r1", run, [DerivedSpec(5, "skin", "edges"), spec])
     assert caught.value.field == field and fragment in caught.value.expected
     assert len(memory.store) == before
-    added = memory.add_derived(
+    added = memory.runs.add_derived(
         "r1", run, [DerivedSpec(5, "/skin", "e"), DerivedSpec(50, "left", "e")]
     )
     assert [s.frame for s in added] == [5, 50]
@@ -184,9 +184,9 @@ def test_a_derived_sample_needs_a_recorded_frame_holding_its_source(
 
 def test_an_episode_without_a_recording_takes_no_derived_samples(memory: EpisodeMemory) -> None:
     memory.begin("babbling", episode_id="g1")
-    run = memory.start_run("g1", name="edges", producer="canny")
+    run = memory.runs.start("g1", name="edges", producer="canny")
     with pytest.raises(InvalidInputError) as caught:
-        memory.add_derived("g1", run.id, [DerivedSpec(1, "left", "edges")])
+        memory.runs.add_derived("g1", run.id, [DerivedSpec(1, "left", "edges")])
     assert "no recording" in caught.value.expected
 
 
@@ -218,15 +218,15 @@ def test_ratings_refuse_unknown_fields_and_keep_the_first_answer(
     recorded: tuple[EpisodeMemory, str], start_server: Any
 ) -> None:
     memory, run = recorded
-    memory.rate("r1", run, person="Alice", value=8)
+    memory.ratings.rate("r1", run, person="Alice", value=8)
     from episodes import EpisodeStateError
 
     with pytest.raises(EpisodeStateError) as caught:
-        memory.rate("r1", run, person="Alice", value=3)
+        memory.ratings.rate("r1", run, person="Alice", value=3)
     assert "already rated" in str(caught.value) and "replace" in str(caught.value)
-    assert memory.rank("edges").candidates[0].ratings == {"Alice": 8}
-    memory.rate("r1", run, person="Alice", value=3, replace=True)
-    assert memory.rank("edges").candidates[0].ratings == {"Alice": 3}
+    assert memory.ratings.rank("edges").candidates[0].ratings == {"Alice": 8}
+    memory.ratings.rate("r1", run, person="Alice", value=3, replace=True)
+    assert memory.ratings.rank("edges").candidates[0].ratings == {"Alice": 3}
 
 
 def test_rating_endpoint_refuses_a_second_answer_and_unknown_fields(

@@ -198,8 +198,8 @@ def test_delete_removes_every_triple_of_the_episode_but_shared_participants_stay
     gone = babbling(memory, arguments=[ArgumentSpec("agent", "HyungJin"), ArgumentSpec("x", "y")])
     memory.end(gone, end="2026-01-26T15:40:00+01:00")
     memory.annotate(gone, key="k", value="v", author="someone")
-    run = memory.start_run(gone, name="edges", producer="canny", parameters={"sigma": 1})
-    memory.rate(gone, run.id, person="Alice", value=7)
+    run = memory.runs.start(gone, name="edges", producer="canny", parameters={"sigma": 1})
+    memory.ratings.rate(gone, run.id, person="Alice", value=7)
     memory.link_scene(gone, engram("scene-1").value)
     memory.delete(gone)
     assert memory.store.graph_sizes() == before

@@ -35,7 +35,7 @@ def babblings(memory: EpisodeMemory) -> EpisodeMemory:
 
 
 def test_each_ended_episode_lacking_the_run_goes_to_one_worker(babblings: EpisodeMemory) -> None:
-    queue = AugmentationQueue(babblings, monotonic=FakeClock())
+    queue = AugmentationQueue(babblings.runs, monotonic=FakeClock())
     first = queue.claim("ks", worker="w1", activity="babbling")
     second = queue.claim("ks", worker="w2", activity="babbling")
     assert first is not None and second is not None
@@ -45,14 +45,14 @@ def test_each_ended_episode_lacking_the_run_goes_to_one_worker(babblings: Episod
     assert queue.complete(first.token).ended is not None
     with pytest.raises(NotFoundError):
         queue.complete(first.token)
-    assert [e.id for e, _ in babblings.lacking("babbling", "ks")] == ["b3"]
+    assert [e.id for e, _ in babblings.runs.lacking("babbling", "ks")] == ["b3"]
 
 
 def test_a_lease_that_runs_out_discards_the_run_and_frees_the_episode(
     babblings: EpisodeMemory,
 ) -> None:
     clock = FakeClock()
-    queue = AugmentationQueue(babblings, monotonic=clock)
+    queue = AugmentationQueue(babblings.runs, monotonic=clock)
     lost = queue.claim("ks", worker="w1", activity="babbling", lease_s=10)
     assert lost is not None
     clock.now += 8
@@ -63,13 +63,13 @@ def test_a_lease_that_runs_out_discards_the_run_and_frees_the_episode(
     clock.now += 5  # past the renewed lease
     again = queue.claim("ks", worker="w3", activity="babbling")
     assert again is not None and again.episode_id == "b1" and again.run.version == 1
-    assert [r.id for r in babblings.runs("b1")] == [again.run.id]
+    assert [r.id for r in babblings.runs.of_episode("b1")] == [again.run.id]
     with pytest.raises(NotFoundError):
         queue.heartbeat(lost.token)
 
 
 def test_a_claim_can_wait_for_work(babblings: EpisodeMemory) -> None:
-    queue = AugmentationQueue(babblings)
+    queue = AugmentationQueue(babblings.runs)
     for _ in range(2):
         assert queue.claim("ks", worker="w", activity="babbling") is not None
     threading.Timer(0.3, lambda: babblings.end("b3", end="2026-01-03T10:10:00+00:00")).start()
@@ -91,9 +91,9 @@ def test_a_claim_can_wait_for_work(babblings: EpisodeMemory) -> None:
 def test_bad_claims_name_the_field(babblings: EpisodeMemory, options: dict, field: str) -> None:
     arguments = {"worker": "w", "activity": "babbling", **options}
     with pytest.raises(InvalidInputError) as caught:
-        babblings.queue.claim("ks", **arguments)
+        babblings.runs.queue.claim("ks", **arguments)
     assert caught.value.field == field
-    assert babblings.runs("b1") == []
+    assert babblings.runs.of_episode("b1") == []
 
 
 def test_the_example_augmenter_does_the_pending_work_over_http(live_server: LiveServer) -> None:

@@ -19,8 +19,8 @@ def test_an_exported_episode_loads_into_another_memory_unchanged(memory: Episode
     memory.begin("point", arguments=[ArgumentSpec("agent", "HyungJin")], episode_id="ep2")
     memory.end("ep1", end="2026-01-26T15:40:00+01:00")
     memory.annotate("ep1", key="comment", value="good", author="Alice")
-    run = memory.start_run("ep1", name="edges", producer="canny", parameters={"t": 1})
-    memory.rate("ep1", run.id, person="Bob", value=8)
+    run = memory.runs.start("ep1", name="edges", producer="canny", parameters={"t": 1})
+    memory.ratings.rate("ep1", run.id, person="Bob", value=8)
     memory.link_scene("ep1", store_experienced_scene(memory.store, "scene-1"))
     data = memory.export_rdf("ep1")
     assert b"ep2" not in data
@@ -29,8 +29,8 @@ def test_an_exported_episode_loads_into_another_memory_unchanged(memory: Episode
     ensure_ontology(other_store)
     other = EpisodeMemory(other_store, clock=fixed_clock)
     assert other.import_rdf(data) == memory.get("ep1")
-    assert other.runs("ep1") == memory.runs("ep1")
-    assert other.rank("edges").candidates == memory.rank("edges").candidates
+    assert other.runs.of_episode("ep1") == memory.runs.of_episode("ep1")
+    assert other.ratings.rank("edges").candidates == memory.ratings.rank("edges").candidates
     with pytest.raises(EpisodeStateError):
         other.import_rdf(data)
     memory.delete("ep1")

@@ -142,7 +142,7 @@ def build_memory(data_dir: Path) -> str:
         episode_id="tidying-1",
         record=True,
     )
-    recorder = episodes.recordings.get(episode.id)
+    recorder = episodes.streams.recordings.get(episode.id)
     recorder.add_provider("arm/joints", "joint_state", names=["shoulder", "elbow"])
     recorder.add_provider("cam/rgb", "image", encoding="rgb8")
     for i in range(TICKS):
@@ -166,9 +166,9 @@ def build_memory(data_dir: Path) -> str:
         end=START + dt.timedelta(minutes=40),
     )
     episodes.end(episode.id)
-    run = episodes.start_run(episode.id, name="grasp-detector", producer="tests")
-    episodes.end_run(episode.id, run.id)
-    episodes.rate(episode.id, run.id, person="Ana", value=8)
+    run = episodes.runs.start(episode.id, name="grasp-detector", producer="tests")
+    episodes.runs.end(episode.id, run.id)
+    episodes.ratings.rate(episode.id, run.id, person="Ana", value=8)
     clock.now = START + dt.timedelta(hours=3)
     other = episodes.begin("babbling", arguments=[ArgumentSpec("agent", "iCub")])
     clock.now = START + dt.timedelta(hours=4)

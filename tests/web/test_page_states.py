@@ -47,9 +47,9 @@ def _hostile_memory(data_dir: Path) -> None:
     )
     clock["now"] = START + dt.timedelta(minutes=30)
     episodes.end(episode.id)
-    run = episodes.start_run(episode.id, name=f"run {HOSTILE}", producer="tests")
-    episodes.end_run(episode.id, run.id)
-    episodes.rate(episode.id, run.id, person=f"person {HOSTILE}", value=8)
+    run = episodes.runs.start(episode.id, name=f"run {HOSTILE}", producer="tests")
+    episodes.runs.end(episode.id, run.id)
+    episodes.ratings.rate(episode.id, run.id, person=f"person {HOSTILE}", value=8)
     store.flush()
     del episodes, store
     gc.collect()

@@ -58,7 +58,7 @@ def _two_scenes(tmp_path: Path, *, record: bool) -> tuple[EpisodeMemory, str]:
     episodes = EpisodeMemory(store, data_dir=tmp_path, clock=lambda: now[0])
     episode = episodes.begin("tidying", episode_id="tidy-1", record=record)
     if record:
-        recorder = episodes.recordings.get(episode.id)
+        recorder = episodes.streams.recordings.get(episode.id)
         recorder.add_provider("head", "joint_state", names=["neck", "eyes"])
         for i in range(5):
             recorder.tick({"head": [0.1 * i, 0.2]}, time_ns=int(START.timestamp() * 1e9) + i)
