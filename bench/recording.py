@@ -171,7 +171,7 @@ def record(robot: str, root: Path, seconds: float, tag: str, seed: int) -> Run:
     producer_cpu = time.thread_time() - cpu0
     stats = rec.close()
     size = sum(f.stat().st_size for f in rec.path.iterdir())
-    return Run(robot, seconds, stats, size, producer_cpu, rec.writer_cpu_s, max_lag)
+    return Run(robot, seconds, stats, size, producer_cpu, rec.writer.cpu_s, max_lag)
 
 
 def _expected(robot: str, seconds: float) -> dict[str, int]:

@@ -33,13 +33,14 @@ from pathlib import Path
 
 from pyoxigraph import Literal, NamedNode
 
+from episodes.streams.bagwrite import mcap_file
 from episodes.streams.errors import CorruptRecordingError, StreamError
 from episodes.streams.mcapread import LIMIT_BYTES
 from episodes.streams.objects import ObjectStore, StoredObject
 from episodes.streams.ranged import SavedMessages, open_ranged, read_messages, write_messages
-from episodes.streams.recorder import PROVIDERS_TOPIC, RECORDING_TOPIC, TICKS_TOPIC, mcap_file
 from episodes.streams.registry import bag_path
 from episodes.streams.replay import Replayer
+from episodes.streams.tick_writer import PROVIDERS_TOPIC, RECORDING_TOPIC, TICKS_TOPIC
 from episodes.terms import episode_iri
 from kg import Store
 from ontologies.vocab import BYTE_SIZE, EPISODES, SHA256, STREAM_OBJECT

@@ -28,7 +28,7 @@ from episodes.streams import messages as ros
 from episodes.streams.errors import CorruptRecordingError
 from episodes.streams.mcapread import LIMIT_BYTES, McapFile
 from episodes.streams.messages import PROVIDER_TYPE, ProviderSpec
-from episodes.streams.recorder import PROVIDERS_TOPIC, TICKS_TOPIC
+from episodes.streams.tick_writer import PROVIDERS_TOPIC, TICKS_TOPIC
 
 __all__ = ["ChannelScan", "RecordingTimes", "recording_times", "scan_channel"]
 

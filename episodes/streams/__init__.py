@@ -18,8 +18,9 @@ from episodes.streams.errors import (
     StreamError,
     UnknownProviderError,
 )
+from episodes.streams.ledger import ChannelStats
 from episodes.streams.messages import Kind, ProviderSpec
-from episodes.streams.recorder import ChannelStats, Recorder, TickResult
+from episodes.streams.recorder import Recorder, TickResult
 from episodes.streams.registry import RecordingRegistry, bag_path, check_episode_id
 from episodes.streams.replay import Frame, Replayer, Sample, TickInfo
 

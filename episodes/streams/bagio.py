@@ -24,14 +24,16 @@ from rosbags.highlevel import AnyReader, AnyReaderError
 from rosbags.rosbag1 import ReaderError as Ros1ReaderError
 from rosbags.rosbag2 import ReaderError as Ros2ReaderError
 
+from episodes.streams.bagwrite import mcap_file
 from episodes.streams.errors import (
     CorruptRecordingError,
     RecordingNotFoundError,
     RecordingStateError,
 )
+from episodes.streams.ledger import ChannelStats
 from episodes.streams.mcapread import LIMIT_BYTES
 from episodes.streams.messages import IMAGE_ENCODINGS, Kind, ProviderSpec
-from episodes.streams.recorder import ChannelStats, Recorder, mcap_file
+from episodes.streams.recorder import Recorder
 from episodes.streams.replay import Frame, Replayer
 
 __all__ = ["ImportResult", "export_bag", "import_bag", "recover"]

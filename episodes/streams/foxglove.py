@@ -44,7 +44,7 @@ from ruamel.yaml import YAML
 from episodes.streams.bagwrite import BagWriter, mcap_file
 from episodes.streams.errors import CorruptRecordingError
 from episodes.streams.mcapread import McapFile
-from episodes.streams.recorder import FORMAT_VERSION, RECORDING_TOPIC
+from episodes.streams.tick_writer import FORMAT_VERSION, RECORDING_TOPIC
 from kg.primitive import Primitive
 
 __all__ = [

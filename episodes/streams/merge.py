@@ -18,8 +18,9 @@ from pathlib import Path
 
 from episodes.streams.bagio import _BACKLOG_BYTES, _settings, _tick
 from episodes.streams.errors import RecordingStateError
+from episodes.streams.ledger import ChannelStats
 from episodes.streams.mcapread import LIMIT_BYTES
-from episodes.streams.recorder import ChannelStats, Recorder
+from episodes.streams.recorder import Recorder
 from episodes.streams.replay import Frame, Replayer, Sample
 
 __all__ = ["derived_frames", "export_merged", "merged_frames", "run_prefix"]

@@ -24,7 +24,8 @@ from episodes.streams.errors import (
     RecordingNotFoundError,
     RecordingStateError,
 )
-from episodes.streams.recorder import ChannelStats, Recorder
+from episodes.streams.ledger import ChannelStats
+from episodes.streams.recorder import Recorder
 
 __all__ = ["RecordingRegistry", "bag_path", "check_episode_id"]
 

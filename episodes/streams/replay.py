@@ -26,6 +26,7 @@ from pathlib import Path
 from typing import Any
 
 from episodes.streams import messages
+from episodes.streams.bagwrite import mcap_file
 from episodes.streams.errors import (
     CorruptRecordingError,
     InvalidSampleError,
@@ -34,7 +35,7 @@ from episodes.streams.errors import (
 )
 from episodes.streams.mcapread import LIMIT_BYTES, McapFile, MessageSource, RawMessage
 from episodes.streams.messages import PROVIDER_TYPE, TICK_TYPE, Kind, ProviderSpec
-from episodes.streams.recorder import PROVIDERS_TOPIC, RECORDING_TOPIC, TICKS_TOPIC, mcap_file
+from episodes.streams.tick_writer import PROVIDERS_TOPIC, RECORDING_TOPIC, TICKS_TOPIC
 
 __all__ = ["Frame", "Replayer", "Sample", "TickInfo"]
 

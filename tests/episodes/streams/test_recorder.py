@@ -101,7 +101,7 @@ def test_rate_limit_keeps_one_sample_per_period(tmp_path: Path) -> None:
 def test_a_full_queue_drops_and_counts_never_blocks(tmp_path: Path) -> None:
     rec = Recorder(tmp_path / "ep", episode_id="ep", max_queue_bytes=20_000)
     rec.add_provider("blob", "float_array", dtype="float64")
-    writer = rec._writer
+    writer = rec.writer.bag
     write = writer.write
     disk_free = threading.Event()
 
