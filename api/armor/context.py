@@ -5,13 +5,14 @@ from dataclasses import dataclass, field
 
 from pyoxigraph import Literal, NamedNode, Quad
 
-from api.armor.errors import InvalidArgumentsError
+from api.armor.errors import InvalidArgumentsError, MemoryDirectiveError
 from api.armor.files import ANYWHERE, FileAccess
 from api.armor.models import ArmorDirectiveReq, ArmorDirectiveRes, QueryItem
 from api.armor.names import ValueStyle, resolve
 from api.armor.references import Reference
 from api.armor.session import Session
 from kg.sandbox import QueryRunner
+from reasoners.memory import SceneMemory
 from reasoners.operations import Operation, OperationResult
 
 __all__ = ["Context", "Outcome"]
@@ -60,6 +61,17 @@ class Context:
     def reference(self) -> Reference:
         """The directive's reference; raises UnknownReferenceError if it is not loaded."""
         return self.session.require(self.request.reference_name)
+
+    def scene_memory(self) -> SceneMemory:
+        """The scene memory behind the memory directives; raises :class:`MemoryDirectiveError`
+        (212) naming the directive when the session has none."""
+        directives = self.session.memory
+        if directives is None:
+            raise MemoryDirectiveError(
+                f"{self.key.replace('_', ' ').strip()}: this session has no scene memory; "
+                "memory directives run only in an engine built over one"
+            )
+        return directives.memory
 
     def arg(self, index: int, what: str) -> str:
         """``args[index]``; raises InvalidArgumentsError naming what the command expects."""

@@ -169,7 +169,7 @@ def scene_updated(ctx: Context) -> Outcome:
         )
     primitives = draft.primitives()
     episode = resolve(ctx.args[0], ENGRAM_NS, field="args[0]") if ctx.args else None
-    memory = ctx.session.memory.memory
+    memory = ctx.scene_memory()
     try:
         memory.recognise(primitives)  # checks the scene now, so that a bad one fails the list
     except _errors() as error:
@@ -242,7 +242,7 @@ def _cue(ctx: Context) -> list[Any]:
 
 def _retrieve(ctx: Context, *, spread: bool) -> Outcome:
     cue = _cue(ctx)
-    memory = ctx.session.memory.memory
+    memory = ctx.scene_memory()
     try:  # check the cue now, so that a bad one fails the list
         if cue and isinstance(cue[0], tuple):
             memory.encoder.cue_signature(cue)
@@ -287,6 +287,8 @@ def retrieve_scene_spread(ctx: Context) -> Outcome:
 
 
 def memory_sleep(ctx: Context) -> Outcome:
+    ctx.scene_memory()  # the sleep runs at the commit; refused now without a memory
+
     def fill(report: Any, response: ArmorDirectiveRes) -> None:
         s = ctx.style
         response.queried_objects = [styled(c, s) for c in report.forgotten_classes]
@@ -304,7 +306,7 @@ def memory_sleep(ctx: Context) -> Outcome:
 
 def _pin(ctx: Context, pinned: bool) -> Outcome:
     iri = _memory_iri(ctx.arg(0, "class or scene item"), "args[0]")
-    memory = ctx.session.memory.memory
+    memory = ctx.scene_memory()
     try:
         memory.reads.item_scores(iri)  # checks the item is live now
     except _errors(KeyError) as error:
@@ -322,7 +324,7 @@ def memory_unpin(ctx: Context) -> Outcome:
 
 def memory_restore(ctx: Context) -> Outcome:
     iri = _memory_iri(ctx.arg(0, "forgotten class or scene item"), "args[0]")
-    memory = ctx.session.memory.memory
+    memory = ctx.scene_memory()
     if iri not in memory.reads.trash():
         raise MemoryDirectiveError(f"args[0]: {iri.value} is not in the trash")
 
@@ -334,7 +336,7 @@ def memory_restore(ctx: Context) -> Outcome:
 
 def _scores(ctx: Context) -> Any:
     iri = _memory_iri(ctx.arg(0, "class or scene item"), "args[0]")
-    memory = ctx.session.memory.memory
+    memory = ctx.scene_memory()
     try:
         return memory.reads.item_scores(iri)
     except _errors(KeyError) as error:
@@ -377,7 +379,7 @@ def query_memory_level(ctx: Context) -> Outcome:
 
 
 def _settable_clock(ctx: Context) -> SettableClock:
-    clock = ctx.session.memory.memory.clock
+    clock = ctx.scene_memory().clock
     if not isinstance(clock, SettableClock):
         raise MemoryDirectiveError(
             f"{ctx.key}: the memory's clock is the real one; start the server with "
@@ -425,7 +427,7 @@ def memory_clock_advance(ctx: Context) -> Outcome:
 
 
 def query_memory_clock(ctx: Context) -> Outcome:
-    return Outcome(queried_objects=[ctx.session.memory.memory.clock().isoformat()])
+    return Outcome(queried_objects=[ctx.scene_memory().clock().isoformat()])
 
 
 MEMORY_COMMANDS: dict[str, tuple[Callable[[Context], Outcome], str]] = {

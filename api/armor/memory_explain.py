@@ -25,7 +25,7 @@ def query_memory_explain(ctx: Context) -> Outcome:
         ctx.arg(0, "class, scene item or forgotten IRI"), ENGRAM_NS.rstrip("#"), field="args[0]"
     )
     try:
-        explanations = explain(ctx.session.memory.memory, iri)
+        explanations = explain(ctx.scene_memory(), iri)
     except (MemoryReasonerError, ValueError) as error:
         raise MemoryDirectiveError(f"args[0]: {error}") from None
     bodies = [to_jsonable(e) for e in explanations]

@@ -22,7 +22,7 @@ responses.
 import logging
 from collections.abc import Callable, Iterable
 from dataclasses import dataclass, field
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from pyoxigraph import BlankNode, Literal, NamedNode, Quad, QuerySolutions
 
@@ -36,6 +36,9 @@ from kg.literals import from_store
 from kg.transaction import Transaction
 from reasoners.errors import MemoryReasonerError, OperationFailedError
 from reasoners.operations import Operation, OperationResult
+
+if TYPE_CHECKING:  # api.armor.memory imports this module (through api.armor.context)
+    from api.armor.memory import MemoryDirectives
 
 __all__ = ["ChangeSet", "MemoryWorkFailed", "Row", "Session"]
 
@@ -153,14 +156,20 @@ class _Unreasoned:
 
 
 class Session:
-    """One directive list, run against ``store`` and ``registry`` while holding their locks."""
+    """One directive list, run against ``store`` and ``registry`` while holding their locks.
+
+    ``memory`` is the memory directives' adapter (:class:`api.armor.memory.MemoryDirectives`);
+    without it, a directive that needs the scene memory answers ARMOR's memory error (212, see
+    :meth:`api.armor.context.Context.scene_memory`). ``scenes`` holds the clients' open scenes
+    between lists.
+    """
 
     def __init__(
         self,
         store: Store,
         registry: Registry,
         *,
-        memory: Any = None,
+        memory: "MemoryDirectives | None" = None,
         scenes: dict[tuple[str, str], Any] | None = None,
     ) -> None:
         self.store = store
@@ -488,6 +497,8 @@ class Session:
         response) when an operation fails: nothing of the list stays, and the memory's model is
         as before the list.
         """
+        if self.memory is None:  # the directives that queue operations check for it first
+            raise RuntimeError("scene memory operations queued in a session without a memory")
         queued, self.queued = self.queued, []
         writes = Transaction()
         self._add_writes(writes)
