@@ -107,8 +107,3 @@ class StreamFiles:
             replayer = Replayer(self.path(episode_id), limit_bytes=self.read_limit_bytes)
             return descriptors_from_recording(replayer, self.paths.dir("streams"))
         return []
-
-    def close_all(self) -> None:
-        """Close every recording opened through this memory's registry (if one was made)."""
-        if self._recordings is not None:
-            self._recordings.close_all()

@@ -46,7 +46,7 @@ def disk_memory(tmp_path: Path) -> Iterator[EpisodeMemory]:
     memory = EpisodeMemory(store, data_dir=tmp_path, clock=fixed_clock)
     yield memory
     memory.close()
-    memory.streams.close_all()
+    memory.streams.recordings.close_all()
 
 
 def record_frames(memory: EpisodeMemory, episode_id: str, frames: dict[str, range]) -> None:
