@@ -58,7 +58,14 @@ import open3d as o3d
 from scipy.spatial import ConvexHull, QhullError, cKDTree
 
 from shapes.fit._ransac import Model, ransac, refine_if_better
-from shapes.fit.models import ConeModel, CylinderModel, PlaneModel, SphereModel, UprightConeModel
+from shapes.fit.models import (
+    ConeModel,
+    CylinderModel,
+    PlaneModel,
+    SphereModel,
+    UprightConeModel,
+    UprightCylinderModel,
+)
 from shapes.normals import patch_normals
 from shapes.types import FloatArray, Primitive, ShapeKind, SupportPlane, vec3
 
@@ -93,6 +100,7 @@ class FitParams:
     preview_points: int = 100
     cone_sample_points: int = 3
     upright_cone_iterations: int = 128
+    upright_cylinder_iterations: int = 128
     min_base_share: float = 0.25
     max_fit_points: int = 300
     normal_neighbours: int = 30
@@ -556,6 +564,27 @@ def fit_cluster(
             d = model.distances(res.params[None, :], sample)[0]
             if _cost(d, t_sel) < costs.get(ShapeKind.CONE, np.inf):
                 score(ShapeKind.CONE, res.params)
+    if support is not None and fp.upright_cylinder_iterations > 0:
+        # Standing cylinders: the support's normal (gravity) is the commonest axis of a thing on
+        # a table; with it given, two points fix the cylinder and the normals' noise tilts no
+        # axis. Seen from far, free hypotheses drawn from noisy normals may find only a lying
+        # cylinder.
+        model = models[ShapeKind.CYLINDER][0]
+        res = ransac(
+            UprightCylinderModel(model, support.normal),  # type: ignore[arg-type]
+            sample,
+            normals,
+            threshold=models[ShapeKind.CYLINDER][1],
+            rng=rng,
+            max_iterations=fp.upright_cylinder_iterations,
+            refine=False,
+            min_iterations=fp.upright_cylinder_iterations // 2,
+            preview_points=fp.preview_points,
+        )
+        if res is not None:
+            d = model.distances(res.params[None, :], sample)[0]
+            if _cost(d, t_sel) < costs.get(ShapeKind.CYLINDER, np.inf):
+                score(ShapeKind.CYLINDER, res.params)
     # Planes, one after another on what the previous ones left.
     plane_model = PlaneModel()
     remaining = np.ones(len(sample), dtype=bool)
