@@ -522,15 +522,12 @@ def fit_cluster(
             return _build_cylinder(params, points, support, fp)
         return _build_cone(params, points, support, fp)
 
-    def distances(kind: ShapeKind, params: FloatArray) -> FloatArray:
-        """The sample's distances to one candidate's surface."""
-        return models[kind][0].distances(params[None, :], sample)[0]
-
     def score(kind: ShapeKind, params: FloatArray) -> None:
         """Keep a candidate (in place of the model's last one) if it is bounded."""
         if not bounded(curved(kind, params), points, margin_m=margin):
             return  # a fit that leaves its own points is never a candidate
-        d = distances(kind, params)
+        model = models[kind][0]
+        d = model.distances(params[None, :], sample)[0]
         fitted[kind], surface[kind], costs[kind] = params, d, _cost(d, t_sel)
 
     for kind, (model, thr) in models.items():
@@ -568,7 +565,7 @@ def fit_cluster(
             preview_points=fp.preview_points,
         )
         if res is not None:
-            d = distances(ShapeKind.CONE, res.params)
+            d = model.distances(res.params[None, :], sample)[0]
             if _cost(d, t_sel) < costs.get(ShapeKind.CONE, np.inf):
                 score(ShapeKind.CONE, res.params)
     if support is not None and fp.upright_cylinder_iterations > 0:
@@ -590,7 +587,7 @@ def fit_cluster(
             preview_points=fp.preview_points,
         )
         if res is not None:
-            d = distances(ShapeKind.CYLINDER, res.params)
+            d = model.distances(res.params[None, :], sample)[0]
             if _cost(d, t_sel) < costs.get(ShapeKind.CYLINDER, np.inf):
                 score(ShapeKind.CYLINDER, res.params)
     # Planes, one after another on what the previous ones left.
@@ -657,7 +654,7 @@ def fit_cluster(
                 preview_points=fp.preview_points,
             )
             if res is not None:
-                d = distances(ShapeKind.CONE, res.params)
+                d = model.distances(res.params[None, :], sample)[0]
                 if _cost(d, t_sel) < costs.get(ShapeKind.CONE, np.inf):
                     score(ShapeKind.CONE, res.params)
     for plane, inliers in planes[:2]:
@@ -669,7 +666,7 @@ def fit_cluster(
         model = models[ShapeKind.CONE][0]
         guess = _cone_on_base(plane, sample, fp.plane_threshold_m)
         if guess is not None and model.within_limits(guess):
-            d = distances(ShapeKind.CONE, guess)
+            d = model.distances(guess[None, :], sample)[0]
             if _cost(d, t_sel) < costs.get(ShapeKind.CONE, np.inf):
                 score(ShapeKind.CONE, guess)
     if not costs:
