@@ -24,7 +24,14 @@ import numpy.typing as npt
 from shapes.fit._ransac import levenberg_marquardt
 from shapes.types import FloatArray
 
-__all__ = ["ConeModel", "CylinderModel", "PlaneModel", "SphereModel", "UprightConeModel"]
+__all__ = [
+    "ConeModel",
+    "CylinderModel",
+    "PlaneModel",
+    "SphereModel",
+    "UprightConeModel",
+    "UprightCylinderModel",
+]
 
 Mask = npt.NDArray[np.bool_]
 Index = npt.NDArray[np.intp]
@@ -404,3 +411,49 @@ class UprightConeModel:
 
     def within_limits(self, params: FloatArray) -> bool:
         return self.cone.within_limits(params)
+
+
+@dataclass(frozen=True)
+class UprightCylinderModel:
+    """A cylinder standing on a support: its axis is the support normal ``up`` (gravity's
+    direction, the commonest axis of a thing on a table), so two points with normals fix it:
+    seen along ``up``, both normals point away from the axis, which lies where their lines
+    cross; the radius is the mean distance of the two points from it. Distances, limits and
+    refinement are the free cylinder's (:class:`CylinderModel`), so the refinement may tilt
+    the axis.
+    """
+
+    cylinder: CylinderModel
+    up: tuple[float, float, float] = (0.0, 0.0, 1.0)
+    name: str = "upright cylinder"
+    sample_size: int = 2
+
+    def hypotheses(
+        self, points: FloatArray, normals: FloatArray, idx: Index
+    ) -> tuple[FloatArray, Mask]:
+        up = np.asarray(self.up, dtype=np.float64)
+        p, n = points[idx], normals[idx]  # (H, 2, 3)
+        flat_p = p - (p @ up)[..., None] * up
+        flat_n = n - (n @ up)[..., None] * up
+        m1, m2, q1, q2 = flat_n[:, 0], flat_n[:, 1], flat_p[:, 0], flat_p[:, 1]
+        aa, bb, cc = (m1 * m1).sum(1), (m1 * m2).sum(1), (m2 * m2).sum(1)
+        w = q2 - q1
+        dd, ee = (m1 * w).sum(1), (m2 * w).sum(1)
+        den = aa * cc - bb * bb
+        ok = np.abs(den) > 1e-9
+        s = (dd * cc - ee * bb) / np.where(ok, den, 1.0)
+        centre = q1 + s[:, None] * m1
+        r = np.linalg.norm(flat_p - centre[:, None, :], axis=2).mean(axis=1)
+        ok &= (r >= self.cylinder.min_radius) & (r <= self.cylinder.max_radius)
+        ok &= np.isfinite(centre).all(axis=1)
+        axis = np.broadcast_to(up, centre.shape)
+        return np.column_stack((centre, axis, r)), ok
+
+    def distances(self, params: FloatArray, points: FloatArray) -> FloatArray:
+        return self.cylinder.distances(params, points)
+
+    def refine(self, params: FloatArray, points: FloatArray, threshold: float) -> FloatArray:
+        return self.cylinder.refine(params, points, threshold)
+
+    def within_limits(self, params: FloatArray) -> bool:
+        return self.cylinder.within_limits(params)

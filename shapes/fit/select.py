@@ -18,11 +18,15 @@ The same surfaces drive the search: cylinder hypotheses are scored with their en
 dominant flat top cannot pull RANSAC to a wide cylinder lying on its side; sphere and cylinder
 radii are bounded by ``max_radius_per_extent`` times the cluster's size (a larger radius only
 imitates a slightly bent flat face); cylinders and cones get at least ``min_iterations``
-hypotheses, each batch ranked first on ``preview_points`` points. Cones get two more sources of
-hypotheses, as noisy normals spoil the free three-point ones: on a support, two-point
-hypotheses with the support normal for an axis (``upright_cone_iterations``, a standing cone);
-and for each of the first two planes holding ``min_base_share`` of the points, the cone whose
-base is that plane (a lying or leaning cone showing its base). Only the curved candidates
+hypotheses, each batch ranked first on ``preview_points`` points. On a support, cylinders and
+cones also get two-point hypotheses with the support's normal for an axis
+(``upright_cylinder_iterations``, ``upright_cone_iterations``): standing is the commonest pose
+of a thing on a table, and noisy normals tilt the free hypotheses' axes (seen from far, the
+free search may find only a lying cylinder; the standing hypotheses draw from a generator of
+their own, so the other searches' draws stay as they were). Cones get one more source of
+hypotheses, as noisy normals spoil the free three-point ones: for each of the first two planes
+holding ``min_base_share`` of the points, the cone whose base is that plane (a lying or leaning
+cone showing its base). Only the curved candidates
 within ``refine_margin`` of the best cost are refined by least squares (Levenberg-Marquardt on
 the inliers; a cylinder on its lateral band away from the discs), and a refinement is kept only
 if it lowers the cost and respects the limits.
@@ -58,7 +62,14 @@ import open3d as o3d
 from scipy.spatial import ConvexHull, QhullError, cKDTree
 
 from shapes.fit._ransac import Model, ransac, refine_if_better
-from shapes.fit.models import ConeModel, CylinderModel, PlaneModel, SphereModel, UprightConeModel
+from shapes.fit.models import (
+    ConeModel,
+    CylinderModel,
+    PlaneModel,
+    SphereModel,
+    UprightConeModel,
+    UprightCylinderModel,
+)
 from shapes.normals import patch_normals
 from shapes.types import FloatArray, Primitive, ShapeKind, SupportPlane, vec3
 
@@ -93,6 +104,7 @@ class FitParams:
     preview_points: int = 100
     cone_sample_points: int = 3
     upright_cone_iterations: int = 128
+    upright_cylinder_iterations: int = 128
     min_base_share: float = 0.25
     max_fit_points: int = 300
     normal_neighbours: int = 30
@@ -556,6 +568,28 @@ def fit_cluster(
             d = model.distances(res.params[None, :], sample)[0]
             if _cost(d, t_sel) < costs.get(ShapeKind.CONE, np.inf):
                 score(ShapeKind.CONE, res.params)
+    if support is not None and fp.upright_cylinder_iterations > 0:
+        # Standing cylinders: the support's normal (gravity) is the commonest axis of a thing on
+        # a table; with it given, two points fix the cylinder and the normals' noise tilts no
+        # axis. Seen from far, free hypotheses drawn from noisy normals may find only a lying
+        # cylinder. Their draws come from a generator of their own (spawning one leaves
+        # ``rng`` as it was), so adding them changes no other search's draws.
+        model = models[ShapeKind.CYLINDER][0]
+        res = ransac(
+            UprightCylinderModel(model, support.normal),  # type: ignore[arg-type]
+            sample,
+            normals,
+            threshold=models[ShapeKind.CYLINDER][1],
+            rng=rng.spawn(1)[0],
+            max_iterations=fp.upright_cylinder_iterations,
+            refine=False,
+            min_iterations=fp.upright_cylinder_iterations // 2,
+            preview_points=fp.preview_points,
+        )
+        if res is not None:
+            d = model.distances(res.params[None, :], sample)[0]
+            if _cost(d, t_sel) < costs.get(ShapeKind.CYLINDER, np.inf):
+                score(ShapeKind.CYLINDER, res.params)
     # Planes, one after another on what the previous ones left.
     plane_model = PlaneModel()
     remaining = np.ones(len(sample), dtype=bool)

@@ -251,3 +251,25 @@ def test_upright_cone_hypotheses_from_two_points_recover_the_cone():
     assert np.allclose(params[:, :3], apex, atol=1e-9)
     assert np.allclose(params[:, 3:6], [0.0, 0.0, -1.0])
     assert np.allclose(params[:, 6], theta)
+
+
+def test_upright_cylinder_hypotheses_from_two_points_recover_the_cylinder():
+    from shapes.fit.models import UprightCylinderModel
+
+    up = np.array([0.0, 0.6, 0.8])  # a support tilted in the sensor's frame
+    side = np.cross(up, [1.0, 0.0, 0.0])
+    side /= np.linalg.norm(side)
+    other = np.cross(up, side)
+    centre, radius = np.array([0.1, -0.2, 0.15]), 0.04
+    phi = np.array([0.3, 2.0, 4.0])
+    ring = np.outer(np.cos(phi), side) + np.outer(np.sin(phi), other)
+    points = centre + radius * ring + np.outer([0.01, 0.07, 0.12], up)
+    normals = ring * np.array([[1.0], [-1.0], [1.0]])  # unoriented
+    model = UprightCylinderModel(CylinderModel(), tuple(up))
+    params, ok = model.hypotheses(points, normals, np.array([[0, 1], [1, 2]]))
+    assert ok.all()
+    np.testing.assert_allclose(params[:, 3:6], [up, up], atol=1e-12)
+    np.testing.assert_allclose(params[:, 6], radius, atol=1e-12)
+    for p in params:  # the point found lies on the axis
+        off = centre - p[:3]
+        np.testing.assert_allclose(off - (off @ up) * up, 0.0, atol=1e-12)
