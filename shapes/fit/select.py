@@ -421,7 +421,13 @@ _HEIGHT_PER_DIAGONAL = 2.0
 """An object seen with up to half of its length hidden still passes :func:`bounded`."""
 
 
-def bounded(primitive: Primitive, points: FloatArray, *, margin_m: float) -> bool:
+def bounded(
+    primitive: Primitive,
+    points: FloatArray,
+    *,
+    margin_m: float,
+    box: tuple[FloatArray, FloatArray] | None = None,
+) -> bool:
     """Whether a primitive stays within its own points: its radius no longer than the diagonal
     of their bounding box (plus ``margin_m``), its height no longer than ``_HEIGHT_PER_DIAGONAL``
     times that (the part of an object hidden behind another, or a cone's tip, lies past the
@@ -432,8 +438,11 @@ def bounded(primitive: Primitive, points: FloatArray, *, margin_m: float) -> boo
     >>> ball = Primitive(ShapeKind.SPHERE, centre=(0.05, 0.05, 0.05), radius=0.05)
     >>> bounded(ball, pts, margin_m=0.01), bounded(replace(ball, radius=2.0), pts, margin_m=0.01)
     (True, False)
+
+    ``box``: the points' ``(min, max)`` corners when the caller has them already (a cluster's
+    candidates are all held to the same box).
     """
-    lo, hi = points.min(axis=0), points.max(axis=0)
+    lo, hi = box if box is not None else (points.min(axis=0), points.max(axis=0))
     diagonal = float(np.linalg.norm(hi - lo)) + margin_m
     radius, height = primitive.radius or 0.0, primitive.height or 0.0
     if not (math.isfinite(radius) and math.isfinite(height)):
@@ -502,6 +511,7 @@ def fit_cluster(
     surface: dict[ShapeKind, FloatArray] = {}
 
     margin = t_sel + fp.snap_distance_m
+    box = (points.min(axis=0), points.max(axis=0))
 
     def curved(kind: ShapeKind, params: FloatArray) -> Primitive:
         if kind is ShapeKind.SPHERE:
@@ -512,7 +522,7 @@ def fit_cluster(
 
     def score(kind: ShapeKind, params: FloatArray) -> None:
         """Keep a candidate (in place of the model's last one) if it is bounded."""
-        if not bounded(curved(kind, params), points, margin_m=margin):
+        if not bounded(curved(kind, params), points, margin_m=margin, box=box):
             return  # a fit that leaves its own points is never a candidate
         model = models[kind][0]
         d = model.distances(params[None, :], sample)[0]
@@ -651,7 +661,7 @@ def fit_cluster(
             prim = _build_plane(plane, sample, inl)
         else:
             prim = curved(kind, fitted[kind])
-        if bounded(prim, points, margin_m=margin):
+        if bounded(prim, points, margin_m=margin, box=box):
             break
         del costs[kind]  # a fit that leaves its own points is never output
         if not costs:
