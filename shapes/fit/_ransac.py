@@ -99,7 +99,7 @@ def ransac(
     preview = None
     keep = max(4, batch // 8)
     if preview_points and n > 2 * preview_points:
-        preview = np.sort(rng.choice(n, preview_points, replace=False))
+        preview = points[np.sort(rng.choice(n, preview_points, replace=False))]
     while tried < needed:
         idx = _samples(rng, n, model.sample_size, min(batch, needed - tried))
         tried += batch
@@ -111,7 +111,7 @@ def ransac(
             continue
         if preview is not None and len(params) > keep:
             # Preemptive scoring: rank the batch on a fixed subset, score the best fully.
-            dp = model.distances(params, points[preview])
+            dp = model.distances(params, preview)
             params = params[np.argsort(np.minimum(dp * dp, thr2).sum(axis=1))[:keep]]
         d = model.distances(params, points)
         cost = np.minimum(d * d, thr2).sum(axis=1)

@@ -230,7 +230,8 @@ class CylinderModel:
             mean = (t * m).sum(axis=1) / np.maximum(count, 1)
             ends.append(np.where(count > 0, mean, end)[:, None])
         excess = np.maximum(rho - r, 0.0)
-        cap = np.minimum(np.hypot(t - ends[0], excess), np.hypot(t - ends[1], excess))
+        # The nearer disc is the one nearer along the axis (hypot grows with either side).
+        cap = np.hypot(np.minimum(np.abs(t - ends[0]), np.abs(t - ends[1])), excess)
         return np.asarray(np.minimum(np.abs(rho - r), cap), dtype=np.float64)
 
     @staticmethod
