@@ -150,11 +150,13 @@ def levenberg_marquardt(
     *,
     iterations: int = 12,
     step: float = 1e-6,
+    jacobian: Callable[[FloatArray], FloatArray] | None = None,
 ) -> FloatArray:
     """Minimise ``sum(residuals(x)**2)`` from ``x0``.
 
     ``residuals`` is batched: it maps parameter rows (m, k) to residual rows (m, n), so the
-    forward-difference Jacobian costs one call.
+    forward-difference Jacobian costs one call. ``jacobian``, when given, maps one parameter
+    row (k,) to the residuals' derivatives (n, k) in closed form and is used instead.
     """
     x = np.asarray(x0, dtype=np.float64).copy()
     r = residuals(x[None, :])[0]
@@ -162,8 +164,11 @@ def levenberg_marquardt(
     lam = 1e-3
     k = len(x)
     for _ in range(iterations):
-        h = step * np.maximum(1.0, np.abs(x))
-        jac = ((residuals(x + np.diag(h)) - r) / h[:, None]).T
+        if jacobian is not None:
+            jac = jacobian(x)
+        else:
+            h = step * np.maximum(1.0, np.abs(x))
+            jac = ((residuals(x + np.diag(h)) - r) / h[:, None]).T
         jtj, jtr = jac.T @ jac, jac.T @ r
         improved = False
         delta = np.zeros(k)
