@@ -50,11 +50,13 @@ class Model(Protocol):
 
 @dataclass(frozen=True)
 class RansacResult:
-    """The best model found, its inlier mask and the number of hypotheses tried."""
+    """The best model found, its inlier mask, the number of hypotheses tried and the points'
+    distances to the model (from which the mask was drawn)."""
 
     params: FloatArray
     inliers: npt.NDArray[np.bool_]
     hypotheses: int
+    distances: FloatArray
 
 
 def _samples(rng: np.random.Generator, n: int, size: int, count: int) -> npt.NDArray[np.intp]:
@@ -94,6 +96,7 @@ def ransac(
         return None
     best_cost = math.inf
     best: FloatArray | None = None
+    best_d = np.zeros(0)
     needed, tried = max_iterations, 0
     thr2 = threshold * threshold
     preview = None
@@ -117,7 +120,7 @@ def ransac(
         cost = np.minimum(d * d, thr2).sum(axis=1)
         k = int(np.argmin(cost))
         if cost[k] < best_cost:
-            best_cost, best = float(cost[k]), params[k]
+            best_cost, best, best_d = float(cost[k]), params[k], d[k]
             share = float((d[k] < threshold).mean())
             if share >= 1.0:
                 needed = max(tried, min_iterations)
@@ -128,8 +131,8 @@ def ransac(
         return None
     if refine:
         best = refine_if_better(model, best, points, threshold)
-    d = model.distances(best[None, :], points)[0]
-    return RansacResult(best, d < threshold, tried)
+        best_d = model.distances(best[None, :], points)[0]
+    return RansacResult(best, best_d < threshold, tried, best_d)
 
 
 def refine_if_better(

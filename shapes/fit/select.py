@@ -520,12 +520,13 @@ def fit_cluster(
             return _build_cylinder(params, points, support, fp)
         return _build_cone(params, points, support, fp)
 
-    def score(kind: ShapeKind, params: FloatArray) -> None:
-        """Keep a candidate (in place of the model's last one) if it is bounded."""
+    def score(kind: ShapeKind, params: FloatArray, d: FloatArray | None = None) -> None:
+        """Keep a candidate (in place of the model's last one) if it is bounded; ``d``: the
+        sample's distances to it, when known."""
         if not bounded(curved(kind, params), points, margin_m=margin, box=box):
             return  # a fit that leaves its own points is never a candidate
-        model = models[kind][0]
-        d = model.distances(params[None, :], sample)[0]
+        if d is None:
+            d = models[kind][0].distances(params[None, :], sample)[0]
         fitted[kind], surface[kind], costs[kind] = params, d, _cost(d, t_sel)
 
     for kind, (model, thr) in models.items():
@@ -546,7 +547,7 @@ def fit_cluster(
                 counts[kind] = int((pitt_d < thr).sum())
             else:
                 counts[kind] = int(res.inliers.sum())
-            score(kind, res.params)
+            score(kind, res.params, res.distances)
     if support is not None and fp.upright_cone_iterations > 0:
         # Standing cones: hypotheses with the support's normal for an axis need two points,
         # and noisy normals spoil them far less than a free cone's three.
@@ -562,10 +563,8 @@ def fit_cluster(
             min_iterations=fp.upright_cone_iterations // 2,
             preview_points=fp.preview_points,
         )
-        if res is not None:
-            d = model.distances(res.params[None, :], sample)[0]
-            if _cost(d, t_sel) < costs.get(ShapeKind.CONE, np.inf):
-                score(ShapeKind.CONE, res.params)
+        if res is not None and _cost(res.distances, t_sel) < costs.get(ShapeKind.CONE, np.inf):
+            score(ShapeKind.CONE, res.params, res.distances)
     # Planes, one after another on what the previous ones left.
     plane_model = PlaneModel()
     remaining = np.ones(len(sample), dtype=bool)
@@ -632,7 +631,7 @@ def fit_cluster(
             if res is not None:
                 d = model.distances(res.params[None, :], sample)[0]
                 if _cost(d, t_sel) < costs.get(ShapeKind.CONE, np.inf):
-                    score(ShapeKind.CONE, res.params)
+                    score(ShapeKind.CONE, res.params, d)
     for plane, inliers in planes[:2]:
         # A cone showing its base: the base plane gives the axis, the rim of the disc its
         # centre and radius, the lateral points the height (one direct hypothesis). A base
@@ -644,7 +643,7 @@ def fit_cluster(
         if guess is not None and model.within_limits(guess):
             d = model.distances(guess[None, :], sample)[0]
             if _cost(d, t_sel) < costs.get(ShapeKind.CONE, np.inf):
-                score(ShapeKind.CONE, guess)
+                score(ShapeKind.CONE, guess, d)
     if not costs:
         return None
     # Least-squares refinement only for the curved candidates still in the running.
