@@ -166,6 +166,7 @@ def levenberg_marquardt(
     cost = float(r @ r)
     lam = 1e-3
     k = len(x)
+    identity = np.eye(k)
     for _ in range(iterations):
         if jacobian is not None:
             jac = jacobian(x)
@@ -173,13 +174,12 @@ def levenberg_marquardt(
             h = step * np.maximum(1.0, np.abs(x))
             jac = ((residuals(x + np.diag(h)) - r) / h[:, None]).T
         jtj, jtr = jac.T @ jac, jac.T @ r
+        damping = np.diag(np.diag(jtj)) + 1e-9 * identity
         improved = False
         delta = np.zeros(k)
         for _try in range(6):
             try:
-                delta = np.linalg.solve(
-                    jtj + lam * (np.diag(np.diag(jtj)) + 1e-9 * np.eye(k)), -jtr
-                )
+                delta = np.linalg.solve(jtj + lam * damping, -jtr)
             except np.linalg.LinAlgError:
                 lam *= 10
                 continue
