@@ -75,9 +75,7 @@ def _refit_rounds(
             break
         if len(inl) > max_points:  # an even stride keeps the spread and the determinism
             inl = inl[:: -(-len(inl) // max_points)]
-        x = levenberg_marquardt(
-            partial(residual, pts=inl), x, jacobian=partial(jacobian, pts=inl)
-        )
+        x = levenberg_marquardt(partial(residual, pts=inl), x, jacobian=partial(jacobian, pts=inl))
     return x
 
 
@@ -180,9 +178,7 @@ class SphereModel:
             r2 = c @ c - sol[3]
             if r2 > 0:
                 x = np.concatenate((c, [np.sqrt(r2)]))
-        return _refit_rounds(
-            x, points, threshold, self.distances, self.residuals, self.jacobian
-        )
+        return _refit_rounds(x, points, threshold, self.distances, self.residuals, self.jacobian)
 
     def within_limits(self, params: FloatArray) -> bool:
         return bool(np.isfinite(params).all() and self.min_radius <= params[3] <= self.max_radius)
