@@ -19,7 +19,6 @@ from __future__ import annotations
 import math
 from collections.abc import Callable
 from dataclasses import dataclass
-from functools import partial
 
 import numpy as np
 import numpy.typing as npt
@@ -75,8 +74,18 @@ def _refit_rounds(
             break
         if len(inl) > max_points:  # an even stride keeps the spread and the determinism
             inl = inl[:: -(-len(inl) // max_points)]
-        x = levenberg_marquardt(partial(residual, pts=inl), x, jacobian=partial(jacobian, pts=inl))
+        x = _least_squares(x, inl, residual, jacobian)
     return x
+
+
+def _least_squares(
+    x: FloatArray,
+    pts: FloatArray,
+    residual: Callable[[FloatArray, FloatArray], FloatArray],
+    jacobian: Callable[[FloatArray, FloatArray], FloatArray],
+) -> FloatArray:
+    """:func:`levenberg_marquardt` of a model's residuals and Jacobian on the points ``pts``."""
+    return levenberg_marquardt(lambda p: residual(p, pts), x, jacobian=lambda p: jacobian(p, pts))
 
 
 def _radial(x: FloatArray, pts: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray, float]:
