@@ -39,8 +39,7 @@ Steps (PITT's, with its quirks fixed; see ``shared/reference/pitt-perception.md`
    are cut at ``max(above_margin_m, 2 sigma(z))`` with ``sigma(z) = sigma_1m z²`` (measured on
    the image, or from the support's residuals on an unorganised cloud; a cloud that is not in
    a camera frame, with points at z <= 0.1 m, gets one sigma for every range);
-6. statistical outlier removal and DBSCAN on those voxels (open3d's, on one scipy tree:
-   :mod:`shapes.clustering`); each cluster is cut along
+6. statistical outlier removal and DBSCAN (open3d) on those voxels; each cluster is cut along
    its concave seams, which separates objects that touch (:mod:`shapes.split`) when every part
    reaches down to the support (a handle or a shoulder hangs above it); clusters with
    fewer than ``min_cluster_voxels`` voxels are dropped;
@@ -58,12 +57,12 @@ from dataclasses import dataclass
 
 import numpy as np
 import numpy.typing as npt
+import open3d as o3d
 from scipy.sparse import coo_matrix
 from scipy.sparse.csgraph import connected_components
 from scipy.spatial import cKDTree
 
 from shapes.artefacts import depth_noise_1m, flying_pixels, sparse_points, sparse_voxels
-from shapes.clustering import outliers_and_clusters
 from shapes.frame import Frame
 from shapes.split import split_touching
 from shapes.types import FloatArray, SupportPlane, vec3
@@ -148,6 +147,10 @@ def voxel_grid(points: FloatArray, voxel_m: float) -> tuple[FloatArray, npt.NDAr
     for axis in range(3):
         means[:, axis] = np.bincount(index, weights=points[:, axis]) / counts
     return means, index.astype(np.intp)
+
+
+def _cloud(points: FloatArray) -> o3d.geometry.PointCloud:
+    return o3d.geometry.PointCloud(o3d.utility.Vector3dVector(points))
 
 
 _HYPOTHESES_PER_PASS = 32
@@ -680,14 +683,13 @@ def _clusters(
     viewpoint: FloatArray | None,
 ) -> tuple[list[Cluster], int]:
     """DBSCAN clusters of the candidate voxels above one support, and how many were too small."""
-    kept, labels = outliers_and_clusters(
-        voxels[candidates],
-        neighbours=params.outlier_neighbours,
-        std_ratio=params.outlier_std_ratio,
-        eps=params.cluster_eps_m,
-        min_points=params.cluster_min_points,
+    cloud = _cloud(voxels[candidates])
+    _, kept = cloud.remove_statistical_outlier(params.outlier_neighbours, params.outlier_std_ratio)
+    candidates = candidates[np.asarray(kept, dtype=np.intp)]
+    labels = np.asarray(
+        _cloud(voxels[candidates]).cluster_dbscan(params.cluster_eps_m, params.cluster_min_points),
+        dtype=np.int64,
     )
-    candidates = candidates[kept]
     if params.split_touching:
         labels = _split(
             labels,
