@@ -339,8 +339,11 @@ class ConeModel:
         # The unit vectors from the apex to the points make one angle with the axis: they lie
         # on a plane whose normal is the axis.
         u = _unit(p - apex[:, None, :])[0]
-        centred = u - u.mean(axis=1, keepdims=True)
-        axis = np.linalg.eigh(np.einsum("hsi,hsj->hij", centred, centred))[1][:, :, 0]
+        if u.shape[1] == 3:  # three unit vectors: their plane's normal, a cross product
+            axis = _unit(np.cross(u[:, 1] - u[:, 0], u[:, 2] - u[:, 0]))[0]
+        else:
+            centred = u - u.mean(axis=1, keepdims=True)
+            axis = np.linalg.eigh(np.einsum("hsi,hsj->hij", centred, centred))[1][:, :, 0]
         cosines = np.einsum("hsi,hi->hs", u, axis)
         axis[cosines.mean(axis=1) < 0] *= -1
         theta = np.arccos(np.clip(np.abs(cosines), -1, 1)).mean(axis=1)
