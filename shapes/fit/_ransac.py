@@ -153,13 +153,11 @@ def levenberg_marquardt(
     *,
     iterations: int = 12,
     step: float = 1e-6,
-    jacobian: Callable[[FloatArray], FloatArray] | None = None,
 ) -> FloatArray:
     """Minimise ``sum(residuals(x)**2)`` from ``x0``.
 
     ``residuals`` is batched: it maps parameter rows (m, k) to residual rows (m, n), so the
-    forward-difference Jacobian costs one call. ``jacobian``, when given, maps one parameter
-    row (k,) to the residuals' derivatives (n, k) in closed form and is used instead.
+    forward-difference Jacobian costs one call.
     """
     x = np.asarray(x0, dtype=np.float64).copy()
     r = residuals(x[None, :])[0]
@@ -168,11 +166,8 @@ def levenberg_marquardt(
     k = len(x)
     identity = np.eye(k)
     for _ in range(iterations):
-        if jacobian is not None:
-            jac = jacobian(x)
-        else:
-            h = step * np.maximum(1.0, np.abs(x))
-            jac = ((residuals(x + np.diag(h)) - r) / h[:, None]).T
+        h = step * np.maximum(1.0, np.abs(x))
+        jac = ((residuals(x + np.diag(h)) - r) / h[:, None]).T
         jtj, jtr = jac.T @ jac, jac.T @ r
         damping = np.diag(np.diag(jtj)) + 1e-9 * identity
         improved = False

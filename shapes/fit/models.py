@@ -16,8 +16,6 @@ and cone hypotheses.
 
 from __future__ import annotations
 
-import math
-from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
@@ -59,47 +57,22 @@ def _refit_rounds(
     params: FloatArray,
     points: FloatArray,
     threshold: float,
-    distance: Callable[[FloatArray, FloatArray], FloatArray],
-    residual: Callable[[FloatArray, FloatArray], FloatArray],
-    jacobian: Callable[[FloatArray, FloatArray], FloatArray],
+    distance: object,
+    residual: object,
     rounds: int = 2,
     max_points: int = 250,
 ) -> FloatArray:
     """Refine on the inliers, re-select inliers, refine again."""
     x = params
     for _ in range(rounds):
-        d = distance(x[None, :], points)[0]
+        d = distance(x[None, :], points)[0]  # type: ignore[operator]
         inl = points[d < threshold]
         if len(inl) < len(x):
             break
         if len(inl) > max_points:  # an even stride keeps the spread and the determinism
             inl = inl[:: -(-len(inl) // max_points)]
-        x = _least_squares(x, inl, residual, jacobian)
+        x = levenberg_marquardt(lambda p, q=inl: residual(p, q), x)  # type: ignore[operator,misc]
     return x
-
-
-def _least_squares(
-    x: FloatArray,
-    pts: FloatArray,
-    residual: Callable[[FloatArray, FloatArray], FloatArray],
-    jacobian: Callable[[FloatArray, FloatArray], FloatArray],
-) -> FloatArray:
-    """:func:`levenberg_marquardt` of a model's residuals and Jacobian on the points ``pts``."""
-    return levenberg_marquardt(lambda p: residual(p, pts), x, jacobian=lambda p: jacobian(p, pts))
-
-
-def _radial(x: FloatArray, pts: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray, float]:
-    """For one line (a point ``x[:3]``, a direction ``x[3:6]`` of any length) and n points:
-    the axial coordinates (n,), the distances from the line (n,), the unit radial directions
-    (n, 3; zero on the line) and the direction's length."""
-    length = float(np.linalg.norm(x[3:6]))
-    axis = x[3:6] / length
-    v = pts - x[:3]
-    t = v @ axis
-    w = v - t[:, None] * axis
-    rho = np.sqrt(np.einsum("ij,ij->i", w, w))
-    unit = w / np.where(rho > 0, rho, 1.0)[:, None]
-    return t, rho, unit, length
 
 
 @dataclass(frozen=True)
@@ -167,16 +140,6 @@ class SphereModel:
         diff = pts[None, :, :] - x[:, None, :3]
         return np.asarray(np.linalg.norm(diff, axis=2) - x[:, 3:4], dtype=np.float64)
 
-    @staticmethod
-    def jacobian(x: FloatArray, pts: FloatArray) -> FloatArray:
-        """Derivatives (n, 4) of :meth:`residuals` at one parameter row ``x``."""
-        v = pts - x[:3]
-        dist = np.sqrt(np.einsum("ij,ij->i", v, v))
-        jac = np.empty((len(pts), 4))
-        jac[:, :3] = -v / np.where(dist > 0, dist, 1.0)[:, None]
-        jac[:, 3] = -1.0
-        return jac
-
     def refine(self, params: FloatArray, points: FloatArray, threshold: float) -> FloatArray:
         inl = points[self.distances(params[None, :], points)[0] < threshold]
         x = params
@@ -187,7 +150,7 @@ class SphereModel:
             r2 = c @ c - sol[3]
             if r2 > 0:
                 x = np.concatenate((c, [np.sqrt(r2)]))
-        return _refit_rounds(x, points, threshold, self.distances, self.residuals, self.jacobian)
+        return _refit_rounds(x, points, threshold, self.distances, self.residuals)
 
     def within_limits(self, params: FloatArray) -> bool:
         return bool(np.isfinite(params).all() and self.min_radius <= params[3] <= self.max_radius)
@@ -278,16 +241,6 @@ class CylinderModel:
         radial = v - (v * axis).sum(axis=2, keepdims=True) * axis
         return np.asarray(np.linalg.norm(radial, axis=2) - x[:, 6:7], dtype=np.float64)
 
-    @staticmethod
-    def jacobian(x: FloatArray, pts: FloatArray) -> FloatArray:
-        """Derivatives (n, 7) of :meth:`residuals` at one parameter row ``x``."""
-        t, _, unit, length = _radial(x, pts)
-        jac = np.empty((len(pts), 7))
-        jac[:, :3] = -unit
-        jac[:, 3:6] = -(t / length)[:, None] * unit
-        jac[:, 6] = -1.0
-        return jac
-
     def refine(self, params: FloatArray, points: FloatArray, threshold: float) -> FloatArray:
         # Points of a flat end disc that lie within the threshold of the rim would pull the
         # radius in: refine on the lateral band away from both ends.
@@ -299,9 +252,7 @@ class CylinderModel:
             band = (t > lo + 1.5 * threshold) & (t < hi - 1.5 * threshold)
             if (band & inl).sum() >= 10:
                 points = points[band]
-        x = _refit_rounds(
-            params, points, threshold, self.lateral_distances, self.residuals, self.jacobian
-        )
+        x = _refit_rounds(params, points, threshold, self.lateral_distances, self.residuals)
         axis = x[3:6] / np.linalg.norm(x[3:6])
         return np.concatenate((x[:3], axis, [abs(x[6])]))
 
@@ -396,22 +347,9 @@ class ConeModel:
         rho = np.linalg.norm(v - k[..., None] * axis, axis=2)
         return np.asarray(rho * np.cos(x[:, 6:7]) - k * np.sin(x[:, 6:7]), dtype=np.float64)
 
-    @staticmethod
-    def jacobian(x: FloatArray, pts: FloatArray) -> FloatArray:
-        """Derivatives (n, 7) of :meth:`residuals` at one parameter row ``x``."""
-        k, rho, unit, length = _radial(x, pts)
-        c, s = math.cos(x[6]), math.sin(x[6])
-        jac = np.empty((len(pts), 7))
-        jac[:, :3] = s * x[3:6] / length - c * unit
-        jac[:, 3:6] = -((k * c + rho * s) / length)[:, None] * unit
-        jac[:, 6] = -rho * s - k * c
-        return jac
-
     def refine(self, params: FloatArray, points: FloatArray, threshold: float) -> FloatArray:
         # The base disc's points would pull the lateral surface: refine on the lateral inliers.
-        x = _refit_rounds(
-            params, points, threshold, self.lateral_distances, self.residuals, self.jacobian
-        )
+        x = _refit_rounds(params, points, threshold, self.lateral_distances, self.residuals)
         axis = x[3:6] / np.linalg.norm(x[3:6])
         return np.concatenate((x[:3], axis, [x[6]]))
 
