@@ -6,7 +6,9 @@ For each of the five Kinect scans of ``tests/data/real_scans`` (those of
 voxel grid, planes; shared by gravity and segmentation), gravity from it, the rest of
 segmentation, and the fits (``fit_cluster``, every cluster), each the median over ``--seeds``
 seeds of the chain. "before fits" is survey + gravity + segmentation: the CPU a frame costs
-before any primitive is fitted. The last line is the median over the scans.
+before any primitive is fitted. Then the median over the scans, and what one fit costs on a
+cluster of 30, 300 and 3,000 points (the fit samples at most 300, so the smallest shows the
+fit's fixed cost: its RANSAC batches, refinements and numpy calls).
 
 ``--against DIR`` runs the same measurement on another checkout (e.g. the main branch) in a
 subprocess right after this one, with the same interpreter, so that the two sets of figures
@@ -97,6 +99,27 @@ def measure(seeds: int) -> None:
         )
     med = np.median(np.array(rows), axis=0)
     print(f"{'median':<22}" + "".join(f"{v:>{w}.0f}" for v, w in zip(med, WIDTHS, strict=True)))
+    print("one fit (fit_cluster), a standing cylinder of r 4 cm, 1 mm noise, median of 15 seeds:")
+    print("  " + ", ".join(f"{n} points {fit_ms(n):.1f} ms" for n in (30, 300, 3000)))
+
+
+def fit_ms(points: int) -> float:
+    """CPU ms of :func:`shapes.fit.fit_cluster` on a cluster of ``points`` points of a standing
+    cylinder's visible side (its fixed cost shows on the smallest)."""
+    from shapes.fit import fit_cluster
+    from shapes.types import SupportPlane
+
+    rng = np.random.default_rng(0)
+    angle, height = rng.uniform(-1.2, 1.2, points), rng.uniform(0.0, 0.1, points)
+    side = np.column_stack((0.04 * np.sin(angle), -0.04 * np.cos(angle), height))
+    side += rng.normal(scale=0.001, size=side.shape)
+    support = SupportPlane((0.0, 0.0, 1.0), 0.0)
+    spent = []
+    for seed in range(15):
+        start = time.process_time()
+        fit_cluster(side, support=support, rng=np.random.default_rng(seed))
+        spent.append(time.process_time() - start)
+    return 1000 * float(np.median(spent))
 
 
 def main() -> None:
