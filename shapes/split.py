@@ -75,7 +75,7 @@ def split_touching(
     n = len(voxels)
     if n < 2 * min_voxels:
         return np.zeros(n, dtype=np.int64)
-    tree = cKDTree(voxels)
+    tree = cKDTree(voxels, balanced_tree=False, compact_nodes=False)  # faster to build
     normals = patch_normals(voxels, tree.query(voxels, k=min(neighbours, n))[1])
     if viewpoint is not None:
         toward = np.asarray(viewpoint) - voxels

@@ -50,11 +50,13 @@ class Model(Protocol):
 
 @dataclass(frozen=True)
 class RansacResult:
-    """The best model found, its inlier mask and the number of hypotheses tried."""
+    """The best model found, its inlier mask, the number of hypotheses tried and the points'
+    distances to the model (from which the mask was drawn)."""
 
     params: FloatArray
     inliers: npt.NDArray[np.bool_]
     hypotheses: int
+    distances: FloatArray
 
 
 def _samples(rng: np.random.Generator, n: int, size: int, count: int) -> npt.NDArray[np.intp]:
@@ -94,12 +96,13 @@ def ransac(
         return None
     best_cost = math.inf
     best: FloatArray | None = None
+    best_d = np.zeros(0)
     needed, tried = max_iterations, 0
     thr2 = threshold * threshold
     preview = None
     keep = max(4, batch // 8)
     if preview_points and n > 2 * preview_points:
-        preview = np.sort(rng.choice(n, preview_points, replace=False))
+        preview = points[np.sort(rng.choice(n, preview_points, replace=False))]
     while tried < needed:
         idx = _samples(rng, n, model.sample_size, min(batch, needed - tried))
         tried += batch
@@ -111,13 +114,13 @@ def ransac(
             continue
         if preview is not None and len(params) > keep:
             # Preemptive scoring: rank the batch on a fixed subset, score the best fully.
-            dp = model.distances(params, points[preview])
+            dp = model.distances(params, preview)
             params = params[np.argsort(np.minimum(dp * dp, thr2).sum(axis=1))[:keep]]
         d = model.distances(params, points)
         cost = np.minimum(d * d, thr2).sum(axis=1)
         k = int(np.argmin(cost))
         if cost[k] < best_cost:
-            best_cost, best = float(cost[k]), params[k]
+            best_cost, best, best_d = float(cost[k]), params[k], d[k]
             share = float((d[k] < threshold).mean())
             if share >= 1.0:
                 needed = max(tried, min_iterations)
@@ -128,8 +131,8 @@ def ransac(
         return None
     if refine:
         best = refine_if_better(model, best, points, threshold)
-    d = model.distances(best[None, :], points)[0]
-    return RansacResult(best, d < threshold, tried)
+        best_d = model.distances(best[None, :], points)[0]
+    return RansacResult(best, best_d < threshold, tried, best_d)
 
 
 def refine_if_better(
@@ -161,17 +164,17 @@ def levenberg_marquardt(
     cost = float(r @ r)
     lam = 1e-3
     k = len(x)
+    identity = np.eye(k)
     for _ in range(iterations):
         h = step * np.maximum(1.0, np.abs(x))
         jac = ((residuals(x + np.diag(h)) - r) / h[:, None]).T
         jtj, jtr = jac.T @ jac, jac.T @ r
+        damping = np.diag(np.diag(jtj)) + 1e-9 * identity
         improved = False
         delta = np.zeros(k)
         for _try in range(6):
             try:
-                delta = np.linalg.solve(
-                    jtj + lam * (np.diag(np.diag(jtj)) + 1e-9 * np.eye(k)), -jtr
-                )
+                delta = np.linalg.solve(jtj + lam * damping, -jtr)
             except np.linalg.LinAlgError:
                 lam *= 10
                 continue

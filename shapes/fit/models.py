@@ -237,7 +237,8 @@ class CylinderModel:
             mean = (t * m).sum(axis=1) / np.maximum(count, 1)
             ends.append(np.where(count > 0, mean, end)[:, None])
         excess = np.maximum(rho - r, 0.0)
-        cap = np.minimum(np.hypot(t - ends[0], excess), np.hypot(t - ends[1], excess))
+        # The nearer disc is the one nearer along the axis (hypot grows with either side).
+        cap = np.hypot(np.minimum(np.abs(t - ends[0]), np.abs(t - ends[1])), excess)
         return np.asarray(np.minimum(np.abs(rho - r), cap), dtype=np.float64)
 
     @staticmethod
@@ -296,8 +297,11 @@ class ConeModel:
         # The unit vectors from the apex to the points make one angle with the axis: they lie
         # on a plane whose normal is the axis.
         u = _unit(p - apex[:, None, :])[0]
-        centred = u - u.mean(axis=1, keepdims=True)
-        axis = np.linalg.eigh(np.einsum("hsi,hsj->hij", centred, centred))[1][:, :, 0]
+        if u.shape[1] == 3:  # three unit vectors: their plane's normal, a cross product
+            axis = _unit(np.cross(u[:, 1] - u[:, 0], u[:, 2] - u[:, 0]))[0]
+        else:
+            centred = u - u.mean(axis=1, keepdims=True)
+            axis = np.linalg.eigh(np.einsum("hsi,hsj->hij", centred, centred))[1][:, :, 0]
         cosines = np.einsum("hsi,hi->hs", u, axis)
         axis[cosines.mean(axis=1) < 0] *= -1
         theta = np.arccos(np.clip(np.abs(cosines), -1, 1)).mean(axis=1)

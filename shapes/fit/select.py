@@ -183,7 +183,9 @@ def normals_at(points: FloatArray, at: FloatArray, neighbours: int) -> FloatArra
     >>> np.abs(normals_at(flat, flat[:2], 10)).round(6).tolist()
     [[0.0, 0.0, 1.0], [0.0, 0.0, 1.0]]
     """
-    return patch_normals(points, cKDTree(points).query(at, k=neighbours)[1])
+    # A tree built for one query: the unbalanced build is the faster, the neighbours the same.
+    tree = cKDTree(points, balanced_tree=False, compact_nodes=False)
+    return patch_normals(points, tree.query(at, k=neighbours)[1])
 
 
 def estimate_normals(points: FloatArray, neighbours: int) -> FloatArray:
@@ -433,7 +435,13 @@ _HEIGHT_PER_DIAGONAL = 2.0
 """An object seen with up to half of its length hidden still passes :func:`bounded`."""
 
 
-def bounded(primitive: Primitive, points: FloatArray, *, margin_m: float) -> bool:
+def bounded(
+    primitive: Primitive,
+    points: FloatArray,
+    *,
+    margin_m: float,
+    box: tuple[FloatArray, FloatArray] | None = None,
+) -> bool:
     """Whether a primitive stays within its own points: its radius no longer than the diagonal
     of their bounding box (plus ``margin_m``), its height no longer than ``_HEIGHT_PER_DIAGONAL``
     times that (the part of an object hidden behind another, or a cone's tip, lies past the
@@ -444,8 +452,11 @@ def bounded(primitive: Primitive, points: FloatArray, *, margin_m: float) -> boo
     >>> ball = Primitive(ShapeKind.SPHERE, centre=(0.05, 0.05, 0.05), radius=0.05)
     >>> bounded(ball, pts, margin_m=0.01), bounded(replace(ball, radius=2.0), pts, margin_m=0.01)
     (True, False)
+
+    ``box``: the points' ``(min, max)`` corners when the caller has them already (a cluster's
+    candidates are all held to the same box).
     """
-    lo, hi = points.min(axis=0), points.max(axis=0)
+    lo, hi = box if box is not None else (points.min(axis=0), points.max(axis=0))
     diagonal = float(np.linalg.norm(hi - lo)) + margin_m
     radius, height = primitive.radius or 0.0, primitive.height or 0.0
     if not (math.isfinite(radius) and math.isfinite(height)):
@@ -514,6 +525,7 @@ def fit_cluster(
     surface: dict[ShapeKind, FloatArray] = {}
 
     margin = t_sel + fp.snap_distance_m
+    box = (points.min(axis=0), points.max(axis=0))
 
     def curved(kind: ShapeKind, params: FloatArray) -> Primitive:
         if kind is ShapeKind.SPHERE:
@@ -522,12 +534,13 @@ def fit_cluster(
             return _build_cylinder(params, points, support, fp)
         return _build_cone(params, points, support, fp)
 
-    def score(kind: ShapeKind, params: FloatArray) -> None:
-        """Keep a candidate (in place of the model's last one) if it is bounded."""
-        if not bounded(curved(kind, params), points, margin_m=margin):
+    def score(kind: ShapeKind, params: FloatArray, d: FloatArray | None = None) -> None:
+        """Keep a candidate (in place of the model's last one) if it is bounded; ``d``: the
+        sample's distances to it, when known."""
+        if not bounded(curved(kind, params), points, margin_m=margin, box=box):
             return  # a fit that leaves its own points is never a candidate
-        model = models[kind][0]
-        d = model.distances(params[None, :], sample)[0]
+        if d is None:
+            d = models[kind][0].distances(params[None, :], sample)[0]
         fitted[kind], surface[kind], costs[kind] = params, d, _cost(d, t_sel)
 
     for kind, (model, thr) in models.items():
@@ -548,7 +561,7 @@ def fit_cluster(
                 counts[kind] = int((pitt_d < thr).sum())
             else:
                 counts[kind] = int(res.inliers.sum())
-            score(kind, res.params)
+            score(kind, res.params, res.distances)
     if support is not None and fp.upright_cone_iterations > 0:
         # Standing cones: hypotheses with the support's normal for an axis need two points,
         # and noisy normals spoil them far less than a free cone's three.
@@ -564,10 +577,8 @@ def fit_cluster(
             min_iterations=fp.upright_cone_iterations // 2,
             preview_points=fp.preview_points,
         )
-        if res is not None:
-            d = model.distances(res.params[None, :], sample)[0]
-            if _cost(d, t_sel) < costs.get(ShapeKind.CONE, np.inf):
-                score(ShapeKind.CONE, res.params)
+        if res is not None and _cost(res.distances, t_sel) < costs.get(ShapeKind.CONE, np.inf):
+            score(ShapeKind.CONE, res.params, res.distances)
     if support is not None and fp.upright_cylinder_iterations > 0:
         # Standing cylinders: the support's normal (gravity) is the commonest axis of a thing on
         # a table; with it given, two points fix the cylinder and the normals' noise tilts no
@@ -586,10 +597,8 @@ def fit_cluster(
             min_iterations=fp.upright_cylinder_iterations // 2,
             preview_points=fp.preview_points,
         )
-        if res is not None:
-            d = model.distances(res.params[None, :], sample)[0]
-            if _cost(d, t_sel) < costs.get(ShapeKind.CYLINDER, np.inf):
-                score(ShapeKind.CYLINDER, res.params)
+        if res is not None and _cost(res.distances, t_sel) < costs.get(ShapeKind.CYLINDER, np.inf):
+            score(ShapeKind.CYLINDER, res.params, res.distances)
     # Planes, one after another on what the previous ones left.
     plane_model = PlaneModel()
     remaining = np.ones(len(sample), dtype=bool)
@@ -656,7 +665,7 @@ def fit_cluster(
             if res is not None:
                 d = model.distances(res.params[None, :], sample)[0]
                 if _cost(d, t_sel) < costs.get(ShapeKind.CONE, np.inf):
-                    score(ShapeKind.CONE, res.params)
+                    score(ShapeKind.CONE, res.params, d)
     for plane, inliers in planes[:2]:
         # A cone showing its base: the base plane gives the axis, the rim of the disc its
         # centre and radius, the lateral points the height (one direct hypothesis). A base
@@ -668,7 +677,7 @@ def fit_cluster(
         if guess is not None and model.within_limits(guess):
             d = model.distances(guess[None, :], sample)[0]
             if _cost(d, t_sel) < costs.get(ShapeKind.CONE, np.inf):
-                score(ShapeKind.CONE, guess)
+                score(ShapeKind.CONE, guess, d)
     if not costs:
         return None
     # Least-squares refinement only for the curved candidates still in the running.
@@ -685,7 +694,7 @@ def fit_cluster(
             prim = _build_plane(plane, sample, inl)
         else:
             prim = curved(kind, fitted[kind])
-        if bounded(prim, points, margin_m=margin):
+        if bounded(prim, points, margin_m=margin, box=box):
             break
         del costs[kind]  # a fit that leaves its own points is never output
         if not costs:

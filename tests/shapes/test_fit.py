@@ -4,6 +4,7 @@ import numpy as np
 import pytest
 
 from shapes.fit import fit_cluster, pitt_choice
+from shapes.fit._ransac import ransac
 from shapes.fit.models import ConeModel, CylinderModel, SphereModel
 from shapes.types import ShapeKind, SupportPlane
 
@@ -273,3 +274,16 @@ def test_upright_cylinder_hypotheses_from_two_points_recover_the_cylinder():
     for p in params:  # the point found lies on the axis
         off = centre - p[:3]
         np.testing.assert_allclose(off - (off @ up) * up, 0.0, atol=1e-12)
+
+
+@pytest.mark.parametrize("refine", [False, True])
+def test_ransac_returns_the_distances_its_inliers_were_drawn_from(refine):
+    rng = np.random.default_rng(5)
+    points = front_sphere(rng, (0, 0, 0.05), 0.05)
+    points = points + rng.normal(0, 0.002, points.shape)
+    model = SphereModel()
+    res = ransac(model, points, np.zeros_like(points), threshold=0.007, rng=rng, refine=refine)
+    assert res is not None
+    expected = model.distances(res.params[None, :], points)[0]
+    np.testing.assert_allclose(res.distances, expected, rtol=0, atol=1e-12)
+    assert np.array_equal(res.inliers, res.distances < 0.007)
