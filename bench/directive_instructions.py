@@ -6,8 +6,10 @@ directory), runs its lifespan and sends it N directive requests through its ASGI
 the headers and body a client sends (``ADD IND CLASS`` and ``QUERY IND`` alternating, as
 ``bench/directives.py``): everything the app does for a request (the middleware stack, the
 guard, routing, reading, the engine, the answer), not the socket or uvicorn's parsing. The child
-runs under ``valgrind --tool=callgrind`` twice, with N and 2N requests; the difference divided
-by N is the count per request, start-up and warm-up cancelled out.
+runs under ``valgrind --tool=callgrind`` twice, with N and 2N requests, counting instructions
+only while it sends them (``--instr-atstart=no``, then ``callgrind_control -i on`` from the child
+itself: start-up and warm-up run uninstrumented, several times faster); the difference divided by
+N is the count per request, the switching's own cost cancelled out.
 
 ``--against DIR`` counts the checkout in ``DIR`` too (its code, this Python environment) and
 prints the ratio. ``--null`` replaces the directive's work (reading the body into directives,
@@ -30,7 +32,7 @@ from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
 CHILD = r"""
-import asyncio, json, sys, tempfile
+import asyncio, json, os, subprocess, sys, tempfile
 from pathlib import Path
 from api.config import Settings
 from api.main import create_app
@@ -81,8 +83,14 @@ async def main():
             await post(app, json.dumps(load).encode())
             for i in range(200):  # warm-up: every model built, every path taken once
                 await post(app, directive(10**6 + i))
+            instrument("on")
             for i in range(COUNT):
                 await post(app, directive(i))
+            instrument("off")
+
+def instrument(state):
+    subprocess.run(["callgrind_control", "-i", state, str(os.getpid())], check=True,
+                   capture_output=True)
 
 asyncio.run(main())
 """
@@ -102,6 +110,7 @@ def instructions(root: Path, count: int, null: bool) -> int:
             [
                 "valgrind",
                 "--tool=callgrind",
+                "--instr-atstart=no",
                 f"--callgrind-out-file={out}",
                 sys.executable,
                 "-c",
@@ -114,10 +123,10 @@ def instructions(root: Path, count: int, null: bool) -> int:
             check=True,
             capture_output=True,
         )
-        summary = re.search(r"^summary: (\d+)", out.read_text(), re.MULTILINE)
-        if summary is None:
-            raise RuntimeError(f"no summary line in {out}")
-        return int(summary.group(1))
+        totals = re.search(r"^totals: (\d+)", out.read_text(), re.MULTILINE)
+        if totals is None:
+            raise RuntimeError(f"no totals line in {out}")
+        return int(totals.group(1))
 
 
 def per_request(root: Path, count: int, null: bool) -> float:
