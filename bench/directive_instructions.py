@@ -11,6 +11,11 @@ only while it sends them (``--instr-atstart=no``, then ``callgrind_control -i on
 itself: start-up and warm-up run uninstrumented, several times faster); the difference divided by
 N is the count per request, the switching's own cost cancelled out.
 
+``--server`` counts the whole server process instead: ``engram serve``'s uvicorn set-up (the
+server of ``bench/directives.py``) under callgrind, instrumented only while one keep-alive
+client of this process sends N directives (after a warm-up of 200): uvicorn's parsing, its
+checks of the answer's headers and the connection's time limits included; count ÷ N.
+
 ``--against DIR`` counts the checkout in ``DIR`` too (its code, this Python environment) and
 prints the ratio. ``--null`` replaces the directive's work (reading the body into directives,
 the engine, the answer) by a fixed answer, leaving the HTTP layers' own count.
@@ -19,14 +24,20 @@ Run from the repository root (each count takes a minute or two under valgrind)::
 
     .venv/bin/python bench/directive_instructions.py --against ../checkout-of-6b1d215
     .venv/bin/python bench/directive_instructions.py --null --against ../checkout-of-6b1d215
+    .venv/bin/python bench/directive_instructions.py --server --against ../checkout-of-6b1d215
 """
 
 import argparse
+import http.client
+import json
 import os
 import re
+import signal
+import socket
 import subprocess
 import sys
 import tempfile
+import time
 from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 
@@ -136,19 +147,116 @@ def per_request(root: Path, count: int, null: bool) -> float:
     return (twice - once) / count
 
 
+def _body(i: int) -> str:
+    """The ``i``-th directive's body, as the child's ``directive(i)`` writes it."""
+    if i % 2 == 0:
+        command, second, args = "ADD", "CLASS", [f"s_{i}", f"Class_{i % 7}"]
+    else:
+        command, second, args = "QUERY", "", [f"s_{i - 1}"]
+    request = {
+        "client_name": "c",
+        "reference_name": "bench",
+        "command": command,
+        "primary_command_spec": "IND",
+        "secondary_command_spec": second,
+        "args": args,
+    }
+    return json.dumps({"armor_request": request})
+
+
+def server_per_request(root: Path, count: int) -> float:
+    """Instructions of the server process per directive, counted while ``count`` are sent."""
+    sys.path.insert(0, str(ROOT / "bench"))
+    from directives import SERVER
+
+    with tempfile.TemporaryDirectory(prefix="engram-callgrind-") as work:
+        out = Path(work) / "callgrind.out"
+        with socket.socket() as probe:
+            probe.bind(("127.0.0.1", 0))
+            port = probe.getsockname()[1]
+        command = ["valgrind", "--tool=callgrind", "--instr-atstart=no"]
+        command += [f"--callgrind-out-file={out}", sys.executable, "-c", SERVER, work, str(port)]
+        env = {**os.environ, "PYTHONPATH": str(root)}
+        server = subprocess.Popen(
+            command, cwd=root, env=env, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL
+        )
+        try:
+            connection = _connect(port, server)
+
+            def post(body: str) -> None:
+                connection.request(
+                    "POST", "/armor_interface_srv", body, {"Content-Type": "application/json"}
+                )
+                response = connection.getresponse()
+                text = response.read()
+                if response.status != 200 or not json.loads(text)["armor_response"]["success"]:
+                    raise RuntimeError(f"a directive failed: {text!r}")
+
+            load = {"armor_request": {"reference_name": "bench", "command": "LOAD",
+                    "primary_command_spec": "FILE", "args": ["", "http://ex.org/bench", "false",
+                    "PELLET", "True"]}}  # fmt: skip
+            post(json.dumps(load))
+            for i in range(200):
+                post(_body(10**6 + i))
+            _instrument(server.pid, "on")
+            for i in range(count):
+                post(_body(i))
+            _instrument(server.pid, "off")
+            connection.close()
+        finally:
+            server.send_signal(signal.SIGINT)
+            server.wait(timeout=600)
+        totals = re.search(r"^totals: (\d+)", out.read_text(), re.MULTILINE)
+        if totals is None:
+            raise RuntimeError(f"no totals line in {out}")
+        return int(totals.group(1)) / count
+
+
+def _connect(port: int, server: subprocess.Popen[bytes]) -> http.client.HTTPConnection:
+    """A connection to the server once it answers ``/health`` (minutes under valgrind)."""
+    deadline = time.monotonic() + 900
+    while True:
+        try:
+            connection = http.client.HTTPConnection("127.0.0.1", port, timeout=600)
+            connection.request("GET", "/health")
+            response = connection.getresponse()
+            response.read()
+            if response.status == 200:
+                return connection
+        except OSError:
+            pass
+        if time.monotonic() > deadline or server.poll() is not None:
+            raise RuntimeError("the server did not start under valgrind")
+        time.sleep(1)
+
+
+def _instrument(pid: int, state: str) -> None:
+    subprocess.run(["callgrind_control", "-i", state, str(pid)], check=True, capture_output=True)
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("--against", type=Path, metavar="CHECKOUT", help="count it too")
     parser.add_argument("--requests", type=int, default=1000, help="N (default 1000)")
     parser.add_argument("--null", action="store_true", help="the HTTP layers alone")
+    parser.add_argument("--server", action="store_true", help="the whole server process")
     options = parser.parse_args()
-    what = "HTTP layers alone (fixed answer)" if options.null else "whole directive"
-    print(f"# ARMOR simple directive, in-process ASGI, callgrind: {what}")
+    if options.server:
+        print("# ARMOR simple directive over HTTP, callgrind: the whole server process")
+    else:
+        what = "HTTP layers alone (fixed answer)" if options.null else "whole directive"
+        print(f"# ARMOR simple directive, in-process ASGI, callgrind: {what}")
     print(f"  {_load_average()}")
-    this = per_request(ROOT, options.requests, options.null)
+
+    def count(root: Path) -> float:
+        if options.server:
+            return server_per_request(root, options.requests)
+        return per_request(root, options.requests, options.null)
+
+    this = count(ROOT)
     print(f"  this checkout: {this / 1000:.0f}k instructions a request")
     if options.against is not None:
-        other = per_request(options.against.resolve(), options.requests, options.null)
+        other = count(options.against.resolve())
         print(f"  {options.against}: {other / 1000:.0f}k instructions a request")
         print(f"  this ÷ other: {this / other:.2f}")
     print(f"  {_load_average()}")
