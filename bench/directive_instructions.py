@@ -14,7 +14,10 @@ N is the count per request, the switching's own cost cancelled out.
 ``--server`` counts the whole server process instead: ``engram serve``'s uvicorn set-up (the
 server of ``bench/directives.py``) under callgrind, instrumented only while one keep-alive
 client of this process sends N directives (after a warm-up of 200): uvicorn's parsing, its
-checks of the answer's headers and the connection's time limits included; count ÷ N.
+checks of the answer's headers and the connection's time limits included; count ÷ N. The
+server's periodic upkeep is put off (``ENGRAM_SLEEP_CHECK_S``), since how often it runs within
+the count depends on the machine's load; timers that remain (the connection's time limit) are
+a few thousand instructions every ten seconds. Both checkouts are counted at the same time.
 
 ``--against DIR`` counts the checkout in ``DIR`` too (its code, this Python environment) and
 prints the ratio. ``--null`` replaces the directive's work (reading the body into directives,
@@ -176,7 +179,8 @@ def server_per_request(root: Path, count: int) -> float:
             port = probe.getsockname()[1]
         command = ["valgrind", "--tool=callgrind", "--instr-atstart=no"]
         command += [f"--callgrind-out-file={out}", sys.executable, "-c", SERVER, work, str(port)]
-        env = {**os.environ, "PYTHONPATH": str(root)}
+        # the upkeep every sleep_check_s (a store flush...) would be counted by wall time
+        env = {**os.environ, "PYTHONPATH": str(root), "ENGRAM_SLEEP_CHECK_S": "86400"}
         server = subprocess.Popen(
             command, cwd=root, env=env, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL
         )
@@ -253,10 +257,15 @@ def main() -> None:
             return server_per_request(root, options.requests)
         return per_request(root, options.requests, options.null)
 
-    this = count(ROOT)
+    if options.server and options.against is not None:  # side by side, under the same load
+        with ThreadPoolExecutor(2) as pool:
+            this, other = pool.map(count, (ROOT, options.against.resolve()))
+    else:
+        this = count(ROOT)
     print(f"  this checkout: {this / 1000:.0f}k instructions a request")
     if options.against is not None:
-        other = count(options.against.resolve())
+        if not options.server:
+            other = count(options.against.resolve())
         print(f"  {options.against}: {other / 1000:.0f}k instructions a request")
         print(f"  this ÷ other: {this / other:.2f}")
     print(f"  {_load_average()}")
