@@ -199,6 +199,12 @@ class Settings(BaseSettings):
         "request's first byte, in seconds; a connection that takes longer is closed (408). "
         "Needs the server's protocol from api/header_timeout.py (engram serve uses it).",
     )
+    telemetry: Literal["auto", "on", "off"] = Field(
+        "auto",
+        description="FastAPI's OpenTelemetry spans, metrics and logs: 'on', 'off', or 'auto' "
+        "(on if the OpenTelemetry SDK is installed or a provider is configured when the server "
+        "starts). Decided once, when the app is built (api/telemetry.py).",
+    )
     armor_file_dirs: str = Field(
         "",
         description="Directories, besides data_dir, that ARMOR's LOAD FILE, SAVE and LOG FILE "

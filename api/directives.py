@@ -25,7 +25,6 @@ caller's error handling (``api/errors.py`` over HTTP).
 b'{"armor_response":{"success":true,"timeout":false'
 """
 
-import contextlib
 import email.message
 import json
 from collections.abc import Sequence
@@ -144,8 +143,10 @@ def read_request(
     if values is not None and body and _is_json(content_type):
         # the usual case, straight from the bytes; otherwise read again below, as FastAPI
         # does, for its error answers
-        with contextlib.suppress(ValidationError):
+        try:
             parsed = service.request.model_validate_json(body)
+        except ValidationError:
+            parsed = None
     if parsed is None or values is None:
         values, parsed = _read_slowly(service, body, query, content_type)
     if isinstance(parsed, ArmorRequest):

@@ -15,6 +15,7 @@ from api.errors import install_error_handlers
 from api.openapi_errors import install_error_docs
 from api.routes import admin, armor, ask, episodes, export, health, history, sparql, streams, views
 from api.services import Services, announce_server, open_services
+from api.telemetry import fastapi_telemetry
 from reasoners.clock import SettableClock
 from reasoners.memory import SceneMemory
 
@@ -91,6 +92,7 @@ def create_app(settings: Settings | None = None) -> FastAPI:
         summary="A human-like memory for robots, kept as a knowledge graph",
         version="0.2.0",
         lifespan=lifespan,
+        telemetry=fastapi_telemetry(settings),  # OpenTelemetry, decided once (api/telemetry.py)
     )
     app.state.settings = settings
     install_error_handlers(app)

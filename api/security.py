@@ -211,9 +211,11 @@ class SecurityGuard:
                 started = True
                 given = message.get("headers", ())
                 extra = self.headers
-                if any(name.lower() in self.header_names for name, _ in given):
-                    present = {name.lower() for name, _ in given}
-                    extra = [(n, v) for n, v in self.headers if n not in present]
+                for name, _ in given:  # a loop, not any(): every answer passes here
+                    if name.lower() in self.header_names:  # the app set some itself: they stay
+                        present = {name.lower() for name, _ in given}
+                        extra = [(n, v) for n, v in self.headers if n not in present]
+                        break
                 message = {**message, "headers": [*given, *extra]}
             await send(message)
 

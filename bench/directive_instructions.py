@@ -6,8 +6,18 @@ directory), runs its lifespan and sends it N directive requests through its ASGI
 the headers and body a client sends (``ADD IND CLASS`` and ``QUERY IND`` alternating, as
 ``bench/directives.py``): everything the app does for a request (the middleware stack, the
 guard, routing, reading, the engine, the answer), not the socket or uvicorn's parsing. The child
-runs under ``valgrind --tool=callgrind`` twice, with N and 2N requests; the difference divided
-by N is the count per request, start-up and warm-up cancelled out.
+runs under ``valgrind --tool=callgrind`` twice, with N and 2N requests, counting instructions
+only while it sends them (``--instr-atstart=no``, then ``callgrind_control -i on`` from the child
+itself: start-up and warm-up run uninstrumented, several times faster); the difference divided by
+N is the count per request, the switching's own cost cancelled out.
+
+``--server`` counts the whole server process instead: ``engram serve``'s uvicorn set-up (the
+server of ``bench/directives.py``) under callgrind, instrumented only while one keep-alive
+client of this process sends N directives (after a warm-up of 200): uvicorn's parsing, its
+checks of the answer's headers and the connection's time limits included; count ÷ N. The
+server's periodic upkeep is put off (``ENGRAM_SLEEP_CHECK_S``), since how often it runs within
+the count depends on the machine's load; timers that remain (the connection's time limit) are
+a few thousand instructions every ten seconds. Both checkouts are counted at the same time.
 
 ``--against DIR`` counts the checkout in ``DIR`` too (its code, this Python environment) and
 prints the ratio. ``--null`` replaces the directive's work (reading the body into directives,
@@ -17,20 +27,26 @@ Run from the repository root (each count takes a minute or two under valgrind)::
 
     .venv/bin/python bench/directive_instructions.py --against ../checkout-of-6b1d215
     .venv/bin/python bench/directive_instructions.py --null --against ../checkout-of-6b1d215
+    .venv/bin/python bench/directive_instructions.py --server --against ../checkout-of-6b1d215
 """
 
 import argparse
+import http.client
+import json
 import os
 import re
+import signal
+import socket
 import subprocess
 import sys
 import tempfile
+import time
 from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
 CHILD = r"""
-import asyncio, json, sys, tempfile
+import asyncio, json, os, subprocess, sys, tempfile
 from pathlib import Path
 from api.config import Settings
 from api.main import create_app
@@ -81,8 +97,14 @@ async def main():
             await post(app, json.dumps(load).encode())
             for i in range(200):  # warm-up: every model built, every path taken once
                 await post(app, directive(10**6 + i))
+            instrument("on")
             for i in range(COUNT):
                 await post(app, directive(i))
+            instrument("off")
+
+def instrument(state):
+    subprocess.run(["callgrind_control", "-i", state, str(os.getpid())], check=True,
+                   capture_output=True)
 
 asyncio.run(main())
 """
@@ -102,6 +124,7 @@ def instructions(root: Path, count: int, null: bool) -> int:
             [
                 "valgrind",
                 "--tool=callgrind",
+                "--instr-atstart=no",
                 f"--callgrind-out-file={out}",
                 sys.executable,
                 "-c",
@@ -114,10 +137,10 @@ def instructions(root: Path, count: int, null: bool) -> int:
             check=True,
             capture_output=True,
         )
-        summary = re.search(r"^summary: (\d+)", out.read_text(), re.MULTILINE)
-        if summary is None:
-            raise RuntimeError(f"no summary line in {out}")
-        return int(summary.group(1))
+        totals = re.search(r"^totals: (\d+)", out.read_text(), re.MULTILINE)
+        if totals is None:
+            raise RuntimeError(f"no totals line in {out}")
+        return int(totals.group(1))
 
 
 def per_request(root: Path, count: int, null: bool) -> float:
@@ -127,19 +150,122 @@ def per_request(root: Path, count: int, null: bool) -> float:
     return (twice - once) / count
 
 
+def _body(i: int) -> str:
+    """The ``i``-th directive's body, as the child's ``directive(i)`` writes it."""
+    if i % 2 == 0:
+        command, second, args = "ADD", "CLASS", [f"s_{i}", f"Class_{i % 7}"]
+    else:
+        command, second, args = "QUERY", "", [f"s_{i - 1}"]
+    request = {
+        "client_name": "c",
+        "reference_name": "bench",
+        "command": command,
+        "primary_command_spec": "IND",
+        "secondary_command_spec": second,
+        "args": args,
+    }
+    return json.dumps({"armor_request": request})
+
+
+def server_per_request(root: Path, count: int) -> float:
+    """Instructions of the server process per directive, counted while ``count`` are sent."""
+    sys.path.insert(0, str(ROOT / "bench"))
+    from directives import SERVER
+
+    with tempfile.TemporaryDirectory(prefix="engram-callgrind-") as work:
+        out = Path(work) / "callgrind.out"
+        with socket.socket() as probe:
+            probe.bind(("127.0.0.1", 0))
+            port = probe.getsockname()[1]
+        command = ["valgrind", "--tool=callgrind", "--instr-atstart=no"]
+        command += [f"--callgrind-out-file={out}", sys.executable, "-c", SERVER, work, str(port)]
+        # the upkeep every sleep_check_s (a store flush...) would be counted by wall time
+        env = {**os.environ, "PYTHONPATH": str(root), "ENGRAM_SLEEP_CHECK_S": "86400"}
+        server = subprocess.Popen(
+            command, cwd=root, env=env, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL
+        )
+        try:
+            connection = _connect(port, server)
+
+            def post(body: str) -> None:
+                connection.request(
+                    "POST", "/armor_interface_srv", body, {"Content-Type": "application/json"}
+                )
+                response = connection.getresponse()
+                text = response.read()
+                if response.status != 200 or not json.loads(text)["armor_response"]["success"]:
+                    raise RuntimeError(f"a directive failed: {text!r}")
+
+            load = {"armor_request": {"reference_name": "bench", "command": "LOAD",
+                    "primary_command_spec": "FILE", "args": ["", "http://ex.org/bench", "false",
+                    "PELLET", "True"]}}  # fmt: skip
+            post(json.dumps(load))
+            for i in range(200):
+                post(_body(10**6 + i))
+            _instrument(server.pid, "on")
+            for i in range(count):
+                post(_body(i))
+            _instrument(server.pid, "off")
+            connection.close()
+        finally:
+            server.send_signal(signal.SIGINT)
+            server.wait(timeout=600)
+        totals = re.search(r"^totals: (\d+)", out.read_text(), re.MULTILINE)
+        if totals is None:
+            raise RuntimeError(f"no totals line in {out}")
+        return int(totals.group(1)) / count
+
+
+def _connect(port: int, server: subprocess.Popen[bytes]) -> http.client.HTTPConnection:
+    """A connection to the server once it answers ``/health`` (minutes under valgrind)."""
+    deadline = time.monotonic() + 900
+    while True:
+        try:
+            connection = http.client.HTTPConnection("127.0.0.1", port, timeout=600)
+            connection.request("GET", "/health")
+            response = connection.getresponse()
+            response.read()
+            if response.status == 200:
+                return connection
+        except OSError:
+            pass
+        if time.monotonic() > deadline or server.poll() is not None:
+            raise RuntimeError("the server did not start under valgrind")
+        time.sleep(1)
+
+
+def _instrument(pid: int, state: str) -> None:
+    subprocess.run(["callgrind_control", "-i", state, str(pid)], check=True, capture_output=True)
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("--against", type=Path, metavar="CHECKOUT", help="count it too")
     parser.add_argument("--requests", type=int, default=1000, help="N (default 1000)")
     parser.add_argument("--null", action="store_true", help="the HTTP layers alone")
+    parser.add_argument("--server", action="store_true", help="the whole server process")
     options = parser.parse_args()
-    what = "HTTP layers alone (fixed answer)" if options.null else "whole directive"
-    print(f"# ARMOR simple directive, in-process ASGI, callgrind: {what}")
+    if options.server:
+        print("# ARMOR simple directive over HTTP, callgrind: the whole server process")
+    else:
+        what = "HTTP layers alone (fixed answer)" if options.null else "whole directive"
+        print(f"# ARMOR simple directive, in-process ASGI, callgrind: {what}")
     print(f"  {_load_average()}")
-    this = per_request(ROOT, options.requests, options.null)
+
+    def count(root: Path) -> float:
+        if options.server:
+            return server_per_request(root, options.requests)
+        return per_request(root, options.requests, options.null)
+
+    if options.server and options.against is not None:  # side by side, under the same load
+        with ThreadPoolExecutor(2) as pool:
+            this, other = pool.map(count, (ROOT, options.against.resolve()))
+    else:
+        this = count(ROOT)
     print(f"  this checkout: {this / 1000:.0f}k instructions a request")
     if options.against is not None:
-        other = per_request(options.against.resolve(), options.requests, options.null)
+        if not options.server:
+            other = count(options.against.resolve())
         print(f"  {options.against}: {other / 1000:.0f}k instructions a request")
         print(f"  this ÷ other: {this / other:.2f}")
     print(f"  {_load_average()}")

@@ -15,7 +15,9 @@ with the other load than the rates do.
 **Against another checkout** (``--against DIR``): the same 8 clients against this checkout's
 server and the server of the checkout in ``DIR`` (its code, on the same Python environment), in
 turns, so that both see the same machine load; prints each run and the ratios of the medians of
-the rates and of the server CPU per request.
+the rates and of the server CPU per request. ``--floors`` adds, in the same turns, what the HTTP
+stack alone costs a request like a directive's: a FastAPI route reading the body and answering a
+fixed body under the same uvicorn, and a plain ASGI app doing the same under uvicorn alone.
 
 **REASON.** On the synthetic scene ontologies of ``reasoners.owl_rl.synthetic`` (about 10k and
 50k triples), loaded with LOAD FILE into an engine on an on-disk store:
@@ -46,6 +48,7 @@ Run from the repository root::
     .venv/bin/python bench/directives.py --only throughput --seconds 5
     .venv/bin/python bench/directives.py --only lists
     .venv/bin/python bench/directives.py --against ../other-checkout --seconds 3 --rounds 4
+    .venv/bin/python bench/directives.py --against ../other-checkout --rounds 3 --floors
 """
 
 import argparse
@@ -104,6 +107,35 @@ async def bare() -> dict[str, str]:
 uvicorn.run(app, host="127.0.0.1", port=int(sys.argv[2]), log_level="warning", access_log=False)
 """
 """A bare endpoint under the same uvicorn settings: the HTTP stack's ceiling for these clients."""
+FIXED = b'{"armor_response":{"success":true}}'
+FLOOR_FASTAPI = f"""
+import sys, uvicorn
+from fastapi import FastAPI, Request, Response
+app = FastAPI(telemetry={{"tracing": False, "metrics": False, "logs": False}})
+@app.post("/armor_interface_srv")
+async def fixed(request: Request) -> Response:
+    await request.body()
+    return Response({FIXED!r}, media_type="application/json")
+@app.get("/health")
+async def health() -> dict[str, str]:
+    return {{"status": "ok"}}
+uvicorn.run(app, host="127.0.0.1", port=int(sys.argv[2]), log_level="warning", access_log=False)
+"""
+"""The floor of uvicorn and FastAPI for a directive: a route that reads the body and answers a
+fixed body (FastAPI's telemetry off)."""
+FLOOR_ASGI = f"""
+import sys, uvicorn
+async def app(scope, receive, send):
+    if scope["type"] != "http":
+        return
+    while (await receive()).get("more_body", False):
+        pass
+    headers = [(b"content-type", b"application/json"), (b"content-length", b"{len(FIXED)}")]
+    await send({{"type": "http.response.start", "status": 200, "headers": headers}})
+    await send({{"type": "http.response.body", "body": {FIXED!r}}})
+uvicorn.run(app, host="127.0.0.1", port=int(sys.argv[2]), log_level="warning", access_log=False)
+"""
+"""The floor of uvicorn alone: a plain ASGI app that reads the body and answers a fixed body."""
 Directive = dict[str, Any]
 
 
@@ -320,23 +352,30 @@ def throughput(seconds: float, *, lean: bool) -> None:
     print(f"  {_load_average()}")
 
 
-def against(other: Path, seconds: float, rounds: int, *, lean: bool) -> None:
+def against(other: Path, seconds: float, rounds: int, *, lean: bool, floors: bool) -> None:
     """The simple directives, 8 clients, against this checkout's server and the server of the
-    checkout at ``other``, in turns (``rounds`` each), with the ratio of the medians."""
+    checkout at ``other``, in turns (``rounds`` each), with the ratio of the medians; with
+    ``floors``, the two floors (uvicorn and FastAPI answering a fixed body, uvicorn alone) in
+    the same turns."""
     print(f"# ARMOR simple directives, 8 clients: this checkout against {other}")
     print(f"  {_load_average()}")
-    figures: dict[str, list[tuple[float, float | None]]] = {"this": [], "other": []}
+    names = ["this", "other"] + (["fastapi floor", "uvicorn floor"] if floors else [])
+    figures: dict[str, list[tuple[float, float | None]]] = {name: [] for name in names}
     with tempfile.TemporaryDirectory(prefix="engram-bench-") as data:
         servers = {
             "this": Server(str(Path(data) / "this")),
             "other": Server(str(Path(data) / "other"), root=other),
         }
+        if floors:
+            servers["fastapi floor"] = Server(data, FLOOR_FASTAPI)
+            servers["uvicorn floor"] = Server(data, FLOOR_ASGI)
         try:
-            for server in servers.values():
-                response = httpx.post(
-                    server.url + "/armor_interface_srv", json={"armor_request": _load("bench")}
-                )
-                assert response.json()["armor_response"]["success"], response.text
+            for name, server in servers.items():
+                if "floor" not in name:
+                    response = httpx.post(
+                        server.url + "/armor_interface_srv", json={"armor_request": _load("bench")}
+                    )
+                    assert response.json()["armor_response"]["success"], response.text
                 run_clients(server.url, 8, 0.5, lean=lean)  # warm-up
             for _ in range(rounds):
                 for name, server in servers.items():
@@ -353,7 +392,7 @@ def against(other: Path, seconds: float, rounds: int, *, lean: bool) -> None:
         shown = ", ".join(
             f"{rate:.0f}/s" + ("" if cpu is None else f" ({cpu:.0f} µs CPU)") for rate, cpu in runs
         )
-        print(f"  {name:5s}: {shown}")
+        print(f"  {name:13s}: {shown}")
     (rate, cpu), (other_rate, other_cpu) = medians["this"], medians["other"]
     line = f"  median rate this ÷ other: {rate / other_rate:.2f}"
     if cpu is not None and other_cpu is not None:
@@ -586,9 +625,20 @@ def main() -> None:
         help="throughput only: this checkout's server against the one of another checkout",
     )
     parser.add_argument("--rounds", type=int, default=4, help="turns each, with --against")
+    parser.add_argument(
+        "--floors",
+        action="store_true",
+        help="with --against: also uvicorn and FastAPI answering a fixed body, and uvicorn alone",
+    )
     options = parser.parse_args()
     if options.against is not None:
-        against(options.against, options.seconds, options.rounds, lean=not options.httpx)
+        against(
+            options.against,
+            options.seconds,
+            options.rounds,
+            lean=not options.httpx,
+            floors=options.floors,
+        )
         return
     if options.only in (None, "throughput"):
         throughput(options.seconds, lean=not options.httpx)

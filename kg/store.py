@@ -147,10 +147,14 @@ class Store:
         running the read barriers; every read method calls it first, and so does the SPARQL
         endpoint before its workers catch up. A read made inside a transaction or a barrier of
         this thread skips it: it belongs to the write in progress, which reads what it writes."""
-        if self._read_barriers and not getattr(self._in_write, "depth", 0):
-            with self._writing():
+        local = self._in_write
+        if self._read_barriers and not getattr(local, "depth", 0):
+            local.depth = 1  # as _writing() does: every read calls this, kept short
+            try:
                 for barrier in self._read_barriers:
                     barrier()
+            finally:
+                local.depth = 0
 
     @contextmanager
     def _writing(self) -> Iterator[None]:

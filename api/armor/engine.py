@@ -4,6 +4,7 @@ import logging
 import threading
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
+from typing import NamedTuple
 
 from api.armor import manipulation, queries, system
 from api.armor.context import Context, Outcome
@@ -209,7 +210,9 @@ class ArmorEngine:
         self, request: ArmorDirectiveReq, *, style: ValueStyle = "armor"
     ) -> ArmorDirectiveRes:
         """One directive (a list of one)."""
-        return self.execute_list([request], style=style).armor_responses[0]
+        ran = self._execute_list([request], style, wait=True)
+        assert ran is not None
+        return ran.responses[0]
 
     def execute_list(
         self, requests: Sequence[ArmorDirectiveReq], *, style: ValueStyle = "armor"
@@ -220,9 +223,11 @@ class ArmorEngine:
         """
         if self.max_list_length is not None and len(requests) > self.max_list_length:
             raise DirectiveListTooLongError(len(requests), self.max_list_length)
-        result = self._execute_list(requests, style, wait=True)
-        assert result is not None
-        return result
+        ran = self._execute_list(requests, style, wait=True)
+        assert ran is not None
+        return ArmorDirectiveListRes(
+            success=ran.success, is_consistent=ran.consistent, armor_responses=ran.responses
+        )
 
     def execute_now(
         self, request: ArmorDirectiveReq, *, style: ValueStyle = "armor"
@@ -246,12 +251,12 @@ class ArmorEngine:
             or not (reference.buffered_reasoner or reference.buffered_manipulation)
         ):
             return None
-        result = self._execute_list([request], style, wait=False)
-        return None if result is None else result.armor_responses[0]
+        ran = self._execute_list([request], style, wait=False)
+        return None if ran is None else ran.responses[0]
 
     def _execute_list(
         self, requests: Sequence[ArmorDirectiveReq], style: ValueStyle, *, wait: bool
-    ) -> ArmorDirectiveListRes | None:
+    ) -> "_Ran | None":
         with self._counting:
             self._running += 1
         try:
@@ -262,7 +267,7 @@ class ArmorEngine:
 
     def _run_list(
         self, requests: Sequence[ArmorDirectiveReq], style: ValueStyle, *, wait: bool
-    ) -> ArmorDirectiveListRes | None:
+    ) -> "_Ran | None":
         keys = [directive_key(r) for r in requests]
         writers = {
             r.reference_name
@@ -312,11 +317,7 @@ class ArmorEngine:
             if reference is not None and response.exit_code not in _BEFORE_DISPATCH:
                 response.is_consistent = reference.consistent
                 consistent = consistent and reference.consistent
-        return ArmorDirectiveListRes(
-            success=not failed,
-            is_consistent=consistent and bool(requests),
-            armor_responses=responses,
-        )
+        return _Ran(responses, success=not failed, consistent=consistent and bool(requests))
 
     def _run(
         self, session: Session, request: ArmorDirectiveReq, style: ValueStyle
@@ -365,6 +366,14 @@ class ArmorEngine:
             log.exception("directive %s failed", key)
             return _error(INTERNAL_ERROR, f"{key}: internal error, nothing changed: {error!r}")
         return _response(outcome, session)
+
+
+class _Ran(NamedTuple):
+    """A list that ran: its responses, and the list response's two flags."""
+
+    responses: list[ArmorDirectiveRes]
+    success: bool
+    consistent: bool
 
 
 def _response(outcome: Outcome, session: Session) -> ArmorDirectiveRes:

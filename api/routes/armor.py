@@ -3,15 +3,24 @@
 ``?values=plain`` (IRIs without brackets, bare literal values) or ``?values=short`` (local names)
 opts out of ARMOR's string formats for query results.
 
-Directives are many and small, so each service is a plain ASGI endpoint rather than a FastAPI
-route: it checks the bearer token (:func:`api.deps.require_token`, before reading the body),
-reads the body, hands it to :func:`api.directives.answer`, which answers quick directives on the
-event loop and the rest in a worker thread, and writes the answer's bytes. It sits inside the
-app's middleware and exception handlers like any route, so a body size limit, the error answers
-(FastAPI's own 401, 405 and 422 shapes, the domain errors of ``api/errors.py``) and the server
-error middleware apply to it. FastAPI cannot describe an ASGI endpoint, so :func:`install` adds
-its OpenAPI operations, built from the same pydantic models, to the app's description.
-Dependency overrides do not reach it: it has no FastAPI dependencies.
+Directives are many and small, so the two services are mounted once, by :func:`install`, as the
+app's innermost middleware (:class:`ArmorServices`), in front of FastAPI's exception middleware
+and router rather than as routes behind them. Every request to a service's path, whatever its
+method or body, is answered there, and nowhere else:
+
+- ``POST``: the bearer token (:func:`api.deps.require_token`, before reading the body), the body,
+  :func:`api.directives.answer` (quick directives on the event loop, the rest in a worker thread),
+  the answer's bytes;
+- any other method: 405 with ``Allow: POST``; the path with trailing slashes: a 307 redirect to
+  the path without them; as Starlette's router answers both.
+
+Errors are answered by the app's exception handlers, as for a route (FastAPI's own 401, 405 and
+422 shapes, the domain errors of ``api/errors.py``); an error no handler takes goes on to the
+server error middleware (500). Being inside the user middleware, the services keep what it
+does (the host and cross-site checks, body limits, security headers of :mod:`api.security`).
+FastAPI cannot describe them, so :func:`install` adds their OpenAPI operations, built from the
+same pydantic models, to the app's description. Dependency overrides do not reach them: they
+have no FastAPI dependencies.
 """
 
 from collections.abc import Callable
@@ -19,56 +28,120 @@ from typing import Any
 
 from fastapi import FastAPI
 from fastapi.openapi.utils import validation_error_definition, validation_error_response_definition
+from fastapi.telemetry._api import _route_selected
 from pydantic import TypeAdapter
 from pydantic.json_schema import models_json_schema
-from starlette.routing import Route
-from starlette.types import Receive, Scope, Send
+from starlette.datastructures import URL
+from starlette.exceptions import HTTPException
+from starlette.middleware.exceptions import ExceptionMiddleware
+from starlette.responses import RedirectResponse
+from starlette.types import ASGIApp, Receive, Scope, Send
 
 from api.config import Settings
 from api.deps import require_token
 from api.directives import SERVICES, VALUES, Service, answer
 
-__all__ = ["DirectiveEndpoint", "install", "openapi_operation"]
+__all__ = ["ArmorServices", "install", "openapi_operation"]
 
 _REF = "#/components/schemas/{model}"
 _JSON = (b"content-type", b"application/json")
+_ALLOW = {"Allow": "POST"}
 
 
-class DirectiveEndpoint:
-    """The ASGI endpoint of one service: token, body, :func:`api.directives.answer`, bytes.
+class ArmorServices:
+    """ASGI middleware answering every request to the services' paths (see the module
+    docstring); other requests go on to ``app``.
 
-    Reads the settings and the directive engine from the app (``app.state.settings`` and
-    ``app.state.services.armor``). Raises :class:`~fastapi.HTTPException` (401) for a missing or
-    wrong token and what :func:`~api.directives.answer` raises, for the app's handlers.
+    Reads the settings and the directive engine from the FastAPI app serving the request
+    (``app.state.settings`` and ``app.state.services.armor``) and answers errors with its
+    exception handlers.
     """
 
-    def __init__(self, service: Service) -> None:
-        self.service = service
+    def __init__(self, app: ASGIApp) -> None:
+        self.app = app
 
     async def __call__(self, scope: Scope, receive: Receive, send: Send) -> None:
-        state = scope["app"].state
-        content_type = authorization = None
-        for name, value in scope["headers"]:  # the first of each, as Starlette reads headers
-            if name == b"content-type" and content_type is None:
-                content_type = value.decode("latin-1")
-            elif name == b"authorization" and authorization is None:
-                authorization = value.decode("latin-1")
-        settings: Settings = state.settings
-        if settings.token is not None:
-            await require_token(settings, authorization)
-        body = await _body(receive)
-        if body is None:
+        service = SERVICES.get(_route_path(scope)) if scope["type"] == "http" else None
+        if service is None:
+            await self._elsewhere(scope, receive, send)
+            return
+        if "fastapi.telemetry" in scope:  # the span's route, as FastAPI's router names it
+            _route_selected(scope=scope, path=service.path)
+        try:
+            if scope["method"] != "POST":
+                raise HTTPException(405, headers=_ALLOW)
+            content = await _content(service, scope, receive)
+        except Exception as error:
+            await _handle(error, scope, receive, send)
+            return
+        if content is None:
             return  # the client left: nobody to answer
-        content = await answer(
-            state.services.armor,
-            self.service,
-            body,
-            query=scope["query_string"],
-            content_type=content_type,
-        )
         headers = [(b"content-length", str(len(content)).encode()), _JSON]
         await send({"type": "http.response.start", "status": 200, "headers": headers})
         await send({"type": "http.response.body", "body": content})
+
+    async def _elsewhere(self, scope: Scope, receive: Receive, send: Send) -> None:
+        """A request for another path: a service's path with trailing slashes is redirected
+        to it, as Starlette's router does (``redirect_slashes``); the rest goes on."""
+        if scope["type"] == "http" and scope["path"].endswith("/"):
+            redirect = {**scope, "path": scope["path"].rstrip("/")}
+            service = SERVICES.get(_route_path(redirect))
+            if service is not None:
+                if "fastapi.telemetry" in scope:
+                    _route_selected(scope=scope, path=service.path)
+                await RedirectResponse(str(URL(scope=redirect)))(scope, receive, send)
+                return
+        await self.app(scope, receive, send)
+
+
+def _route_path(scope: Scope) -> str:
+    """The request's path within the app: without the ``root_path`` it is mounted under, as
+    Starlette's router matches routes."""
+    path: str = scope["path"]
+    root_path: str = scope.get("root_path", "")
+    if not root_path or not path.startswith(root_path):
+        return path
+    if path == root_path:
+        return ""
+    return path[len(root_path) :] if path[len(root_path)] == "/" else path
+
+
+async def _content(service: Service, scope: Scope, receive: Receive) -> bytes | None:
+    """The answer's body to a ``POST`` to ``service``, None if the client left before sending
+    all of its body. Raises :class:`~fastapi.HTTPException` (401) for a missing or wrong token
+    and what :func:`~api.directives.answer` raises."""
+    state = scope["app"].state
+    content_type = authorization = None
+    for name, value in scope["headers"]:  # the first of each, as Starlette reads headers
+        if name == b"content-type" and content_type is None:
+            content_type = value.decode("latin-1")
+        elif name == b"authorization" and authorization is None:
+            authorization = value.decode("latin-1")
+    settings: Settings = state.settings
+    if settings.token is not None:
+        await require_token(settings, authorization)
+    body = await _body(receive)
+    if body is None:
+        return None
+    return await answer(
+        state.services.armor,
+        service,
+        body,
+        query=scope["query_string"],
+        content_type=content_type,
+    )
+
+
+async def _handle(error: Exception, scope: Scope, receive: Receive, send: Send) -> None:
+    """Answer ``error`` with the app's exception handlers, as its exception middleware does for
+    an error raised by a route; raise it on if none takes it."""
+    app = scope["app"]
+    handlers = {k: v for k, v in app.exception_handlers.items() if k not in (500, Exception)}
+
+    async def raise_it(scope: Scope, receive: Receive, send: Send) -> None:
+        raise error
+
+    await ExceptionMiddleware(raise_it, handlers=handlers, debug=app.debug)(scope, receive, send)
 
 
 async def _body(receive: Receive) -> bytes | None:
@@ -146,11 +219,9 @@ def _schemas() -> dict[str, Any]:
 
 
 def install(app: FastAPI) -> None:
-    """Mount the two services on ``app`` ahead of its other routes (route matching is a
-    sizeable share of a directive's time), and describe them in its OpenAPI description."""
-    for index, service in enumerate(SERVICES.values()):
-        route = Route(service.path, DirectiveEndpoint(service), methods=["POST"], name=service.name)
-        app.router.routes.insert(index, route)
+    """Mount the two services on ``app`` as :class:`ArmorServices`, the innermost of its user
+    middleware (call before adding any other), and describe them in its OpenAPI description."""
+    app.add_middleware(ArmorServices)
     original: Callable[[], dict[str, Any]] = app.openapi
 
     def openapi() -> dict[str, Any]:

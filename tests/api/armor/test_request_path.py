@@ -9,11 +9,13 @@ from typing import Any
 
 import httpx
 import pytest
+from starlette._utils import get_route_path
 
 from api.armor import ArmorDirectiveReq, ArmorEngine
 from api.armor.models import ArmorDirectiveListRes, ArmorRequest, ArmorResponse
 from api.config import Settings
 from api.main import create_app
+from api.routes.armor import _route_path
 from kg import Store
 from kg.errors import StoreError
 from tests.conftest import free_port, serve
@@ -369,3 +371,20 @@ def test_a_write_runs_on_the_event_loop_only_if_nothing_can_make_it_wait(tmp_pat
     assert not engine.execute(query("buffered", "b")).success
     done = engine.execute_now(add("buffered", "b"))
     assert done is not None and done.success
+
+
+@pytest.mark.parametrize(
+    ("path", "root_path"),
+    [
+        (SINGLE, ""),
+        ("/engram" + SINGLE, "/engram"),
+        ("/engram", "/engram"),
+        ("/engramx" + SINGLE, "/engram"),
+        (SINGLE, "/engram"),
+        ("/engram/", "/engram"),
+    ],
+)
+def test_a_services_path_is_read_as_starlettes_router_reads_it(path: str, root_path: str) -> None:
+    """Under a ``root_path`` (a proxy's prefix) the services answer where a route would."""
+    scope = {"type": "http", "path": path, "root_path": root_path}
+    assert _route_path(scope) == get_route_path(scope)
