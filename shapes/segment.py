@@ -3,8 +3,8 @@
 Steps (PITT's, with its quirks fixed; see ``shared/reference/pitt-perception.md`` §4):
 
 1. depth cut in the sensor frame, where the sensor's depth noise reaches
-   ``max_range_noise_m`` (:func:`depth_cut_m`; a Kinect's floor 4.6 m away is kept, its walls
-   at 6 m are not). On an organised frame the depth noise is measured from the image and
+   ``max_range_noise_m`` (:func:`depth_cut_m`; a Kinect keeps a floor 4.4 m away, not its walls
+   at 5 m). On an organised frame the depth noise is measured from the image and
    flying pixels and veils are dropped
    (:mod:`shapes.artefacts`), at full resolution; then only every k-th pixel of every k-th row
    is kept, k chosen to leave about ``target_points`` points (:func:`pixel_stride`; a 640 x 480
@@ -119,7 +119,9 @@ class SegmentationParams:
     max_base_height_m: float = 0.04
     floor_step_m: float = 0.03
     support_cell_m: float = 0.05
+    """The grid on which a support plane's voxels are joined into pieces (its main piece)."""
     extent_margin_m: float = 0.05
+    """How far past the hull of its support's main piece an object's centre may lie."""
 
 
 @dataclass(frozen=True, eq=False)
