@@ -22,7 +22,8 @@ from dataclasses import dataclass
 
 import numpy as np
 import numpy.typing as npt
-from scipy import ndimage
+from scipy.sparse import coo_matrix
+from scipy.sparse.csgraph import connected_components
 from scipy.spatial import ConvexHull, QhullError
 
 from shapes.types import FloatArray
@@ -52,16 +53,30 @@ def _box(xy: FloatArray) -> FloatArray:
     return np.array(rows)
 
 
+def _main_piece(xy: FloatArray, cell_m: float) -> npt.NDArray[np.bool_]:
+    """Which points belong to the largest set of occupied cells joined side by side or
+    corner to corner. Only the occupied cells are held (a sparse graph, not a dense grid), so
+    a cloud kilometres wide costs no more than its points."""
+    cells = np.floor((xy - xy.min(axis=0)) / cell_m).astype(np.int64) + 1
+    span = int(cells[:, 1].max()) + 2  # a neighbour's column never wraps into the next row
+    keys, of_point = np.unique(cells[:, 0] * span + cells[:, 1], return_inverse=True)
+    rows, cols = [], []
+    for step in (1, span - 1, span, span + 1):  # half the neighbourhood: the graph is undirected
+        at = np.minimum(np.searchsorted(keys, keys + step), len(keys) - 1)
+        found = keys[at] == keys + step
+        rows.append(np.flatnonzero(found))
+        cols.append(at[found])
+    first, second = np.concatenate(rows), np.concatenate(cols)
+    graph = coo_matrix((np.ones(len(first)), (first, second)), shape=(len(keys), len(keys)))
+    _, label = connected_components(graph, directed=False)
+    of_point_label = label[of_point.ravel()]
+    return np.asarray(of_point_label == np.argmax(np.bincount(of_point_label)), dtype=np.bool_)
+
+
 def support_region(xy: FloatArray, cell_m: float) -> SupportRegion:
     """The main piece of a support's voxels (``xy``: their coordinates across the support) and
     its convex hull; the piece's bounding box when its points span no area."""
-    cells = np.floor((xy - xy.min(axis=0)) / cell_m).astype(np.intp)
-    grid = np.zeros(tuple(cells.max(axis=0) + 1), dtype=bool)
-    grid[cells[:, 0], cells[:, 1]] = True
-    labels, count = ndimage.label(grid, structure=np.ones((3, 3), dtype=bool))
-    of_voxel = labels[cells[:, 0], cells[:, 1]]
-    main = int(np.argmax(np.bincount(of_voxel, minlength=count + 1)[1:])) + 1
-    piece = of_voxel == main
+    piece = _main_piece(xy, cell_m)
     try:
         halfplanes = np.asarray(ConvexHull(xy[piece]).equations, dtype=np.float64)
     except (QhullError, ValueError):  # fewer than three points, or all on one line
