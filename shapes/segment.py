@@ -122,6 +122,14 @@ class SegmentationParams:
     """The grid on which a support plane's voxels are joined into pieces (its main piece)."""
     extent_margin_m: float = 0.05
     """How far past the hull of its support's main piece an object's centre may lie."""
+    cut_band_m: float = 0.03
+    """How near the scene's limits (``max_height_m`` over the support, the depth cut) a voxel
+    or point counts as reaching them (the depth cut's band grows to 3 sigma of the noise)."""
+    min_cut_share: float = 0.01
+    """The share of a cluster's voxels (or points) reaching a limit that makes it cut by it,
+    and so a part of something larger than the scene, not an object."""
+    min_cut_voxels: int = 3
+    """As ``min_cut_share``, a count: one stray voxel at the limit cuts nothing."""
 
 
 @dataclass(frozen=True, eq=False)
@@ -530,6 +538,11 @@ def segment(
     if scan.reason is not None:
         return Segmentation(None, (), reason=scan.reason)
     keep, depth, sigma_1m, voxel_of = scan.keep, scan.depth, scan.sigma_1m, scan.voxel_of
+    reach = _Reach(
+        frame.world_from_sensor if scan.in_camera_frame else None,
+        depth_cut_m(sigma_1m, params),
+        max(params.cut_band_m, 3 * sigma_1m * depth_cut_m(sigma_1m, params) ** 2),
+    )
     points = frame.world_points_of(scan.points)
     voxels = frame.world_points_of(scan.voxels)
     viewpoint = frame.world_from_sensor[:3, 3] if scan.in_camera_frame else None
@@ -637,7 +650,11 @@ def segment(
             viewpoint,
         )
         too_small += small
-        found = [c for c in found if _stands_within(c, regions[k], params)]
+        found = [
+            c
+            for c in found
+            if _stands_within(c, regions[k], params) and not _cut_by_limits(c, reach, params)
+        ]
         votes[k] = sum(len(c.voxels) for c in found)
         clusters += found
     with_objects = [supports[k] for k in np.argsort(-votes, kind="stable") if votes[k] > 0]
@@ -673,6 +690,38 @@ def _stands_within(cluster: Cluster, region: SupportRegion, params: Segmentation
     rising over the edge of a desk, or a wall behind it, does not."""
     centre = cluster.voxels[:, :2].mean(axis=0)
     return bool(region.contains(centre[None, :], params.extent_margin_m)[0])
+
+
+@dataclass(frozen=True)
+class _Reach:
+    """How far the scene reaches in depth: the frame's pose (None when the points' ranges are
+    unknown), the depth cut and how near it a point counts as reaching it."""
+
+    world_from_sensor: FloatArray | None
+    depth_cut_m: float
+    band_m: float
+
+
+def _reaching(near: npt.NDArray[np.bool_], params: SegmentationParams) -> bool:
+    count = int(near.sum())
+    return count >= params.min_cut_voxels and count >= params.min_cut_share * len(near)
+
+
+def _cut_by_limits(cluster: Cluster, reach: _Reach, params: SegmentationParams) -> bool:
+    """Whether a cluster is cut by the scene's limits, and so is a part of something larger
+    (a wall, a door, a chair's back, a person's legs), not an object: at least
+    ``min_cut_share`` of its voxels (and ``min_cut_voxels``) lie within ``cut_band_m`` of
+    ``max_height_m`` over its support, or as large a share of its points within
+    ``reach.band_m`` of the depth cut."""
+    assert cluster.support is not None
+    height = cluster.support.signed_distance(cluster.voxels)
+    if _reaching(height >= params.max_height_m - params.cut_band_m, params):
+        return True
+    if reach.world_from_sensor is None:
+        return False
+    rotation, shift = reach.world_from_sensor[:3, :3], reach.world_from_sensor[:3, 3]
+    depth = (cluster.points - shift) @ rotation[:, 2]
+    return _reaching(depth >= reach.depth_cut_m - reach.band_m, params)
 
 
 def _stacked(voxels: FloatArray, parts: npt.NDArray[np.int64], min_apart_m: float) -> bool:
