@@ -37,6 +37,9 @@ Steps (PITT's, with its quirks fixed; see ``shared/reference/pitt-perception.md`
    (step 6) whose centre lies outside the main piece's convex hull grown by
    ``extent_margin_m`` does not stand on the support (the back of a chair rising over a
    desk's front edge) and is dropped.
+   A cluster cut by the scene's limits (``min_cut_share`` of its voxels within ``cut_band_m``
+   of ``max_height_m`` over its support, or of its points near the depth cut) is a part of
+   something larger (a wall, a chair's back) and is dropped too (:func:`_cut_by_limits`).
    Every horizontal plane that gets clusters is reported (:attr:`Segmentation.supports`); the
    one with the most object voxels is *the* support. The largest plane (often the floor or a
    wall) wins nothing by its size;
