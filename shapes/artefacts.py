@@ -51,6 +51,10 @@ def depth_noise_1m(depth: FloatArray) -> float:
     """Robust depth noise of an image at 1 m, assuming ``sigma(z) = sigma_1m * z²``.
 
     NaN marks pixels without a return. Returns 0.0 when fewer than 100 triples are valid.
+    A Kinect's depths are quantised (steps of 3 mm at 1 m, 1.6 cm at 2.4 m), so on a
+    surface seen from afar most second differences are exactly zero and their median says
+    nothing: the estimate then comes from the first of the 75th and 90th percentiles that is
+    a step (at least ``_LEAST_STEP_M``), scaled as for a normal distribution.
 
     >>> rng = np.random.default_rng(0)
     >>> flat = 1.0 + rng.normal(0.0, 0.002, (200, 200))
@@ -66,7 +70,18 @@ def depth_noise_1m(depth: FloatArray) -> float:
     if ok.sum() < 100:
         return 0.0
     e = np.abs(second[ok]) / (math.sqrt(6.0) * z[ok] ** 2)
-    return float(1.4826 * np.median(e))
+    step = np.abs(second[ok]) >= _LEAST_STEP_M
+    for percent, normal_quantile in _NOISE_QUANTILES:
+        if step.mean() > 1.0 - percent / 100.0:
+            return float(np.percentile(e, percent)) / normal_quantile
+    return 0.0
+
+
+_LEAST_STEP_M = 5e-5
+"""A second difference smaller than this is zero: half the finest depth unit of a file we read
+(0.1 mm), far above the rounding of depths stored as 32-bit floats."""
+_NOISE_QUANTILES = ((50.0, 0.6745), (75.0, 1.1503), (90.0, 1.6449))
+"""Percentiles of |e| tried in turn, each with the same percentile of |N(0, 1)|."""
 
 
 _NEIGHBOURS = [(dy, dx) for dy in (-1, 0, 1) for dx in (-1, 0, 1) if (dy, dx) != (0, 0)]

@@ -2,8 +2,10 @@
 
 Steps (PITT's, with its quirks fixed; see ``shared/reference/pitt-perception.md`` §4):
 
-1. depth cut in the sensor frame (``z <= max_depth_m``). On an organised frame the depth
-   noise is measured from the image and flying pixels and veils are dropped
+1. depth cut in the sensor frame, where the sensor's depth noise reaches
+   ``max_range_noise_m`` (:func:`depth_cut_m`; a Kinect keeps a floor 4.4 m away, not its walls
+   at 5 m). On an organised frame the depth noise is measured from the image and
+   flying pixels and veils are dropped
    (:mod:`shapes.artefacts`), at full resolution; then only every k-th pixel of every k-th row
    is kept, k chosen to leave about ``target_points`` points (:func:`pixel_stride`; a 640 x 480
    frame keeps one pixel in four, still about 4 to 13 per 1 cm voxel of a surface facing the
@@ -29,8 +31,15 @@ Steps (PITT's, with its quirks fixed; see ``shared/reference/pitt-perception.md`
 4. **the support rule**: a support is a *horizontal* plane (normal within
    ``max_support_tilt_deg`` of world z, i.e. of gravity) *with objects on it*. Every voxel that
    belongs to no plane and lies between ``above_margin`` and ``max_height_m`` above a horizontal
-   plane, inside that plane's xy bounding box shrunk by ``edge_margin_m``, goes to the *nearest
-   such plane below it*: objects on a table belong to the table, not to the floor under it.
+   plane, inside the xy bounding box of the plane's *main piece* (its largest connected part,
+   :mod:`shapes.support_region`) shrunk by ``edge_margin_m``, goes to the *nearest such plane
+   below it*: objects on a table belong to the table, not to the floor under it. A cluster
+   (step 6) whose centre lies outside the main piece's convex hull grown by
+   ``extent_margin_m`` does not stand on the support (the back of a chair rising over a
+   desk's front edge) and is dropped.
+   A cluster cut by the scene's limits (``min_cut_share`` of its voxels within ``cut_band_m``
+   of ``max_height_m`` over its support, or of its points near the depth cut) is a part of
+   something larger (a wall, a chair's back) and is dropped too (:func:`_cut_by_limits`).
    Every horizontal plane that gets clusters is reported (:attr:`Segmentation.supports`); the
    one with the most object voxels is *the* support. The largest plane (often the floor or a
    wall) wins nothing by its size;
@@ -65,9 +74,18 @@ from scipy.spatial import cKDTree
 from shapes.artefacts import depth_noise_1m, flying_pixels, sparse_points, sparse_voxels
 from shapes.frame import Frame
 from shapes.split import split_touching
+from shapes.support_region import SupportRegion, support_region
 from shapes.types import FloatArray, SupportPlane, vec3
 
-__all__ = ["Cluster", "Segmentation", "SegmentationParams", "Survey", "segment", "survey"]
+__all__ = [
+    "Cluster",
+    "Segmentation",
+    "SegmentationParams",
+    "Survey",
+    "depth_cut_m",
+    "segment",
+    "survey",
+]
 
 log = logging.getLogger(__name__)
 
@@ -77,7 +95,11 @@ class SegmentationParams:
     """Parameters of :func:`segment`; lengths in metres."""
 
     voxel_m: float = 0.01
-    max_depth_m: float = 3.0
+    max_depth_m: float | None = None
+    """A fixed depth cut; None: the cut follows the sensor's noise (``max_range_noise_m``)."""
+    max_range_noise_m: float = 0.02
+    default_depth_m: float = 3.0
+    """The cut when the noise is not known (an unorganised cloud, or a noiseless image)."""
     target_points: int = 60_000
     filter_artefacts: bool = True
     support_threshold_m: float = 0.01
@@ -99,6 +121,18 @@ class SegmentationParams:
     min_support_rise_m: float = 0.25
     max_base_height_m: float = 0.04
     floor_step_m: float = 0.03
+    support_cell_m: float = 0.05
+    """The grid on which a support plane's voxels are joined into pieces (its main piece)."""
+    extent_margin_m: float = 0.05
+    """How far past the hull of its support's main piece an object's centre may lie."""
+    cut_band_m: float = 0.03
+    """How near the scene's limits (``max_height_m`` over the support, the depth cut) a voxel
+    or point counts as reaching them (the depth cut's band grows to 3 sigma of the noise)."""
+    min_cut_share: float = 0.01
+    """The share of a cluster's voxels (or points) reaching a limit that makes it cut by it,
+    and so a part of something larger than the scene, not an object."""
+    min_cut_voxels: int = 3
+    """As ``min_cut_share``, a count: one stray voxel at the limit cuts nothing."""
 
 
 @dataclass(frozen=True, eq=False)
@@ -307,7 +341,11 @@ class Survey:
 def survey(frame: Frame, params: SegmentationParams, seed: int) -> Survey:
     """Steps 1 to 3 of the module doc in the sensor frame: the kept points, their voxel grid
     and the planes. Deterministic for a given ``seed``; the frame's pose plays no part."""
-    keep = frame.points[:, 2] <= params.max_depth_m
+    sigma_1m = 0.0
+    if params.filter_artefacts and frame.pixels is not None:
+        sigma_1m = depth_noise_1m(_depth_image(frame, np.ones(len(frame.points), dtype=bool)))
+    cut = depth_cut_m(sigma_1m, params)
+    keep = frame.points[:, 2] <= cut
     if not keep.any():
         empty = np.zeros((0, 3))
         return Survey(
@@ -320,11 +358,10 @@ def survey(frame: Frame, params: SegmentationParams, seed: int) -> Survey:
             (),
             0.0,
             frame.pixels is not None,
-            f"no point within {params.max_depth_m} m",
+            f"no point within {cut:.2f} m",
         )
-    sigma_1m = 0.0
     if params.filter_artefacts and frame.pixels is not None:
-        keep, sigma_1m = _artefact_mask(frame, keep)
+        keep = _artefact_mask(frame, keep, sigma_1m)
     stride = pixel_stride(int(keep.sum()), params)
     if stride > 1 and frame.pixels is not None and frame.image_shape is not None:
         # Every stride-th pixel of every stride-th row, once the artefacts are known.
@@ -441,17 +478,38 @@ def _focal_px(frame: Frame) -> float:
     return float(1.0 / a) if a > 0 else 570.0
 
 
-def _artefact_mask(
-    frame: Frame, keep: npt.NDArray[np.bool_]
-) -> tuple[npt.NDArray[np.bool_], float]:
-    """Points kept after dropping flying pixels and veils, and the noise at 1 m (organised)."""
+def _depth_image(frame: Frame, keep: npt.NDArray[np.bool_]) -> FloatArray:
+    """The depths of the kept points of an organised frame as its image, NaN elsewhere."""
     assert frame.image_shape is not None and frame.pixels is not None
     image = np.full(frame.image_shape[0] * frame.image_shape[1], np.nan)
     image[frame.pixels[keep]] = frame.points[keep, 2]
-    image = image.reshape(frame.image_shape)
-    sigma_1m = depth_noise_1m(image)
+    return image.reshape(frame.image_shape)
+
+
+def _artefact_mask(
+    frame: Frame, keep: npt.NDArray[np.bool_], sigma_1m: float
+) -> npt.NDArray[np.bool_]:
+    """Points kept after dropping flying pixels and veils (organised)."""
+    assert frame.pixels is not None
+    image = _depth_image(frame, keep)
     drop = flying_pixels(image, sigma_1m, focal_px=_focal_px(frame)).ravel()
-    return keep & ~drop[frame.pixels], sigma_1m
+    return keep & ~drop[frame.pixels]
+
+
+def depth_cut_m(sigma_1m: float, params: SegmentationParams) -> float:
+    """The range beyond which points are dropped: ``max_depth_m`` when set, else where the
+    depth noise ``sigma_1m z²`` reaches ``max_range_noise_m`` (``default_depth_m`` when the
+    noise is not known).
+
+    >>> params = SegmentationParams()
+    >>> round(depth_cut_m(0.001, params), 2), depth_cut_m(0.0, params)
+    (4.47, 3.0)
+    """
+    if params.max_depth_m is not None:
+        return params.max_depth_m
+    if sigma_1m <= 0.0:
+        return params.default_depth_m
+    return math.sqrt(params.max_range_noise_m / sigma_1m)
 
 
 def pixel_stride(points: int, params: SegmentationParams) -> int:
@@ -483,6 +541,11 @@ def segment(
     if scan.reason is not None:
         return Segmentation(None, (), reason=scan.reason)
     keep, depth, sigma_1m, voxel_of = scan.keep, scan.depth, scan.sigma_1m, scan.voxel_of
+    reach = _Reach(
+        frame.world_from_sensor if scan.in_camera_frame else None,
+        depth_cut_m(sigma_1m, params),
+        max(params.cut_band_m, 3 * sigma_1m * depth_cut_m(sigma_1m, params) ** 2),
+    )
     points = frame.world_points_of(scan.points)
     voxels = frame.world_points_of(scan.voxels)
     viewpoint = frame.world_from_sensor[:3, 3] if scan.in_camera_frame else None
@@ -529,9 +592,12 @@ def segment(
     # Each free voxel goes to the nearest horizontal plane below it that covers it.
     best_height = np.full(len(voxels), np.inf)
     owner = np.full(len(voxels), -1)
-    margins, supports = [], []
+    margins, supports, regions = [], [], []
     for k, p in enumerate(horizontal):
         table = voxels[alive_idx[p.inliers]]
+        region = support_region(table[:, :2], params.support_cell_m)
+        regions.append(region)
+        table = table[region.piece]
         span = np.ptp(table[:, :2], axis=0)
         support = SupportPlane(
             vec3(p.normal),
@@ -587,6 +653,11 @@ def segment(
             viewpoint,
         )
         too_small += small
+        found = [
+            c
+            for c in found
+            if _stands_within(c, regions[k], params) and not _cut_by_limits(c, reach, params)
+        ]
         votes[k] = sum(len(c.voxels) for c in found)
         clusters += found
     with_objects = [supports[k] for k in np.argsort(-votes, kind="stable") if votes[k] > 0]
@@ -614,6 +685,46 @@ def segment(
             )
     log.debug("segmented %d points into %d clusters", len(points), len(clusters))
     return Segmentation(primary, tuple(clusters), tuple(with_objects), sigma_1m, reason)
+
+
+def _stands_within(cluster: Cluster, region: SupportRegion, params: SegmentationParams) -> bool:
+    """Whether a cluster stands within its support's outline (its voxels' centre across the
+    support inside the main piece's hull grown by ``extent_margin_m``): the back of a chair
+    rising over the edge of a desk, or a wall behind it, does not."""
+    centre = cluster.voxels[:, :2].mean(axis=0)
+    return bool(region.contains(centre[None, :], params.extent_margin_m)[0])
+
+
+@dataclass(frozen=True)
+class _Reach:
+    """How far the scene reaches in depth: the frame's pose (None when the points' ranges are
+    unknown), the depth cut and how near it a point counts as reaching it."""
+
+    world_from_sensor: FloatArray | None
+    depth_cut_m: float
+    band_m: float
+
+
+def _reaching(near: npt.NDArray[np.bool_], params: SegmentationParams) -> bool:
+    count = int(near.sum())
+    return count >= params.min_cut_voxels and count >= params.min_cut_share * len(near)
+
+
+def _cut_by_limits(cluster: Cluster, reach: _Reach, params: SegmentationParams) -> bool:
+    """Whether a cluster is cut by the scene's limits, and so is a part of something larger
+    (a wall, a door, a chair's back, a person's legs), not an object: at least
+    ``min_cut_share`` of its voxels (and ``min_cut_voxels``) lie within ``cut_band_m`` of
+    ``max_height_m`` over its support, or as large a share of its points within
+    ``reach.band_m`` of the depth cut."""
+    assert cluster.support is not None
+    height = cluster.support.signed_distance(cluster.voxels)
+    if _reaching(height >= params.max_height_m - params.cut_band_m, params):
+        return True
+    if reach.world_from_sensor is None:
+        return False
+    rotation, shift = reach.world_from_sensor[:3, :3], reach.world_from_sensor[:3, 3]
+    depth = (cluster.points - shift) @ rotation[:, 2]
+    return _reaching(depth >= reach.depth_cut_m - reach.band_m, params)
 
 
 def _stacked(voxels: FloatArray, parts: npt.NDArray[np.int64], min_apart_m: float) -> bool:

@@ -31,8 +31,8 @@ def test_truth_json_is_what_measure_py_computes(name: str) -> None:
 
 def test_the_held_out_scans_are_marked() -> None:
     assert {name for name, scan in TRUTH.items() if scan["held_out"]} == {
-        "desk_tum",
-        "office_kinect",
+        "bottle_pack_floor_kinect",
+        "people_floor_kinect",
     }
 
 

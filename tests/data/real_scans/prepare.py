@@ -1,4 +1,5 @@
-"""Re-create the vendored real scans from PCL's test data (run by hand, not by the tests).
+"""Re-create the vendored real scans from PCL's test and data repositories (run by hand, not
+by the tests).
 
 Each organised PCD (640 x 480, NaN where the sensor saw nothing) is stored as its depth image:
 ``depth`` (uint16, in units of ``depth_scale`` metres), the pinhole intrinsics ``fx fy cx cy``
@@ -11,7 +12,8 @@ image) and a colour PNG, from Open3D's test data before it left the repository
 are copied unchanged (``depth_scale`` 0.2 mm) with the intrinsics the TUM benchmark publishes
 for its Freiburg 3 sensor.
 
-    python tests/data/real_scans/prepare.py PCL_CHECKOUT/test OPEN3D_CHECKOUT/examples/test_data
+    python tests/data/real_scans/prepare.py PCL_CHECKOUT/test OPEN3D_CHECKOUT/examples/test_data \
+        PCL_DATA_CHECKOUT
 """
 
 import sys
@@ -26,7 +28,12 @@ SCANS = {
     "grabber_sequences/pcd/frame_20121214T142256.068683.pcd": ("laptop_box_kinect_1.npz", 1e-3),
     "grabber_sequences/pcd/frame_20121214T142256.332395.pcd": ("laptop_box_kinect_2.npz", 1e-3),
     "office1.pcd": ("office_kinect.npz", 1e-3),
+    "five_people.pcd": ("people_floor_kinect.npz", 1e-3),
 }
+PCL_DATA = {
+    "tutorials/region_growing_rgb_tutorial.pcd": ("bottle_pack_floor_kinect.npz", 1e-3),
+}
+"""From PCL's data repository (``PointCloudLibrary/data``, BSD), the third argument."""
 TUM = ("RGBD/other_formats/TUM_depth.png", "RGBD/other_formats/TUM_color.png", "desk_tum.npz")
 TUM_FREIBURG3 = {"fx": 535.4, "fy": 539.2, "cx": 320.1, "cy": 247.6}
 """The Freiburg 3 sensor's colour intrinsics (the benchmark's depth images of Freiburg 3 are
@@ -80,3 +87,6 @@ if __name__ == "__main__":
         depth_png, colour_png, out = TUM
         test_data = Path(sys.argv[2])
         convert_tum(test_data / depth_png, test_data / colour_png, Path(__file__).with_name(out))
+    if len(sys.argv) > 3:
+        for name, (out, scale) in PCL_DATA.items():
+            convert(Path(sys.argv[3]) / name, Path(__file__).with_name(out), scale)
