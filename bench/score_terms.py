@@ -37,7 +37,8 @@ from kg.transaction import Transaction
 from ontologies.vocab import MEMORY, SCORE_TERMS
 from reasoners import persist
 from reasoners.memory import SceneMemory
-from reasoners.model import SCALE, MemoryModel
+from reasoners.model import MemoryModel
+from reasoners.score_table import SCALE
 
 TYPED = persist.write_view
 
@@ -48,10 +49,10 @@ def packed(z: tuple[int, int, int]) -> Literal:
 
 def write_packed_view(tx: Transaction, model: MemoryModel, policy: NamedNode) -> int:
     """The view as Engram wrote it before typed terms: one string per changed class."""
-    model.refresh()
+    model.scores.refresh()
     rewritten = 0
-    for iri in sorted(model.unwritten, key=lambda i: i.value):
-        record = model.classes.get(iri)
+    for iri in sorted(model.scores.unwritten, key=lambda i: i.value):
+        record = model.graph.classes.get(iri)
         if record is None or record.written_z == record.z:
             continue
         if record.written_z is not None:
@@ -59,7 +60,7 @@ def write_packed_view(tx: Transaction, model: MemoryModel, policy: NamedNode) ->
         tx.insert(iri, SCORE_TERMS, packed(record.z), MEMORY)
         record.written_z = record.z
         rewritten += 1
-    model.unwritten.clear()
+    model.scores.unwritten.clear()
     TYPED(tx, model, policy)  # the factors on the memory state, the same in both layouts
     return rewritten
 

@@ -7,7 +7,7 @@ each kind the medians of:
 
 - ``wall``, ``cpu``: the update's wall time and the process's CPU time (every thread);
 - ``recog``: recognition (the index's bitsets, then ordering every recognised class);
-- ``rescore``: ``MemoryModel.refresh``, the exact re-derivation of the score terms of the
+- ``rescore``: ``ScoreTable.refresh``, the exact re-derivation of the score terms of the
   touched class and of every ancestor (CPU of the calling thread, part of it alongside the
   write);
 - ``write``: the store applying the transaction (Oxigraph), and ``quads`` its size (the
@@ -44,7 +44,7 @@ from scene_memory import SEED, WriteTimer, build, random_scene
 import reasoners.memory
 from kg import Store
 from reasoners.memory import SceneMemory
-from reasoners.model import MemoryModel
+from reasoners.score_table import ScoreTable
 
 COLUMNS = ("wall", "cpu", "recog", "rescore", "write", "quads", "ancestors")
 
@@ -77,7 +77,7 @@ class Meter:
 def run(size: int, args: argparse.Namespace, rng: random.Random) -> dict[str, object]:
     workdir = Path(tempfile.mkdtemp(prefix="engram-bench-"))
     recog = Meter(reasoners.memory, "recognitions_in")
-    rescore = Meter(MemoryModel, "refresh")
+    rescore = Meter(ScoreTable, "refresh")
     try:
         build(workdir / "store", size, rng)
         store = Store(workdir / "store")
@@ -157,7 +157,7 @@ def main() -> None:
             print("\n".join(line for line in text.splitlines()[6:] if line.strip()))
     print()
     print("recog and rescore are CPU time of the updating thread; rescore partly overlaps the")
-    print("write (MemoryModel.refresh runs alongside it). ancestors = classes recognised.")
+    print("write (ScoreTable.refresh runs alongside it). ancestors = classes recognised.")
 
 
 if __name__ == "__main__":

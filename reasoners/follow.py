@@ -43,8 +43,9 @@ from ontologies.vocab import (
 )
 from reasoners import persist
 from reasoners.memory import SceneMemory
-from reasoners.model import ClassRecord, ItemRecord, MemoryModel
+from reasoners.model import MemoryModel
 from reasoners.persist import Term
+from reasoners.records import ClassRecord, ItemRecord
 from reasoners.signature import Signature
 
 __all__ = ["apply_change"]
@@ -95,17 +96,17 @@ def _apply(store: Store, m: MemoryModel, touched: set[NamedNode]) -> None:
         elif name.startswith("experience-") and name.count("-") == 1:
             items.append(subject)
         # experience-N-k: a primitive of a stored scene, read with the scene if at all
-        if subject in m.trashed_classes or subject in m.trashed_items:
+        if subject in m.trash.classes or subject in m.trash.items:
             raise _Rebuild(f"{subject.value} came back from the trash")
     rows = _triples(store, classes, MEMORY)
     for cls in classes:
         if SCENE not in rows.get(cls, {}).get(RDFS_SUBCLASSOF, ()):
             raise _Rebuild(f"{cls.value} left the memory graph")
     # existing classes first, then new ones simplest first (a parent before its children)
-    fresh = sorted((c for c in rows if c not in m.classes), key=persist._number)
-    for cls in [c for c in rows if c in m.classes]:
-        values, record = rows[cls], m.classes[cls]
-        m.set_counts(
+    fresh = sorted((c for c in rows if c not in m.graph.classes), key=persist._number)
+    for cls in [c for c in rows if c in m.graph.classes]:
+        values, record = rows[cls], m.graph.classes[cls]
+        m.scores.set_counts(
             record,
             store=persist._int(values, STORE_COUNT),
             retrieve=persist._int(values, RETRIEVE_COUNT),
@@ -125,14 +126,14 @@ def _apply(store: Store, m: MemoryModel, touched: set[NamedNode]) -> None:
             last_accessed=persist.parse_time(persist._one(values, LAST_ACCESSED)),
         )
         _annotations(record, values)
-        m.add_class(record)
-        m.next_class = max(m.next_class, persist._number(cls) + 1)
+        m.graph.add_class(record)
+        m.state.next_class = max(m.state.next_class, persist._number(cls) + 1)
     found = _triples(store, items, EPISODIC)
     for item in items:
         if EXPERIENCED_SCENE not in found.get(item, {}).get(RDF_TYPE, ()):
             raise _Rebuild(f"{item.value} left the episodic graph")
         values = found[item]
-        owner = next((t for t in values[RDF_TYPE] if t in m.classes), None)
+        owner = next((t for t in values[RDF_TYPE] if t in m.graph.classes), None)
         if not isinstance(owner, NamedNode):
             raise _Rebuild(f"{item.value} belongs to no live class")
         scene = ItemRecord(
@@ -143,29 +144,29 @@ def _apply(store: Store, m: MemoryModel, touched: set[NamedNode]) -> None:
             last_accessed=persist.parse_time(persist._one(values, LAST_ACCESSED)),
             weak_count=persist._int(values, CONSECUTIVE_WEAK_COUNT),
             pinned=persist._bool(values, PINNED),
-            level=m.items[item].level if item in m.items else None,
+            level=m.items.records[item].level if item in m.items.records else None,
         )
-        if item in m.items:
-            m.remove_item(item)
-        m.add_item(scene)
-        m.next_item = max(m.next_item, persist._number(item) + 1)
+        if item in m.items.records:
+            m.items.remove(item)
+        m.items.add(scene)
+        m.state.next_item = max(m.state.next_item, persist._number(item) + 1)
     if state:
         quads = store.quads(MEMORY_STATE_INDIVIDUAL, None, None, MEMORY)
         now: dict[NamedNode, list[Term]] = {}
         for quad in quads:
             now.setdefault(quad.predicate, []).append(quad.object)  # type: ignore[arg-type]
-        m.has_state = bool(now)
+        m.state.has_state = bool(now)
         if LAST_SLEEP_AT in now:
-            m.last_sleep_at = persist.parse_time(now[LAST_SLEEP_AT][0])
-        m.updates_since_sleep = persist._int(now, UPDATES_SINCE_SLEEP)
-        m.sleep_passes = persist._int(now, SLEEP_PASS_COUNT)
+            m.state.last_sleep_at = persist.parse_time(now[LAST_SLEEP_AT][0])
+        m.state.updates_since_sleep = persist._int(now, UPDATES_SINCE_SLEEP)
+        m.state.sleep_passes = persist._int(now, SLEEP_PASS_COUNT)
         if SLEEP_LEVELS in now:  # a sleep pass: the levels it gave
             levels = persist.read_levels(now[SLEEP_LEVELS])
-            for cls, record in m.classes.items():
+            for cls, record in m.graph.classes.items():
                 record.level = levels.get(cls)
-            for item, scene_record in m.items.items():
+            for item, scene_record in m.items.records.items():
                 scene_record.level = levels.get(item)
-    m.refresh()
+    m.scores.refresh()
 
 
 def _annotations(record: ClassRecord, values: dict[NamedNode, list[Term]]) -> None:

@@ -31,8 +31,9 @@ from ontologies.vocab import (
 )
 from reasoners import persist
 from reasoners.batch import QuadReader
-from reasoners.model import ItemRecord, MemoryModel, TrashedClass, TrashedItem
+from reasoners.model import MemoryModel
 from reasoners.policy import Policy
+from reasoners.records import ItemRecord, TrashedClass, TrashedItem
 from reasoners.scoring import WEAK, episodic_score, level_of, log_ratio
 
 __all__ = ["SleepPlan", "item_raw", "leaving_items", "move_to_trash", "plan"]
@@ -63,14 +64,16 @@ def item_raw(
 ) -> float:
     """An experienced scene's raw episodic score; ``normalised`` holds every class's normalised
     score when the caller has them already."""
-    cls = model.classes[record.cls]
-    max_d = model.max_item_complexity
+    cls = model.graph.classes[record.cls]
+    max_d = model.items.max_complexity
     return episodic_score(
         policy,
         complexity_ratio=record.complexity / max_d if max_d else 0.0,
-        class_normalised=model.normalised(cls) if normalised is None else normalised[cls.iri],
-        store_ratio=log_ratio(cls.store_count, model.max_store),
-        retrieve_ratio=log_ratio(cls.retrieve_count, model.max_retrieve),
+        class_normalised=model.scores.normalised(cls)
+        if normalised is None
+        else normalised[cls.iri],
+        store_ratio=log_ratio(cls.store_count, model.scores.max_store),
+        retrieve_ratio=log_ratio(cls.retrieve_count, model.scores.max_retrieve),
         age_s=(now - record.last_accessed).total_seconds(),
     )
 
@@ -78,30 +81,32 @@ def item_raw(
 def plan(model: MemoryModel, policy: Policy, now: dt.datetime) -> SleepPlan:
     """Levels, WEAK counts and what is forgotten, for a sleep pass at ``now``."""
     high, weak = policy.highLevelThreshold, policy.weakLevelThreshold
-    zetas = model.zetas()
-    top = model.max_score
+    zetas = model.scores.zetas()
+    top = model.scores.max_score
     normalised = {cls: zeta / top if top > 0 else 0.0 for cls, zeta in zetas.items()}
     class_levels = {cls: level_of(n, high=high, weak=weak) for cls, n in normalised.items()}
     weak_counts = {
         cls: record.weak_count + 1 if class_levels[cls] == WEAK else 0
-        for cls, record in model.classes.items()
+        for cls, record in model.graph.classes.items()
     }
-    raw = {iri: item_raw(model, policy, r, now, normalised) for iri, r in model.items.items()}
+    raw = {
+        iri: item_raw(model, policy, r, now, normalised) for iri, r in model.items.records.items()
+    }
     top = max(raw.values(), default=0.0)
     item_levels = {
         iri: level_of(value / top if top > 0 else 0.0, high=high, weak=weak)
         for iri, value in raw.items()
     }
     item_weak = {
-        iri: model.items[iri].weak_count + 1 if level == WEAK else 0
+        iri: model.items.records[iri].weak_count + 1 if level == WEAK else 0
         for iri, level in item_levels.items()
     }
     grace = dt.timedelta(seconds=policy.forgetGracePeriodSeconds)
     k = policy.weakPassesToForget
-    protected = {r.cls for r in model.items.values() if r.pinned}
+    protected = {r.cls for r in model.items.records.values() if r.pinned}
     doomed_classes = [
         cls
-        for cls, record in model.classes.items()
+        for cls, record in model.graph.classes.items()
         if weak_counts[cls] >= k
         and now - record.created >= grace
         and not record.pinned
@@ -110,12 +115,12 @@ def plan(model: MemoryModel, policy: Policy, now: dt.datetime) -> SleepPlan:
     doomed = set(doomed_classes)
     doomed_items = [
         iri
-        for iri, record in model.items.items()
+        for iri, record in model.items.records.items()
         if record.cls not in doomed
         and item_weak[iri] >= k
         and now - record.created >= grace
         and not record.pinned
-        and not model.classes[record.cls].pinned  # a pinned class keeps its scenes
+        and not model.graph.classes[record.cls].pinned  # a pinned class keeps its scenes
     ]
     return SleepPlan(
         zetas, class_levels, weak_counts, item_levels, item_weak, doomed_classes, doomed_items
@@ -128,10 +133,10 @@ def leaving_items(
     """The experienced scenes that :func:`move_to_trash` moves with ``classes`` and ``items``,
     each once."""
     doomed = set(classes)
-    own = [i for c in classes for i in model.items_of.get(c, ())]
+    own = [i for c in classes for i in model.items.items_of.get(c, ())]
     if doomed:
-        own += [i for i, r in model.items.items() if r.cls in doomed]
-    return [i for i in dict.fromkeys([*own, *items]) if i in model.items]
+        own += [i for i, r in model.items.records.items() if r.cls in doomed]
+    return [i for i in dict.fromkeys([*own, *items]) if i in model.items.records]
 
 
 def move_to_trash(
@@ -149,7 +154,7 @@ def move_to_trash(
     stamp = persist.time_literal(now)
     added: set[tuple[NamedNode, NamedNode]] = set()
     for cls in classes:
-        record = model.classes[cls]
+        record = model.graph.classes[cls]
         own = persist.delete_class(tx, reader, cls)
         for quad in own:
             if quad.predicate not in (RDFS_SUBCLASSOF, OWL_EQUIVALENT_CLASS) and (
@@ -161,28 +166,31 @@ def move_to_trash(
         if record.level is not None:
             tx.insert(cls, LEVEL, Literal(record.level), TRASH)
         tx.insert(cls, FORGOTTEN_SIGNATURE, Literal(record.signature.to_json()), TRASH)
-        added |= model.remove_class(cls)
-        added = {(c, p) for c, p in added if c in model.classes and p in model.classes}
+        added |= model.graph.remove_class(cls)
+        added = {(c, p) for c, p in added if c in model.graph.classes and p in model.graph.classes}
         for key, n in record.signature.items():
-            if not model.restrictions[(key, n)] and (key, n) in model.stored_restrictions:
+            if (
+                not model.graph.restrictions[(key, n)]
+                and (key, n) in model.graph.stored_restrictions
+            ):
                 persist.delete_restriction(tx, key, n)
-                model.stored_restrictions.discard((key, n))
-        model.trashed_classes[cls] = TrashedClass(cls, record.signature, now)
-        own_items = model.items_of.get(cls, ()) or _items_of(model, cls)
+                model.graph.stored_restrictions.discard((key, n))
+        model.trash.classes[cls] = TrashedClass(cls, record.signature, now)
+        own_items = model.items.items_of.get(cls, ()) or _items_of(model, cls)
         items = [*items, *sorted(own_items, key=str)]
     persist.write_edges(tx, added)
     for item in items:
-        if item not in model.items:
+        if item not in model.items.records:
             continue
-        removed = model.remove_item(item)
+        removed = model.items.remove(item)
         persist.move(tx, reader, [item], EPISODIC, TRASH, follow=HAS_PRIMITIVE)
         tx.insert(item, FORGOTTEN_AT, stamp, TRASH)
         if removed.level is not None:
             tx.insert(item, LEVEL, Literal(removed.level), TRASH)
-        model.trashed_items[item] = TrashedItem(item, removed.cls, now)
+        model.trash.items[item] = TrashedItem(item, removed.cls, now)
         moved.append(item)
     return moved
 
 
 def _items_of(model: MemoryModel, cls: NamedNode) -> list[NamedNode]:
-    return [i for i, r in model.items.items() if r.cls == cls]
+    return [i for i, r in model.items.records.items() if r.cls == cls]

@@ -44,7 +44,7 @@ from before checkpoints), the pass writes, in its transaction, checkpoint k+1
 (``engram:checkpointState``, journal lines, zlib + base64; forgotten classes included) and a
 summary (``engram:checkpointSummary``: its number, the largest event it covers and the smallest
 event of epoch k), and epoch k+1 begins. The memory reads the current epoch (the last
-checkpoint's number) from the store once per model (``MemoryModel.history_epoch``), so it
+checkpoint's number) from the store once per model (``ModelState.history_epoch``), so it
 survives restarts and a rebuilt model. :func:`as_of` takes the latest checkpoint covering only
 events before T, and folds in the journal of its epoch and of each later epoch that holds an
 event before T (with a clock that only moves forward: the current one); with no such
@@ -92,7 +92,8 @@ from ontologies.vocab import (
     XSD_DATETIME,
 )
 from reasoners.batch import QuadReader, matches
-from reasoners.model import ClassRecord, ItemRecord, MemoryModel
+from reasoners.model import MemoryModel
+from reasoners.records import ClassRecord, ItemRecord
 from reasoners.results import Recognition
 from reasoners.scoring import WEAK
 
@@ -172,9 +173,9 @@ def _checkpoint_node(number: int) -> NamedNode:
 
 
 def _epoch(model: MemoryModel) -> int:
-    if model.history_epoch is None:
+    if model.state.history_epoch is None:
         raise RuntimeError("history: the model's history epoch was not read (current_epoch)")
-    return model.history_epoch
+    return model.state.history_epoch
 
 
 def _write(
@@ -224,7 +225,7 @@ def record(
     of its last update or sleep pass and the level of its last pass (call it once the change
     is made)."""
     if isinstance(item, ClassRecord):
-        score = model.scored.get(item.iri, item.score)
+        score = model.scores.scored.get(item.iri, item.score)
         _write(tx, model, item.iri, kind, at, scene=False, score=score, level=item.level)
     else:
         _write(tx, model, item.iri, kind, at, scene=True, score=None, level=item.level)
@@ -253,7 +254,7 @@ def stored(
     if learned is not None:  # a reinforced class is itself the best match
         if best is not None:
             tx.insert(event, EVENT_BEST_MATCH, best.cls, HISTORY)
-        parents = " ".join(sorted(parent.value for parent in model.parents[learned]))
+        parents = " ".join(sorted(parent.value for parent in model.graph.parents[learned]))
         tx.insert(event, EVENT_PARENTS, Literal(parents), HISTORY)
 
 
@@ -283,7 +284,7 @@ def forgetting(
     for cls in classes:
         _write(tx, model, cls, "forgotten", at, scene=False, score=zetas.get(cls), level=WEAK)
     for item in items:
-        level = model.items[item].level
+        level = model.items.records[item].level
         _write(tx, model, item, "forgotten", at, scene=True, score=None, level=level)
 
 
@@ -298,10 +299,10 @@ def sleep_levels(
     ``engram:historyPassEntries`` literal; return the number of events it holds (none: nothing
     written). Call it before the pass sets the new levels: the records still hold the old ones.
     """
-    periodic = (model.sleep_passes + 1) % RESCORE_EVERY_PASSES == 0
-    scored = model.scored
+    periodic = (model.state.sleep_passes + 1) % RESCORE_EVERY_PASSES == 0
+    scored = model.scores.scored
     lines = []
-    for cls, record_ in model.classes.items():
+    for cls, record_ in model.graph.classes.items():
         level, zeta = levels[cls], zetas[cls]
         if record_.level != level:
             lines.append(f"{cls.value} level {level} {float(zeta)!r}\n")
@@ -499,7 +500,7 @@ def _checkpoints(reader: QuadReader) -> list[_Checkpoint]:
 
 def current_epoch(reader: QuadReader) -> int:
     """The epoch new class events belong to: the number of the last checkpoint (0 before the
-    first). The memory reads it once per model and keeps it in ``MemoryModel.history_epoch``."""
+    first). The memory reads it once per model and keeps it in ``ModelState.history_epoch``."""
     return max((c.number for c in _checkpoints(reader)), default=0)
 
 
@@ -603,7 +604,7 @@ def checkpoint(tx: Transaction, model: MemoryModel, store: QuadReader, at: dt.da
     checkpoints = _checkpoints(reader)
     entries = list(_entries(reader, epoch))
     legacy = not checkpoints and any(True for _ in reader.quads(None, EVENT_STATE, None, HISTORY))
-    if len(entries) < max(CHECKPOINT_MIN_EVENTS, len(model.classes) // 4) and not legacy:
+    if len(entries) < max(CHECKPOINT_MIN_EVENTS, len(model.graph.classes) // 4) and not legacy:
         return False
     if checkpoints:
         last = _read_state(reader, checkpoints[-1].number)
@@ -620,7 +621,7 @@ def checkpoint(tx: Transaction, model: MemoryModel, store: QuadReader, at: dt.da
     tx.insert(node, CHECKPOINT_SUMMARY, Literal(f"{epoch + 1} {covers} {low}"), HISTORY)
     tx.insert(node, CHECKPOINT_STATE, Literal(state), HISTORY)
     tx.insert(node, PROV_AT_TIME, _time_literal(at), HISTORY)
-    model.history_epoch = epoch + 1
+    model.state.history_epoch = epoch + 1
     return True
 
 

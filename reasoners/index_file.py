@@ -59,15 +59,10 @@ from kg.errors import EngramError
 from kg.store import Store
 from kg.transaction import Transaction
 from ontologies.vocab import MEMORY_REVISION, MEMORY_REVISION_GRAPH, MEMORY_STATE_INDIVIDUAL
+from reasoners.class_graph import Restriction
 from reasoners.collector import collector_paused
-from reasoners.model import (
-    ClassRecord,
-    ItemRecord,
-    MemoryModel,
-    Restriction,
-    TrashedClass,
-    TrashedItem,
-)
+from reasoners.model import MemoryModel
+from reasoners.records import ClassRecord, ItemRecord, TrashedClass, TrashedItem
 from reasoners.signature import Key, Signature
 
 __all__ = [
@@ -207,10 +202,10 @@ def _snapshot(model: MemoryModel, revision: str, weights: Weights) -> dict[str, 
         return number
 
     derived = model.derived()  # first: it brings every Z up to date
-    records = list(model.classes.values())
-    numbers = {cls: k for k, cls in enumerate(model.classes)}
+    records = list(model.graph.classes.values())
+    numbers = {cls: k for k, cls in enumerate(model.graph.classes)}
     signatures = [r.signature for r in records]
-    parents = [list(map(numbers.__getitem__, model.parents[r.iri])) for r in records]
+    parents = [list(map(numbers.__getitem__, model.graph.parents[r.iri])) for r in records]
     flat_keys = list(itertools.chain.from_iterable(signatures))
     for key in dict.fromkeys(flat_keys):  # the few distinct keys numbered first
         key_number(key)
@@ -230,7 +225,7 @@ def _snapshot(model: MemoryModel, revision: str, weights: Weights) -> dict[str, 
         [r.written_z for r in records],
     )
     edges = _edge_columns(parents)
-    items = list(model.items.values())
+    items = list(model.items.records.values())
     item_columns = (
         [r.iri.value for r in items],
         [numbers[r.cls] for r in items],
@@ -243,12 +238,12 @@ def _snapshot(model: MemoryModel, revision: str, weights: Weights) -> dict[str, 
     )
     trashed_classes = [
         (t.iri.value, signature(t.signature), stamp(t.forgotten_at))
-        for t in model.trashed_classes.values()
+        for t in model.trash.classes.values()
     ]
     trashed_items = [
-        (t.iri.value, t.cls.value, stamp(t.forgotten_at)) for t in model.trashed_items.values()
+        (t.iri.value, t.cls.value, stamp(t.forgotten_at)) for t in model.trash.items.values()
     ]
-    stored = [(key_number(key), n) for key, n in model.stored_restrictions]
+    stored = [(key_number(key), n) for key, n in model.graph.stored_restrictions]
     index = None
     if derived is not None:
         at_least, by_complexity, scores = derived
@@ -270,14 +265,14 @@ def _snapshot(model: MemoryModel, revision: str, weights: Weights) -> dict[str, 
         "trashed_items": trashed_items,
         "stored_restrictions": stored,
         "derived": index,
-        "factors": model.written_factors,
+        "factors": model.scores.written_factors,
         "state": (
-            model.next_class,
-            model.next_item,
-            None if model.last_sleep_at is None else model.last_sleep_at.isoformat(),
-            model.updates_since_sleep,
-            model.sleep_passes,
-            model.has_state,
+            model.state.next_class,
+            model.state.next_item,
+            None if model.state.last_sleep_at is None else model.state.last_sleep_at.isoformat(),
+            model.state.updates_since_sleep,
+            model.state.sleep_passes,
+            model.state.has_state,
         ),
     }
 
@@ -360,23 +355,29 @@ def rebuild(values: dict[str, Any], weights: Weights) -> MemoryModel:
             by_complexity,
             restrictions.counter(),
         )
-    model.written_factors = None if values["factors"] is None else tuple(values["factors"])
+    model.scores.written_factors = None if values["factors"] is None else tuple(values["factors"])
     item_iris, classes_of, complexities, item_created, item_accessed, *rest = values["items"]
-    model.add_items(
+    model.items.add_all(
         map(ItemRecord, map(NamedNode, item_iris), map(nodes.__getitem__, classes_of),
             complexities, map(stamps, item_created), map(stamps, item_accessed), *rest)
     )  # fmt: skip
     for cls, flat, at in values["trashed_classes"]:
         node = NamedNode(cls)
-        model.trashed_classes[node] = TrashedClass(node, signature(flat), times[at])
+        model.trash.classes[node] = TrashedClass(node, signature(flat), times[at])
     for item, cls, at in values["trashed_items"]:
         node = NamedNode(item)
-        model.trashed_items[node] = TrashedItem(node, iri(cls), times[at])
-    model.stored_restrictions = {(keys[k], n) for k, n in values["stored_restrictions"]}
+        model.trash.items[node] = TrashedItem(node, iri(cls), times[at])
+    model.graph.stored_restrictions = {(keys[k], n) for k, n in values["stored_restrictions"]}
     next_class, next_item, last_sleep, updates, passes, has_state = values["state"]
-    model.next_class, model.next_item = next_class, next_item
-    model.last_sleep_at = None if last_sleep is None else dt.datetime.fromisoformat(last_sleep)
-    model.updates_since_sleep, model.sleep_passes, model.has_state = updates, passes, has_state
+    model.state.next_class, model.state.next_item = next_class, next_item
+    model.state.last_sleep_at = (
+        None if last_sleep is None else dt.datetime.fromisoformat(last_sleep)
+    )
+    model.state.updates_since_sleep, model.state.sleep_passes, model.state.has_state = (
+        updates,
+        passes,
+        has_state,
+    )
     return model
 
 
@@ -411,7 +412,7 @@ class _Restrictions:
         """``hash((key, count))`` of every entry of the columns."""
 
     def counter(self) -> Counter[Restriction]:
-        """How many signatures use each restriction (:attr:`MemoryModel.restrictions`)."""
+        """How many signatures use each restriction (:attr:`ClassGraph.restrictions`)."""
         return Counter(dict(zip(self.distinct, self.uses, strict=True)))
 
 
@@ -475,7 +476,7 @@ def write_snapshot(path: Path, values: dict[str, Any]) -> None:
 
 def save(path: Path, model: MemoryModel, revision: str) -> None:
     """Save ``model``, the state of the store at ``revision``, to ``path`` atomically."""
-    write_snapshot(path, snapshot(model, revision, model.weights))
+    write_snapshot(path, snapshot(model, revision, model.scores.weights))
 
 
 class _BuiltinsOnly(pickle.Unpickler):

@@ -11,7 +11,7 @@ saves it to the index file. Its :attr:`~LoadedModel.lock` serialises every use o
 >>> from kg import Store
 >>> loaded = LoadedModel(Store(), (1.0, 1.0, 1.0, 1.0))
 >>> loaded.open()
->>> loaded.ready, loaded.source, len(loaded.model.classes)
+>>> loaded.ready, loaded.source, len(loaded.model.graph.classes)
 (True, 'store', 0)
 """
 
@@ -97,8 +97,8 @@ class LoadedModel:
             "scene memory opened from the %s in %.2f s: %d classes, %d experienced scenes",
             source,
             time.perf_counter() - began,
-            len(model.classes),
-            len(model.items),
+            len(model.graph.classes),
+            len(model.items.records),
         )
 
     @property

@@ -85,7 +85,7 @@ from reasoners.errors import (
     UnknownItemError,
 )
 from reasoners.loading import LoadedModel
-from reasoners.model import ClassRecord, ItemRecord, MemoryModel
+from reasoners.model import MemoryModel
 from reasoners.operations import (
     AdvanceClock,
     Cue,
@@ -100,6 +100,7 @@ from reasoners.operations import (
 )
 from reasoners.policy import Policy, load_policy
 from reasoners.reads import MemoryReads, recognitions_in, unknown_item
+from reasoners.records import ClassRecord, ItemRecord
 from reasoners.results import (
     Match,
     Recognition,
@@ -173,7 +174,9 @@ class SceneMemory:
             return
         with self.transactions.write(view=True) as tx:
             self.view.repair(tx, repair)
-        log.info("scene memory: score view written for %d classes", len(self.loaded.model.classes))
+        log.info(
+            "scene memory: score view written for %d classes", len(self.loaded.model.graph.classes)
+        )
 
     def _now(self) -> dt.datetime:
         return read_clock(self._clock)
@@ -226,10 +229,12 @@ class SceneMemory:
         ``now``, in the model and in the transaction."""
         if retrieved:
             prop, old = RETRIEVE_COUNT, record.retrieve_count
-            self.loaded.model.set_counts(record, store=record.store_count, retrieve=old + 1)
+            self.loaded.model.scores.set_counts(record, store=record.store_count, retrieve=old + 1)
         else:
             prop, old = STORE_COUNT, record.store_count
-            self.loaded.model.set_counts(record, store=old + 1, retrieve=record.retrieve_count)
+            self.loaded.model.scores.set_counts(
+                record, store=old + 1, retrieve=record.retrieve_count
+            )
         persist.set_value(tx, record.iri, prop, Literal(old), Literal(old + 1), MEMORY)
         persist.set_value(
             tx,
@@ -243,9 +248,12 @@ class SceneMemory:
 
     def _bump_update(self, tx: Transaction) -> None:
         m = self.loaded.model
-        m.updates_since_sleep += 1
-        if m.has_state:
-            old, new = Literal(m.updates_since_sleep - 1), Literal(m.updates_since_sleep)
+        m.state.updates_since_sleep += 1
+        if m.state.has_state:
+            old, new = (
+                Literal(m.state.updates_since_sleep - 1),
+                Literal(m.state.updates_since_sleep),
+            )
             persist.set_value(tx, MEMORY_STATE_INDIVIDUAL, UPDATES_SINCE_SLEEP, old, new, MEMORY)
         else:
             persist.write_state(tx, m)
@@ -278,27 +286,29 @@ class SceneMemory:
                 confidence = best.confidence if best else 0.0
                 fresh: NamedNode | None = None
                 if best is not None and confidence >= self.policy.learnThreshold:
-                    record = m.classes[best.cls]
+                    record = m.graph.classes[best.cls]
                     self._count_use(tx, record, now, retrieved=False)
                 else:
                     record = _new_class(m, signature, now)
-                    parents, children, removed = m.add_class(record, [r.cls for r in recognised])
+                    parents, children, removed = m.graph.add_class(
+                        record, [r.cls for r in recognised]
+                    )
                     added = {(record.iri, p) for p in parents} | {(c, record.iri) for c in children}
                     persist.write_edges(tx, added, removed)
                     fresh = record.iri
                 item = ItemRecord(
-                    iri=persist.item_iri(m.next_item),
+                    iri=persist.item_iri(m.state.next_item),
                     cls=record.iri,
                     complexity=signature.complexity,
                     created=now,
                     last_accessed=now,
                 )
-                m.next_item += 1
-                m.add_item(item)
+                m.state.next_item += 1
+                m.items.add(item)
                 persist.write_item(tx, item, scene, relations, episode)
                 self.view.rescore(tx, {record.iri}, {fresh} if fresh else set())
                 if fresh is not None:
-                    persist.write_class(tx, record, stored=m.stored_restrictions)
+                    persist.write_class(tx, record, stored=m.graph.stored_restrictions)
                 history.stored(tx, m, record, item.iri, recognised, now, fresh)
                 self._bump_update(tx)
             result = StoreResult(
@@ -309,7 +319,7 @@ class SceneMemory:
                 confidence=confidence,
                 signature=signature,
                 relations=tuple(relations),
-                parents=tuple(sorted(m.parents[record.iri], key=lambda c: c.value)),
+                parents=tuple(sorted(m.graph.parents[record.iri], key=lambda c: c.value)),
                 scores=self.view.class_scores(record),
             )
         log.info(
@@ -333,10 +343,10 @@ class SceneMemory:
             removed: set[tuple[NamedNode, NamedNode]] = set()
             fresh: list[ClassRecord] = []
             for signature in signatures:
-                if not signature or m.index.with_signature(signature) is not None:
+                if not signature or m.graph.index.with_signature(signature) is not None:
                     continue
                 record = _new_class(m, signature, now)
-                parents, children, cut = m.add_class(record)
+                parents, children, cut = m.graph.add_class(record)
                 for edge in cut:  # an edge added earlier in this batch is simply not written
                     if edge in added:
                         added.discard(edge)
@@ -348,9 +358,9 @@ class SceneMemory:
             new = {r.iri for r in fresh}
             self.view.rescore(tx, new, new)
             for record in fresh:
-                persist.write_class(tx, record, stored=m.stored_restrictions)
+                persist.write_class(tx, record, stored=m.graph.stored_restrictions)
             history.record_all(tx, m, fresh, "learned", now)
-            m.updates_since_sleep += len(fresh)
+            m.state.updates_since_sleep += len(fresh)
             persist.write_state(tx, m)
         return [r.iri for r in fresh]
 
@@ -387,24 +397,24 @@ class SceneMemory:
         with self.transactions.write() as tx:
             now = self._now()
             m = self.loaded.model
-            exact = m.index.with_signature(signature)
+            exact = m.graph.index.with_signature(signature)
             generalisations = [
                 r for r in recognitions_in(self.loaded.model, signature) if r.cls != exact
             ]
             d = signature.complexity
 
             def spec_key(match: Match) -> tuple[float, int, str]:
-                return (-match.similarity, -m.classes[match.cls].store_count, match.cls.value)
+                return (-match.similarity, -m.graph.classes[match.cls].store_count, match.cls.value)
 
             specialisations = sorted(
                 (
-                    Match(c, d / m.classes[c].signature.complexity)
-                    for c in m.index.dominating(signature)
+                    Match(c, d / m.graph.classes[c].signature.complexity)
+                    for c in m.graph.index.dominating(signature)
                     if c != exact
                 ),
                 key=spec_key,
             )
-            similar = tuple(Match(c, s) for c, s in m.index.most_similar(signature, limit))
+            similar = tuple(Match(c, s) for c, s in m.graph.index.most_similar(signature, limit))
             recalled = exact or (
                 specialisations[0].cls
                 if specialisations
@@ -414,12 +424,14 @@ class SceneMemory:
             )
             branch: tuple[NamedNode, ...] = ()
             if recalled is not None:
-                members = {recalled} | m.ancestors(recalled)
-                branch = tuple(sorted(members, key=lambda c: m.classes[c].signature.complexity))
+                members = {recalled} | m.graph.ancestors(recalled)
+                branch = tuple(
+                    sorted(members, key=lambda c: m.graph.classes[c].signature.complexity)
+                )
                 for cls in members:
-                    self._count_use(tx, m.classes[cls], now, retrieved=True)
+                    self._count_use(tx, m.graph.classes[cls], now, retrieved=True)
                 self.view.rescore(tx, members)
-                history.record(tx, m, m.classes[recalled], "retrieved", now)
+                history.record(tx, m, m.graph.classes[recalled], "retrieved", now)
             activation = None
             if spread and recalled is not None:
                 activation = self._spread({recalled: 1.0}, spread_decay, spread_hops)
@@ -443,7 +455,7 @@ class SceneMemory:
         for _ in range(hops):
             following: dict[NamedNode, float] = {}
             for cls, value in frontier.items():
-                for neighbour in m.parents[cls] | m.children[cls]:
+                for neighbour in m.graph.parents[cls] | m.graph.children[cls]:
                     passed = value * decay
                     if passed > activation.get(neighbour, 0.0) and passed > following.get(
                         neighbour, 0.0
@@ -469,7 +481,7 @@ class SceneMemory:
         with collector_paused(), self.transactions.write() as tx:
             now = self._now()
             m = self.loaded.model
-            rescored = len(m.classes)
+            rescored = len(m.graph.classes)
             plan = forgetting.plan(m, self.policy, now)
             class_levels, item_levels = plan.class_levels, plan.item_levels
             doomed_classes = plan.doomed_classes
@@ -477,33 +489,35 @@ class SceneMemory:
             # count (the count that forgot it), as the history and /explain give them
             leaving = forgetting.leaving_items(m, doomed_classes, plan.doomed_items)
             for cls in doomed_classes:
-                self._set_level(tx, m.classes[cls], WEAK, plan.weak_counts[cls], MEMORY)
+                self._set_level(tx, m.graph.classes[cls], WEAK, plan.weak_counts[cls], MEMORY)
             for iri in leaving:
-                self._set_level(tx, m.items[iri], item_levels[iri], plan.item_weak[iri], EPISODIC)
+                self._set_level(
+                    tx, m.items.records[iri], item_levels[iri], plan.item_weak[iri], EPISODIC
+                )
             history.forgetting(tx, m, doomed_classes, leaving, plan.zetas, now)
             forgotten_items = forgetting.move_to_trash(
                 tx, m, self.transactions.reader, doomed_classes, plan.doomed_items, now
             )
             # the graph changed: ζ of the forgotten classes' neighbours too
-            zetas = m.zetas() if doomed_classes else plan.zetas
+            zetas = m.scores.zetas() if doomed_classes else plan.zetas
             history.sleep_levels(tx, m, class_levels, zetas, now)
             history.checkpoint(tx, m, self.store, now)
             # a class's ζ and level are the view's: only the WEAK counts that changed are written
-            for cls, record in m.classes.items():
+            for cls, record in m.graph.classes.items():
                 self._set_level(tx, record, class_levels[cls], plan.weak_counts[cls], MEMORY)
-            for iri, item in m.items.items():
+            for iri, item in m.items.records.items():
                 self._set_level(tx, item, item_levels[iri], plan.item_weak[iri], EPISODIC)
-            m.scored = zetas
-            m.last_sleep_at = now
-            m.updates_since_sleep = 0
-            m.sleep_passes += 1
+            m.scores.scored = zetas
+            m.state.last_sleep_at = now
+            m.state.updates_since_sleep = 0
+            m.state.sleep_passes += 1
             persist.write_levels(tx, m)
             persist.write_state(tx, m)
         report = SleepReport(
             at=now,
             rescored=rescored,
-            levels={c: class_levels[c] for c in m.classes},
-            item_levels={i: item_levels[i] for i in m.items},
+            levels={c: class_levels[c] for c in m.graph.classes},
+            item_levels={i: item_levels[i] for i in m.items.records},
             forgotten_classes=tuple(doomed_classes),
             forgotten_items=tuple(forgotten_items),
             duration_s=time.perf_counter() - started,
@@ -518,7 +532,7 @@ class SceneMemory:
 
     def _trashed_with(self, cls: NamedNode) -> list[NamedNode]:
         m = self.loaded.model
-        return [i for i, t in m.trashed_items.items() if t.cls == cls]
+        return [i for i, t in m.trash.items.items() if t.cls == cls]
 
     @staticmethod
     def _set_level(
@@ -543,10 +557,12 @@ class SceneMemory:
         have passed since the last one (or since the first class was learned); else None."""
         with self.loaded.lock:
             m, p = self.loaded.model, self.policy
-            if m.updates_since_sleep == 0:
+            if m.state.updates_since_sleep == 0:
                 return None
-            due = m.updates_since_sleep >= p.sleepEveryUpdates
-            since = m.last_sleep_at or min((r.created for r in m.classes.values()), default=None)
+            due = m.state.updates_since_sleep >= p.sleepEveryUpdates
+            since = m.state.last_sleep_at or min(
+                (r.created for r in m.graph.classes.values()), default=None
+            )
             if not due and since is not None:
                 due = (self._now() - since).total_seconds() >= p.sleepIntervalSeconds
             return self.sleep() if due else None
@@ -635,10 +651,10 @@ class SceneMemory:
         with self.transactions.write() as tx:
             m = self.loaded.model
             record: ClassRecord | ItemRecord
-            if iri in m.classes:
-                record, graph = m.classes[iri], MEMORY
-            elif iri in m.items:
-                record, graph = m.items[iri], EPISODIC
+            if iri in m.graph.classes:
+                record, graph = m.graph.classes[iri], MEMORY
+            elif iri in m.items.records:
+                record, graph = m.items.records[iri], EPISODIC
             else:
                 raise unknown_item(m, iri)
             if record.pinned != pinned:
@@ -660,11 +676,11 @@ class SceneMemory:
         """
         with self.transactions.write() as tx:
             m = self.loaded.model
-            if iri in m.trashed_classes:
+            if iri in m.trash.classes:
                 restored = self._restore_class(tx, iri)
-            elif iri in m.trashed_items:
-                trashed = m.trashed_items[iri]
-                if trashed.cls not in m.classes:
+            elif iri in m.trash.items:
+                trashed = m.trash.items[iri]
+                if trashed.cls not in m.graph.classes:
                     raise UnknownItemError(
                         f"iri: {iri.value} was stored as {trashed.cls.value}, which is in the "
                         "trash too; restore the class first"
@@ -678,8 +694,8 @@ class SceneMemory:
 
     def _restore_class(self, tx: Transaction, cls: NamedNode) -> tuple[NamedNode, ...]:
         m = self.loaded.model
-        trashed = m.trashed_classes[cls]
-        rival = m.index.with_signature(trashed.signature)
+        trashed = m.trash.classes[cls]
+        rival = m.graph.index.with_signature(trashed.signature)
         if rival is not None:
             raise RestoreConflictError(
                 f"iri: {cls.value} has the same signature as the live class {rival.value}; "
@@ -700,8 +716,8 @@ class SceneMemory:
             weak_count=0,
             pinned=persist.text(values.get(PINNED, Literal(False))) == "true",
         )
-        del m.trashed_classes[cls]
-        parents, children, removed = m.add_class(record)
+        del m.trash.classes[cls]
+        parents, children, removed = m.graph.add_class(record)
         added = {(cls, p) for p in parents} | {(c, cls) for c in children}
         persist.write_edges(tx, added, removed)
         # every experienced scene of the class in the trash: those forgotten with it, and those
@@ -709,14 +725,14 @@ class SceneMemory:
         items = sorted(self._trashed_with(cls), key=str)
         self._restore_items(tx, items)
         self.view.rescore(tx, set(), {cls})
-        persist.write_class(tx, record, stored=m.stored_restrictions)
+        persist.write_class(tx, record, stored=m.graph.stored_restrictions)
         history.record(tx, self.loaded.model, record, "restored", self._now())
         return (cls, *items)
 
     def _restore_items(self, tx: Transaction, items: Sequence[NamedNode]) -> None:
         m = self.loaded.model
         for item in items:
-            trashed = m.trashed_items.pop(item)
+            trashed = m.trash.items.pop(item)
             own = list(self.transactions.reader.quads(item, None, None, TRASH))
             values = {q.predicate: q.object for q in own}
             persist.move(
@@ -734,7 +750,7 @@ class SceneMemory:
                 last_accessed=persist.parse_time(values[LAST_ACCESSED]),
                 pinned=persist.text(values.get(PINNED, Literal(False))) == "true",
             )
-            m.add_item(record)
+            m.items.add(record)
             history.record(tx, self.loaded.model, record, "restored", self._now())
 
 
@@ -751,7 +767,7 @@ def _settle_view_of(transactions: "weakref.ref[Transactions]") -> Callable[[], N
 def _new_class(model: MemoryModel, signature: Signature, now: dt.datetime) -> ClassRecord:
     """A class learned now from ``signature``, stored once, under the model's next number."""
     record = ClassRecord(
-        iri=persist.class_iri(model.next_class),
+        iri=persist.class_iri(model.state.next_class),
         signature=signature,
         store_count=1,
         retrieve_count=0,
@@ -759,5 +775,5 @@ def _new_class(model: MemoryModel, signature: Signature, now: dt.datetime) -> Cl
         created=now,
         last_accessed=now,
     )
-    model.next_class += 1
+    model.state.next_class += 1
     return record

@@ -58,7 +58,7 @@ def needed(store: Store, model: MemoryModel) -> bool:
     )
     if any(True for pattern in found for _ in store.quads(*pattern)):
         return True
-    return model.sleep_passes > 0 and not _levels_kept(store)
+    return model.state.sleep_passes > 0 and not _levels_kept(store)
 
 
 def migrate(tx: Transaction, store: Store, model: MemoryModel) -> None:
@@ -68,15 +68,15 @@ def migrate(tx: Transaction, store: Store, model: MemoryModel) -> None:
     whole); zero WEAK counts go; a class, or an experienced scene forgotten alone, in the trash
     from then gets the WEAK count and level that forgot it (a scene forgotten with its class
     keeps its own); each sleep pass's packed history events become its plain text."""
-    if not _levels_kept(store) and model.sleep_passes > 0:
+    if not _levels_kept(store) and model.state.sleep_passes > 0:
         with_class = {
             iri
-            for iri, t in model.trashed_items.items()
-            if t.cls in model.trashed_classes
-            and model.trashed_classes[t.cls].forgotten_at == t.forgotten_at
+            for iri, t in model.trash.items.items()
+            if t.cls in model.trash.classes
+            and model.trash.classes[t.cls].forgotten_at == t.forgotten_at
         }
-        alone = [i for i in model.trashed_items if i not in with_class]
-        for entry in sorted([*model.trashed_classes, *alone], key=str):
+        alone = [i for i in model.trash.items if i not in with_class]
+        for entry in sorted([*model.trash.classes, *alone], key=str):
             count = next(store.quads(entry, CONSECUTIVE_WEAK_COUNT, None, TRASH), None)
             before = int(persist.text(count.object)) if count is not None else 0
             tx.delete_matching(entry, CONSECUTIVE_WEAK_COUNT, None, graph=TRASH)
@@ -86,13 +86,13 @@ def migrate(tx: Transaction, store: Store, model: MemoryModel) -> None:
     for graph in (MEMORY, EPISODIC):
         tx.delete_matching(None, LEVEL, None, graph=graph)
         tx.delete_matching(None, CONSECUTIVE_WEAK_COUNT, Literal(0), graph=graph)
-    if model.sleep_passes > 0:
+    if model.state.sleep_passes > 0:
         persist.write_levels(tx, model)
     if any(True for _ in store.quads(None, SCORE_TERMS, None, MEMORY)):
         tx.delete_matching(None, SCORE_TERMS, None, graph=MEMORY)
-        for record in model.classes.values():
+        for record in model.graph.classes.values():
             record.written_z = None
-        model.unwritten.update(model.classes)
+        model.scores.unwritten.update(model.graph.classes)
     for quad in store.quads(None, HISTORY_PASS_ENTRIES, None, HISTORY):
         entries = history._unpack(quad.object)
         if entries:

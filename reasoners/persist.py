@@ -99,14 +99,9 @@ from ontologies.vocab import (
 from reasoners.batch import QuadReader
 from reasoners.encode import Relation
 from reasoners.labels import label
-from reasoners.model import (
-    SCALE,
-    ClassRecord,
-    ItemRecord,
-    MemoryModel,
-    TrashedClass,
-    TrashedItem,
-)
+from reasoners.model import MemoryModel
+from reasoners.records import ClassRecord, ItemRecord, TrashedClass, TrashedItem
+from reasoners.score_table import SCALE
 from reasoners.signature import Key, Signature
 
 __all__ = [
@@ -390,7 +385,7 @@ def load_model(
         key = (values[OWL_ON_PROPERTY][0], values[OWL_ON_CLASS][0])
         restrictions[node.value] = (key, int(values[OWL_MIN_QUALIFIED_CARDINALITY][0].value))  # type: ignore[assignment]
         if is_restriction(node):
-            model.stored_restrictions.add(restrictions[node.value])
+            model.graph.stored_restrictions.add(restrictions[node.value])
     rows = _rows_by_subject(store.select("memory_load_classes", g=MEMORY), "class")
     definitions: dict[NamedNode, list[str]] = {}
     if any(CLASS_SIGNATURE not in values for values in rows.values()):
@@ -431,20 +426,20 @@ def load_model(
     state: dict[NamedNode, list[Term]] = defaultdict(list)
     for quad in store.quads(MEMORY_STATE_INDIVIDUAL, None, None, MEMORY):
         state[quad.predicate].append(quad.object)  # type: ignore[arg-type]
-    model.has_state = bool(state)
+    model.state.has_state = bool(state)
     if LAST_SLEEP_AT in state:
-        model.last_sleep_at = parse_time(state[LAST_SLEEP_AT][0])
-    model.updates_since_sleep = _int(state, UPDATES_SINCE_SLEEP)
-    model.sleep_passes = _int(state, SLEEP_PASS_COUNT)
+        model.state.last_sleep_at = parse_time(state[LAST_SLEEP_AT][0])
+    model.state.updates_since_sleep = _int(state, UPDATES_SINCE_SLEEP)
+    model.state.sleep_passes = _int(state, SLEEP_PASS_COUNT)
     view = (*SCORE_FACTORS, MAX_RAW_SCORE)
     if all(len(state.get(prop, ())) == 1 for prop in view):
-        model.written_factors = tuple(float(state[prop][0].value) for prop in view)  # type: ignore[assignment]
+        model.scores.written_factors = tuple(float(state[prop][0].value) for prop in view)  # type: ignore[assignment]
     levels = read_levels(state.get(SLEEP_LEVELS, ()))
 
     items = store.select("memory_load_items", g=EPISODIC)
     for subject, values in _rows_by_subject(items, "item").items():
-        cls = next(t for t in values[RDF_TYPE] if t in model.classes)
-        model.add_item(
+        cls = next(t for t in values[RDF_TYPE] if t in model.graph.classes)
+        model.items.add(
             ItemRecord(
                 iri=subject,
                 cls=cls,  # type: ignore[arg-type]
@@ -457,13 +452,13 @@ def load_model(
             )
         )
     for iri, level in levels.items():
-        record_ = model.classes.get(iri) or model.items.get(iri)
+        record_ = model.graph.classes.get(iri) or model.items.records.get(iri)
         if record_ is not None:
             record_.level = level
     trash = _rows_by_subject(store.select("memory_load_trash", g=TRASH), "subject")
     for subject, values in trash.items():
         if TRASH_CLASS in values[_KIND]:
-            model.trashed_classes[subject] = TrashedClass(
+            model.trash.classes[subject] = TrashedClass(
                 subject,
                 Signature.from_json(_one(values, FORGOTTEN_SIGNATURE).value),
                 parse_time(_one(values, FORGOTTEN_AT)),
@@ -472,15 +467,17 @@ def load_model(
             cls = next(
                 t for t in values[RDF_TYPE] if t not in (EXPERIENCED_SCENE, OWL_NAMED_INDIVIDUAL)
             )
-            model.trashed_items[subject] = TrashedItem(
+            model.trash.items[subject] = TrashedItem(
                 subject,
                 cls,  # type: ignore[arg-type]
                 parse_time(_one(values, FORGOTTEN_AT)),
             )
-    model.next_class = 1 + max(
-        (_number(c) for c in [*model.classes, *model.trashed_classes]), default=0
+    model.state.next_class = 1 + max(
+        (_number(c) for c in [*model.graph.classes, *model.trash.classes]), default=0
     )
-    model.next_item = 1 + max((_number(i) for i in [*model.items, *model.trashed_items]), default=0)
+    model.state.next_item = 1 + max(
+        (_number(i) for i in [*model.items.records, *model.trash.items]), default=0
+    )
     return model
 
 
@@ -488,15 +485,15 @@ def write_state(tx: Transaction, model: MemoryModel, previous: MemoryModel | Non
     """Replace the memory-state individual's three counters (the score view's values on it
     are :func:`write_view`'s)."""
     node = MEMORY_STATE_INDIVIDUAL
-    model.has_state = True
+    model.state.has_state = True
     for prop in (UPDATES_SINCE_SLEEP, SLEEP_PASS_COUNT, LAST_SLEEP_AT):
         tx.delete_matching(node, prop, None, graph=MEMORY)
     tx.insert(node, RDF_TYPE, OWL_NAMED_INDIVIDUAL, MEMORY)
     tx.insert(node, RDF_TYPE, MEMORY_STATE, MEMORY)
-    tx.insert(node, UPDATES_SINCE_SLEEP, Literal(model.updates_since_sleep), MEMORY)
-    tx.insert(node, SLEEP_PASS_COUNT, Literal(model.sleep_passes), MEMORY)
-    if model.last_sleep_at is not None:
-        tx.insert(node, LAST_SLEEP_AT, time_literal(model.last_sleep_at), MEMORY)
+    tx.insert(node, UPDATES_SINCE_SLEEP, Literal(model.state.updates_since_sleep), MEMORY)
+    tx.insert(node, SLEEP_PASS_COUNT, Literal(model.state.sleep_passes), MEMORY)
+    if model.state.last_sleep_at is not None:
+        tx.insert(node, LAST_SLEEP_AT, time_literal(model.state.last_sleep_at), MEMORY)
 
 
 def term_literal(z: int) -> Literal:
@@ -510,7 +507,7 @@ def levels_literal(model: MemoryModel) -> Literal:
     :data:`~ontologies.vocab.SLEEP_LEVELS` holds it ("<level> <IRI>" lines, zlib + base64)."""
     lines = [
         f"{record.level} {iri.value}"
-        for records in (model.classes, model.items)
+        for records in (model.graph.classes, model.items.records)
         for iri, record in records.items()
         if record.level is not None
     ]
@@ -549,10 +546,10 @@ def write_view(tx: Transaction, model: MemoryModel, policy: NamedNode) -> int:
     maximum rewrites the four values on the memory state, not the classes; a change of a class's
     Z rewrites the terms that changed, not the others.
     """
-    model.refresh()
+    model.scores.refresh()
     rewritten = 0
-    classes = model.classes
-    for iri in sorted(model.unwritten, key=_iri_text):
+    classes = model.graph.classes
+    for iri in sorted(model.scores.unwritten, key=_iri_text):
         record = classes.get(iri)
         if record is None or record.written_z == record.z:
             continue
@@ -564,11 +561,13 @@ def write_view(tx: Transaction, model: MemoryModel, policy: NamedNode) -> int:
                 set_value(tx, iri, prop, term_literal(old[x]), term_literal(new[x]), MEMORY)
         record.written_z = new
         rewritten += 1
-    model.unwritten.clear()
+    model.scores.unwritten.clear()
     node = MEMORY_STATE_INDIVIDUAL
-    factors = (*model.coefficients(), model.max_score)
-    if factors != model.written_factors and (model.classes or model.written_factors is not None):
-        old_factors = model.written_factors
+    factors = (*model.scores.coefficients(), model.scores.max_score)
+    if factors != model.scores.written_factors and (
+        model.graph.classes or model.scores.written_factors is not None
+    ):
+        old_factors = model.scores.written_factors
         if old_factors is None:
             tx.insert(node, RDF_TYPE, OWL_NAMED_INDIVIDUAL, MEMORY)
             tx.insert(node, RDF_TYPE, MEMORY_STATE, MEMORY)
@@ -580,7 +579,7 @@ def write_view(tx: Transaction, model: MemoryModel, policy: NamedNode) -> int:
                 tx.insert(node, prop, Literal(factors[x]), MEMORY)
             elif old_factors[x] != factors[x]:
                 set_value(tx, node, prop, Literal(old_factors[x]), Literal(factors[x]), MEMORY)
-        model.written_factors = factors
+        model.scores.written_factors = factors
     return rewritten
 
 

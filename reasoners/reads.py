@@ -28,8 +28,9 @@ from reasoners import forgetting
 from reasoners.clock import Clock, read_clock
 from reasoners.errors import UnknownItemError
 from reasoners.loading import LoadedModel
-from reasoners.model import ClassRecord, MemoryModel
+from reasoners.model import MemoryModel
 from reasoners.policy import Policy
+from reasoners.records import ClassRecord
 from reasoners.results import ClassSummary, ItemScores, Match, Recognition, ScoreTerms, TrashEntry
 from reasoners.score_view import ScoreView
 from reasoners.signature import Signature
@@ -45,8 +46,8 @@ thousands of them in every update."""
 def recognitions_in(model: MemoryModel, signature: Signature) -> list[Recognition]:
     """The classes of ``model`` that ``signature`` belongs to: most complex (most confident)
     first, then most stored, then by IRI."""
-    classes, d = model.classes, signature.complexity
-    records = [classes[cls] for cls in model.index.recognised(signature)]
+    classes, d = model.graph.classes, signature.complexity
+    records = [classes[cls] for cls in model.graph.index.recognised(signature)]
     # two stable sorts on keys read in C (last key first): most complex, then most stored
     # (reverse keeps the order of equals), then by IRI
     records.sort(key=_BY_IRI)
@@ -56,7 +57,7 @@ def recognitions_in(model: MemoryModel, signature: Signature) -> list[Recognitio
 
 def unknown_item(model: MemoryModel, iri: NamedNode) -> UnknownItemError:
     """The error for an IRI that is not a live class or experienced scene of ``model``."""
-    if iri in model.trashed_classes or iri in model.trashed_items:
+    if iri in model.trash.classes or iri in model.trash.items:
         return UnknownItemError(f"iri: {iri.value} is in the trash; restore it first")
     return UnknownItemError(
         f"iri: got {iri.value!r}, expected a learned scene class or an experienced scene"
@@ -76,7 +77,7 @@ class MemoryReads:
     def _live(self, iri: NamedNode) -> ClassRecord:
         """The record of a live class (the caller holds the lock); UnknownItemError otherwise."""
         m = self._loaded.model
-        record = m.classes.get(iri)
+        record = m.graph.classes.get(iri)
         if record is None:
             raise unknown_item(m, iri)
         return record
@@ -91,31 +92,33 @@ class MemoryReads:
         Raises :class:`~reasoners.errors.UnknownItemError` for an IRI that is not live."""
         with self._loaded.lock:
             m, p = self._loaded.model, self._policy
-            if iri in m.classes:
-                return self._view.class_scores(m.classes[iri])
-            if iri not in m.items:
+            if iri in m.graph.classes:
+                return self._view.class_scores(m.graph.classes[iri])
+            if iri not in m.items.records:
                 raise unknown_item(m, iri)
-            now, record = self.now(), m.items[iri]
+            now, record = self.now(), m.items.records[iri]
             raw = forgetting.item_raw(m, p, record, now)
-            top = max((forgetting.item_raw(m, p, r, now) for r in m.items.values()), default=0.0)
+            top = max(
+                (forgetting.item_raw(m, p, r, now) for r in m.items.records.values()), default=0.0
+            )
             return self._view.scores(record, raw, top)
 
     def classes(self) -> list[ClassSummary]:
         """Every live learned class with its signature, direct edges and scores, simplest first."""
         with self._loaded.lock:
             m = self._loaded.model
-            zetas, top = m.zetas(), m.max_score
+            zetas, top = m.scores.zetas(), m.scores.max_score
             return [
                 ClassSummary(
                     iri=record.iri,
                     signature=record.signature,
-                    parents=tuple(sorted(m.parents[record.iri], key=str)),
-                    children=tuple(sorted(m.children[record.iri], key=str)),
-                    items=len(m.items_of.get(record.iri, ())),
+                    parents=tuple(sorted(m.graph.parents[record.iri], key=str)),
+                    children=tuple(sorted(m.graph.children[record.iri], key=str)),
+                    items=len(m.items.items_of.get(record.iri, ())),
                     scores=self._view.class_scores(record, (zetas[record.iri], top)),
                 )
                 for record in sorted(
-                    m.classes.values(), key=lambda r: (r.signature.complexity, r.iri.value)
+                    m.graph.classes.values(), key=lambda r: (r.signature.complexity, r.iri.value)
                 )
             ]
 
@@ -124,21 +127,21 @@ class MemoryReads:
         (class, ζ), best first, ties by IRI)."""
         with self._loaded.lock:
             m = self._loaded.model
-            zetas = m.zetas()
+            zetas = m.scores.zetas()
             top = heapq.nsmallest(best, zetas.items(), key=lambda kv: (-kv[1], kv[0].value))
-            return len(m.classes), len(m.items), top
+            return len(m.graph.classes), len(m.items.records), top
 
     def items(self) -> list[NamedNode]:
         """Every live experienced scene, oldest first."""
         with self._loaded.lock:
-            items = self._loaded.model.items
+            items = self._loaded.model.items.records
             return sorted(items, key=lambda i: items[i].created)
 
     def trash(self) -> list[NamedNode]:
         """Everything in the trash that :meth:`~reasoners.memory.SceneMemory.restore` accepts."""
         with self._loaded.lock:
             m = self._loaded.model
-            return [*m.trashed_classes, *m.trashed_items]
+            return [*m.trash.classes, *m.trash.items]
 
     def signature(self, iri: NamedNode) -> Signature:
         """The signature of a live class. Raises UnknownItemError otherwise."""
@@ -153,26 +156,26 @@ class MemoryReads:
             m = self._loaded.model
             self._live(iri)
             return (
-                tuple(sorted(m.parents[iri], key=str)),
-                tuple(sorted(m.children[iri], key=str)),
+                tuple(sorted(m.graph.parents[iri], key=str)),
+                tuple(sorted(m.graph.children[iri], key=str)),
             )
 
     def score_terms(self, iri: NamedNode) -> ScoreTerms:
         """The terms ζ of a live class adds up now (raises UnknownItemError otherwise)."""
         with self._loaded.lock:
             m, record = self._loaded.model, self._live(iri)
-            children = sorted(m.children[iri], key=str)
+            children = sorted(m.graph.children[iri], key=str)
             return ScoreTerms(
                 complexity=record.signature.complexity,
-                max_complexity=m.max_complexity,
+                max_complexity=m.scores.max_complexity,
                 store_count=record.store_count,
-                max_store=m.max_store,
+                max_store=m.scores.max_store,
                 retrieve_count=record.retrieve_count,
-                max_retrieve=m.max_retrieve,
-                children_zeta=tuple(m.zeta(m.classes[c]) for c in children),
-                weights=m.weights,
-                zeta=m.zeta(record),
-                max_zeta=m.max_score,
+                max_retrieve=m.scores.max_retrieve,
+                children_zeta=tuple(m.scores.zeta(m.graph.classes[c]) for c in children),
+                weights=m.scores.weights,
+                zeta=m.scores.zeta(record),
+                max_zeta=m.scores.max_score,
             )
 
     def recognitions(self, signature: Signature) -> list[Recognition]:
@@ -183,18 +186,18 @@ class MemoryReads:
     def closest(self, signature: Signature, limit: int = 5) -> list[Match]:
         """The ``limit`` live classes most similar to a signature, best first."""
         with self._loaded.lock:
-            similar = self._loaded.model.index.most_similar(signature, limit)
+            similar = self._loaded.model.graph.index.most_similar(signature, limit)
             return [Match(c, s) for c, s in similar]
 
     def trashed(self, iri: NamedNode) -> TrashEntry | None:
         """What the trash holds under ``iri``, or None."""
         with self._loaded.lock:
             m = self._loaded.model
-            if iri in m.trashed_classes:
-                c = m.trashed_classes[iri]
+            if iri in m.trash.classes:
+                c = m.trash.classes[iri]
                 return TrashEntry(iri, "class", c.forgotten_at, signature=c.signature)
-            if iri in m.trashed_items:
-                i = m.trashed_items[iri]
+            if iri in m.trash.items:
+                i = m.trash.items[iri]
                 return TrashEntry(iri, "item", i.forgotten_at, cls=i.cls)
             return None
 
@@ -205,19 +208,19 @@ class MemoryReads:
         with self._loaded.lock:
             m = self._loaded.model
             return {
-                "classes": len(m.classes),
-                "items": len(m.items),
-                "complexity": m.max_complexity,
-                "item_complexity": m.max_item_complexity,
-                "store": m.max_store,
-                "retrieve": m.max_retrieve,
+                "classes": len(m.graph.classes),
+                "items": len(m.items.records),
+                "complexity": m.scores.max_complexity,
+                "item_complexity": m.items.max_complexity,
+                "store": m.scores.max_store,
+                "retrieve": m.scores.max_retrieve,
             }
 
     def best(self, count: int = 3) -> list[tuple[NamedNode, float]]:
         """The ``count`` live classes of largest live raw score ζ as (class, ζ), best first,
         ties by IRI (as :meth:`state`, without a pass over every class in Python)."""
         with self._loaded.lock:
-            return self._loaded.model.top(count)
+            return self._loaded.model.scores.top(count)
 
     def learned_at(self, cls: NamedNode) -> dt.datetime:
         """When a live class was learned (raises UnknownItemError otherwise)."""
@@ -230,16 +233,16 @@ class MemoryReads:
         with self._loaded.lock:
             m = self._loaded.model
             return sorted(
-                ((i, m.items[i].created) for i in m.items_of.get(cls, ())),
+                ((i, m.items.records[i].created) for i in m.items.items_of.get(cls, ())),
                 key=lambda pair: (pair[1], pair[0].value),
             )
 
     def items_of(self, cls: NamedNode) -> list[NamedNode]:
         """The live experienced scenes stored as ``cls``, sorted by IRI."""
         with self._loaded.lock:
-            return sorted(self._loaded.model.items_of.get(cls, ()), key=str)
+            return sorted(self._loaded.model.items.items_of.get(cls, ()), key=str)
 
     def live_class(self, signature: Signature) -> NamedNode | None:
         """The live class learned with exactly this signature, or None."""
         with self._loaded.lock:
-            return self._loaded.model.index.with_signature(signature)
+            return self._loaded.model.graph.index.with_signature(signature)

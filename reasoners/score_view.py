@@ -29,8 +29,8 @@ from ontologies.vocab import (
 )
 from reasoners import migration, persist
 from reasoners.loading import LoadedModel
-from reasoners.model import ClassRecord, ItemRecord
 from reasoners.policy import Policy
+from reasoners.records import ClassRecord, ItemRecord
 from reasoners.results import ItemScores
 from reasoners.scoring import level_of
 
@@ -79,12 +79,15 @@ class ScoreView:
             for _ in store.quads(None, prop, None, graph)
         )
         migrate = migration.needed(store, m)
-        factors_stale = bool(m.classes) and m.written_factors != (*m.coefficients(), m.max_score)
+        factors_stale = bool(m.graph.classes) and m.scores.written_factors != (
+            *m.scores.coefficients(),
+            m.scores.max_score,
+        )
         unlabelled: list[ClassRecord] = []
         if self.loaded.source != "index file":  # a file is saved only by a repaired memory
             named = {q.subject for q in store.quads(None, SKOS_NOTATION, None, MEMORY)}
-            unlabelled = [record for cls, record in m.classes.items() if cls not in named]
-        if not (legacy or migrate or m.unwritten or factors_stale or unlabelled):
+            unlabelled = [record for cls, record in m.graph.classes.items() if cls not in named]
+        if not (legacy or migrate or m.scores.unwritten or factors_stale or unlabelled):
             return None
         return Repair(legacy, migrate, factors_stale, tuple(unlabelled))
 
@@ -93,7 +96,7 @@ class ScoreView:
         replaced; migrate a store written before the data model stored only what cannot be
         derived (:mod:`reasoners.migration`). ``tx`` writes the whole view too."""
         m = self.loaded.model
-        for record in m.classes.values():  # terms missing, partial or damaged: rewritten
+        for record in m.graph.classes.values():  # terms missing, partial or damaged: rewritten
             if record.written_z is None:
                 for prop in SCORE_TERM_PROPERTIES:
                     tx.delete_matching(record.iri, prop, None, graph=MEMORY)
@@ -107,7 +110,7 @@ class ScoreView:
             tx.delete_matching(None, LEGACY_LEVEL, None, graph=MEMORY)
             tx.delete_matching(None, LEGACY_LEVEL, None, graph=EPISODIC)
         if repair.factors_stale:
-            m.written_factors = None  # rewritten whole
+            m.scores.written_factors = None  # rewritten whole
 
     def rescore(
         self,
@@ -121,21 +124,23 @@ class ScoreView:
         terms it rewrites anyway) is brought up to date; ``fresh`` classes are written whole
         later. Nothing else is rewritten: every other class's stored ζ is refreshed by the next
         sleep pass. Only the classes at least as complex as these are re-derived here (that is
-        all their ζ depend on); their ancestors may be left to :meth:`MemoryModel.refresh`."""
+        all their ζ depend on); their ancestors may be left to :meth:`ScoreTable.refresh`."""
         m = self.loaded.model
-        m.refresh(
-            down_to=min((m.classes[c].signature.complexity for c in classes | fresh), default=0)
+        m.scores.refresh(
+            down_to=min(
+                (m.graph.classes[c].signature.complexity for c in classes | fresh), default=0
+            )
         )
         for cls in classes - fresh:
-            self._write_score(tx, m.classes[cls])
+            self._write_score(tx, m.graph.classes[cls])
         for cls in fresh:
-            m.classes[cls].score = m.zeta(m.classes[cls])
-            m.scored.pop(cls, None)
+            m.graph.classes[cls].score = m.scores.zeta(m.graph.classes[cls])
+            m.scores.scored.pop(cls, None)
 
     def _write_score(self, tx: Transaction, record: ClassRecord) -> None:
         m = self.loaded.model
-        new = m.zeta(record)
-        m.scored.pop(record.iri, None)
+        new = m.scores.zeta(record)
+        m.scores.scored.pop(record.iri, None)
         if new != record.score:
             persist.set_value(tx, record.iri, SCORE, Literal(record.score), Literal(new), MEMORY)
             record.score = new
@@ -145,7 +150,7 @@ class ScoreView:
     ) -> ItemScores:
         """A class's scores; ``live`` is its (ζ, largest ζ) when the caller has them already."""
         m = self.loaded.model
-        zeta, top = live if live is not None else (m.zeta(record), m.max_score)
+        zeta, top = live if live is not None else (m.scores.zeta(record), m.scores.max_score)
         return self.scores(record, zeta, top)
 
     def scores(self, record: ClassRecord | ItemRecord, raw: float, top: float) -> ItemScores:
@@ -156,7 +161,7 @@ class ScoreView:
         if isinstance(record, ClassRecord):
             kind, counts, complexity, cls = "class", record, record.signature.complexity, None
         else:
-            counts, cls = self.loaded.model.classes[record.cls], record.cls
+            counts, cls = self.loaded.model.graph.classes[record.cls], record.cls
             kind, complexity = "item", record.complexity
         return ItemScores(
             iri=record.iri,

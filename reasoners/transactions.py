@@ -79,7 +79,7 @@ class Transactions:
                 if view:
                     self.view.write(self._batch)
                 return
-            alongside = loaded.model.refresh if refresh_alongside else None
+            alongside = loaded.model.scores.refresh if refresh_alongside else None
             revision = index_file.new_revision()
             try:
                 with self.store.transaction(alongside=alongside) as tx:
@@ -107,8 +107,8 @@ class Transactions:
 
     def _read_history_epoch(self) -> None:
         model = self.loaded.model
-        if model.history_epoch is None:  # a model just loaded or rebuilt
-            model.history_epoch = history.current_epoch(self.reader)
+        if model.state.history_epoch is None:  # a model just loaded or rebuilt
+            model.state.history_epoch = history.current_epoch(self.reader)
 
     @contextmanager
     def batch(self) -> Iterator[PendingWrites]:

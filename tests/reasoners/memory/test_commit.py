@@ -98,9 +98,9 @@ def test_the_periodic_sleep_pass_follows_an_update_only_when_asked(memory: Scene
     every = memory.policy.sleepEveryUpdates
     scenes = [StoreScene(worked_example())] * every
     memory.commit(scenes)
-    assert memory.loaded.model.sleep_passes == 0
+    assert memory.loaded.model.state.sleep_passes == 0
     memory.commit(scenes[:1], sleep_if_due=True)
-    assert memory.loaded.model.sleep_passes == 1
+    assert memory.loaded.model.state.sleep_passes == 1
 
 
 def test_the_scene_memory_never_imports_the_api() -> None:

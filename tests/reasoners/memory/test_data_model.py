@@ -29,7 +29,7 @@ from ontologies.vocab import (
 from reasoners import history, persist
 from reasoners.explain import explain_forgetting
 from reasoners.memory import SceneMemory
-from reasoners.model import SCALE
+from reasoners.score_table import SCALE
 
 from .conftest import FakeClock, random_scene
 from .test_forgetting import BIG, SMALL
@@ -142,19 +142,19 @@ def to_old_layout(memory: SceneMemory) -> None:
     store, m = memory.store, memory.loaded.model
     with store.transaction() as tx:
         tx.delete_matching(MEMORY_STATE_INDIVIDUAL, SLEEP_LEVELS, None, graph=MEMORY)
-        for records, graph in ((m.classes, MEMORY), (m.items, EPISODIC)):
+        for records, graph in ((m.graph.classes, MEMORY), (m.items.records, EPISODIC)):
             for iri, record in records.items():  # type: ignore[attr-defined]
                 if record.level is not None:
                     tx.insert(iri, LEVEL, Literal(record.level), graph)
                 if not record.weak_count:
                     tx.insert(iri, CONSECUTIVE_WEAK_COUNT, Literal(0), graph)
-        for cls, record in m.classes.items():
+        for cls, record in m.graph.classes.items():
             for prop in SCORE_TERM_PROPERTIES:
                 tx.delete_matching(cls, prop, None, graph=MEMORY)
             packed = " ".join(repr(z / SCALE) for z in record.z)
             tx.insert(cls, SCORE_TERMS, Literal(packed), MEMORY)
-        alone = [i for i, t in m.trashed_items.items() if t.cls not in m.trashed_classes]
-        for entry in [*m.trashed_classes, *alone]:
+        alone = [i for i, t in m.trash.items.items() if t.cls not in m.trash.classes]
+        for entry in [*m.trash.classes, *alone]:
             [count] = store.quads(entry, CONSECUTIVE_WEAK_COUNT, None, TRASH)
             tx.delete(entry, CONSECUTIVE_WEAK_COUNT, count.object, TRASH)  # type: ignore[arg-type]
             before = int(count.object.value) - 1

@@ -1,6 +1,7 @@
 """Reopening reads back exactly the model the writing process held (``persist.load_model``)."""
 
 import random
+from operator import attrgetter
 from pathlib import Path
 
 from kg import Store
@@ -15,25 +16,25 @@ from .conftest import FakeClock, plane, random_scene, sphere, worked_example
 BIG = [sphere("ball", 0.0, 0.0, 0.3), plane("table", 0.2, 0.2, 0.0), sphere("o", 0.4, 0.4, 0.3)]
 SMALL = [sphere("a", 0.0, 0.9, 0.9), sphere("b", 0.5, 0.9, 0.9)]
 FIELDS = [
-    "classes",
-    "parents",
-    "children",
-    "items",
-    "items_of",
-    "trashed_classes",
-    "trashed_items",
-    "complexities",
-    "item_complexities",
-    "store_counts",
-    "retrieve_counts",
-    "restrictions",
-    "stored_restrictions",
-    "next_class",
-    "next_item",
-    "last_sleep_at",
-    "updates_since_sleep",
-    "sleep_passes",
-    "has_state",
+    "graph.classes",
+    "graph.parents",
+    "graph.children",
+    "items.records",
+    "items.items_of",
+    "trash.classes",
+    "trash.items",
+    "scores.complexities",
+    "items.complexities",
+    "scores.store_counts",
+    "scores.retrieve_counts",
+    "graph.restrictions",
+    "graph.stored_restrictions",
+    "state.next_class",
+    "state.next_item",
+    "state.last_sleep_at",
+    "state.updates_since_sleep",
+    "state.sleep_passes",
+    "state.has_state",
 ]
 
 
@@ -43,7 +44,7 @@ def model_of(memory: SceneMemory) -> MemoryModel:
 
 def assert_same_model(loaded: MemoryModel, built: MemoryModel) -> None:
     for name in FIELDS:
-        assert getattr(loaded, name) == getattr(built, name), name
+        assert attrgetter(name)(loaded) == attrgetter(name)(built), name
 
 
 def test_the_loaded_model_equals_the_one_built_in_the_same_process(
@@ -73,18 +74,18 @@ def test_the_loaded_model_equals_the_one_built_in_the_same_process(
     for _ in range(memory.policy.weakPassesToForget):
         memory.sleep()
     built = model_of(memory)
-    assert built.classes and built.items
-    assert built.trashed_classes and built.trashed_items  # the trash is read back too
-    assert any(len(r.signature) == 1 for r in built.classes.values())  # one-restriction class
-    assert any(len(r.signature) > 1 for r in built.classes.values())  # an intersection
-    assert any(built.parents.values()) and built.last_sleep_at is not None
-    assert any(r.pinned for r in built.classes.values())
-    assert any(r.pinned for r in built.items.values())
-    assert any(r.level is not None for r in built.items.values())
-    assert_same_model(persist.load_model(memory.store, built.weights), built)
+    assert built.graph.classes and built.items.records
+    assert built.trash.classes and built.trash.items  # the trash is read back too
+    assert any(len(r.signature) == 1 for r in built.graph.classes.values())  # one-restriction class
+    assert any(len(r.signature) > 1 for r in built.graph.classes.values())  # an intersection
+    assert any(built.graph.parents.values()) and built.state.last_sleep_at is not None
+    assert any(r.pinned for r in built.graph.classes.values())
+    assert any(r.pinned for r in built.items.records.values())
+    assert any(r.level is not None for r in built.items.records.values())
+    assert_same_model(persist.load_model(memory.store, built.scores.weights), built)
     del memory  # closes the store, which one process at a time may open
     reopened = Store(tmp_path / "store")
-    assert_same_model(persist.load_model(reopened, built.weights), built)
+    assert_same_model(persist.load_model(reopened, built.scores.weights), built)
     assert_same_model(model_of(SceneMemory(reopened, clock=clock)), built)
 
 
@@ -103,4 +104,4 @@ def test_classes_without_a_signature_annotation_are_read_from_their_definitions(
     with memory.store.transaction() as tx:
         tx.delete_matching(None, CLASS_SIGNATURE, None, graph=MEMORY)
     assert not list(memory.store.quads(None, CLASS_SIGNATURE, None, MEMORY))
-    assert_same_model(persist.load_model(memory.store, built.weights), built)
+    assert_same_model(persist.load_model(memory.store, built.scores.weights), built)

@@ -15,7 +15,8 @@ from ontologies.vocab import PRIMITIVE_LEAF_TYPES, engram
 from reasoners import persist
 from reasoners.errors import InvalidSceneError
 from reasoners.memory import SceneMemory
-from reasoners.model import ClassRecord, MemoryModel
+from reasoners.model import MemoryModel
+from reasoners.records import ClassRecord
 from reasoners.signature import Signature
 
 from .conftest import START, FakeClock, random_scene
@@ -129,7 +130,7 @@ def test_signature_to_owl_to_signature(counts: dict[tuple[NamedNode, NamedNode],
     with store.transaction() as tx:
         persist.write_class(tx, record)
     model = persist.load_model(store)
-    assert model.classes[engram("Scene-7")].signature == signature
+    assert model.graph.classes[engram("Scene-7")].signature == signature
     assert Signature.from_json(signature.to_json()) == signature
     # rows in any order read back to the same signature, its keys in IRI order
     rows = json.loads(signature.to_json())
@@ -164,26 +165,28 @@ def test_a_partial_refresh_makes_every_class_at_least_that_complex_current(
             for _ in range(rng.randint(1, 4))
         }
         signature = Signature(counts)
-        if model.index.with_signature(signature) is None:
-            model.add_class(
+        if model.graph.index.with_signature(signature) is None:
+            model.graph.add_class(
                 ClassRecord(engram(f"Scene-{number}"), signature, 1, 0, 0.0, START, START)
             )
-    model.refresh()
-    for record in rng.sample(list(model.classes.values()), k=min(6, len(model.classes))):
-        model.set_counts(
+    model.scores.refresh()
+    for record in rng.sample(
+        list(model.graph.classes.values()), k=min(6, len(model.graph.classes))
+    ):
+        model.scores.set_counts(
             record, store=record.store_count + rng.randint(1, 9), retrieve=rng.randint(0, 4)
         )
 
     scratch = MemoryModel()
     scratch.load(
-        [replace(r, z=(0, 0, 0), sums=[0, 0, 0]) for r in model.classes.values()],
-        [(child, parent) for child, parents in model.parents.items() for parent in parents],
+        [replace(r, z=(0, 0, 0), sums=[0, 0, 0]) for r in model.graph.classes.values()],
+        [(child, parent) for child, parents in model.graph.parents.items() for parent in parents],
     )
-    model.refresh(down_to=cut)
-    for cls, record in model.classes.items():
+    model.scores.refresh(down_to=cut)
+    for cls, record in model.graph.classes.items():
         if record.signature.complexity >= cut:
-            assert record.z == scratch.classes[cls].z, cls
-    model.refresh()
-    assert {c: r.z for c, r in model.classes.items()} == {
-        c: r.z for c, r in scratch.classes.items()
+            assert record.z == scratch.graph.classes[cls].z, cls
+    model.scores.refresh()
+    assert {c: r.z for c, r in model.graph.classes.items()} == {
+        c: r.z for c, r in scratch.graph.classes.items()
     }

@@ -121,7 +121,7 @@ def test_the_view_of_an_update_is_its_branch_written_before_the_next_read() -> N
     read: list[str] = []
     with memory.store.tracing(lambda kind, text, _: kind != "query" and read.append(text)):
         view = analyst_scores(memory.store)
-    branch = {result.stored_as} | memory.loaded.model.ancestors(result.stored_as)
+    branch = {result.stored_as} | memory.loaded.model.graph.ancestors(result.stored_as)
     rewritten = _terms_written(read)
     assert len(memory.reads.classes()) > len(branch) + 5
     assert rewritten and rewritten <= branch, "only the branch's terms are rewritten"
