@@ -99,7 +99,13 @@ from reasoners.operations import (
     StoreScene,
 )
 from reasoners.policy import Policy, load_policy
-from reasoners.reads import MemoryReads, recognitions_in, unknown_item
+from reasoners.reads import (
+    MemoryReads,
+    best_recognition,
+    ordered_recognitions,
+    recognitions_in,
+    unknown_item,
+)
 from reasoners.results import (
     Match,
     Recognition,
@@ -273,16 +279,26 @@ class SceneMemory:
             with self.transactions.write(refresh_alongside=True) as tx:
                 now = self._now()
                 m = self.loaded.model
-                recognised = recognitions_in(m, signature)
-                best = recognised[0] if recognised else None
+                classes = m.index.recognised(signature)
+                records = list(map(m.classes.__getitem__, classes))
+                best = best_recognition(records, signature.complexity)
                 confidence = best.confidence if best else 0.0
                 fresh: NamedNode | None = None
+                recognised: list[Recognition] = []
                 if best is not None and confidence >= self.policy.learnThreshold:
+                    recognised = ordered_recognitions(records, signature.complexity)
                     record = m.classes[best.cls]
                     self._count_use(tx, record, now, retrieved=False)
                 else:
+                    # the classes' order is the result's alone: it is taken while the store
+                    # writes (a learn changes no recognised class's complexity or store count)
+                    self.transactions.alongside(
+                        lambda: recognised.extend(
+                            ordered_recognitions(records, signature.complexity)
+                        )
+                    )
                     record = _new_class(m, signature, now)
-                    parents, children, removed = m.add_class(record, [r.cls for r in recognised])
+                    parents, children, removed = m.add_class(record, classes)
                     added = {(record.iri, p) for p in parents} | {(c, record.iri) for c in children}
                     persist.write_edges(tx, added, removed)
                     fresh = record.iri
@@ -299,7 +315,7 @@ class SceneMemory:
                 self.view.rescore(tx, {record.iri}, {fresh} if fresh else set())
                 if fresh is not None:
                     persist.write_class(tx, record, stored=m.stored_restrictions)
-                history.stored(tx, m, record, item.iri, recognised, now, fresh)
+                history.stored(tx, m, record, item.iri, best, now, fresh)
                 self._bump_update(tx)
             result = StoreResult(
                 scene_item=item.iri,

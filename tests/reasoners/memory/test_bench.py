@@ -45,6 +45,8 @@ def test_bench_quick_prints_a_row_per_size() -> None:
         ("learn", "median"),
         ("learn", "p99"),
         ("learn", "med/write"),
+        ("learn", "cpu"),
+        ("learn", "cpu/wcpu"),
         ("reinforce", "median"),
         ("sleep", "pass"),
         ("learn+slp", "median"),
@@ -54,7 +56,7 @@ def test_bench_quick_prints_a_row_per_size() -> None:
         if line[1] == "load":
             assert float(line[2]) >= 0, line
             continue
-        if line[2] == "med/write":
+        if line[2] in ("med/write", "cpu/wcpu"):
             assert float(line[3]) >= 1, line
         else:
             figure, write = float(line[3]), float(line[4])
