@@ -47,6 +47,7 @@ import logging
 import time
 import weakref
 from collections.abc import Callable, Sequence
+from operator import attrgetter
 
 from pyoxigraph import Literal, NamedNode
 
@@ -107,6 +108,7 @@ from reasoners.reads import (
     unknown_item,
 )
 from reasoners.results import (
+    ItemScores,
     Match,
     Recognition,
     RetrievalResult,
@@ -121,6 +123,8 @@ from reasoners.transactions import Transactions
 __all__ = ["Clock", "Cue", "SceneMemory"]
 
 log = logging.getLogger(__name__)
+
+_IRI_TEXT = attrgetter("value")
 
 
 def _utc_now() -> dt.datetime:
@@ -317,6 +321,18 @@ class SceneMemory:
                     persist.write_class(tx, record, stored=m.stored_restrictions)
                 history.stored(tx, m, record, item.iri, best, now, fresh)
                 self._bump_update(tx)
+                # the result's parents and scores read the model as this update leaves it,
+                # which it is by then: taken while the store writes
+                taken: list[tuple[tuple[NamedNode, ...], ItemScores]] = []
+                self.transactions.alongside(
+                    lambda: taken.append(
+                        (
+                            tuple(sorted(m.parents[record.iri], key=_IRI_TEXT)),
+                            self.view.class_scores(record),
+                        )
+                    )
+                )
+            ((placed_under, scores),) = taken
             result = StoreResult(
                 scene_item=item.iri,
                 stored_as=record.iri,
@@ -325,8 +341,8 @@ class SceneMemory:
                 confidence=confidence,
                 signature=signature,
                 relations=tuple(relations),
-                parents=tuple(sorted(m.parents[record.iri], key=lambda c: c.value)),
-                scores=self.view.class_scores(record),
+                parents=placed_under,
+                scores=scores,
             )
         log.info(
             "stored %s as %s (%s, confidence %.2f)",
