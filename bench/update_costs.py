@@ -6,7 +6,8 @@ novel 10-object scene is learned ``--updates`` times and a known one reinforced 
 each kind the medians of:
 
 - ``wall``, ``cpu``: the update's wall time and the process's CPU time (every thread);
-- ``recog``: recognition (the index's bitsets, then ordering every recognised class);
+- ``recog``: recognition (the index's bitsets, the best class, then ordering every recognised
+  class, which a learn does alongside the write);
 - ``rescore``: ``ScoreTable.refresh``, the exact re-derivation of the score terms of the
   touched class and of every ancestor (CPU of the calling thread, part of it alongside the
   write);
@@ -43,6 +44,7 @@ from scene_memory import SEED, WriteTimer, build, random_scene
 
 import reasoners.memory
 from kg import Store
+from reasoners.index import SignatureIndex
 from reasoners.memory import SceneMemory
 from reasoners.score_table import ScoreTable
 
@@ -76,7 +78,11 @@ class Meter:
 
 def run(size: int, args: argparse.Namespace, rng: random.Random) -> dict[str, object]:
     workdir = Path(tempfile.mkdtemp(prefix="engram-bench-"))
-    recog = Meter(reasoners.memory, "recognitions_in")
+    recog = [
+        Meter(SignatureIndex, "recognised"),
+        Meter(reasoners.memory, "best_recognition"),
+        Meter(reasoners.memory, "ordered_recognitions"),
+    ]
     rescore = Meter(ScoreTable, "refresh")
     try:
         build(workdir / "store", size, rng)
@@ -96,7 +102,7 @@ def run(size: int, args: argparse.Namespace, rng: random.Random) -> dict[str, ob
             profile = cProfile.Profile() if args.profile else None
             for _ in range(args.updates):
                 scene = random_scene(rng, 10) if kind == "learn" else known
-                recog.take(), rescore.take()
+                [meter.take() for meter in recog], rescore.take()
                 first = len(writes.times)
                 began, cpu = time.perf_counter(), time.process_time()
                 if profile is not None:
@@ -106,7 +112,7 @@ def run(size: int, args: argparse.Namespace, rng: random.Random) -> dict[str, ob
                     profile.disable()
                 table["wall"].append(1000 * (time.perf_counter() - began))
                 table["cpu"].append(1000 * (time.process_time() - cpu))
-                table["recog"].append(1000 * recog.take())
+                table["recog"].append(1000 * sum(meter.take() for meter in recog))
                 table["rescore"].append(1000 * rescore.take())
                 table["write"].append(1000 * sum(writes.times[first:]))
                 table["quads"].append(sum(writes.quads[first:]))
@@ -123,7 +129,8 @@ def run(size: int, args: argparse.Namespace, rng: random.Random) -> dict[str, ob
         gc.collect()
         return {"classes": classes, "rows": rows, "profiles": profiles}
     finally:
-        recog.remove()
+        for meter in recog:
+            meter.remove()
         rescore.remove()
         shutil.rmtree(workdir, ignore_errors=True)
 

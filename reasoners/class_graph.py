@@ -128,9 +128,17 @@ class ClassGraph:
                 removed.add((c, p))
         for c in children:
             self._link(c, cls)
+        # The new class's Z is zero until the refresh derives it, so linking it under its
+        # parents adds nothing to their sums: it raises their fan-in and queues them (a learn
+        # links a class under hundreds of parents).
+        classes, children_of, up = self.classes, self.children, record.up
+        self.parents[cls].update(parents)
         for p in parents:
-            self._link(cls, p)
-        self.scores.touch(record)
+            children_of[p].add(cls)
+            above = classes[p]
+            up.append(above)
+            above.fan_in += 1
+        self.scores.touch_below(parents, record)
         return parents, children, removed
 
     def remove_class(self, cls: NamedNode) -> set[tuple[NamedNode, NamedNode]]:

@@ -236,20 +236,20 @@ def stored(
     model: MemoryModel,
     record_: ClassRecord,
     scene: NamedNode,
-    recognised: Sequence[Recognition],
+    best: Recognition | None,
     at: dt.datetime,
     learned: NamedNode | None,
 ) -> None:
     """Record that ``scene`` was stored as the class of ``record_`` (``learned`` is the class
     when it was learned anew, None when reinforced), with the decision as PROV: the scene the
-    event used and the confidence of the best class it belonged to; for a new class, that best
-    class and the parents it was placed under (a reinforced class is itself the best class)."""
+    event used and the confidence of ``best``, the best class it belonged to (None: none); for
+    a new class, that best class and the parents it was placed under (a reinforced class is
+    itself the best class)."""
     kind = "learned" if learned is not None else "reinforced"
     event = _write(
         tx, model, record_.iri, kind, at, scene=False, score=record_.score, level=record_.level
     )
     tx.insert(event, PROV_USED, scene, HISTORY)
-    best = recognised[0] if recognised else None
     tx.insert(event, EVENT_CONFIDENCE, Literal(best.confidence if best else 0.0), HISTORY)
     if learned is not None:  # a reinforced class is itself the best match
         if best is not None:

@@ -47,6 +47,7 @@ import logging
 import time
 import weakref
 from collections.abc import Callable, Sequence
+from operator import attrgetter
 
 from pyoxigraph import Literal, NamedNode
 
@@ -99,9 +100,16 @@ from reasoners.operations import (
     StoreScene,
 )
 from reasoners.policy import Policy, load_policy
-from reasoners.reads import MemoryReads, recognitions_in, unknown_item
+from reasoners.reads import (
+    MemoryReads,
+    best_recognition,
+    ordered_recognitions,
+    recognitions_in,
+    unknown_item,
+)
 from reasoners.records import ClassRecord, ItemRecord
 from reasoners.results import (
+    ItemScores,
     Match,
     Recognition,
     RetrievalResult,
@@ -116,6 +124,8 @@ from reasoners.transactions import Transactions
 __all__ = ["Clock", "Cue", "SceneMemory"]
 
 log = logging.getLogger(__name__)
+
+_IRI_TEXT = attrgetter("value")
 
 
 def _utc_now() -> dt.datetime:
@@ -281,18 +291,26 @@ class SceneMemory:
             with self.transactions.write(refresh_alongside=True) as tx:
                 now = self._now()
                 m = self.loaded.model
-                recognised = recognitions_in(m, signature)
-                best = recognised[0] if recognised else None
+                classes = m.graph.index.recognised(signature)
+                records = list(map(m.graph.classes.__getitem__, classes))
+                best = best_recognition(records, signature.complexity)
                 confidence = best.confidence if best else 0.0
                 fresh: NamedNode | None = None
+                recognised: list[Recognition] = []
                 if best is not None and confidence >= self.policy.learnThreshold:
+                    recognised = ordered_recognitions(records, signature.complexity)
                     record = m.graph.classes[best.cls]
                     self._count_use(tx, record, now, retrieved=False)
                 else:
-                    record = _new_class(m, signature, now)
-                    parents, children, removed = m.graph.add_class(
-                        record, [r.cls for r in recognised]
+                    # the classes' order is the result's alone: it is taken while the store
+                    # writes (a learn changes no recognised class's complexity or store count)
+                    self.transactions.alongside(
+                        lambda: recognised.extend(
+                            ordered_recognitions(records, signature.complexity)
+                        )
                     )
+                    record = _new_class(m, signature, now)
+                    parents, children, removed = m.graph.add_class(record, classes)
                     added = {(record.iri, p) for p in parents} | {(c, record.iri) for c in children}
                     persist.write_edges(tx, added, removed)
                     fresh = record.iri
@@ -309,8 +327,20 @@ class SceneMemory:
                 self.view.rescore(tx, {record.iri}, {fresh} if fresh else set())
                 if fresh is not None:
                     persist.write_class(tx, record, stored=m.graph.stored_restrictions)
-                history.stored(tx, m, record, item.iri, recognised, now, fresh)
+                history.stored(tx, m, record, item.iri, best, now, fresh)
                 self._bump_update(tx)
+                # the result's parents and scores read the model as this update leaves it,
+                # which it is by then: taken while the store writes
+                taken: list[tuple[tuple[NamedNode, ...], ItemScores]] = []
+                self.transactions.alongside(
+                    lambda: taken.append(
+                        (
+                            tuple(sorted(m.graph.parents[record.iri], key=_IRI_TEXT)),
+                            self.view.class_scores(record),
+                        )
+                    )
+                )
+            ((placed_under, scores),) = taken
             result = StoreResult(
                 scene_item=item.iri,
                 stored_as=record.iri,
@@ -319,8 +349,8 @@ class SceneMemory:
                 confidence=confidence,
                 signature=signature,
                 relations=tuple(relations),
-                parents=tuple(sorted(m.graph.parents[record.iri], key=lambda c: c.value)),
-                scores=self.view.class_scores(record),
+                parents=placed_under,
+                scores=scores,
             )
         log.info(
             "stored %s as %s (%s, confidence %.2f)",

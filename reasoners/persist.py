@@ -32,13 +32,15 @@ Layout (DESIGN.md, "Store layout"):
 
 import base64
 import datetime as dt
+import functools
 import hashlib
 import re
+import uuid
 import zlib
 from collections import defaultdict
 from collections.abc import Iterable, Mapping, Sequence
 
-from pyoxigraph import BlankNode, Literal, NamedNode, Quad
+from pyoxigraph import Literal, NamedNode, Quad
 
 from kg.primitive import Primitive
 from kg.scene_triples import write_primitive
@@ -179,9 +181,11 @@ def set_value(
 # Classes -------------------------------------------------------------------------------------
 
 
+@functools.cache
 def restriction_iri(key: Key, n: int) -> NamedNode:
     """The skolem IRI of the restriction ``≥n p.T``: one node per restriction, shared by every
-    class that uses it (the export gives each use its own blank node again, as OWL 2 DL wants)."""
+    class that uses it (the export gives each use its own blank node again, as OWL 2 DL wants).
+    Kept once computed: a memory uses a few thousand restrictions, and a learn names ~100."""
     digest = hashlib.sha256(f"{key[0].value} {key[1].value} {n}".encode()).hexdigest()[:32]
     return NamedNode(f"{RESTRICTION_PREFIX}{digest}")
 
@@ -237,15 +241,15 @@ def write_class(
     if len(restrictions) == 1:  # OWL 2 has no one-operand intersection
         tx.insert(cls, OWL_EQUIVALENT_CLASS, restrictions[0], graph)
     else:
-        head: NamedNode | BlankNode = RDF_NIL
-        for node in reversed(restrictions):
-            cell = BlankNode()
-            tx.insert(cell, RDF_FIRST, node, graph)
-            tx.insert(cell, RDF_REST, head, graph)
-            head = cell
-        definition = BlankNode()
+        # the blank nodes of the definition and its list, as the skolem IRIs a transaction
+        # would give them, from one random name (a class's ~100 cells took one each)
+        definition = NamedNode(SKOLEM_PREFIX + uuid.uuid4().hex)
+        cells = [NamedNode(f"{definition.value}-{k}") for k in range(len(restrictions))]
+        for k, node in enumerate(restrictions):
+            tx.insert(cells[k], RDF_FIRST, node, graph)
+            tx.insert(cells[k], RDF_REST, cells[k + 1] if k + 1 < len(cells) else RDF_NIL, graph)
         tx.insert(definition, RDF_TYPE, OWL_CLASS, graph)
-        tx.insert(definition, OWL_INTERSECTION_OF, head, graph)
+        tx.insert(definition, OWL_INTERSECTION_OF, cells[0], graph)
         tx.insert(cls, OWL_EQUIVALENT_CLASS, definition, graph)
     for prop, value in class_annotations(record).items():
         tx.insert(cls, prop, value, graph)

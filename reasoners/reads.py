@@ -35,7 +35,13 @@ from reasoners.results import ClassSummary, ItemScores, Match, Recognition, Scor
 from reasoners.score_view import ScoreView
 from reasoners.signature import Signature
 
-__all__ = ["MemoryReads", "recognitions_in", "unknown_item"]
+__all__ = [
+    "MemoryReads",
+    "best_recognition",
+    "ordered_recognitions",
+    "recognitions_in",
+    "unknown_item",
+]
 
 _BY_IRI = attrgetter("iri.value")
 _BY_COMPLEXITY_AND_STORES = attrgetter("signature.complexity", "store_count")
@@ -46,13 +52,31 @@ thousands of them in every update."""
 def recognitions_in(model: MemoryModel, signature: Signature) -> list[Recognition]:
     """The classes of ``model`` that ``signature`` belongs to: most complex (most confident)
     first, then most stored, then by IRI."""
-    classes, d = model.graph.classes, signature.complexity
+    classes = model.graph.classes
     records = [classes[cls] for cls in model.graph.index.recognised(signature)]
+    return ordered_recognitions(records, signature.complexity)
+
+
+def ordered_recognitions(records: list[ClassRecord], complexity: int) -> list[Recognition]:
+    """:func:`recognitions_in` of a scene of ``complexity`` that belongs to the classes of
+    ``records`` (which this sorts in place)."""
     # two stable sorts on keys read in C (last key first): most complex, then most stored
     # (reverse keeps the order of equals), then by IRI
     records.sort(key=_BY_IRI)
     records.sort(key=_BY_COMPLEXITY_AND_STORES, reverse=True)
+    d = complexity
     return [Recognition(r.iri, r.signature.complexity / d, r.signature.complexity) for r in records]
+
+
+def best_recognition(records: list[ClassRecord], complexity: int) -> Recognition | None:
+    """The first of :func:`ordered_recognitions` (None for no records), without ordering the
+    others: a learn needs the rest only for its result, which is built while the store writes."""
+    if not records:
+        return None
+    key = _BY_COMPLEXITY_AND_STORES
+    top = key(max(records, key=key))
+    best = min((r for r in records if key(r) == top), key=_BY_IRI)
+    return Recognition(best.iri, best.signature.complexity / complexity, best.signature.complexity)
 
 
 def unknown_item(model: MemoryModel, iri: NamedNode) -> UnknownItemError:

@@ -25,6 +25,7 @@ import itertools
 import math
 import operator
 from collections import Counter
+from collections.abc import Iterable
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -257,6 +258,11 @@ class ScoreTable:
         """Queue a class whose own terms or children changed for the next refresh."""
         self._dirty.add(record.iri)
         self._dirty_top = max(self._dirty_top, record.signature.complexity)
+
+    def touch_below(self, classes: Iterable[NamedNode], record: ClassRecord) -> None:
+        """:meth:`touch` of ``record`` and of ``classes``, none of them more complex than it."""
+        self._dirty.update(classes)
+        self.touch(record)
 
     def set_row(self, cls: NamedNode, z: tuple[int, int, int]) -> None:
         """Set the score row of an indexed class."""

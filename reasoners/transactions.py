@@ -55,6 +55,8 @@ class Transactions:
         """How many of those the written view includes."""
         self._wanted = 0
         """The most a reader is waiting for: a writer writes the view before it lets go."""
+        self._later: list[Callable[[], object]] | None = None
+        """The work :meth:`alongside` left for the running transaction's write."""
 
     @contextmanager
     def write(
@@ -63,7 +65,8 @@ class Transactions:
         """One transaction; if anything fails, the model is rebuilt from the store.
 
         With ``refresh_alongside``, the model's pending re-scoring (the ancestors of what the
-        transaction touched) runs while the store applies the write, instead of before it.
+        transaction touched) runs while the store applies the write, instead of before it, and
+        so does the work given to :meth:`alongside` inside the block.
         The transaction writes the score view with ``view`` or on a shared server; otherwise
         the view is marked stale for :meth:`settle_view`. Inside a :meth:`batch`, the writes go
         to the batch instead, which its owner commits or rolls back.
@@ -79,8 +82,17 @@ class Transactions:
                 if view:
                     self.view.write(self._batch)
                 return
-            alongside = loaded.model.scores.refresh if refresh_alongside else None
+            alongside: Callable[[], None] | None = None
+            later: list[Callable[[], object]] = []
+            if refresh_alongside:
+
+                def alongside() -> None:
+                    loaded.model.scores.refresh()
+                    for work in later:
+                        work()
+
             revision = index_file.new_revision()
+            outer, self._later = self._later, later if refresh_alongside else None
             try:
                 with self.store.transaction(alongside=alongside) as tx:
                     writes = PendingWrites()
@@ -101,9 +113,20 @@ class Transactions:
                     loaded.rebuild()
                 raise
             finally:
-                self.reader = self.store
+                self.reader, self._later = self.store, outer
             if not view:
                 self._let_go()
+
+    def alongside(self, work: Callable[[], object]) -> None:
+        """Run ``work`` while the store applies the running transaction's write (a
+        :meth:`write` with ``refresh_alongside``), after the model's re-scoring; at once
+        anywhere else (inside a batch, whose owner commits later, or another transaction).
+        ``work`` must not feed the write: what it changes is not written. Its exceptions
+        propagate once the write has finished, which they do not undo."""
+        if self._later is None:
+            work()
+        else:
+            self._later.append(work)
 
     def _read_history_epoch(self) -> None:
         model = self.loaded.model

@@ -45,6 +45,8 @@ def test_bench_quick_prints_a_row_per_size() -> None:
         ("learn", "median"),
         ("learn", "p99"),
         ("learn", "med/write"),
+        ("learn", "cpu"),
+        ("learn", "cpu/wcpu"),
         ("reinforce", "median"),
         ("sleep", "pass"),
         ("learn+slp", "median"),
@@ -54,7 +56,7 @@ def test_bench_quick_prints_a_row_per_size() -> None:
         if line[1] == "load":
             assert float(line[2]) >= 0, line
             continue
-        if line[2] == "med/write":
+        if line[2] in ("med/write", "cpu/wcpu"):
             assert float(line[3]) >= 1, line
         else:
             figure, write = float(line[3]), float(line[4])
@@ -83,3 +85,41 @@ def test_update_costs_quick_prints_learn_and_reinforce_per_size() -> None:
         assert wall > 0 and cpu > 0 and write > 0 and quads > 0, row
         assert ancestors >= 1, row  # a reinforced scene is recognised as its class at least
     assert "learns at" in done.stdout and "reinforces at" in done.stdout
+
+
+def _bench(script: str, *args: str) -> str:
+    done = subprocess.run(
+        [sys.executable, str(BENCH.with_name(script)), *args],
+        capture_output=True,
+        text=True,
+        timeout=300,
+        check=True,
+        cwd=BENCH.parents[1],
+    )
+    return done.stdout
+
+
+def _figure(out: str, start: str) -> float:
+    line = next(text for line in out.splitlines() if (text := line.strip()).startswith(start))
+    return float(line[len(start) :].split()[0].rstrip("x,"))
+
+
+@pytest.mark.slow
+def test_learn_floor_quick_puts_the_floor_between_the_write_and_the_learn() -> None:
+    out = _bench("learn_floor.py", "--quick")
+    write = float(
+        out.split("write by one update (Engram): wall / CPU, ms")[1].split("/")[1].split()[0]
+    )
+    floor = _figure(out, "floor (that work + the update's CPU), ms")
+    learn_cpu = float(out.split("learn: wall / CPU (every thread), ms")[1].split("/")[1].split()[0])
+    assert 0 < write < floor < learn_cpu, out
+
+
+@pytest.mark.slow
+def test_learn_split_builds_once_and_splits_a_learn(tmp_path: Path) -> None:
+    _bench("learn_split.py", "build", "--size", "40", str(tmp_path))
+    assert (tmp_path / "store.memory-index").exists()
+    out = _bench("learn_split.py", "run", str(tmp_path), "--learns", "3")
+    serial = _figure(out, "serial CPU (outside the write's window)")
+    write = _figure(out, "store write, CPU (its thread)")
+    assert serial > 0 and write > 0, out

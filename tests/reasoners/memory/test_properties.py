@@ -16,6 +16,7 @@ from reasoners import persist
 from reasoners.errors import InvalidSceneError
 from reasoners.memory import SceneMemory
 from reasoners.model import MemoryModel
+from reasoners.reads import best_recognition, ordered_recognitions
 from reasoners.records import ClassRecord
 from reasoners.signature import Signature
 
@@ -190,3 +191,34 @@ def test_a_partial_refresh_makes_every_class_at_least_that_complex_current(
     assert {c: r.z for c, r in model.graph.classes.items()} == {
         c: r.z for c, r in scratch.graph.classes.items()
     }
+
+
+@given(
+    st.lists(
+        st.tuples(st.integers(1, 4), st.integers(0, 3), st.integers(1, 30)),
+        max_size=12,
+        unique_by=lambda t: t[2],
+    ),
+    st.integers(4, 9),
+)
+def test_the_best_recognition_is_the_first_of_the_ordered_ones(
+    classes: list[tuple[int, int, int]], complexity: int
+) -> None:
+    """What a learn decides on before the write is what the result, ordered alongside the
+    write, puts first: ties of complexity and store count go to the smaller IRI."""
+    leaf = PRIMITIVE_LEAF_TYPES[0]
+    records = [
+        ClassRecord(
+            engram(f"Scene-{number}"),
+            Signature({(engram(f"p{k}"), leaf): 1 for k in range(d)}),
+            stores,
+            0,
+            0.0,
+            START,
+            START,
+        )
+        for d, stores, number in classes
+    ]
+    best = best_recognition(list(records), complexity)
+    ordered = ordered_recognitions(list(records), complexity)
+    assert best == (ordered[0] if ordered else None)
