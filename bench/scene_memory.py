@@ -28,12 +28,16 @@ Run from the repository root::
     .venv/bin/python bench/scene_memory.py                  # 100, 1,000, 10,000 classes
     .venv/bin/python bench/scene_memory.py --quick          # tiny sizes, to exercise the script
     .venv/bin/python bench/scene_memory.py --sizes 100000 --no-hermit --updates 30
+    # build once, keep the built store; later runs start from a copy of it (step 1 skipped)
+    .venv/bin/python bench/scene_memory.py --sizes 100000 --no-hermit --keep /tmp/built
+    .venv/bin/python bench/scene_memory.py --sizes 100000 --no-hermit --from /tmp/built
 """
 
 import argparse
 import datetime as dt
 import gc
 import os
+import pickle
 import platform
 import random
 import shutil
@@ -250,11 +254,31 @@ def _learn_and_read(memory: SceneMemory, scene: list[Primitive]) -> None:
     memory.transactions.settle_view()  # what the store's next read does first
 
 
+def built(directory: Path, size: int) -> Path:
+    """Where ``--keep``/``--from`` keep the memory of ``size`` classes under ``directory``."""
+    return directory / f"{size}-classes"
+
+
+def prepare(store: Path, size: int, rng: random.Random, args: argparse.Namespace) -> None:
+    """The built store at ``store``: a copy of the one ``--from`` names when it has this size
+    (``rng`` then continues as after that build), else built now (and kept with ``--keep``)."""
+    if args.source is not None and (kept := built(args.source, size)).is_dir():
+        shutil.copytree(kept / "store", store)
+        rng.setstate(pickle.loads((kept / "rng.pickle").read_bytes()))
+        return
+    build(store, size, rng)
+    if args.keep is not None:
+        kept = built(args.keep, size)
+        shutil.rmtree(kept, ignore_errors=True)
+        shutil.copytree(store, kept / "store")
+        (kept / "rng.pickle").write_bytes(pickle.dumps(rng.getstate()))
+
+
 def run(size: int, args: argparse.Namespace, rng: random.Random) -> dict[str, object]:
     workdir = Path(tempfile.mkdtemp(prefix="engram-bench-"))
     try:
         began = time.perf_counter()
-        build(workdir / "store", size, rng)
+        prepare(workdir / "store", size, rng, args)
         store = Store(workdir / "store")
         memory = SceneMemory(store)
         build_s = time.perf_counter() - began
@@ -439,6 +463,20 @@ def main() -> None:
         "--hermit-objects", type=int, default=10, help="objects of the scene HermiT classifies"
     )
     parser.add_argument("--quick", action="store_true", help="sizes 20,60 and 10 repetitions")
+    parser.add_argument(
+        "--keep",
+        type=Path,
+        metavar="DIR",
+        help="keep each built store (before the memory opens it) under DIR/<size>-classes",
+    )
+    parser.add_argument(
+        "--from",
+        dest="source",
+        type=Path,
+        metavar="DIR",
+        help="start from a copy of the store --keep kept under DIR for each size it has "
+        "(the build is skipped; 'build s' is then the copy's time); the same scenes follow",
+    )
     args = parser.parse_args()
     if args.quick:
         args.sizes, args.updates, args.retrievals = "20,60", 10, 10
