@@ -112,6 +112,7 @@ class Store:
         self._tracers: list[Tracer] = [tracer] if tracer else []
         self._generation = 0
         self._committer: ThreadPoolExecutor | None = None
+        self._flusher: threading.Thread | None = None
         self._commit_log: CommitLog | None = None
         if self.path is not None or (backend is not None and not backend.read_only):
             self.recover_bulk_writes()
@@ -564,11 +565,34 @@ class Store:
         """Make sure every committed write is on disk."""
         self._store.flush()
 
+    def flush_in_background(self) -> None:
+        """Start :meth:`flush` in a thread of its own and return at once (an embedded store on
+        disk only; nothing if one is still running). For after a large transaction: the writes
+        that follow then go to an empty memtable, as in a store just flushed, instead of one the
+        large write filled, where each costs more. A failure is logged: what was committed is in
+        the write-ahead log either way. :meth:`close` waits for it."""
+        if self.path is None or isinstance(self._store, _ClosedStore):
+            return
+        if self._flusher is not None and self._flusher.is_alive():
+            return
+        store = self._store
+
+        def flush() -> None:
+            try:
+                store.flush()
+            except OSError as error:
+                log.warning("the store at %s could not be flushed: %s", self.path, error)
+
+        self._flusher = threading.Thread(target=flush, name="engram-flush", daemon=True)
+        self._flusher.start()
+
     def close(self) -> None:
         """Flush and let go of the store: an embedded store's directory is free for another
         process at once, whoever still holds this object; any later call raises StoreError."""
         if isinstance(self._store, _ClosedStore):
             return
+        if self._flusher is not None:
+            self._flusher.join()
         self._store.flush()
         self._store = _ClosedStore(self.path)  # type: ignore[assignment]
 
