@@ -273,28 +273,14 @@ class SceneMemory:
             with self.transactions.write(refresh_alongside=True) as tx:
                 now = self._now()
                 m = self.loaded.model
-                recognised: list[Recognition] = []
-                exact = m.index.with_signature(signature)
-                if exact is not None:  # the most complex class the scene belongs to, alone
-                    best: Recognition | None = Recognition(exact, 1.0, signature.complexity)
-                else:
-                    recognised = recognitions_in(m, signature)
-                    best = recognised[0] if recognised else None
+                recognised = recognitions_in(m, signature)
+                best = recognised[0] if recognised else None
                 confidence = best.confidence if best else 0.0
                 fresh: NamedNode | None = None
                 if best is not None and confidence >= self.policy.learnThreshold:
                     record = m.classes[best.cls]
                     self._count_use(tx, record, now, retrieved=False)
-                    if exact is not None:
-                        # every class the scene belongs to is the result's alone: listed while
-                        # the store writes (the count just raised is the first class's, which
-                        # leads the list whatever its count, so the order is the same)
-                        self.transactions.while_writing(
-                            lambda: recognised.extend(recognitions_in(m, signature))
-                        )
                 else:
-                    if exact is not None:
-                        recognised = recognitions_in(m, signature)
                     record = _new_class(m, signature, now)
                     parents, children, removed = m.add_class(record, [r.cls for r in recognised])
                     added = {(record.iri, p) for p in parents} | {(c, record.iri) for c in children}
@@ -313,7 +299,7 @@ class SceneMemory:
                 self.view.rescore(tx, {record.iri}, {fresh} if fresh else set())
                 if fresh is not None:
                     persist.write_class(tx, record, stored=m.stored_restrictions)
-                history.stored(tx, m, record, item.iri, [best] if best else [], now, fresh)
+                history.stored(tx, m, record, item.iri, recognised, now, fresh)
                 self._bump_update(tx)
             result = StoreResult(
                 scene_item=item.iri,

@@ -49,7 +49,6 @@ class Transactions:
         """The store as the running operation sees it (its own pending writes included)."""
         self._batch: PendingWrites | None = None
         self._flush_after_batch = False
-        self._while_writing: list[Callable[[], object]] = []
         """A large transaction wrote into the open batch (see :meth:`write`)."""
         self._counters = threading.Lock()
         self.begun = 0
@@ -70,8 +69,7 @@ class Transactions:
         :meth:`batch`: the updates after it then cost what they cost in a settled store.
 
         With ``refresh_alongside``, the model's pending re-scoring (the ancestors of what the
-        transaction touched) runs while the store applies the write, instead of before it, and
-        then the work the block handed to :meth:`while_writing`.
+        transaction touched) runs while the store applies the write, instead of before it.
         The transaction writes the score view with ``view`` or on a shared server; otherwise
         the view is marked stale for :meth:`settle_view`. Inside a :meth:`batch`, the writes go
         to the batch instead, which its owner commits or rolls back.
@@ -83,17 +81,13 @@ class Transactions:
                 if not view:
                     self.begun += 1  # its commit is the owner's: a reader arriving waits
                 self._read_history_epoch()
-                try:
-                    yield self._batch
-                    self._do_while_writing()  # the batch's owner writes later
-                finally:
-                    self._while_writing.clear()
+                yield self._batch
                 if view:
                     self.view.write(self._batch)
                 self._flush_after_batch = self._flush_after_batch or large
                 return
+            alongside = loaded.model.refresh if refresh_alongside else None
             revision = index_file.new_revision()
-            alongside = self._refresh_while_writing if refresh_alongside else None
             try:
                 with self.store.transaction(alongside=alongside) as tx:
                     writes = PendingWrites()
@@ -107,7 +101,6 @@ class Transactions:
                         if not view:
                             self.begun += 1  # before the commit: no reader may miss it
                     writes.copy_into(tx)
-                self._do_while_writing()  # what is left: all of it without refresh_alongside
                 if not writes.is_empty:
                     loaded.revision = revision
                     if large:
@@ -118,26 +111,8 @@ class Transactions:
                 raise
             finally:
                 self.reader = self.store
-                self._while_writing.clear()
             if not view:
                 self._let_go()
-
-    def while_writing(self, work: Callable[[], object]) -> None:
-        """Run ``work`` while the store applies the transaction of the :meth:`write` block this
-        is called in (one with ``refresh_alongside``; after the re-scoring), in this thread and
-        under the model's lock: for what the operation's result needs but the transaction does
-        not. Otherwise, and inside a :meth:`batch`, it runs once the block's writes are done.
-        Its exceptions propagate from the block's end; they do not undo the write."""
-        self._while_writing.append(work)
-
-    def _refresh_while_writing(self) -> None:
-        self.loaded.model.refresh()
-        self._do_while_writing()
-
-    def _do_while_writing(self) -> None:
-        work, self._while_writing = self._while_writing, []
-        for step in work:
-            step()
 
     def _read_history_epoch(self) -> None:
         model = self.loaded.model
