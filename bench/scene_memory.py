@@ -229,6 +229,8 @@ class WriteTimer:
 
     def __init__(self, store: Store) -> None:
         self.times: list[float] = []
+        self.cpu: list[float] = []
+        """The writer thread's CPU time of each write: steadier than its wall time under load."""
         self.quads: list[int] = []
         self.parts: list[Counter[str]] = []
         prepare = store._prepare
@@ -238,9 +240,10 @@ class WriteTimer:
             parts = Counter(part_of(q) for q in (*tx.inserts, *tx.deletes))
 
             def timed_write() -> None:
-                began = time.perf_counter()
+                began, cpu = time.perf_counter(), time.thread_time()
                 write()
                 self.times.append(time.perf_counter() - began)
+                self.cpu.append(time.thread_time() - cpu)
                 self.quads.append(quads)
                 self.parts.append(parts)
 
@@ -334,6 +337,10 @@ def run(size: int, args: argparse.Namespace, rng: random.Random) -> dict[str, ob
         after_sleep = len(writes.times)
         after_sleep_times = [timed(memory.store_scene, scene) for scene in after_sleep_scenes]
         after_sleep_write = statistics.median(writes.times[after_sleep:])
+        write_cpu = (
+            statistics.median(writes.cpu[learns]),
+            statistics.median(writes.cpu[after_sleep:]),
+        )
         memory.transactions.settle_view()
         classes = len(memory.reads.classes())
         save_s = timed(memory.save_index)  # flushes the store first, as the server does
@@ -382,6 +389,7 @@ def run(size: int, args: argparse.Namespace, rng: random.Random) -> dict[str, ob
             "sleep_quads": sleep_quads,
             "learn_after_sleep": after_sleep_times,
             "learn_after_sleep_write": after_sleep_write,
+            "write_cpu": write_cpu,
             "load": os.getloadavg()[0],
             "first_sleep_s": first_sleep_s,
             "save_s": save_s,
@@ -502,6 +510,7 @@ def main() -> None:
     breakdown: list[str] = []
     floors: list[str] = []
     loads: list[str] = []
+    write_cpus: list[str] = []
     for size in sizes:
         r = run(size, args, rng)
         kinds = (
@@ -557,6 +566,12 @@ def main() -> None:
         )
         floors += against_targets(r, ms)
         loads.append(f"{r['size']:>8} load     {r['load']:.2f}")
+        settled_cpu, after_cpu = r["write_cpu"]  # type: ignore[misc]
+        write_cpus.append(
+            f"size {r['size']}: a learn's store write, writer thread CPU: settled "
+            f"{1000 * settled_cpu:.1f} ms, right after the pass {1000 * after_cpu:.1f} ms "
+            f"({after_cpu / settled_cpu:.2f}x)"
+        )
     print()
     print("Where a committed update's time goes (medians; ms unless marked):")
     print(
@@ -579,6 +594,8 @@ def main() -> None:
         print(line)
     for load in loads:
         print(load)
+    for line in write_cpus:  # the learn+slp row's writes by CPU, which load inflates less
+        print(line)
     print()
     print("learn = novel 10-object scene (learns a class), reinf = known scene (reinforces);")
     print("med/p99 over the timed calls; each update and retrieval is one committed transaction.")
