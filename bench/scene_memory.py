@@ -28,12 +28,16 @@ Run from the repository root::
     .venv/bin/python bench/scene_memory.py                  # 100, 1,000, 10,000 classes
     .venv/bin/python bench/scene_memory.py --quick          # tiny sizes, to exercise the script
     .venv/bin/python bench/scene_memory.py --sizes 100000 --no-hermit --updates 30
+    # build once, keep the built store; later runs start from a copy of it (step 1 skipped)
+    .venv/bin/python bench/scene_memory.py --sizes 100000 --no-hermit --keep /tmp/built
+    .venv/bin/python bench/scene_memory.py --sizes 100000 --no-hermit --from /tmp/built
 """
 
 import argparse
 import datetime as dt
 import gc
 import os
+import pickle
 import platform
 import random
 import shutil
@@ -227,7 +231,8 @@ class WriteTimer:
 
     def __init__(self, store: Store) -> None:
         self.times: list[float] = []
-        self.cpu_times: list[float] = []
+        self.cpu: list[float] = []
+        """The writer thread's CPU time of each write: steadier than its wall time under load."""
         self.quads: list[int] = []
         self._written: list[tuple[list[Quad], list[Quad]]] = []
         self._parts: list[Counter[str]] = []
@@ -240,8 +245,8 @@ class WriteTimer:
             def timed_write() -> None:
                 began, cpu = time.perf_counter(), time.thread_time()
                 write()
-                self.cpu_times.append(time.thread_time() - cpu)
                 self.times.append(time.perf_counter() - began)
+                self.cpu.append(time.thread_time() - cpu)
                 self.quads.append(quads)
                 self._written.append(written)
 
@@ -262,11 +267,31 @@ def _learn_and_read(memory: SceneMemory, scene: list[Primitive]) -> None:
     memory.transactions.settle_view()  # what the store's next read does first
 
 
+def built(directory: Path, size: int) -> Path:
+    """Where ``--keep``/``--from`` keep the memory of ``size`` classes under ``directory``."""
+    return directory / f"{size}-classes"
+
+
+def prepare(store: Path, size: int, rng: random.Random, args: argparse.Namespace) -> None:
+    """The built store at ``store``: a copy of the one ``--from`` names when it has this size
+    (``rng`` then continues as after that build), else built now (and kept with ``--keep``)."""
+    if args.source is not None and (kept := built(args.source, size)).is_dir():
+        shutil.copytree(kept / "store", store)
+        rng.setstate(pickle.loads((kept / "rng.pickle").read_bytes()))
+        return
+    build(store, size, rng)
+    if args.keep is not None:
+        kept = built(args.keep, size)
+        shutil.rmtree(kept, ignore_errors=True)
+        shutil.copytree(store, kept / "store")
+        (kept / "rng.pickle").write_bytes(pickle.dumps(rng.getstate()))
+
+
 def run(size: int, args: argparse.Namespace, rng: random.Random) -> dict[str, object]:
     workdir = Path(tempfile.mkdtemp(prefix="engram-bench-"))
     try:
         began = time.perf_counter()
-        build(workdir / "store", size, rng)
+        prepare(workdir / "store", size, rng, args)
         store = Store(workdir / "store")
         memory = SceneMemory(store)
         build_s = time.perf_counter() - began
@@ -322,6 +347,10 @@ def run(size: int, args: argparse.Namespace, rng: random.Random) -> dict[str, ob
         after_sleep = len(writes.times)
         after_sleep_times = [timed(memory.store_scene, scene) for scene in after_sleep_scenes]
         after_sleep_write = statistics.median(writes.times[after_sleep:])
+        write_cpu = (
+            statistics.median(writes.cpu[learns]),
+            statistics.median(writes.cpu[after_sleep:]),
+        )
         memory.transactions.settle_view()
         classes = len(memory.reads.classes())
         save_s = timed(memory.save_index)  # flushes the store first, as the server does
@@ -351,7 +380,7 @@ def run(size: int, args: argparse.Namespace, rng: random.Random) -> dict[str, ob
             "build_s": build_s,
             "learn": learn_times,
             "learn_write": statistics.median(writes.times[learns]),
-            "learn_write_cpu": statistics.median(writes.cpu_times[learns]),
+            "learn_write_cpu": write_cpu[0],
             "learn_quads": statistics.median(writes.quads[learns]),
             "learn_own": statistics.median(
                 t - w for t, w in zip(learn_times, writes.times[learns], strict=True)
@@ -371,6 +400,7 @@ def run(size: int, args: argparse.Namespace, rng: random.Random) -> dict[str, ob
             "sleep_quads": sleep_quads,
             "learn_after_sleep": after_sleep_times,
             "learn_after_sleep_write": after_sleep_write,
+            "write_cpu": write_cpu,
             "load": os.getloadavg()[0],
             "first_sleep_s": first_sleep_s,
             "save_s": save_s,
@@ -459,6 +489,20 @@ def main() -> None:
         "--hermit-objects", type=int, default=10, help="objects of the scene HermiT classifies"
     )
     parser.add_argument("--quick", action="store_true", help="sizes 20,60 and 10 repetitions")
+    parser.add_argument(
+        "--keep",
+        type=Path,
+        metavar="DIR",
+        help="keep each built store (before the memory opens it) under DIR/<size>-classes",
+    )
+    parser.add_argument(
+        "--from",
+        dest="source",
+        type=Path,
+        metavar="DIR",
+        help="start from a copy of the store --keep kept under DIR for each size it has "
+        "(the build is skipped; 'build s' is then the copy's time); the same scenes follow",
+    )
     args = parser.parse_args()
     if args.quick:
         args.sizes, args.updates, args.retrievals = "20,60", 10, 10
@@ -484,6 +528,7 @@ def main() -> None:
     breakdown: list[str] = []
     floors: list[str] = []
     loads: list[str] = []
+    write_cpus: list[str] = []
     for size in sizes:
         r = run(size, args, rng)
         kinds = (
@@ -539,6 +584,12 @@ def main() -> None:
         )
         floors += against_targets(r, ms)
         loads.append(f"{r['size']:>8} load     {r['load']:.2f}")
+        settled_cpu, after_cpu = r["write_cpu"]  # type: ignore[misc]
+        write_cpus.append(
+            f"size {r['size']}: a learn's store write, writer thread CPU: settled "
+            f"{1000 * settled_cpu:.1f} ms, right after the pass {1000 * after_cpu:.1f} ms "
+            f"({after_cpu / settled_cpu:.2f}x)"
+        )
     print()
     print("Where a committed update's time goes (medians; ms unless marked):")
     print(
@@ -561,6 +612,8 @@ def main() -> None:
         print(line)
     for load in loads:
         print(load)
+    for line in write_cpus:  # the learn+slp row's writes by CPU, which load inflates less
+        print(line)
     print()
     print("learn = novel 10-object scene (learns a class), reinf = known scene (reinforces);")
     print("med/p99 over the timed calls; each update and retrieval is one committed transaction.")

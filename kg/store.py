@@ -57,9 +57,14 @@ from ontologies.vocab import BULK_WRITES, RDF_TYPE, UNFINISHED_BULK_WRITE
 if TYPE_CHECKING:
     from kg.remote import RemoteDataset
 
-__all__ = ["Binding", "Store", "Tracer", "update_text"]
+__all__ = ["LARGE_WRITE_QUADS", "Binding", "Store", "Tracer", "update_text"]
 
 log = logging.getLogger(__name__)
+
+LARGE_WRITE_QUADS = 10_000
+"""A transaction of at least this many quads is flushed in the background once written: the
+writes after it then go to an empty memtable, where they cost what they cost in a settled store
+instead of more in one the large write filled (bench/README.md, issue 31)."""
 
 Binding = NamedNode | Literal
 Tracer = Callable[[str, str, Mapping[str, Binding]], None]
@@ -112,6 +117,7 @@ class Store:
         self._tracers: list[Tracer] = [tracer] if tracer else []
         self._generation = 0
         self._committer: ThreadPoolExecutor | None = None
+        self._flusher: threading.Thread | None = None
         self._commit_log: CommitLog | None = None
         if self.path is not None or (backend is not None and not backend.read_only):
             self.recover_bulk_writes()
@@ -324,6 +330,9 @@ class Store:
         If the block raises, nothing is written. If the write itself fails,
         :class:`TransactionError` is raised and the store is unchanged.
 
+        A transaction of at least :data:`LARGE_WRITE_QUADS` quads is flushed in the background
+        once written (:meth:`flush_in_background`).
+
         ``alongside`` is called in this thread while another thread applies the write (Oxigraph
         releases the GIL while it writes): work that must be done when the transaction returns
         but does not feed it, such as in-memory bookkeeping. Its exceptions propagate once the
@@ -334,6 +343,8 @@ class Store:
             tx = Transaction()
             yield tx
             write = self._prepare(tx)
+            if len(tx.inserts) + len(tx.deletes) >= LARGE_WRITE_QUADS:
+                write = self._flushed_after(write)
             if alongside is None:
                 write()
                 return
@@ -353,6 +364,13 @@ class Store:
                 alongside()
             finally:
                 done.result()
+
+    def _flushed_after(self, write: Callable[[], None]) -> Callable[[], None]:
+        def write_then_flush() -> None:
+            write()
+            self.flush_in_background()
+
+        return write_then_flush
 
     def _prepare(self, tx: Transaction) -> Callable[[], None]:
         """The write that commits ``tx``, with every read and every Python step done first."""
@@ -568,11 +586,41 @@ class Store:
         """Make sure every committed write is on disk."""
         self._store.flush()
 
+    def flush_in_background(self) -> None:
+        """Start :meth:`flush` in a thread of its own and return at once (an embedded store on
+        disk only; nothing if one is still running). For after a large transaction: the writes
+        that follow then go to an empty memtable, as in a store just flushed, instead of one the
+        large write filled, where each costs more. A failure is logged: what was committed is in
+        the write-ahead log either way. :meth:`close` waits for it."""
+        if self.path is None or isinstance(self._store, _ClosedStore):
+            return
+        if self._flusher is not None and self._flusher.is_alive():
+            return
+        store, path = self._store, self.path  # not self: see __del__
+
+        def flush() -> None:
+            try:
+                store.flush()
+            except OSError as error:
+                log.warning("the store at %s could not be flushed: %s", path, error)
+
+        self._flusher = threading.Thread(target=flush, name="engram-flush", daemon=True)
+        self._flusher.start()
+
+    def __del__(self) -> None:
+        # a background flush holds the underlying store, whose directory stays locked until it
+        # ends: wait for it, so that the directory is free once this object is gone
+        flusher = getattr(self, "_flusher", None)
+        if flusher is not None:
+            flusher.join()
+
     def close(self) -> None:
         """Flush and let go of the store: an embedded store's directory is free for another
         process at once, whoever still holds this object; any later call raises StoreError."""
         if isinstance(self._store, _ClosedStore):
             return
+        if self._flusher is not None:
+            self._flusher.join()
         self._store.flush()
         self._store = _ClosedStore(self.path)  # type: ignore[assignment]
 

@@ -505,10 +505,11 @@ class SceneMemory:
         older than ``forgetGracePeriodSeconds`` and not pinned is moved to the ``trash`` graph;
         a forgotten class takes its experienced scenes with it. A class with a pinned experienced
         scene is kept, and a pinned class keeps its experienced scenes. The report names each
-        forgotten scene once. One transaction.
+        forgotten scene once. One transaction, handed to disk in the background once it has
+        committed (the updates after it then cost what they cost in a settled store).
         """
         started = time.perf_counter()
-        with collector_paused(), self.transactions.write() as tx:
+        with collector_paused(), self.transactions.write(large=True) as tx:
             now = self._now()
             m = self.loaded.model
             rescored = len(m.graph.classes)

@@ -23,7 +23,6 @@ index and never changes them: the graph tells the table what changed (:meth:`Sco
 import functools
 import itertools
 import math
-import operator
 from collections import Counter
 from collections.abc import Iterable
 from dataclasses import dataclass, field
@@ -39,8 +38,6 @@ __all__ = ["SCALE", "ScoreTable", "move_count"]
 
 SCALE = 1 << 40
 """Fixed-point scale of the ``Z`` terms (resolution about 1e-12)."""
-
-_sums_of = operator.attrgetter("sums")
 
 
 @functools.lru_cache(maxsize=4096)
@@ -206,7 +203,7 @@ class ScoreTable:
             waiting.setdefault(record.signature.complexity, []).append(record)
         self._dirty.clear()
         changed: list[ClassRecord] = []
-        keep = changed.append
+        keep, queue = changed.append, waiting.setdefault
         a_c, log_fixed = self.weights[1], _log_fixed
         # :meth:`own` inlined (the same arithmetic): this loop runs once per ancestor of what
         # changed, thousands of times per update in a large memory
@@ -232,23 +229,22 @@ class ScoreTable:
                 record.z = new
                 keep(record)
                 d0, d1, d2 = new[0] - old[0], new[1] - old[1], new[2] - old[2]
-                up = record.up
+                # one pass over the parents: add the change to their sums and queue them
                 if d0 or d2:
-                    for sums in map(_sums_of, up):
+                    for above in record.up:
+                        sums = above.sums
                         sums[0] += d0
                         sums[1] += d1
                         sums[2] += d2
+                        if above.mark != mark:
+                            above.mark = mark
+                            queue(above.signature.complexity, []).append(above)
                 else:  # a reinforce changes the store term alone
-                    for sums in map(_sums_of, up):
-                        sums[1] += d1
-                for above in up:
-                    if above.mark != mark:
-                        above.mark = mark
-                        level = above.signature.complexity
-                        if level in waiting:
-                            waiting[level].append(above)
-                        else:
-                            waiting[level] = [above]
+                    for above in record.up:
+                        above.sums[1] += d1
+                        if above.mark != mark:
+                            above.mark = mark
+                            queue(above.signature.complexity, []).append(above)
         self._dirty.update(record.iri for level in waiting.values() for record in level)
         self._dirty_top = max(waiting, default=0)
         self.set_rows(changed)

@@ -48,6 +48,8 @@ class Transactions:
         self.reader: QuadReader = self.store
         """The store as the running operation sees it (its own pending writes included)."""
         self._batch: PendingWrites | None = None
+        self._flush_after_batch = False
+        """A large transaction wrote into the open batch (see :meth:`write`)."""
         self._counters = threading.Lock()
         self.begun = 0
         """Updates that left the view to be written, counted just before they commit."""
@@ -60,9 +62,13 @@ class Transactions:
 
     @contextmanager
     def write(
-        self, *, refresh_alongside: bool = False, view: bool = False
+        self, *, refresh_alongside: bool = False, view: bool = False, large: bool = False
     ) -> Iterator[PendingWrites]:
         """One transaction; if anything fails, the model is rebuilt from the store.
+
+        A ``large`` transaction (a sleep pass) is followed by a flush in the background
+        (:meth:`kg.store.Store.flush_in_background`), once the batch commits inside a
+        :meth:`batch`: the updates after it then cost what they cost in a settled store.
 
         With ``refresh_alongside``, the model's pending re-scoring (the ancestors of what the
         transaction touched) runs while the store applies the write, instead of before it, and
@@ -81,6 +87,7 @@ class Transactions:
                 yield self._batch
                 if view:
                     self.view.write(self._batch)
+                self._flush_after_batch = self._flush_after_batch or large
                 return
             alongside: Callable[[], None] | None = None
             later: list[Callable[[], object]] = []
@@ -108,6 +115,8 @@ class Transactions:
                     writes.copy_into(tx)
                 if not writes.is_empty:
                     loaded.revision = revision
+                    if large:
+                        self.store.flush_in_background()
             except BaseException:
                 if loaded.current is not None:  # not while it loads: the loader will set it
                     loaded.rebuild()
@@ -168,6 +177,9 @@ class Transactions:
                 raise
             finally:
                 self._batch, self.reader = None, self.store
+                large, self._flush_after_batch = self._flush_after_batch, False
+            if large:
+                self.store.flush_in_background()
             self._let_go()
 
     def settle_view(self) -> None:

@@ -7,6 +7,7 @@ import pytest
 from pyoxigraph import Literal, NamedNode
 
 from kg import Store, StoreLockedError
+from kg.store import LARGE_WRITE_QUADS
 from ontologies.vocab import DEFAULT_POLICY, MEMORY, RDFS_LABEL, TBOX, engram
 
 
@@ -220,3 +221,19 @@ def test_readers_see_a_filled_graph_empty_or_whole(tmp_path: Path) -> None:
         reader.join()
     assert any(start < at < end for at, _ in reads), "the reader ran during the load"
     assert {count for _, count in reads} == {0, 60_000}
+
+
+def test_a_large_transaction_is_flushed_in_the_background(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    started: list[int] = []
+    monkeypatch.setattr(Store, "flush_in_background", lambda self: started.append(len(self)))
+    store = Store(tmp_path / "store")
+    with store.transaction() as tx:
+        for k in range(LARGE_WRITE_QUADS - 1):
+            tx.insert(NamedNode(f"http://example.org/s{k}"), RDFS_LABEL, Literal(k), MEMORY)
+    assert started == []
+    with store.transaction() as tx:
+        for k in range(LARGE_WRITE_QUADS):
+            tx.insert(NamedNode(f"http://example.org/t{k}"), RDFS_LABEL, Literal(k), MEMORY)
+    assert started == [2 * LARGE_WRITE_QUADS - 1]  # once the write is done
