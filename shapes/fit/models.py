@@ -389,14 +389,7 @@ class UprightConeModel:
         sin_theta = (n @ up).mean(axis=1)
         flat_p = p - (p @ up)[..., None] * up
         flat_n = n - (n @ up)[..., None] * up
-        m1, m2, q1, q2 = flat_n[:, 0], flat_n[:, 1], flat_p[:, 0], flat_p[:, 1]
-        aa, bb, cc = (m1 * m1).sum(1), (m1 * m2).sum(1), (m2 * m2).sum(1)
-        w = q2 - q1
-        dd, ee = (m1 * w).sum(1), (m2 * w).sum(1)
-        den = aa * cc - bb * bb
-        ok = np.abs(den) > 1e-9
-        s = (dd * cc - ee * bb) / np.where(ok, den, 1.0)
-        centre = q1 + s[:, None] * m1
+        centre, ok = _lines_crossing(flat_p, flat_n)
         theta = np.arcsin(np.clip(sin_theta, 0.0, 1.0))
         rho = np.linalg.norm(flat_p - centre[:, None, :], axis=2)
         tan = np.tan(np.maximum(theta, 1e-6))
@@ -439,14 +432,7 @@ class UprightCylinderModel:
         p, n = points[idx], normals[idx]  # (H, 2, 3)
         flat_p = p - (p @ up)[..., None] * up
         flat_n = n - (n @ up)[..., None] * up
-        m1, m2, q1, q2 = flat_n[:, 0], flat_n[:, 1], flat_p[:, 0], flat_p[:, 1]
-        aa, bb, cc = (m1 * m1).sum(1), (m1 * m2).sum(1), (m2 * m2).sum(1)
-        w = q2 - q1
-        dd, ee = (m1 * w).sum(1), (m2 * w).sum(1)
-        den = aa * cc - bb * bb
-        ok = np.abs(den) > 1e-9
-        s = (dd * cc - ee * bb) / np.where(ok, den, 1.0)
-        centre = q1 + s[:, None] * m1
+        centre, ok = _lines_crossing(flat_p, flat_n)
         r = np.linalg.norm(flat_p - centre[:, None, :], axis=2).mean(axis=1)
         ok &= (r >= self.cylinder.min_radius) & (r <= self.cylinder.max_radius)
         ok &= np.isfinite(centre).all(axis=1)
@@ -461,3 +447,18 @@ class UprightCylinderModel:
 
     def within_limits(self, params: FloatArray) -> bool:
         return self.cylinder.within_limits(params)
+
+
+def _lines_crossing(flat_p: FloatArray, flat_n: FloatArray) -> tuple[FloatArray, Mask]:
+    """Where the lines through two points along their normals cross, for each hypothesis
+    (``(H, 2, 3)`` points and normals, both flattened onto the plane across a standing axis):
+    the point of the first line nearest the second (least squares), and whether the lines are
+    not parallel."""
+    m1, m2, q1, q2 = flat_n[:, 0], flat_n[:, 1], flat_p[:, 0], flat_p[:, 1]
+    aa, bb, cc = (m1 * m1).sum(1), (m1 * m2).sum(1), (m2 * m2).sum(1)
+    w = q2 - q1
+    dd, ee = (m1 * w).sum(1), (m2 * w).sum(1)
+    den = aa * cc - bb * bb
+    ok = np.abs(den) > 1e-9
+    s = (dd * cc - ee * bb) / np.where(ok, den, 1.0)
+    return q1 + s[:, None] * m1, ok
