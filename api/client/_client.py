@@ -2,7 +2,7 @@
 
 from dataclasses import dataclass, field
 from types import TracebackType
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import httpx
 
@@ -12,7 +12,9 @@ from api.client._query import ArmorQueryClient
 from api.client._utils import ArmorUtilsClient
 from api.client._values import parse_value
 from api.client.exceptions import ArmorServiceCallError, directive_error
-from api.protocol import ArmorDirectiveListRes, ArmorDirectiveReq, ArmorDirectiveRes
+
+if TYPE_CHECKING:
+    from api.protocol import ArmorDirectiveListRes, ArmorDirectiveRes
 
 __all__ = ["Answer", "ArmorClient"]
 
@@ -107,6 +109,8 @@ class ArmorClient:
         self.close()
 
     def _request(self, command: str, first: str, second: str, args: list[str]) -> dict[str, Any]:
+        from api.protocol import ArmorDirectiveReq  # pydantic: loaded on the first directive
+
         return ArmorDirectiveReq(
             client_name=self.client_id,
             reference_name=self.reference_name,
@@ -136,18 +140,24 @@ class ArmorClient:
 
     def call(
         self, command: str, first_spec: str, second_spec: str, args_list: list[str]
-    ) -> ArmorDirectiveRes:
+    ) -> "ArmorDirectiveRes":
         """Send one directive and return the raw ``armor_response`` (no exception on failure)."""
+        from api.protocol import ArmorDirectiveRes
+
         body = {"armor_request": self._request(command, first_spec, second_spec, args_list)}
         data = self._post(self.service_name, body)
         return ArmorDirectiveRes.model_validate(data["armor_response"])
 
-    def call_list(self, directives: list[tuple[str, str, str, list[str]]]) -> ArmorDirectiveListRes:
+    def call_list(
+        self, directives: list[tuple[str, str, str, list[str]]]
+    ) -> "ArmorDirectiveListRes":
         """Send directives to the list service: in order, one transaction, one response each."""
+        from api.protocol import ArmorDirectiveListRes
+
         body = {"armor_requests": [self._request(*directive) for directive in directives]}
         return ArmorDirectiveListRes.model_validate(self._post(self.serial_service_name, body))
 
-    def raise_first_failure(self, result: ArmorDirectiveListRes) -> list[ArmorDirectiveRes]:
+    def raise_first_failure(self, result: "ArmorDirectiveListRes") -> "list[ArmorDirectiveRes]":
         """The list's responses; raises for the first failed one (the list changed nothing)."""
         for response in result.armor_responses:
             if not response.success and response.exit_code != 0:
@@ -156,7 +166,7 @@ class ArmorClient:
 
     def checked(
         self, command: str, first_spec: str, second_spec: str, args_list: list[str]
-    ) -> ArmorDirectiveRes:
+    ) -> "ArmorDirectiveRes":
         """:meth:`call`, raising :class:`ArmorServiceInternalError` when ``success`` is false
         (:class:`ArmorInputError` when the input was wrong)."""
         response = self.call(command, first_spec, second_spec, args_list)

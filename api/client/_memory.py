@@ -5,10 +5,11 @@ from dataclasses import dataclass, field
 from typing import TYPE_CHECKING
 
 from api.client._values import Value, parse_value
-from api.protocol import ArmorDirectiveRes, Primitive
+from kg.primitive import Primitive
 
 if TYPE_CHECKING:
     from api.client._client import ArmorClient
+    from api.protocol import ArmorDirectiveRes
 
 __all__ = [
     "ArmorMemoryClient",
@@ -79,7 +80,7 @@ class MemoryAnswer:
         return parse_value(found[0]) if found else None
 
     @classmethod
-    def of(cls, response: ArmorDirectiveRes) -> "MemoryAnswer":
+    def of(cls, response: "ArmorDirectiveRes") -> "MemoryAnswer":
         details: dict[str, list[str]] = {}
         for item in response.sparql_queried_objects:
             details.setdefault(item.key, []).append(item.value)
