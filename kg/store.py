@@ -62,9 +62,8 @@ __all__ = ["LARGE_WRITE_QUADS", "Binding", "Store", "Tracer", "update_text"]
 log = logging.getLogger(__name__)
 
 LARGE_WRITE_QUADS = 10_000
-"""A transaction of at least this many quads is flushed in the background once written: the
-writes after it then go to an empty memtable, where they cost what they cost in a settled store
-instead of more in one the large write filled (bench/README.md, issue 31)."""
+"""A transaction of at least this many quads is flushed in the background once written, so that
+the writes after it go to an empty memtable and cost what they cost in a settled store."""
 
 Binding = NamedNode | Literal
 Tracer = Callable[[str, str, Mapping[str, Binding]], None]

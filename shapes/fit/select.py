@@ -562,43 +562,33 @@ def fit_cluster(
             else:
                 counts[kind] = int(res.inliers.sum())
             score(kind, res.params, res.distances)
-    if support is not None and fp.upright_cone_iterations > 0:
-        # Standing cones: hypotheses with the support's normal for an axis need two points,
-        # and noisy normals spoil them far less than a free cone's three.
-        model = models[ShapeKind.CONE][0]
-        res = ransac(
-            UprightConeModel(model, support.normal),  # type: ignore[arg-type]
-            sample,
-            normals,
-            threshold=models[ShapeKind.CONE][1],
-            rng=rng,
-            max_iterations=fp.upright_cone_iterations,
-            refine=False,
-            min_iterations=fp.upright_cone_iterations // 2,
-            preview_points=fp.preview_points,
+    if support is not None:
+        # Standing cones and cylinders: hypotheses with the support's normal (gravity, the
+        # commonest axis of a thing on a table) for an axis need two points, and noisy normals
+        # spoil them far less than free ones (seen from far, free cylinder hypotheses may find
+        # only a lying cylinder). The cylinders' draws come from a generator of their own
+        # (spawning one leaves ``rng`` as it was), so adding them moved no other search's draws.
+        standing = (
+            (ShapeKind.CONE, UprightConeModel, fp.upright_cone_iterations),
+            (ShapeKind.CYLINDER, UprightCylinderModel, fp.upright_cylinder_iterations),
         )
-        if res is not None and _cost(res.distances, t_sel) < costs.get(ShapeKind.CONE, np.inf):
-            score(ShapeKind.CONE, res.params, res.distances)
-    if support is not None and fp.upright_cylinder_iterations > 0:
-        # Standing cylinders: the support's normal (gravity) is the commonest axis of a thing on
-        # a table; with it given, two points fix the cylinder and the normals' noise tilts no
-        # axis. Seen from far, free hypotheses drawn from noisy normals may find only a lying
-        # cylinder. Their draws come from a generator of their own (spawning one leaves
-        # ``rng`` as it was), so adding them changes no other search's draws.
-        model = models[ShapeKind.CYLINDER][0]
-        res = ransac(
-            UprightCylinderModel(model, support.normal),  # type: ignore[arg-type]
-            sample,
-            normals,
-            threshold=models[ShapeKind.CYLINDER][1],
-            rng=rng.spawn(1)[0],
-            max_iterations=fp.upright_cylinder_iterations,
-            refine=False,
-            min_iterations=fp.upright_cylinder_iterations // 2,
-            preview_points=fp.preview_points,
-        )
-        if res is not None and _cost(res.distances, t_sel) < costs.get(ShapeKind.CYLINDER, np.inf):
-            score(ShapeKind.CYLINDER, res.params, res.distances)
+        for kind, upright, iterations in standing:
+            if iterations <= 0:
+                continue
+            model, threshold = models[kind]
+            res = ransac(
+                upright(model, support.normal),  # type: ignore[arg-type]
+                sample,
+                normals,
+                threshold=threshold,
+                rng=rng if kind is ShapeKind.CONE else rng.spawn(1)[0],
+                max_iterations=iterations,
+                refine=False,
+                min_iterations=iterations // 2,
+                preview_points=fp.preview_points,
+            )
+            if res is not None and _cost(res.distances, t_sel) < costs.get(kind, np.inf):
+                score(kind, res.params, res.distances)
     # Planes, one after another on what the previous ones left.
     plane_model = PlaneModel()
     remaining = np.ones(len(sample), dtype=bool)
