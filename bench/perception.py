@@ -437,6 +437,10 @@ REAL_TRUTH = {  # scan: the scan its ground truth was measured on (the laptop sc
     "office_kinect": "office_kinect",
     "bottle_pack_floor_kinect": "bottle_pack_floor_kinect",
     "people_floor_kinect": "people_floor_kinect",
+    "desk_fr1_tum_0": "desk_fr1_tum_0",
+    "desk_fr1_tum_1": "desk_fr1_tum_1",
+    "box_floor_kinect": "box_floor_kinect",
+    "chair_boxes_kinect": "chair_boxes_kinect",
 }
 
 

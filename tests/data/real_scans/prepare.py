@@ -12,8 +12,14 @@ image) and a colour PNG, from Open3D's test data before it left the repository
 are copied unchanged (``depth_scale`` 0.2 mm) with the intrinsics the TUM benchmark publishes
 for its Freiburg 3 sensor.
 
+Two Freiburg 1 frames of the benchmark's ``fr1/desk`` scene come the same way (depth PNG
+registered to the colour PNG, 5000 units a metre) from the example data of
+``LucasSheng/dense-rgbd-visual-odometry`` (``examples/case_{1,2}/{dep,img}_prev.png``), with the
+intrinsics the benchmark recommends for its registered depth images, ROS's defaults (525 px,
+centre 319.5, 239.5), which that repository's ``examples/kinect_params.txt`` also gives.
+
     python tests/data/real_scans/prepare.py PCL_CHECKOUT/test OPEN3D_CHECKOUT/examples/test_data \
-        PCL_DATA_CHECKOUT
+        PCL_DATA_CHECKOUT DENSE_RGBD_VO_CHECKOUT/examples
 """
 
 import sys
@@ -32,12 +38,22 @@ SCANS = {
 }
 PCL_DATA = {
     "tutorials/region_growing_rgb_tutorial.pcd": ("bottle_pack_floor_kinect.npz", 1e-3),
+    "tutorials/pairwise/capture0001.pcd": ("box_floor_kinect.npz", 1e-3),
+    "tutorials/pairwise/capture0005.pcd": ("chair_boxes_kinect.npz", 1e-3),
 }
 """From PCL's data repository (``PointCloudLibrary/data``, BSD), the third argument."""
 TUM = ("RGBD/other_formats/TUM_depth.png", "RGBD/other_formats/TUM_color.png", "desk_tum.npz")
 TUM_FREIBURG3 = {"fx": 535.4, "fy": 539.2, "cx": 320.1, "cy": 247.6}
 """The Freiburg 3 sensor's colour intrinsics (the benchmark's depth images of Freiburg 3 are
 registered to the colour camera)."""
+TUM_FR1 = {
+    "case_1/dep_prev.png": ("case_1/img_prev.png", "desk_fr1_tum_0.npz"),
+    "case_2/dep_prev.png": ("case_2/img_prev.png", "desk_fr1_tum_1.npz"),
+}
+"""Freiburg 1 frames of ``fr1/desk``; the examples' ``dep_curr.png`` is one file in both cases
+(case 1's and case 2's ``img_curr.png`` differ), so only the ``prev`` pairs are taken."""
+ROS_DEFAULT = {"fx": 525.0, "fy": 525.0, "cx": 319.5, "cy": 239.5}
+"""The intrinsics the TUM benchmark recommends for its registered Freiburg 1 and 2 depth images."""
 WIDTH, HEIGHT = 640, 480
 
 
@@ -70,13 +86,15 @@ def convert(source: Path, target: Path, depth_scale: float) -> None:
     )
 
 
-def convert_tum(depth_png: Path, colour_png: Path, target: Path) -> None:
+def convert_tum(
+    depth_png: Path, colour_png: Path, target: Path, intrinsics: dict[str, float] = TUM_FREIBURG3
+) -> None:
     from PIL import Image
 
     depth = np.asarray(Image.open(depth_png))
     assert depth.dtype == np.uint16 and depth.shape == (HEIGHT, WIDTH), depth_png
     rgb = np.asarray(Image.open(colour_png).convert("RGB"))
-    np.savez_compressed(target, depth=depth, rgb=rgb, depth_scale=1 / 5000, **TUM_FREIBURG3)
+    np.savez_compressed(target, depth=depth, rgb=rgb, depth_scale=1 / 5000, **intrinsics)
 
 
 if __name__ == "__main__":
@@ -90,3 +108,8 @@ if __name__ == "__main__":
     if len(sys.argv) > 3:
         for name, (out, scale) in PCL_DATA.items():
             convert(Path(sys.argv[3]) / name, Path(__file__).with_name(out), scale)
+    if len(sys.argv) > 4:
+        examples = Path(sys.argv[4])
+        for depth_png, (colour_png, out) in TUM_FR1.items():
+            target = Path(__file__).with_name(out)
+            convert_tum(examples / depth_png, examples / colour_png, target, ROS_DEFAULT)
