@@ -1,0 +1,137 @@
+"""Every vendored real scan loads, and its ground truth agrees with the points ``open_source``
+gives for it: the support plane lies on the points of its pixel boxes, and each object has points
+above that plane in its box, where its centre is. Data integrity only: no perception is run."""
+
+import importlib.util
+import json
+from pathlib import Path
+from types import ModuleType
+from typing import Any
+
+import numpy as np
+import pytest
+
+from shapes import open_source
+
+SCANS = Path(__file__).parents[1] / "data" / "real_scans"
+TRUTH: dict[str, dict[str, Any]] = json.loads((SCANS / "truth.json").read_text())
+SHARED_TRUTH = {
+    "laptop_box_kinect_1": "laptop_box_kinect_0",
+    "laptop_box_kinect_2": "laptop_box_kinect_0",
+}
+"""Later frames of a static scene, which share the ground truth of its first frame."""
+MAX_FILE_BYTES = 1_000_000
+MIN_OBJECT_POINTS = 200
+SCENE_SHAPE = (480, 640)
+
+
+def _measure_module() -> ModuleType:
+    spec = importlib.util.spec_from_file_location("real_scans_measure", SCANS / "measure.py")
+    assert spec is not None and spec.loader is not None
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+MEASURE = _measure_module()
+
+
+def _image(name: str) -> np.ndarray:
+    """The scan's points as ``open_source`` loads them, on its pixel grid (NaN where none)."""
+    frame = next(open_source(SCANS / f"{name}.npz"))
+    assert frame.image_shape == SCENE_SHAPE and frame.pixels is not None
+    image = np.full((SCENE_SHAPE[0] * SCENE_SHAPE[1], 3), np.nan)
+    image[frame.pixels] = frame.points
+    return image.reshape(*SCENE_SHAPE, 3)
+
+
+def _in_boxes(image: np.ndarray, region: tuple[Any, ...]) -> np.ndarray:
+    boxes = region if isinstance(region[0], tuple) else (region,)
+    pts = np.concatenate([image[r0:r1, c0:c1].reshape(-1, 3) for r0, r1, c0, c1 in boxes])
+    return pts[np.isfinite(pts).all(axis=1)]
+
+
+def test_every_vendored_scan_has_ground_truth() -> None:
+    scans = {p.stem for p in SCANS.glob("*.npz")}
+    assert scans == set(TRUTH) | set(SHARED_TRUTH)
+    assert set(TRUTH) == set(MEASURE.REGIONS)
+
+
+@pytest.mark.parametrize("name", sorted(TRUTH))
+def test_each_scan_is_a_small_organised_depth_image(name: str) -> None:
+    path = SCANS / f"{name}.npz"
+    assert path.stat().st_size < MAX_FILE_BYTES
+    data = np.load(path)
+    assert data["depth"].dtype == np.uint16 and data["depth"].shape == SCENE_SHAPE
+    assert data["rgb"].dtype == np.uint8 and data["rgb"].shape == (*SCENE_SHAPE, 3)
+    # open_source gives back the pinhole un-projection of each valid pixel.
+    z = data["depth"].astype(np.float64) * float(data["depth_scale"])
+    z[z == 0] = np.nan  # no return
+    v, u = np.mgrid[0 : SCENE_SHAPE[0], 0 : SCENE_SHAPE[1]]
+    expected = np.dstack(
+        (
+            (u - float(data["cx"])) / float(data["fx"]) * z,
+            (v - float(data["cy"])) / float(data["fy"]) * z,
+            z,
+        )
+    )
+    np.testing.assert_allclose(_image(name), expected, atol=1e-6)
+
+
+@pytest.mark.parametrize("name", sorted(TRUTH))
+def test_the_support_plane_lies_on_the_points_of_its_boxes(name: str) -> None:
+    support = TRUTH[name]["support"]
+    normal, distance = np.asarray(support["normal"]), support["distance_m"]
+    assert abs(np.linalg.norm(normal) - 1.0) < 1e-3 and distance > 0  # towards the camera
+    bare = _in_boxes(_image(name), MEASURE.REGIONS[name][0])
+    assert len(bare) == support["points"]
+    residual = bare @ normal + distance
+    rms = float(np.sqrt(np.mean(residual**2)))
+    # truth.json rounds the normal to 1e-4, which moves points 2 m away by up to 0.3 mm.
+    assert abs(rms - support["rms_m"]) < 5e-4, (rms, support["rms_m"])
+    assert abs(float(np.median(residual))) < 5e-3 and rms < 0.015
+
+
+@pytest.mark.parametrize(
+    ("name", "label"),
+    [
+        (name, label)
+        for name, truth in sorted(TRUTH.items())
+        for label in truth
+        if label not in ("support", "held_out")
+    ],
+)
+def test_each_object_stands_on_the_support_where_its_box_is(name: str, label: str) -> None:
+    truth, support = TRUTH[name][label], TRUTH[name]["support"]
+    normal, distance = np.asarray(support["normal"]), support["distance_m"]
+    region = MEASURE.REGIONS[name][1][label][0]
+    pts = _in_boxes(_image(name), region)
+    height = pts @ normal + distance
+    keep = (height > 0.015) & (height < MEASURE.MAX_HEIGHT_M.get(name, 0.40))
+    keep &= pts[:, 2] < MEASURE.NEARER_THAN_M.get((name, label), np.inf)
+    above = pts[keep]
+    assert len(above) >= MIN_OBJECT_POINTS
+    assert abs(len(above) - truth["points"]) <= 0.01 * truth["points"]
+    assert float(np.percentile(height[keep], 99)) == pytest.approx(truth["height_m"], abs=2e-3)
+    centre = np.asarray(truth["centre"])
+    centre_height = float(centre @ normal + distance)
+    assert 0.0 < centre_height < truth["height_m"]
+    # The centre is seen inside the object's box (an axis centre, behind the visible surface,
+    # within a few pixels of it).
+    data = np.load(SCANS / f"{name}.npz")
+    col = float(data["fx"]) * centre[0] / centre[2] + float(data["cx"])
+    row = float(data["fy"]) * centre[1] / centre[2] + float(data["cy"])
+    boxes = region if isinstance(region[0], tuple) else (region,)
+    margin = 10 if "radius_m" in truth else 0
+    assert any(
+        r0 - margin <= row < r1 + margin and c0 - margin <= col < c1 + margin
+        for r0, r1, c0, c1 in boxes
+    ), (row, col, boxes)
+    if "radius_m" in truth:  # an axis centre: half the top height, its surface points a radius off
+        assert abs(centre_height - truth["height_m"] / 2) < 2e-3
+        across = above - centre
+        across -= np.outer(across @ normal, normal)
+        off_axis = np.linalg.norm(across, axis=1)
+        assert abs(float(np.median(off_axis)) - truth["radius_m"]) < 0.25 * truth["radius_m"]
+    else:  # the centroid of the visible points above the support
+        np.testing.assert_allclose(above.mean(axis=0), centre, atol=0.01)
