@@ -55,6 +55,7 @@ to drop the bottom centimetre of each object with the table; this gives it back.
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass, field, replace
 
 import numpy as np
@@ -70,6 +71,7 @@ from shapes.fit.models import (
     UprightConeModel,
     UprightCylinderModel,
 )
+from shapes.fit.ray import ray_cost, refine_on_rays
 from shapes.normals import patch_normals
 from shapes.types import FloatArray, Primitive, ShapeKind, SupportPlane, vec3
 
@@ -372,6 +374,7 @@ def _choose(
     support: SupportPlane | None,
     fp: FitParams,
     points: FloatArray | None = None,
+    along: dict[ShapeKind, float] | None = None,
 ) -> ShapeKind:
     """The shape by the rule of the module docstring. The oblique penalty only ranks the curved
     models among themselves (a tilted cylinder is what a partly hidden cone looks like); the
@@ -390,18 +393,23 @@ def _choose(
     taken as at least ``taper_min_spread_m`` so that a noiseless side does not make every
     tenth of a millimetre significant); else a cylinder."""
     choice = {k: c for k, c in costs.items() if k is not ShapeKind.PLANE}
+    if along is not None:
+        choice.pop(ShapeKind.SPHERE, None)
     if support is not None:
         for kind in (ShapeKind.CYLINDER, ShapeKind.CONE):
             if kind in choice and not _can_rest(kind, fitted[kind], support, fp):
                 choice[kind] += fp.oblique_penalty
     candidates = {ShapeKind.PLANE: costs[ShapeKind.PLANE]} if ShapeKind.PLANE in costs else {}
+    curved: ShapeKind | None = None
     if choice:
         best = min(choice.values())
-        curved: ShapeKind = next(
-            k for k in ORDER if k in choice and choice[k] <= best + fp.tie_margin
-        )
+        curved = next(k for k in ORDER if k in choice and choice[k] <= best + fp.tie_margin)
         if points is not None and support is not None:
             curved = _by_taper(curved, costs, fitted, support, fp, points)
+    if along is not None and ShapeKind.SPHERE in costs:
+        if curved is None or along[ShapeKind.SPHERE] <= along[curved] + fp.tie_margin:
+            curved = ShapeKind.SPHERE
+    if curved is not None:
         candidates[curved] = costs[curved]
     best = min(candidates.values())
     return next(k for k in ORDER if k in candidates and candidates[k] <= best + fp.tie_margin)
@@ -470,12 +478,21 @@ def bounded(
     )
 
 
+def _viewpoint(viewpoint: FloatArray) -> FloatArray:
+    """The viewpoint as a finite 3-vector; raises ValueError otherwise."""
+    v = np.asarray(viewpoint, dtype=np.float64)
+    if v.shape != (3,) or not np.all(np.isfinite(v)):
+        raise ValueError(f"viewpoint: expected a finite (3,) point, got {viewpoint!r}")
+    return v
+
+
 def fit_cluster(
     points: FloatArray,
     *,
     support: SupportPlane | None = None,
     params: FitParams | None = None,
     rng: np.random.Generator,
+    viewpoint: FloatArray | None = None,
 ) -> ClusterFit | None:
     """Fit sphere, cylinder, cone and plane(s) to one cluster and choose one (rule above).
 
@@ -676,9 +693,24 @@ def fit_cluster(
         if costs[kind] <= best + fp.refine_margin:
             model, thr = models[kind]
             score(kind, refine_if_better(model, fitted[kind], sample, thr))
+    along: dict[ShapeKind, float] | None = None
+    if viewpoint is not None:
+        eye = _viewpoint(viewpoint)
+        along = {}
+        for kind, x in list(fitted.items()):
+            model = models[kind][0]
+            along[kind] = ray_cost(model, x, sample, eye, threshold=t_sel)  # type: ignore[arg-type]
+            y = refine_on_rays(model, x, sample, eye, threshold=t_sel)  # type: ignore[arg-type]
+            if not model.within_limits(y):
+                continue
+            cost = ray_cost(model, y, sample, eye, threshold=t_sel)  # type: ignore[arg-type]
+            if cost < along[kind] and bounded(curved(kind, y), points, margin_m=margin, box=box):
+                along[kind] = cost
+                if kind is ShapeKind.SPHERE:
+                    score(kind, y)
     while True:
         # The taper is measured on every point: on the sample its noise alone passed the rule.
-        kind = _choose(costs, fitted, support, fp, points)
+        kind = _choose(costs, fitted, support, fp, points, along)
         if kind is ShapeKind.PLANE:
             plane, inl = max(planes, key=lambda p: len(p[1]))
             prim = _build_plane(plane, sample, inl)
