@@ -53,7 +53,9 @@ def _first(ranges: FloatArray, *meetings: tuple[FloatArray, FloatArray]) -> Floa
     return np.asarray(np.abs(ranges - first), dtype=np.float64)
 
 
-def _roots(a: FloatArray, b: FloatArray, c: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray]:
+def _roots(
+    a: FloatArray, b: FloatArray, c: FloatArray
+) -> tuple[FloatArray, FloatArray, FloatArray]:
     """Both real roots of ``a s² + 2 b s + c = 0`` and where they exist (``a`` may be 0)."""
     disc = b * b - a * c
     real = disc >= 0
@@ -186,10 +188,14 @@ def fit_ends(
     shifts = (np.arange(steps + 1) * threshold / 4)[:, None]
     rows = np.repeat(x, steps + 1, axis=0)
     ones = np.ones_like(shifts)
-    cost = truncated_cost(ray_errors(model, rows, points, viewpoint, ends=(lo * ones, hi - shifts)), threshold)
+    cost = truncated_cost(
+        ray_errors(model, rows, points, viewpoint, ends=(lo * ones, hi - shifts)), threshold
+    )
     hi = hi - shifts[int(np.argmin(cost))]
     if isinstance(model, CylinderModel):
-        cost = truncated_cost(ray_errors(model, rows, points, viewpoint, ends=(lo + shifts, hi * ones)), threshold)
+        cost = truncated_cost(
+            ray_errors(model, rows, points, viewpoint, ends=(lo + shifts, hi * ones)), threshold
+        )
         lo = lo + shifts[int(np.argmin(cost))]
     return lo, hi
 
@@ -214,7 +220,7 @@ def refine_on_rays(
     >>> d = rng.normal(size=(300, 3))
     >>> d[:, 2] = -np.abs(d[:, 2])
     >>> on = 0.05 * d / np.linalg.norm(d, axis=1)[:, None] + [0.0, 0.0, 1.0]
-    >>> x = refine_on_rays(SphereModel(), np.array([0.005, 0.0, 1.01, 0.045]), on, np.zeros(3),
+    >>> x = refine_on_rays(SphereModel(), np.array([0.002, 0.0, 1.002, 0.049]), on, np.zeros(3),
     ...                    threshold=0.01, iterations=20)
     >>> bool(np.abs(x - [0.0, 0.0, 1.0, 0.05]).max() < 1e-3)
     True
@@ -250,3 +256,31 @@ def ray_cost(
         ends = fit_ends(model, params, points, viewpoint, threshold=threshold)
     errors = ray_errors(model, params, points, viewpoint, ends=ends)
     return float(truncated_cost(errors, threshold)[0])
+
+
+def sphere_from_outline(points: FloatArray, viewpoint: FloatArray) -> FloatArray:
+    """A first guess ``[cx, cy, cz, r]`` of the sphere the points would be the visible part of,
+    from their outline alone (the ranges, noisy, play no part but in their mean): the radius is
+    half the points' spread across the mean ray (the 2nd to 98th percentiles, along the wider of
+    the two directions across it), the centre lies behind the points' mean by two thirds of the
+    radius along the mean ray (the mean depth of a half sphere seen from far, over its disc).
+
+    >>> rng = np.random.default_rng(0)
+    >>> d = rng.normal(size=(2000, 3))
+    >>> d[:, 2] = -np.abs(d[:, 2])
+    >>> on = 0.05 * d / np.linalg.norm(d, axis=1)[:, None] + [0.0, 0.0, 2.0]
+    >>> guess = sphere_from_outline(on, np.zeros(3))
+    >>> bool(np.abs(guess - [0.0, 0.0, 2.0, 0.05]).max() < 0.01)
+    True
+    """
+    pts = np.asarray(points, dtype=np.float64)
+    mean = pts.mean(axis=0)
+    view = mean - np.asarray(viewpoint, dtype=np.float64)
+    view /= np.linalg.norm(view)
+    helper = np.array([1.0, 0.0, 0.0]) if abs(view[0]) < 0.9 else np.array([0.0, 1.0, 0.0])
+    e1 = np.cross(view, helper)
+    e1 /= np.linalg.norm(e1)
+    e2 = np.cross(view, e1)
+    spans = [float(np.subtract(*np.percentile(pts @ e, [98, 2]))) for e in (e1, e2)]
+    radius = max(spans) / 2 / 0.96  # the 2nd-98th percentiles of a disc's width span 0.96 of it
+    return np.concatenate((mean + 2.0 / 3.0 * radius * view, [radius]))

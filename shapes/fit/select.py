@@ -71,7 +71,7 @@ from shapes.fit.models import (
     UprightConeModel,
     UprightCylinderModel,
 )
-from shapes.fit.ray import ray_cost, refine_on_rays
+from shapes.fit.ray import RayModel, ray_cost, refine_on_rays, sphere_from_outline
 from shapes.normals import patch_normals
 from shapes.types import FloatArray, Primitive, ShapeKind, SupportPlane, vec3
 
@@ -125,6 +125,8 @@ class FitParams:
     taper_sigmas: float = 0.35
     taper_upright_deg: float = 30.0
     taper_min_spread_m: float = 0.002
+    ray_iterations: int = 8
+    ray_gate: float = 0.03
 
     def for_noise(self, sigma_m: float) -> FitParams:
         """These parameters with every distance threshold raised to at least
@@ -374,7 +376,7 @@ def _choose(
     support: SupportPlane | None,
     fp: FitParams,
     points: FloatArray | None = None,
-    along: dict[ShapeKind, float] | None = None,
+    sphere_on_rays: bool | None = None,
 ) -> ShapeKind:
     """The shape by the rule of the module docstring. The oblique penalty only ranks the curved
     models among themselves (a tilted cylinder is what a partly hidden cone looks like); the
@@ -393,7 +395,7 @@ def _choose(
     taken as at least ``taper_min_spread_m`` so that a noiseless side does not make every
     tenth of a millimetre significant); else a cylinder."""
     choice = {k: c for k, c in costs.items() if k is not ShapeKind.PLANE}
-    if along is not None:
+    if sphere_on_rays is not None:
         choice.pop(ShapeKind.SPHERE, None)
     if support is not None:
         for kind in (ShapeKind.CYLINDER, ShapeKind.CONE):
@@ -406,9 +408,8 @@ def _choose(
         curved = next(k for k in ORDER if k in choice and choice[k] <= best + fp.tie_margin)
         if points is not None and support is not None:
             curved = _by_taper(curved, costs, fitted, support, fp, points)
-    if along is not None and ShapeKind.SPHERE in costs:
-        if curved is None or along[ShapeKind.SPHERE] <= along[curved] + fp.tie_margin:
-            curved = ShapeKind.SPHERE
+    if sphere_on_rays and ShapeKind.SPHERE in costs:
+        curved = ShapeKind.SPHERE
     if curved is not None:
         candidates[curved] = costs[curved]
     best = min(candidates.values())
@@ -484,6 +485,47 @@ def _viewpoint(viewpoint: FloatArray) -> FloatArray:
     if v.shape != (3,) or not np.all(np.isfinite(v)):
         raise ValueError(f"viewpoint: expected a finite (3,) point, got {viewpoint!r}")
     return v
+
+
+def _sphere_on_rays(
+    sphere: FloatArray,
+    rival: ShapeKind,
+    params: FloatArray,
+    sample: FloatArray,
+    eye: FloatArray,
+    models: dict[ShapeKind, tuple[Model, float]],
+    fp: FitParams,
+    within: Callable[[ShapeKind, FloatArray], bool],
+    up: SupportPlane | None = None,
+) -> FloatArray | None:
+    """The sphere refined along the rays when it costs, along the rays, no more than the rival
+    cylinder or cone refined the same way (plus ``tie_margin``); else None. The sphere starts
+    from the fitted one and from the one its outline gives, and keeps the cheaper; only
+    parameters that pass ``within`` (the model's limits are checked here) are candidates."""
+    t_sel = fp.selection_threshold_m
+    costs: dict[ShapeKind, tuple[float, FloatArray]] = {}
+    starts = [
+        (ShapeKind.SPHERE, sphere),
+        (ShapeKind.SPHERE, sphere_from_outline(sample, eye)),
+        (rival, params),
+    ]
+    if up is not None and _orient_up(params[3:6], up, fp.upright_tolerance_deg):
+        n = np.asarray(up.normal, dtype=np.float64)
+        starts.append((rival, np.concatenate((params[:3], n if n @ params[3:6] > 0 else -n, params[6:]))))
+    for kind, x in starts:
+        model: RayModel = models[kind][0]  # type: ignore[assignment]
+        for y in (
+            x,
+            refine_on_rays(model, x, sample, eye, threshold=t_sel, iterations=fp.ray_iterations),
+        ):
+            if model.within_limits(y) and within(kind, y):
+                cost = ray_cost(model, y, sample, eye, threshold=t_sel)
+                if cost < costs.get(kind, (np.inf, y))[0]:
+                    costs[kind] = (cost, y)
+    if ShapeKind.SPHERE not in costs or rival not in costs:
+        return None
+    cost, ball = costs[ShapeKind.SPHERE]
+    return ball if cost <= costs[rival][0] + fp.tie_margin else None
 
 
 def fit_cluster(
@@ -693,24 +735,40 @@ def fit_cluster(
         if costs[kind] <= best + fp.refine_margin:
             model, thr = models[kind]
             score(kind, refine_if_better(model, fitted[kind], sample, thr))
-    along: dict[ShapeKind, float] | None = None
-    if viewpoint is not None:
-        eye = _viewpoint(viewpoint)
-        along = {}
-        for kind, x in list(fitted.items()):
-            model = models[kind][0]
-            along[kind] = ray_cost(model, x, sample, eye, threshold=t_sel)  # type: ignore[arg-type]
-            y = refine_on_rays(model, x, sample, eye, threshold=t_sel)  # type: ignore[arg-type]
-            if not model.within_limits(y):
-                continue
-            cost = ray_cost(model, y, sample, eye, threshold=t_sel)  # type: ignore[arg-type]
-            if cost < along[kind] and bounded(curved(kind, y), points, margin_m=margin, box=box):
-                along[kind] = cost
-                if kind is ShapeKind.SPHERE:
-                    score(kind, y)
+    sphere_on_rays: bool | None = None
+    if viewpoint is not None and ShapeKind.SPHERE in costs:
+        # The sphere against the model the rule would choose without it, along the rays.
+        rival = (
+            _choose(
+                {k: c for k, c in costs.items() if k is not ShapeKind.SPHERE},
+                fitted,
+                support,
+                fp,
+                points,
+            )
+            if len(costs) > 1
+            else None
+        )
+        if rival in (ShapeKind.CYLINDER, ShapeKind.CONE):
+            sphere_on_rays = False
+            if costs[ShapeKind.SPHERE] - costs[rival] <= fp.ray_gate:
+                ball = _sphere_on_rays(
+                    fitted[ShapeKind.SPHERE],
+                    rival,
+                    fitted[rival],
+                    sample,
+                    _viewpoint(viewpoint),
+                    models,
+                    fp,
+                    lambda k, x: bounded(curved(k, x), points, margin_m=margin, box=box),
+                    support,
+                )
+                if ball is not None:
+                    score(ShapeKind.SPHERE, ball)
+                    sphere_on_rays = True
     while True:
         # The taper is measured on every point: on the sample its noise alone passed the rule.
-        kind = _choose(costs, fitted, support, fp, points, along)
+        kind = _choose(costs, fitted, support, fp, points, sphere_on_rays)
         if kind is ShapeKind.PLANE:
             plane, inl = max(planes, key=lambda p: len(p[1]))
             prim = _build_plane(plane, sample, inl)
