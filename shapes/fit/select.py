@@ -408,10 +408,14 @@ def _choose(
         curved = next(k for k in ORDER if k in choice and choice[k] <= best + fp.tie_margin)
         if points is not None and support is not None:
             curved = _by_taper(curved, costs, fitted, support, fp, points)
-    if sphere_on_rays and ShapeKind.SPHERE in costs:
-        curved = ShapeKind.SPHERE
     if curved is not None:
         candidates[curved] = costs[curved]
+    if sphere_on_rays and ShapeKind.SPHERE in costs:
+        # The sphere explains the points along the rays at least as well as the rival: it
+        # meets the planes with the lower of the two costs.
+        rival = candidates.pop(curved, np.inf) if curved is not None else np.inf
+        curved = ShapeKind.SPHERE
+        candidates[curved] = min(costs[curved], rival)
     best = min(candidates.values())
     return next(k for k in ORDER if k in candidates and candidates[k] <= best + fp.tie_margin)
 
