@@ -21,7 +21,16 @@ from shapes.fit._ransac import levenberg_marquardt
 from shapes.fit.models import ConeModel, CylinderModel, PlaneModel, SphereModel
 from shapes.types import FloatArray
 
-__all__ = ["RayModel", "ray_directions", "ray_errors", "refine_on_rays"]
+__all__ = [
+    "RayModel",
+    "fit_ends",
+    "ray_cost",
+    "ray_directions",
+    "ray_errors",
+    "refine_on_rays",
+    "sphere_from_outline",
+    "truncated_cost",
+]
 
 RayModel = SphereModel | CylinderModel | ConeModel | PlaneModel
 """The models whose surfaces a ray can be cast against."""
