@@ -10,12 +10,17 @@ surface does not cover the pixel at all (under range noise the pixel's direction
 Each model's surface is the one its distances describe (:mod:`shapes.fit.models`), closed where
 the points end: a sphere; a cylinder's side between its two end discs, at the 1st and 99th
 percentiles of the points along the axis; a cone's side (the nappe the axis points into) from
-the apex to its base disc, at the 99th percentile; a plane. :func:`refine_on_rays` fits a model's parameters under the same error.
+the apex to its base disc, at the 99th percentile; a plane. The discs of a cylinder or cone are
+then moved in to where they cost least along the rays (:func:`fit_ends`): range noise spreads a
+flat top along the axis, so the outermost points lie beyond it. :func:`refine_on_rays` fits a
+model's parameters under the same error, :func:`sphere_from_outline` gives a sphere to start
+from.
 """
 
 from __future__ import annotations
 
 import numpy as np
+import numpy.typing as npt
 
 from shapes.fit._ransac import levenberg_marquardt
 from shapes.fit.models import ConeModel, CylinderModel, PlaneModel, SphereModel
@@ -31,6 +36,8 @@ __all__ = [
     "sphere_from_outline",
     "truncated_cost",
 ]
+
+Mask = npt.NDArray[np.bool_]
 
 RayModel = SphereModel | CylinderModel | ConeModel | PlaneModel
 """The models whose surfaces a ray can be cast against."""
@@ -51,7 +58,7 @@ def ray_directions(points: FloatArray, viewpoint: FloatArray) -> FloatArray:
     return np.asarray(rays / length[:, None], dtype=np.float64)
 
 
-def _first(ranges: FloatArray, *meetings: tuple[FloatArray, FloatArray]) -> FloatArray:
+def _first(ranges: FloatArray, *meetings: tuple[FloatArray, Mask]) -> FloatArray:
     """``|range - s|`` for the first meeting ``s`` (the nearest the sensor, in front of it)
     among the valid ones, else inf: the surface the sensor sees along a ray is the first it
     meets, so a point is never explained by a surface hidden behind another part of the same
@@ -62,9 +69,7 @@ def _first(ranges: FloatArray, *meetings: tuple[FloatArray, FloatArray]) -> Floa
     return np.asarray(np.abs(ranges - first), dtype=np.float64)
 
 
-def _roots(
-    a: FloatArray, b: FloatArray, c: FloatArray
-) -> tuple[FloatArray, FloatArray, FloatArray]:
+def _roots(a: FloatArray, b: FloatArray, c: FloatArray) -> tuple[FloatArray, FloatArray, Mask]:
     """Both real roots of ``a s² + 2 b s + c = 0`` and where they exist (``a`` may be 0)."""
     disc = b * b - a * c
     real = disc >= 0
@@ -83,7 +88,7 @@ def _disc(
     radius: FloatArray,
     eye: FloatArray,
     rays: FloatArray,
-) -> tuple[FloatArray, FloatArray]:
+) -> tuple[FloatArray, Mask]:
     """Where each ray meets the disc at axial position ``at`` (from ``origin`` along the unit
     ``axis``) of ``radius``: ``(s, valid)``, each ``(m, n)``."""
     w = eye - origin  # (m, 3)

@@ -46,6 +46,22 @@ they fall within a loose band: a flat patch of a sphere or a band of a cone that
 few millimetres of a plane or a cylinder still costs more than the surface that explains every
 point at noise level.
 
+Spheres along the rays
+----------------------
+Range noise moves each point along the sensor's ray, not along the surface's normal, and far
+from the sensor it is as large as a small sphere's bulge: by the distance to each surface, a
+cylinder or cone folded through the cluster then costs less than the sphere, even the true one.
+When the sensor's centre is known (``viewpoint``), the sphere is weighed against the model the
+rule above chooses without it, when that is a cylinder or cone and the sphere costs at most
+``ray_gate`` more than it: each is scored by the error along each point's ray to the first
+surface the ray meets (:mod:`shapes.fit.ray`: its range minus the range at which its ray first
+meets the candidate's closed surface; a ray that misses it costs the most), after refining it
+under that error (the sphere from its fit and from its outline, the cylinder or cone from its
+fit and, standing, with the support's normal for an axis; the cheaper start kept). The sphere
+is chosen when it costs no more than the rival plus ``tie_margin``, and then meets the planes
+with the lower of the two costs (by the distance to the surface); otherwise the sphere is out.
+The rival is not refitted otherwise: the cylinder/cone choice stays the rule's own.
+
 Heights are measured to the support: when a cylinder's or cone's axis is within
 ``upright_tolerance_deg`` of the support normal and its lowest points lie within
 ``snap_distance_m`` of the support, the base is put on the support plane. The segmentation has
@@ -127,6 +143,9 @@ class FitParams:
     taper_min_spread_m: float = 0.002
     ray_iterations: int = 8
     ray_gate: float = 0.03
+    """With a viewpoint: how much more than its rival (by the distance to the surface) a sphere
+    may cost and still be weighed against it along the rays; ``ray_iterations``: the
+    Levenberg-Marquardt steps of each refinement along them."""
 
     def for_noise(self, sigma_m: float) -> FitParams:
         """These parameters with every distance threshold raised to at least
@@ -393,7 +412,12 @@ def _choose(
     upwards, so it is a cone when its side's radius drops by more than ``taper_sigmas`` times
     the spread of the side about its profile (:func:`standing_taper`: the measured residual,
     taken as at least ``taper_min_spread_m`` so that a noiseless side does not make every
-    tenth of a millimetre significant); else a cylinder."""
+    tenth of a millimetre significant); else a cylinder.
+
+    ``sphere_on_rays`` (from the rays, when the viewpoint is known and the rule without the
+    sphere chose a cylinder or cone): None, the sphere competes on its cost as above; False,
+    it is not chosen; True, it takes the curved model's place and meets the planes with the
+    lower of its own cost and that model's."""
     choice = {k: c for k, c in costs.items() if k is not ShapeKind.PLANE}
     if sphere_on_rays is not None:
         choice.pop(ShapeKind.SPHERE, None)
@@ -515,7 +539,9 @@ def _sphere_on_rays(
     ]
     if up is not None and _orient_up(params[3:6], up, fp.upright_tolerance_deg):
         n = np.asarray(up.normal, dtype=np.float64)
-        starts.append((rival, np.concatenate((params[:3], n if n @ params[3:6] > 0 else -n, params[6:]))))
+        starts.append(
+            (rival, np.concatenate((params[:3], n if n @ params[3:6] > 0 else -n, params[6:])))
+        )
     for kind, x in starts:
         model: RayModel = models[kind][0]  # type: ignore[assignment]
         for y in (
@@ -547,9 +573,14 @@ def fit_cluster(
     its best bounded candidate, and unbounded planes give way to the next model by the rule.
     Returns None if the cluster has too few points (fewer than 10) for any model, or if no
     bounded fit remains.
-    Deterministic for a given ``rng`` state.
+    Deterministic for a given ``rng`` state (the work along the rays draws nothing from it).
+
+    ``viewpoint``: the sensor's centre in the points' frame, when known; the sphere is then
+    chosen or not along the sensor's rays (module docstring, "Spheres along the rays"). Raises
+    ValueError if it is not a finite 3-vector.
     """
     fp = params or FitParams()
+    eye = None if viewpoint is None else _viewpoint(viewpoint)
     if len(points) < 10:
         return None
     # Normals from the full-resolution neighbours of each sampled point: with the same number
@@ -740,7 +771,7 @@ def fit_cluster(
             model, thr = models[kind]
             score(kind, refine_if_better(model, fitted[kind], sample, thr))
     sphere_on_rays: bool | None = None
-    if viewpoint is not None and ShapeKind.SPHERE in costs:
+    if eye is not None and ShapeKind.SPHERE in costs:
         # The sphere against the model the rule would choose without it, along the rays.
         rival = (
             _choose(
@@ -761,7 +792,7 @@ def fit_cluster(
                     rival,
                     fitted[rival],
                     sample,
-                    _viewpoint(viewpoint),
+                    eye,
                     models,
                     fp,
                     lambda k, x: bounded(curved(k, x), points, margin_m=margin, box=box),
