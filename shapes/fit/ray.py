@@ -82,24 +82,23 @@ def _roots(a: FloatArray, b: FloatArray, c: FloatArray) -> tuple[FloatArray, Flo
 
 
 def _disc(
-    origin: FloatArray,
-    axis: FloatArray,
     at: FloatArray,
     radius: FloatArray,
-    eye: FloatArray,
-    rays: FloatArray,
+    wa: FloatArray,
+    ua: FloatArray,
+    wu: FloatArray,
+    ww: FloatArray,
 ) -> tuple[FloatArray, Mask]:
-    """Where each ray meets the disc at axial position ``at`` (from ``origin`` along the unit
-    ``axis``) of ``radius``: ``(s, valid)``, each ``(m, n)``."""
-    w = eye - origin  # (m, 3)
-    across = rays @ axis.T  # (n, m)
-    across = across.T  # (m, n)
-    safe = np.where(np.abs(across) > 1e-12, across, 1e-12)
-    s = (at - (w * axis).sum(axis=1)[:, None]) / safe
-    hit = eye + s[..., None] * rays[None, :, :] - origin[:, None, :]  # (m, n, 3)
-    t = (hit * axis[:, None, :]).sum(axis=2)
-    rho2 = (hit * hit).sum(axis=2) - t * t
-    return s, (np.abs(across) > 1e-12) & (rho2 <= radius * radius)
+    """Where each ray meets the disc at axial position ``at`` of ``radius``: ``(s, valid)``,
+    each ``(m, n)``. The ray is ``w + s u`` from the axis's origin (``w`` the sensor's centre
+    from it); ``wa``, ``ua``: ``w`` and ``u`` along the axis, ``wu``, ``ww``: their dot
+    products."""
+    crosses = np.abs(ua) > 1e-12
+    s = (at - wa) / np.where(crosses, ua, 1e-12)
+    # |w + s u|² minus the square of its axial part (which is ``at``): the squared distance
+    # from the axis where the ray crosses the disc's plane.
+    rho2 = ww + 2 * s * wu + s * s - at * at
+    return s, crosses & (rho2 <= radius * radius)
 
 
 def _percentile_ends(
@@ -163,7 +162,7 @@ def ray_errors(
         lo, hi, real = _roots(1.0 - ua * ua, wu - wa * ua, ww - wa * wa - r * r)
         meetings = [(s, real & (wa + s * ua >= lo_end) & (wa + s * ua <= hi_end)) for s in (lo, hi)]
         if model.with_caps:
-            meetings += [_disc(origin, axis, end, r, eye, rays) for end in (lo_end, hi_end)]
+            meetings += [_disc(end, r, wa, ua, wu, ww) for end in (lo_end, hi_end)]
         return _first(ranges, *meetings)
     c2 = np.cos(x[:, 6:7]) ** 2
     tan = np.tan(x[:, 6:7])
@@ -173,7 +172,7 @@ def ray_errors(
     lo, hi, real = _roots(ua * ua - c2, wa * ua - c2 * wu, wa * wa - c2 * ww)
     meetings = [(s, real & (wa + s * ua >= 0) & (wa + s * ua <= base)) for s in (lo, hi)]
     if model.with_base:
-        meetings.append(_disc(origin, axis, base, base * tan, eye, rays))
+        meetings.append(_disc(base, base * tan, wa, ua, wu, ww))
     return _first(ranges, *meetings)
 
 
