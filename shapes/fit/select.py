@@ -528,8 +528,10 @@ def _sphere_on_rays(
 ) -> FloatArray | None:
     """The sphere refined along the rays when it costs, along the rays, no more than the rival
     cylinder or cone refined the same way (plus ``tie_margin``); else None. The sphere starts
-    from the fitted one and from the one its outline gives, and keeps the cheaper; only
-    parameters that pass ``within`` (the model's limits are checked here) are candidates."""
+    from the fitted one and from the one its outline gives, the rival from its fit and, when
+    it stands on ``up`` (within ``upright_tolerance_deg``), from the same with the support's
+    normal for an axis; each keeps its cheapest, before or after refining. Only parameters
+    that pass ``within`` (the model's limits are checked here) are candidates."""
     t_sel = fp.selection_threshold_m
     costs: dict[ShapeKind, tuple[float, FloatArray]] = {}
     starts = [
