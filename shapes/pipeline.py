@@ -138,6 +138,8 @@ class Perception:
                 frame = frame.with_pose(found.world_from_sensor)
         self.gravity = gravity
         seg = segment(frame, self.params.segmentation, self.seed + index, surveyed=surveyed)
+        # The sensor's centre in the world frame: fit_cluster scores the sphere along its rays.
+        viewpoint = frame.world_from_sensor[:3, 3] if surveyed.in_camera_frame else None
         fitted = []
         for cluster in seg.clusters:
             fit = fit_cluster(
@@ -145,6 +147,7 @@ class Perception:
                 support=cluster.support or seg.support,
                 params=self.params.fit.for_noise(cluster.noise_m),
                 rng=rng,
+                viewpoint=viewpoint,
             )
             if fit is not None:
                 fitted.append((cluster, fit.primitive))

@@ -46,6 +46,22 @@ they fall within a loose band: a flat patch of a sphere or a band of a cone that
 few millimetres of a plane or a cylinder still costs more than the surface that explains every
 point at noise level.
 
+Spheres along the rays
+----------------------
+Range noise moves each point along the sensor's ray, not along the surface's normal, and far
+from the sensor it is as large as a small sphere's bulge: by the distance to each surface, a
+cylinder or cone folded through the cluster then costs less than the sphere, even the true one.
+When the sensor's centre is known (``viewpoint``), the sphere is weighed against the model the
+rule above chooses without it, when that is a cylinder or cone and the sphere costs at most
+``ray_gate`` more than it: each is scored by the error along each point's ray to the first
+surface the ray meets (:mod:`shapes.fit.ray`: its range minus the range at which its ray first
+meets the candidate's closed surface; a ray that misses it costs the most), after refining it
+under that error (the sphere from its fit and from its outline, the cylinder or cone from its
+fit and, standing, with the support's normal for an axis; the cheaper start kept). The sphere
+is chosen when it costs no more than the rival plus ``tie_margin``, and then meets the planes
+with the lower of the two costs (by the distance to the surface); otherwise the sphere is out.
+The rival is not refitted otherwise: the cylinder/cone choice stays the rule's own.
+
 Heights are measured to the support: when a cylinder's or cone's axis is within
 ``upright_tolerance_deg`` of the support normal and its lowest points lie within
 ``snap_distance_m`` of the support, the base is put on the support plane. The segmentation has
@@ -55,6 +71,7 @@ to drop the bottom centimetre of each object with the table; this gives it back.
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass, field, replace
 
 import numpy as np
@@ -70,6 +87,7 @@ from shapes.fit.models import (
     UprightConeModel,
     UprightCylinderModel,
 )
+from shapes.fit.ray import RayModel, ray_cost, refine_on_rays, sphere_from_outline
 from shapes.normals import patch_normals
 from shapes.types import FloatArray, Primitive, ShapeKind, SupportPlane, vec3
 
@@ -123,6 +141,11 @@ class FitParams:
     taper_sigmas: float = 0.35
     taper_upright_deg: float = 30.0
     taper_min_spread_m: float = 0.002
+    ray_iterations: int = 8
+    ray_gate: float = 0.03
+    """With a viewpoint: how much more than its rival (by the distance to the surface) a sphere
+    may cost and still be weighed against it along the rays; ``ray_iterations``: the
+    Levenberg-Marquardt steps of each refinement along them."""
 
     def for_noise(self, sigma_m: float) -> FitParams:
         """These parameters with every distance threshold raised to at least
@@ -372,6 +395,7 @@ def _choose(
     support: SupportPlane | None,
     fp: FitParams,
     points: FloatArray | None = None,
+    sphere_on_rays: bool | None = None,
 ) -> ShapeKind:
     """The shape by the rule of the module docstring. The oblique penalty only ranks the curved
     models among themselves (a tilted cylinder is what a partly hidden cone looks like); the
@@ -388,21 +412,34 @@ def _choose(
     upwards, so it is a cone when its side's radius drops by more than ``taper_sigmas`` times
     the spread of the side about its profile (:func:`standing_taper`: the measured residual,
     taken as at least ``taper_min_spread_m`` so that a noiseless side does not make every
-    tenth of a millimetre significant); else a cylinder."""
+    tenth of a millimetre significant); else a cylinder.
+
+    ``sphere_on_rays`` (from the rays, when the viewpoint is known and the rule without the
+    sphere chose a cylinder or cone): None, the sphere competes on its cost as above; False,
+    it is not chosen; True, it takes the curved model's place and meets the planes with the
+    lower of its own cost and that model's."""
     choice = {k: c for k, c in costs.items() if k is not ShapeKind.PLANE}
+    if sphere_on_rays is not None:
+        choice.pop(ShapeKind.SPHERE, None)
     if support is not None:
         for kind in (ShapeKind.CYLINDER, ShapeKind.CONE):
             if kind in choice and not _can_rest(kind, fitted[kind], support, fp):
                 choice[kind] += fp.oblique_penalty
     candidates = {ShapeKind.PLANE: costs[ShapeKind.PLANE]} if ShapeKind.PLANE in costs else {}
+    curved: ShapeKind | None = None
     if choice:
         best = min(choice.values())
-        curved: ShapeKind = next(
-            k for k in ORDER if k in choice and choice[k] <= best + fp.tie_margin
-        )
+        curved = next(k for k in ORDER if k in choice and choice[k] <= best + fp.tie_margin)
         if points is not None and support is not None:
             curved = _by_taper(curved, costs, fitted, support, fp, points)
+    if curved is not None:
         candidates[curved] = costs[curved]
+    if sphere_on_rays and ShapeKind.SPHERE in costs:
+        # The sphere explains the points along the rays at least as well as the rival: it
+        # meets the planes with the lower of the two costs.
+        rival = candidates.pop(curved, np.inf) if curved is not None else np.inf
+        curved = ShapeKind.SPHERE
+        candidates[curved] = min(costs[curved], rival)
     best = min(candidates.values())
     return next(k for k in ORDER if k in candidates and candidates[k] <= best + fp.tie_margin)
 
@@ -470,12 +507,66 @@ def bounded(
     )
 
 
+def _viewpoint(viewpoint: FloatArray) -> FloatArray:
+    """The viewpoint as a finite 3-vector; raises ValueError otherwise."""
+    v = np.asarray(viewpoint, dtype=np.float64)
+    if v.shape != (3,) or not np.all(np.isfinite(v)):
+        raise ValueError(f"viewpoint: expected a finite (3,) point, got {viewpoint!r}")
+    return v
+
+
+def _sphere_on_rays(
+    sphere: FloatArray,
+    rival: ShapeKind,
+    params: FloatArray,
+    sample: FloatArray,
+    eye: FloatArray,
+    models: dict[ShapeKind, tuple[Model, float]],
+    fp: FitParams,
+    within: Callable[[ShapeKind, FloatArray], bool],
+    up: SupportPlane | None = None,
+) -> FloatArray | None:
+    """The sphere refined along the rays when it costs, along the rays, no more than the rival
+    cylinder or cone refined the same way (plus ``tie_margin``); else None. The sphere starts
+    from the fitted one and from the one its outline gives, the rival from its fit and, when
+    it stands on ``up`` (within ``upright_tolerance_deg``), from the same with the support's
+    normal for an axis; each keeps its cheapest, before or after refining. Only parameters
+    that pass ``within`` (the model's limits are checked here) are candidates."""
+    t_sel = fp.selection_threshold_m
+    costs: dict[ShapeKind, tuple[float, FloatArray]] = {}
+    starts = [
+        (ShapeKind.SPHERE, sphere),
+        (ShapeKind.SPHERE, sphere_from_outline(sample, eye)),
+        (rival, params),
+    ]
+    if up is not None and _orient_up(params[3:6], up, fp.upright_tolerance_deg):
+        n = np.asarray(up.normal, dtype=np.float64)
+        starts.append(
+            (rival, np.concatenate((params[:3], n if n @ params[3:6] > 0 else -n, params[6:])))
+        )
+    for kind, x in starts:
+        model: RayModel = models[kind][0]  # type: ignore[assignment]
+        for y in (
+            x,
+            refine_on_rays(model, x, sample, eye, threshold=t_sel, iterations=fp.ray_iterations),
+        ):
+            if model.within_limits(y) and within(kind, y):
+                cost = ray_cost(model, y, sample, eye, threshold=t_sel)
+                if cost < costs.get(kind, (np.inf, y))[0]:
+                    costs[kind] = (cost, y)
+    if ShapeKind.SPHERE not in costs or rival not in costs:
+        return None
+    cost, ball = costs[ShapeKind.SPHERE]
+    return ball if cost <= costs[rival][0] + fp.tie_margin else None
+
+
 def fit_cluster(
     points: FloatArray,
     *,
     support: SupportPlane | None = None,
     params: FitParams | None = None,
     rng: np.random.Generator,
+    viewpoint: FloatArray | None = None,
 ) -> ClusterFit | None:
     """Fit sphere, cylinder, cone and plane(s) to one cluster and choose one (rule above).
 
@@ -484,9 +575,14 @@ def fit_cluster(
     its best bounded candidate, and unbounded planes give way to the next model by the rule.
     Returns None if the cluster has too few points (fewer than 10) for any model, or if no
     bounded fit remains.
-    Deterministic for a given ``rng`` state.
+    Deterministic for a given ``rng`` state (the work along the rays draws nothing from it).
+
+    ``viewpoint``: the sensor's centre in the points' frame, when known; the sphere is then
+    chosen or not along the sensor's rays (module docstring, "Spheres along the rays"). Raises
+    ValueError if it is not a finite 3-vector.
     """
     fp = params or FitParams()
+    eye = None if viewpoint is None else _viewpoint(viewpoint)
     if len(points) < 10:
         return None
     # Normals from the full-resolution neighbours of each sampled point: with the same number
@@ -676,9 +772,40 @@ def fit_cluster(
         if costs[kind] <= best + fp.refine_margin:
             model, thr = models[kind]
             score(kind, refine_if_better(model, fitted[kind], sample, thr))
+    sphere_on_rays: bool | None = None
+    if eye is not None and ShapeKind.SPHERE in costs:
+        # The sphere against the model the rule would choose without it, along the rays.
+        rival = (
+            _choose(
+                {k: c for k, c in costs.items() if k is not ShapeKind.SPHERE},
+                fitted,
+                support,
+                fp,
+                points,
+            )
+            if len(costs) > 1
+            else None
+        )
+        if rival in (ShapeKind.CYLINDER, ShapeKind.CONE):
+            sphere_on_rays = False
+            if costs[ShapeKind.SPHERE] - costs[rival] <= fp.ray_gate:
+                ball = _sphere_on_rays(
+                    fitted[ShapeKind.SPHERE],
+                    rival,
+                    fitted[rival],
+                    sample,
+                    eye,
+                    models,
+                    fp,
+                    lambda k, x: bounded(curved(k, x), points, margin_m=margin, box=box),
+                    support,
+                )
+                if ball is not None:
+                    score(ShapeKind.SPHERE, ball)
+                    sphere_on_rays = True
     while True:
         # The taper is measured on every point: on the sample its noise alone passed the rule.
-        kind = _choose(costs, fitted, support, fp, points)
+        kind = _choose(costs, fitted, support, fp, points, sphere_on_rays)
         if kind is ShapeKind.PLANE:
             plane, inl = max(planes, key=lambda p: len(p[1]))
             prim = _build_plane(plane, sample, inl)
