@@ -76,6 +76,7 @@ from shapes.frame import Frame
 from shapes.split import split_touching
 from shapes.support_region import SupportRegion, support_region
 from shapes.types import FloatArray, SupportPlane, vec3
+from shapes.view import ImageView, image_view
 
 __all__ = [
     "Cluster",
@@ -133,6 +134,11 @@ class SegmentationParams:
     and so a part of something larger than the scene, not an object."""
     min_cut_voxels: int = 3
     """As ``min_cut_share``, a count: one stray voxel at the limit cuts nothing."""
+    border_band_px: int = 8
+    """How near an edge of the image's valid window (other than the edge the camera looks
+    down through) a point counts as cut by it (:mod:`shapes.view`): four sampled pixels at a
+    640 x 480 frame's stride of 2; the window's edge itself wanders by a few pixels where
+    flying pixels were dropped."""
 
 
 @dataclass(frozen=True, eq=False)
@@ -145,6 +151,8 @@ class Cluster:
     support: SupportPlane | None = None
     noise_m: float = 0.0
     """The depth noise (one sigma) expected at the cluster's range, in metres."""
+    pixels: npt.NDArray[np.intp] | None = None
+    """The flat row-major image pixel of each point, on an organised frame."""
 
     @property
     def centroid(self) -> FloatArray:
@@ -541,10 +549,14 @@ def segment(
     if scan.reason is not None:
         return Segmentation(None, (), reason=scan.reason)
     keep, depth, sigma_1m, voxel_of = scan.keep, scan.depth, scan.sigma_1m, scan.voxel_of
+    pixels = None if frame.pixels is None else frame.pixels[keep]
     reach = _Reach(
         frame.world_from_sensor if scan.in_camera_frame else None,
         depth_cut_m(sigma_1m, params),
         max(params.cut_band_m, 3 * sigma_1m * depth_cut_m(sigma_1m, params) ** 2),
+        None
+        if frame.pixels is None or frame.image_shape is None or not scan.in_camera_frame
+        else image_view(frame.image_shape, frame.pixels, frame.world_from_sensor[:3, :3]),
     )
     points = frame.world_points_of(scan.points)
     voxels = frame.world_points_of(scan.voxels)
@@ -645,6 +657,7 @@ def segment(
             points,
             depth,
             colours,
+            pixels,
             support,
             margins[k],
             sigma_1m,
@@ -703,6 +716,8 @@ class _Reach:
     world_from_sensor: FloatArray | None
     depth_cut_m: float
     band_m: float
+    view: ImageView | None = None
+    """The image's valid window (None for a cloud that is not a camera's image)."""
 
 
 def _reaching(near: npt.NDArray[np.bool_], params: SegmentationParams) -> bool:
@@ -715,10 +730,17 @@ def _cut_by_limits(cluster: Cluster, reach: _Reach, params: SegmentationParams) 
     (a wall, a door, a chair's back, a person's legs), not an object: at least
     ``min_cut_share`` of its voxels (and ``min_cut_voxels``) lie within ``cut_band_m`` of
     ``max_height_m`` over its support, or as large a share of its points within
-    ``reach.band_m`` of the depth cut."""
+    ``reach.band_m`` of the depth cut, or within ``border_band_px`` of an edge of the image's
+    valid window other than the one the camera looks down through (:mod:`shapes.view`)."""
     assert cluster.support is not None
     height = cluster.support.signed_distance(cluster.voxels)
     if _reaching(height >= params.max_height_m - params.cut_band_m, params):
+        return True
+    if (
+        reach.view is not None
+        and cluster.pixels is not None
+        and _reaching(reach.view.at_closed_edge(cluster.pixels, params.border_band_px), params)
+    ):
         return True
     if reach.world_from_sensor is None:
         return False
@@ -786,6 +808,7 @@ def _clusters(
     points: FloatArray,
     depth: FloatArray,
     colours: FloatArray | None,
+    pixels: npt.NDArray[np.intp] | None,
     support: SupportPlane,
     margin: float,
     sigma_1m: float,
@@ -836,6 +859,7 @@ def _clusters(
                 voxels[candidates[labels == label]],
                 support,
                 sigma_1m * float(np.median(depth[idx])) ** 2,
+                None if pixels is None else pixels[idx],
             )
         )
     return clusters, small
