@@ -139,6 +139,12 @@ class SegmentationParams:
     down through) a point counts as cut by it (:mod:`shapes.view`): four sampled pixels at a
     640 x 480 frame's stride of 2; the window's edge itself wanders by a few pixels where
     flying pixels were dropped."""
+    floating_probe_px: int = 8
+    """How far past a cluster's lower outline in the image something nearer is looked for,
+    which hides its bottom (:func:`_floats`)."""
+    min_hidden_share: float = 0.5
+    """The share of a cluster's lower outline that something nearer must hide for a bottom
+    seen above ``max_base_height_m`` to be hidden rather than hanging (:func:`_floats`)."""
 
 
 @dataclass(frozen=True, eq=False)
@@ -557,6 +563,7 @@ def segment(
         None
         if frame.pixels is None or frame.image_shape is None or not scan.in_camera_frame
         else image_view(frame.image_shape, frame.pixels, frame.world_from_sensor[:3, :3]),
+        None if frame.pixels is None else _depth_image(frame, np.ones(len(frame.points), bool)),
     )
     points = frame.world_points_of(scan.points)
     voxels = frame.world_points_of(scan.voxels)
@@ -669,7 +676,9 @@ def segment(
         found = [
             c
             for c in found
-            if _stands_within(c, regions[k], params) and not _cut_by_limits(c, reach, params)
+            if _stands_within(c, regions[k], params)
+            and not _cut_by_limits(c, reach, params)
+            and not _floats(c, reach, margins[k], params)
         ]
         votes[k] = sum(len(c.voxels) for c in found)
         clusters += found
@@ -718,6 +727,8 @@ class _Reach:
     band_m: float
     view: ImageView | None = None
     """The image's valid window (None for a cloud that is not a camera's image)."""
+    depth_image: FloatArray | None = None
+    """Every depth of the frame as its image, NaN where there is none."""
 
 
 def _reaching(near: npt.NDArray[np.bool_], params: SegmentationParams) -> bool:
@@ -747,6 +758,37 @@ def _cut_by_limits(cluster: Cluster, reach: _Reach, params: SegmentationParams) 
     rotation, shift = reach.world_from_sensor[:3, :3], reach.world_from_sensor[:3, 3]
     depth = (cluster.points - shift) @ rotation[:, 2]
     return _reaching(depth >= reach.depth_cut_m - reach.band_m, params)
+
+
+def _floats(cluster: Cluster, reach: _Reach, margin_m: float, params: SegmentationParams) -> bool:
+    """Whether a cluster hangs over its support, and so is a part of something standing on it
+    elsewhere (a chair's seat or armrest over its post, a shelf's edge, what stands on a
+    shelf), not an object: its lowest voxel lies ``max_base_height_m`` or more above the
+    lowest an object's voxel can lie (``margin_m``, the support's noise margin), and its
+    lower outline in the image is its own (less than ``min_hidden_share`` of
+    it has something nearer just past it, towards the image's open edge). An object whose
+    base is hidden behind another stands on the support unseen, and is kept."""
+    assert cluster.support is not None
+    if (
+        reach.view is None
+        or reach.depth_image is None
+        or reach.world_from_sensor is None
+        or cluster.pixels is None
+    ):
+        return False
+    lowest = float(cluster.support.signed_distance(cluster.voxels).min())
+    if lowest < margin_m + params.max_base_height_m:
+        return False
+    rotation, shift = reach.world_from_sensor[:3, :3], reach.world_from_sensor[:3, 3]
+    depth = (cluster.points - shift) @ rotation[:, 2]
+    hidden = reach.view.hidden_below(
+        cluster.pixels,
+        depth,
+        reach.depth_image,
+        params.floating_probe_px,
+        max(params.cut_band_m, 3 * cluster.noise_m),
+    )
+    return hidden < params.min_hidden_share
 
 
 def _stacked(voxels: FloatArray, parts: npt.NDArray[np.int64], min_apart_m: float) -> bool:

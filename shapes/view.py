@@ -65,6 +65,39 @@ class ImageView:
                 near |= gap <= band_px
         return near
 
+    def hidden_below(
+        self,
+        pixels: npt.NDArray[np.intp],
+        depth_m: FloatArray,
+        depth_image: FloatArray,
+        probe_px: int,
+        nearer_m: float,
+    ) -> float:
+        """The share of a region's lines across the image whose last pixel towards the open
+        edge has, within ``probe_px`` beyond it, a pixel of ``depth_image`` more than
+        ``nearer_m`` nearer than the region there: where its lower edge is the outline of
+        something in front of it (an occluder), not its own. ``pixels`` are flat row-major,
+        ``depth_m`` their depths; the depth image holds NaN where there is no depth."""
+        row, col = np.divmod(np.asarray(pixels), self.width)
+        height = depth_image.shape[0]
+        vertical = self.open_edge in ("top", "bottom")
+        along, across = (row, col) if vertical else (col, row)
+        sign = 1 if self.open_edge in ("bottom", "right") else -1
+        key = along * sign
+        order = np.lexsort((key, across))
+        last = np.r_[across[order][1:] != across[order][:-1], True]
+        ends = order[last]
+        hidden = np.zeros(len(ends), dtype=bool)
+        for step in range(1, probe_px + 1):
+            beyond = along[ends] + sign * step
+            limit = height if vertical else self.width
+            inside = (beyond >= 0) & (beyond < limit)
+            r = np.where(vertical, beyond, across[ends])[inside]
+            c = np.where(vertical, across[ends], beyond)[inside]
+            found = depth_image[r, c] < depth_m[ends][inside] - nearer_m
+            hidden[np.flatnonzero(inside)[found]] = True
+        return float(hidden.mean()) if len(ends) else 0.0
+
 
 def image_view(
     shape: tuple[int, int],
