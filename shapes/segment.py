@@ -673,13 +673,13 @@ def segment(
             viewpoint,
         )
         too_small += small
-        found = [
+        found = [c for c in found if _stands_within(c, regions[k], params)]
+        parts = [
             c
             for c in found
-            if _stands_within(c, regions[k], params)
-            and not _cut_by_limits(c, reach, params)
-            and not _floats(c, reach, margins[k], params)
+            if _cut_by_limits(c, reach, params) or _floats(c, reach, margins[k], params)
         ]
+        found = [c for c in found if not any(c is p or _under(c, p, params) for p in parts)]
         votes[k] = sum(len(c.voxels) for c in found)
         clusters += found
     with_objects = [supports[k] for k in np.argsort(-votes, kind="stable") if votes[k] > 0]
@@ -789,6 +789,21 @@ def _floats(cluster: Cluster, reach: _Reach, margin_m: float, params: Segmentati
         max(params.cut_band_m, 3 * cluster.noise_m),
     )
     return hidden < params.min_hidden_share
+
+
+def _under(cluster: Cluster, part: Cluster, params: SegmentationParams) -> bool:
+    """Whether a cluster stands under a part of something larger (its voxels' centre across
+    the support within the part's extent, grown by ``cluster_eps_m``, and its top below the
+    part's bottom): a chair's base under its seat, a table's legs under its top. Both are
+    parts of one thing."""
+    assert cluster.support is not None
+    centre = cluster.voxels[:, :2].mean(axis=0)
+    lo = part.voxels[:, :2].min(axis=0) - params.cluster_eps_m
+    hi = part.voxels[:, :2].max(axis=0) + params.cluster_eps_m
+    if not bool(np.all((centre >= lo) & (centre <= hi))):
+        return False
+    top = float(cluster.support.signed_distance(cluster.voxels).max())
+    return top < float(cluster.support.signed_distance(part.voxels).min())
 
 
 def _stacked(voxels: FloatArray, parts: npt.NDArray[np.int64], min_apart_m: float) -> bool:

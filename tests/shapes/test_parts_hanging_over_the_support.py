@@ -75,3 +75,13 @@ def test_the_objects_on_the_desk_are_still_found() -> None:
     for name in ("die", "mug", "striped board", "bag", "green bottle"):
         centre = np.asarray(TRUTH["desk_tum"][name]["centre"])
         assert any(np.linalg.norm(c - centre) < 0.08 for c in seen), name
+
+
+def test_what_stands_under_a_hanging_part_is_a_part_of_the_same_thing() -> None:
+    """A ball hanging 20 cm over the table (a seat) over a short can (its base): both are
+    parts of one thing; a can beside them is an object."""
+    seat = TruthObject("Sphere", (-0.12, 0.0, 0.2), radius=0.05, height=0.1)
+    base = TruthObject("Cylinder", (-0.12, 0.0, 0.0), radius=0.03, height=0.06)
+    beside = TruthObject("Cylinder", (0.15, 0.05, 0.0), radius=0.04, height=0.14)
+    assert len(_heights(seat, base, beside, params=SegmentationParams(min_hidden_share=0.0))) == 3
+    assert _heights(seat, base, beside) == [0.09]  # the can beside alone
