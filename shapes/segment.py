@@ -39,7 +39,10 @@ Steps (PITT's, with its quirks fixed; see ``shared/reference/pitt-perception.md`
    desk's front edge) and is dropped.
    A cluster cut by the scene's limits (``min_cut_share`` of its voxels within ``cut_band_m``
    of ``max_height_m`` over its support, or of its points near the depth cut) is a part of
-   something larger (a wall, a chair's back) and is dropped too (:func:`_cut_by_limits`).
+   something larger (a wall, a chair's back) and is dropped too (:func:`_cut_by_limits`), as
+   is one cut by an edge of the image's valid window other than the one the camera looks down
+   through (:mod:`shapes.view`), one whose bottom is seen hanging over the support (a chair's
+   seat; :func:`_floats`), and one standing under any such part (a chair's base; :func:`_under`).
    Every horizontal plane that gets clusters is reported (:attr:`Segmentation.supports`); the
    one with the most object voxels is *the* support. The largest plane (often the floor or a
    wall) wins nothing by its size;
