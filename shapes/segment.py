@@ -353,14 +353,17 @@ class Survey:
     in_camera_frame: bool
     reason: str | None = None
     """Why nothing can be found (no point within range), else None."""
+    depth_image: FloatArray | None = None
+    """Every depth of an organised frame as its image, NaN where there is none."""
 
 
 def survey(frame: Frame, params: SegmentationParams, seed: int) -> Survey:
     """Steps 1 to 3 of the module doc in the sensor frame: the kept points, their voxel grid
     and the planes. Deterministic for a given ``seed``; the frame's pose plays no part."""
     sigma_1m = 0.0
-    if params.filter_artefacts and frame.pixels is not None:
-        sigma_1m = depth_noise_1m(_depth_image(frame, np.ones(len(frame.points), dtype=bool)))
+    image = None if frame.pixels is None else _depth_image(frame, np.ones(len(frame.points), bool))
+    if params.filter_artefacts and image is not None:
+        sigma_1m = depth_noise_1m(image)
     cut = depth_cut_m(sigma_1m, params)
     keep = frame.points[:, 2] <= cut
     if not keep.any():
@@ -410,6 +413,7 @@ def survey(frame: Frame, params: SegmentationParams, seed: int) -> Survey:
         tuple(planes),
         sigma_1m,
         in_camera_frame,
+        depth_image=image,
     )
 
 
@@ -566,7 +570,7 @@ def segment(
         None
         if frame.pixels is None or frame.image_shape is None or not scan.in_camera_frame
         else image_view(frame.image_shape, frame.pixels, frame.world_from_sensor[:3, :3]),
-        None if frame.pixels is None else _depth_image(frame, np.ones(len(frame.points), bool)),
+        scan.depth_image,
     )
     points = frame.world_points_of(scan.points)
     voxels = frame.world_points_of(scan.voxels)
