@@ -357,6 +357,22 @@ class Survey:
     """Every depth of an organised frame as its image, NaN where there is none."""
 
 
+def _nothing_to_survey(keep: npt.NDArray[np.bool_], frame: Frame, reason: str) -> Survey:
+    empty = np.zeros((0, 3))
+    return Survey(
+        keep,
+        empty,
+        np.zeros(0),
+        empty,
+        np.zeros(0, dtype=np.intp),
+        np.zeros(0),
+        (),
+        0.0,
+        frame.pixels is not None,
+        reason,
+    )
+
+
 def survey(frame: Frame, params: SegmentationParams, seed: int) -> Survey:
     """Steps 1 to 3 of the module doc in the sensor frame: the kept points, their voxel grid
     and the planes. Deterministic for a given ``seed``; the frame's pose plays no part."""
@@ -367,21 +383,12 @@ def survey(frame: Frame, params: SegmentationParams, seed: int) -> Survey:
     cut = depth_cut_m(sigma_1m, params)
     keep = frame.points[:, 2] <= cut
     if not keep.any():
-        empty = np.zeros((0, 3))
-        return Survey(
-            keep,
-            empty,
-            np.zeros(0),
-            empty,
-            np.zeros(0, dtype=np.intp),
-            np.zeros(0),
-            (),
-            0.0,
-            frame.pixels is not None,
-            f"no point within {cut:.2f} m",
-        )
+        return _nothing_to_survey(keep, frame, f"no point within {cut:.2f} m")
     if params.filter_artefacts and frame.pixels is not None:
         keep = _artefact_mask(frame, keep, sigma_1m)
+        if not keep.any():
+            reason = f"no point within {cut:.2f} m but flying pixels and veils"
+            return _nothing_to_survey(keep, frame, reason)
     stride = pixel_stride(int(keep.sum()), params)
     if stride > 1 and frame.pixels is not None and frame.image_shape is not None:
         # Every stride-th pixel of every stride-th row, once the artefacts are known.

@@ -114,17 +114,14 @@ def image_view(
     the one whose outward direction points most downward in
     the world (world z is up), given the sensor's rotation into the world.
 
-    Raises ValueError when no row or column has that share of valid pixels.
+    With no row (column) holding that share, the window spans the image's rows (columns).
     """
     height, width = int(shape[0]), int(shape[1])
     row, col = np.divmod(np.asarray(pixels), width)
     rows = np.flatnonzero(np.bincount(row, minlength=height) >= min_valid_share * width)
     cols = np.flatnonzero(np.bincount(col, minlength=width) >= min_valid_share * height)
-    if len(rows) == 0 or len(cols) == 0:
-        raise ValueError(
-            f"pixels: expected some rows and columns with {min_valid_share:.0%} of their pixels "
-            f"valid in an image of shape {shape}, got {len(pixels)} valid pixels"
-        )
+    rows = rows if len(rows) else np.array([0, height - 1])
+    cols = cols if len(cols) else np.array([0, width - 1])
     downward = _OUTWARD @ np.asarray(world_from_sensor_rotation)[2]
     return ImageView(
         _within_margin(int(rows[0]), int(rows[-1]), height, max_margin_share),

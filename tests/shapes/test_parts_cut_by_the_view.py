@@ -113,6 +113,16 @@ def test_a_window_far_inside_the_image_is_no_sensor_margin() -> None:
     assert view.rows == (0, 479) and view.cols == (0, 639)
 
 
-def test_an_image_with_no_valid_row_is_refused() -> None:
-    with pytest.raises(ValueError, match="rows and columns"):
-        image_view((480, 640), np.array([5, 6], dtype=np.intp), LEVEL)
+def test_an_image_with_too_few_depths_for_a_window_is_seen_whole() -> None:
+    view = image_view((480, 640), np.array([5, 6], dtype=np.intp), LEVEL)
+    assert view.rows == (0, 479) and view.cols == (0, 639)
+
+
+def test_a_frame_of_a_few_scattered_depths_gives_no_error() -> None:
+    """Three valid pixels of a 640 x 480 image: too few for a window, and every one a flying
+    pixel to the artefact filter (the voxel grid of no point raised a ValueError before)."""
+    points = np.array([[0.0, 0.1, 1.0], [0.1, 0.1, 1.0], [0.0, 0.2, 1.1]])
+    frame = Frame(points, image_shape=(480, 640), pixels=np.array([10, 70_000, 200_000]))
+    result = Perception(PerceptionParams(gravity_from_scene=True), seed=0).process(frame)
+    assert result.primitives == ()
+    assert result.reason == "no point within 3.00 m but flying pixels and veils"
