@@ -457,9 +457,10 @@ REAL_NEAR_M = 0.08
 """A primitive whose cluster's centroid lies this close to an object's is one of its parts."""
 
 
-def real_scans() -> None:
+def real_scans(tuned_only: bool = False) -> None:
     """The real scans with no pose, against their hand-measured ground truth
-    (tests/data/real_scans/README.md); all comparisons in the sensor's frame."""
+    (tests/data/real_scans/README.md); all comparisons in the sensor's frame. With
+    ``tuned_only`` the held-out scans (``"held_out": true`` in truth.json) are not even loaded."""
     truth = json.loads((REAL_SCANS / "truth.json").read_text())
     print("real scans, no pose (gravity from the scene); ground truth measured by hand:")
     print(
@@ -472,6 +473,8 @@ def real_scans() -> None:
     simulated_ms: list[float] = []
     simulated = simulated_frames()
     for scan, measured in REAL_TRUTH.items():
+        if tuned_only and truth[measured].get("held_out"):
+            continue
         frame = next(open_source(REAL_SCANS / f"{scan}.npz"))
         params = PerceptionParams(gravity_from_scene=True)
         runs = [timed(Perception(params, seed=k), frame) for k in range(3)]
@@ -541,6 +544,11 @@ def main() -> None:
     parser.add_argument("--only", help="run only the conditions whose name contains this")
     parser.add_argument("--no-curve", action="store_true", help="skip the 10k-1M points curve")
     parser.add_argument("--no-real", action="store_true", help="skip the real scans")
+    parser.add_argument(
+        "--tuned-only",
+        action="store_true",
+        help="skip the held-out real scans (for tuning: they are run once, by the lead)",
+    )
     args = parser.parse_args()
     if hasattr(os, "sched_setaffinity"):
         os.sched_setaffinity(0, {min(os.sched_getaffinity(0))})
@@ -556,7 +564,7 @@ def main() -> None:
         f"{'spurious':>10}{'CPU ms':>8}{'points':>9}  wrong"
     )
     if not args.no_real and (not args.only or args.only in "real"):
-        real_scans()
+        real_scans(tuned_only=args.tuned_only)
     for cond in CONDITIONS:
         if args.only and args.only not in cond.name:
             continue

@@ -39,7 +39,10 @@ Steps (PITT's, with its quirks fixed; see ``shared/reference/pitt-perception.md`
    desk's front edge) and is dropped.
    A cluster cut by the scene's limits (``min_cut_share`` of its voxels within ``cut_band_m``
    of ``max_height_m`` over its support, or of its points near the depth cut) is a part of
-   something larger (a wall, a chair's back) and is dropped too (:func:`_cut_by_limits`).
+   something larger (a wall, a chair's back) and is dropped too (:func:`_cut_by_limits`), as
+   is one cut by an edge of the image's valid window other than the one the camera looks down
+   through (:mod:`shapes.view`), one whose bottom is seen hanging over the support (a chair's
+   seat; :func:`_floats`), and one standing under any such part (a chair's base; :func:`_under`).
    Every horizontal plane that gets clusters is reported (:attr:`Segmentation.supports`); the
    one with the most object voxels is *the* support. The largest plane (often the floor or a
    wall) wins nothing by its size;
@@ -76,6 +79,7 @@ from shapes.frame import Frame
 from shapes.split import split_touching
 from shapes.support_region import SupportRegion, support_region
 from shapes.types import FloatArray, SupportPlane, vec3
+from shapes.view import ImageView, image_view
 
 __all__ = [
     "Cluster",
@@ -133,6 +137,17 @@ class SegmentationParams:
     and so a part of something larger than the scene, not an object."""
     min_cut_voxels: int = 3
     """As ``min_cut_share``, a count: one stray voxel at the limit cuts nothing."""
+    border_band_px: int = 8
+    """How near an edge of the image's valid window (other than the edge the camera looks
+    down through) a point counts as cut by it (:mod:`shapes.view`): four sampled pixels at a
+    640 x 480 frame's stride of 2; the window's edge itself wanders by a few pixels where
+    flying pixels were dropped."""
+    floating_probe_px: int = 8
+    """How far past a cluster's lower outline in the image something nearer is looked for,
+    which hides its bottom (:func:`_floats`)."""
+    min_hidden_share: float = 0.5
+    """The share of a cluster's lower outline that something nearer must hide for a bottom
+    seen above ``max_base_height_m`` to be hidden rather than hanging (:func:`_floats`)."""
 
 
 @dataclass(frozen=True, eq=False)
@@ -145,6 +160,8 @@ class Cluster:
     support: SupportPlane | None = None
     noise_m: float = 0.0
     """The depth noise (one sigma) expected at the cluster's range, in metres."""
+    pixels: npt.NDArray[np.intp] | None = None
+    """The flat row-major image pixel of each point, on an organised frame."""
 
     @property
     def centroid(self) -> FloatArray:
@@ -336,32 +353,42 @@ class Survey:
     in_camera_frame: bool
     reason: str | None = None
     """Why nothing can be found (no point within range), else None."""
+    depth_image: FloatArray | None = None
+    """Every depth of an organised frame as its image, NaN where there is none."""
+
+
+def _nothing_to_survey(keep: npt.NDArray[np.bool_], frame: Frame, reason: str) -> Survey:
+    empty = np.zeros((0, 3))
+    return Survey(
+        keep,
+        empty,
+        np.zeros(0),
+        empty,
+        np.zeros(0, dtype=np.intp),
+        np.zeros(0),
+        (),
+        0.0,
+        frame.pixels is not None,
+        reason,
+    )
 
 
 def survey(frame: Frame, params: SegmentationParams, seed: int) -> Survey:
     """Steps 1 to 3 of the module doc in the sensor frame: the kept points, their voxel grid
     and the planes. Deterministic for a given ``seed``; the frame's pose plays no part."""
     sigma_1m = 0.0
-    if params.filter_artefacts and frame.pixels is not None:
-        sigma_1m = depth_noise_1m(_depth_image(frame, np.ones(len(frame.points), dtype=bool)))
+    image = None if frame.pixels is None else _depth_image(frame, np.ones(len(frame.points), bool))
+    if params.filter_artefacts and image is not None:
+        sigma_1m = depth_noise_1m(image)
     cut = depth_cut_m(sigma_1m, params)
     keep = frame.points[:, 2] <= cut
     if not keep.any():
-        empty = np.zeros((0, 3))
-        return Survey(
-            keep,
-            empty,
-            np.zeros(0),
-            empty,
-            np.zeros(0, dtype=np.intp),
-            np.zeros(0),
-            (),
-            0.0,
-            frame.pixels is not None,
-            f"no point within {cut:.2f} m",
-        )
+        return _nothing_to_survey(keep, frame, f"no point within {cut:.2f} m")
     if params.filter_artefacts and frame.pixels is not None:
         keep = _artefact_mask(frame, keep, sigma_1m)
+        if not keep.any():
+            reason = f"no point within {cut:.2f} m but flying pixels and veils"
+            return _nothing_to_survey(keep, frame, reason)
     stride = pixel_stride(int(keep.sum()), params)
     if stride > 1 and frame.pixels is not None and frame.image_shape is not None:
         # Every stride-th pixel of every stride-th row, once the artefacts are known.
@@ -393,6 +420,7 @@ def survey(frame: Frame, params: SegmentationParams, seed: int) -> Survey:
         tuple(planes),
         sigma_1m,
         in_camera_frame,
+        depth_image=image,
     )
 
 
@@ -541,10 +569,15 @@ def segment(
     if scan.reason is not None:
         return Segmentation(None, (), reason=scan.reason)
     keep, depth, sigma_1m, voxel_of = scan.keep, scan.depth, scan.sigma_1m, scan.voxel_of
+    pixels = None if frame.pixels is None else frame.pixels[keep]
     reach = _Reach(
         frame.world_from_sensor if scan.in_camera_frame else None,
         depth_cut_m(sigma_1m, params),
         max(params.cut_band_m, 3 * sigma_1m * depth_cut_m(sigma_1m, params) ** 2),
+        None
+        if frame.pixels is None or frame.image_shape is None or not scan.in_camera_frame
+        else image_view(frame.image_shape, frame.pixels, frame.world_from_sensor[:3, :3]),
+        scan.depth_image,
     )
     points = frame.world_points_of(scan.points)
     voxels = frame.world_points_of(scan.voxels)
@@ -645,6 +678,7 @@ def segment(
             points,
             depth,
             colours,
+            pixels,
             support,
             margins[k],
             sigma_1m,
@@ -653,11 +687,13 @@ def segment(
             viewpoint,
         )
         too_small += small
-        found = [
+        found = [c for c in found if _stands_within(c, regions[k], params)]
+        parts = [
             c
             for c in found
-            if _stands_within(c, regions[k], params) and not _cut_by_limits(c, reach, params)
+            if _cut_by_limits(c, reach, params) or _floats(c, reach, margins[k], params)
         ]
+        found = [c for c in found if not any(c is p or _under(c, p, params) for p in parts)]
         votes[k] = sum(len(c.voxels) for c in found)
         clusters += found
     with_objects = [supports[k] for k in np.argsort(-votes, kind="stable") if votes[k] > 0]
@@ -703,6 +739,10 @@ class _Reach:
     world_from_sensor: FloatArray | None
     depth_cut_m: float
     band_m: float
+    view: ImageView | None = None
+    """The image's valid window (None for a cloud that is not a camera's image)."""
+    depth_image: FloatArray | None = None
+    """Every depth of the frame as its image, NaN where there is none."""
 
 
 def _reaching(near: npt.NDArray[np.bool_], params: SegmentationParams) -> bool:
@@ -715,16 +755,69 @@ def _cut_by_limits(cluster: Cluster, reach: _Reach, params: SegmentationParams) 
     (a wall, a door, a chair's back, a person's legs), not an object: at least
     ``min_cut_share`` of its voxels (and ``min_cut_voxels``) lie within ``cut_band_m`` of
     ``max_height_m`` over its support, or as large a share of its points within
-    ``reach.band_m`` of the depth cut."""
+    ``reach.band_m`` of the depth cut, or within ``border_band_px`` of an edge of the image's
+    valid window other than the one the camera looks down through (:mod:`shapes.view`)."""
     assert cluster.support is not None
     height = cluster.support.signed_distance(cluster.voxels)
     if _reaching(height >= params.max_height_m - params.cut_band_m, params):
+        return True
+    if (
+        reach.view is not None
+        and cluster.pixels is not None
+        and _reaching(reach.view.at_closed_edge(cluster.pixels, params.border_band_px), params)
+    ):
         return True
     if reach.world_from_sensor is None:
         return False
     rotation, shift = reach.world_from_sensor[:3, :3], reach.world_from_sensor[:3, 3]
     depth = (cluster.points - shift) @ rotation[:, 2]
     return _reaching(depth >= reach.depth_cut_m - reach.band_m, params)
+
+
+def _floats(cluster: Cluster, reach: _Reach, margin_m: float, params: SegmentationParams) -> bool:
+    """Whether a cluster hangs over its support, and so is a part of something standing on it
+    elsewhere (a chair's seat or armrest over its post, a shelf's edge, what stands on a
+    shelf), not an object: its lowest voxel lies ``max_base_height_m`` or more above the
+    lowest an object's voxel can lie (``margin_m``, the support's noise margin), and its
+    lower outline in the image is its own (less than ``min_hidden_share`` of
+    it has something nearer just past it, towards the image's open edge). An object whose
+    base is hidden behind another stands on the support unseen, and is kept."""
+    assert cluster.support is not None
+    if (
+        reach.view is None
+        or reach.depth_image is None
+        or reach.world_from_sensor is None
+        or cluster.pixels is None
+    ):
+        return False
+    lowest = float(cluster.support.signed_distance(cluster.voxels).min())
+    if lowest < margin_m + params.max_base_height_m:
+        return False
+    rotation, shift = reach.world_from_sensor[:3, :3], reach.world_from_sensor[:3, 3]
+    depth = (cluster.points - shift) @ rotation[:, 2]
+    hidden = reach.view.hidden_below(
+        cluster.pixels,
+        depth,
+        reach.depth_image,
+        params.floating_probe_px,
+        max(params.cut_band_m, 3 * cluster.noise_m),
+    )
+    return hidden < params.min_hidden_share
+
+
+def _under(cluster: Cluster, part: Cluster, params: SegmentationParams) -> bool:
+    """Whether a cluster stands under a part of something larger (its voxels' centre across
+    the support within the part's extent, grown by ``cluster_eps_m``, and its top below the
+    part's bottom): a chair's base under its seat, a table's legs under its top. Both are
+    parts of one thing."""
+    assert cluster.support is not None
+    centre = cluster.voxels[:, :2].mean(axis=0)
+    lo = part.voxels[:, :2].min(axis=0) - params.cluster_eps_m
+    hi = part.voxels[:, :2].max(axis=0) + params.cluster_eps_m
+    if not bool(np.all((centre >= lo) & (centre <= hi))):
+        return False
+    top = float(cluster.support.signed_distance(cluster.voxels).max())
+    return top < float(cluster.support.signed_distance(part.voxels).min())
 
 
 def _stacked(voxels: FloatArray, parts: npt.NDArray[np.int64], min_apart_m: float) -> bool:
@@ -786,6 +879,7 @@ def _clusters(
     points: FloatArray,
     depth: FloatArray,
     colours: FloatArray | None,
+    pixels: npt.NDArray[np.intp] | None,
     support: SupportPlane,
     margin: float,
     sigma_1m: float,
@@ -836,6 +930,7 @@ def _clusters(
                 voxels[candidates[labels == label]],
                 support,
                 sigma_1m * float(np.median(depth[idx])) ** 2,
+                None if pixels is None else pixels[idx],
             )
         )
     return clusters, small

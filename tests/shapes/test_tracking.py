@@ -264,17 +264,18 @@ REAL_SCANS = Path(__file__).parents[1] / "data" / "real_scans"
 
 def test_three_frames_of_a_static_real_scene_keep_one_id_per_object():
     """laptop_box_kinect_0..2 (PCL's Kinect frames, the camera panning a little): by looking at
-    the colour images, six objects stand on the floor in all three frames (the laptop, the box,
-    a cardboard box and a blue bin at the back, a chair's wheel, the base of another chair), and
-    segmentation cuts the chair's tubes and the cardboard box's edge into pieces that change from
-    frame to frame. Seven ids (six objects and the floor), the same in every frame."""
+    the colour images, two objects stand whole on the floor in all three frames (the laptop and
+    the box); a cardboard box and a blue bin at the back, the base of a chair and another
+    chair's wheel are cut by the image's edges, and are parts of something out of view
+    (shapes/view.py), except the wheel in the last frame, which the pan brings 10 pixels inside
+    the right edge. Three ids (two objects and the floor) in every frame, one more in the last."""
     perception = Perception(PerceptionParams(gravity_from_scene=True), seed=0)
     per_frame = []
     for k in range(3):
         result = perception.process(next(open_source(REAL_SCANS / f"laptop_box_kinect_{k}.npz")))
         per_frame.append({p.tracking_id for p in result.primitives + result.supports})
-    assert per_frame[0] == per_frame[1] == per_frame[2]
-    assert len(per_frame[0]) == 7
+    assert per_frame[0] == per_frame[1] < per_frame[2]
+    assert len(per_frame[0]) == 3 and len(per_frame[2]) == 4
 
 
 def test_a_supports_extent_is_averaged_and_kept_in_the_stable_scene():
