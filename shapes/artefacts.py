@@ -96,27 +96,39 @@ def flying_pixels(
     min_support: int = 3,
     max_ray_angle_deg: float = 85.0,
     focal_px: float = 570.0,
+    step: int = 1,
 ) -> BoolArray:
     """Mask of the pixels to drop as flying pixels or veils (see the module docstring).
 
     ``depth`` is ``(H, W)`` in metres with NaN for no return; ``sigma_1m`` the noise at 1 m
     (:func:`depth_noise_1m`); ``focal_px`` the focal length, which sets the pixel's footprint.
+    ``step``: judge only the pixels of every ``step``-th row and column (their neighbours are
+    still the image's own); the mask is then ``depth[::step, ::step]``'s, the same as the full
+    mask's ``[::step, ::step]`` at a fraction of the cost.
+
+    >>> depth = np.full((5, 5), 1.0)
+    >>> depth[2, 2] = 0.8
+    >>> flying_pixels(depth, 0.001, step=2).nonzero()
+    (array([1]), array([1]))
     """
-    d = np.asarray(depth, dtype=np.float32)
+    if step < 1:
+        raise ValueError(f"step: expected a positive integer, got {step!r}")
+    image = np.asarray(depth, dtype=np.float32)
+    d = image[::step, ::step]
     h, w = d.shape
     valid = np.isfinite(d)
     z = np.where(valid, d, np.float32(1.0))
     jump = np.maximum(np.float32(min_jump_m), np.float32(jump_sigmas * sigma_1m) * z * z)
-    padded = np.pad(d, 1, constant_values=np.nan)
+    padded = np.pad(image, 1, constant_values=np.nan)
     support = np.zeros(d.shape, dtype=np.int8)
     gap = np.empty_like(d)
     near = np.empty(d.shape, dtype=np.bool_)
     for dy, dx in _NEIGHBOURS:
-        n = padded[1 + dy : 1 + dy + h, 1 + dx : 1 + dx + w]
+        n = padded[1 + dy :: step, 1 + dx :: step][:h, :w]
         np.abs(np.subtract(n, d, out=gap), out=gap)
         support += np.less_equal(gap, jump, out=near)
     # The 3 x 3 extremes (NaN ignored), a row of three and then a column of three.
-    lo, hi = _extremes_3x3(padded)
+    lo, hi = _extremes_3x3(padded, step, (h, w))
     drop = valid & (support < min_support)
     ys, xs = np.nonzero(valid & ~drop & (hi - lo > jump))
     if len(ys):
@@ -126,24 +138,30 @@ def flying_pixels(
         here, tol = d[ys, xs], jump[ys, xs]
         footprint = here / focal_px
         slope = np.zeros(len(ys), dtype=np.float32)
+        py, px = 1 + step * ys, 1 + step * xs  # the pixels in the padded image
         for dy, dx in ((0, 1), (1, 0), (1, 1), (1, -1)):
-            a = padded[1 + ys + dy, 1 + xs + dx]
-            b = padded[1 + ys - dy, 1 + xs - dx]
-            step = np.abs(a - b) / (2 * footprint * math.hypot(dy, dx))
+            a = padded[py + dy, px + dx]
+            b = padded[py - dy, px - dx]
+            slope_here = np.abs(a - b) / (2 * footprint * math.hypot(dy, dx))
             both = (np.abs(a - here) <= tol) & (np.abs(b - here) <= tol)
-            slope = np.where(both, np.maximum(slope, step), slope)
+            slope = np.where(both, np.maximum(slope, slope_here), slope)
         veil = slope > math.tan(math.radians(max_ray_angle_deg))
         drop[ys[veil], xs[veil]] = True
     return np.asarray(drop, dtype=np.bool_)
 
 
-def _extremes_3x3(padded: npt.NDArray[np.float32]) -> tuple[FloatArray, FloatArray]:
-    """The smallest and largest value of each pixel's 3 x 3 neighbourhood (itself included,
-    NaN ignored) of an image padded by one pixel."""
+def _extremes_3x3(
+    padded: npt.NDArray[np.float32], step: int, shape: tuple[int, int]
+) -> tuple[FloatArray, FloatArray]:
+    """The smallest and largest value of the 3 x 3 neighbourhood (itself included, NaN
+    ignored) of every ``step``-th pixel of every ``step``-th row of an image padded by one
+    pixel; ``shape``: how many such pixels down and across."""
+    h, w = shape
     out = []
     for pick in (np.fmin, np.fmax):
-        rows = pick(pick(padded[:, :-2], padded[:, 1:-1]), padded[:, 2:])
-        out.append(pick(pick(rows[:-2], rows[1:-1]), rows[2:]))
+        rows = pick(pick(padded[:, : -2 : step], padded[:, 1 : -1 : step]), padded[:, 2::step])
+        rows = rows[:, :w]
+        out.append(pick(pick(rows[: -2 : step], rows[1 : -1 : step]), rows[2::step])[:h])
     return out[0], out[1]
 
 

@@ -6,8 +6,9 @@ Steps (PITT's, with its quirks fixed; see ``shared/reference/pitt-perception.md`
    ``max_range_noise_m`` (:func:`depth_cut_m`; a Kinect keeps a floor 4.4 m away, not its walls
    at 5 m). On an organised frame the depth noise is measured from the image and
    flying pixels and veils are dropped
-   (:mod:`shapes.artefacts`), at full resolution; then only every k-th pixel of every k-th row
-   is kept, k chosen to leave about ``target_points`` points (:func:`pixel_stride`; a 640 x 480
+   (:mod:`shapes.artefacts`), judged on the full-resolution image; only every k-th pixel of
+   every k-th row is kept, k chosen from the points within range to leave about
+   ``target_points`` points (:func:`pixel_stride`; a 640 x 480
    frame keeps one pixel in four, still about 4 to 13 per 1 cm voxel of a surface facing the
    camera at 1.5 to 0.8 m, and a cluster its hundreds of points), and the points go to the
    world frame (z up, the gravity direction);
@@ -342,8 +343,10 @@ def survey(frame: Frame, params: SegmentationParams, seed: int) -> Survey:
     """Steps 1 to 3 of the module doc in the sensor frame: the kept points, their voxel grid
     and the planes. Deterministic for a given ``seed``; the frame's pose plays no part."""
     sigma_1m = 0.0
+    image = None
     if params.filter_artefacts and frame.pixels is not None:
-        sigma_1m = depth_noise_1m(_depth_image(frame, np.ones(len(frame.points), dtype=bool)))
+        image = _depth_image(frame)
+        sigma_1m = depth_noise_1m(image)
     cut = depth_cut_m(sigma_1m, params)
     keep = frame.points[:, 2] <= cut
     if not keep.any():
@@ -360,11 +363,16 @@ def survey(frame: Frame, params: SegmentationParams, seed: int) -> Survey:
             frame.pixels is not None,
             f"no point within {cut:.2f} m",
         )
-    if params.filter_artefacts and frame.pixels is not None:
-        keep = _artefact_mask(frame, keep, sigma_1m)
+    # The stride comes from the points within range: the artefacts are then judged only on
+    # the pixels it keeps (a quarter of them at stride 2).
     stride = pixel_stride(int(keep.sum()), params)
-    if stride > 1 and frame.pixels is not None and frame.image_shape is not None:
-        # Every stride-th pixel of every stride-th row, once the artefacts are known.
+    if frame.pixels is None or frame.image_shape is None:
+        stride = 1
+    if image is not None:
+        image[image > cut] = np.nan
+        keep &= _artefact_mask(frame, image, sigma_1m, stride)
+    elif stride > 1:
+        assert frame.image_shape is not None
         on_grid = np.zeros(frame.image_shape, dtype=np.bool_)
         on_grid[::stride, ::stride] = True
         keep &= on_grid.ravel()[frame.pixels]
@@ -478,22 +486,25 @@ def _focal_px(frame: Frame) -> float:
     return float(1.0 / a) if a > 0 else 570.0
 
 
-def _depth_image(frame: Frame, keep: npt.NDArray[np.bool_]) -> FloatArray:
-    """The depths of the kept points of an organised frame as its image, NaN elsewhere."""
+def _depth_image(frame: Frame) -> FloatArray:
+    """The depths of an organised frame's points as its image, NaN where there is no point."""
     assert frame.image_shape is not None and frame.pixels is not None
     image = np.full(frame.image_shape[0] * frame.image_shape[1], np.nan)
-    image[frame.pixels[keep]] = frame.points[keep, 2]
+    image[frame.pixels] = frame.points[:, 2]
     return image.reshape(frame.image_shape)
 
 
 def _artefact_mask(
-    frame: Frame, keep: npt.NDArray[np.bool_], sigma_1m: float
+    frame: Frame, image: FloatArray, sigma_1m: float, stride: int
 ) -> npt.NDArray[np.bool_]:
-    """Points kept after dropping flying pixels and veils (organised)."""
+    """Which of an organised frame's points lie on every ``stride``-th pixel of every
+    ``stride``-th row and are neither flying pixels nor veils of ``image`` (its depths, NaN
+    where there is none)."""
     assert frame.pixels is not None
-    image = _depth_image(frame, keep)
-    drop = flying_pixels(image, sigma_1m, focal_px=_focal_px(frame)).ravel()
-    return keep & ~drop[frame.pixels]
+    on_grid = np.zeros(image.shape, dtype=np.bool_)
+    drop = flying_pixels(image, sigma_1m, focal_px=_focal_px(frame), step=stride)
+    on_grid[::stride, ::stride] = ~drop
+    return np.asarray(on_grid.ravel()[frame.pixels], dtype=np.bool_)
 
 
 def depth_cut_m(sigma_1m: float, params: SegmentationParams) -> float:
