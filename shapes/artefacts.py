@@ -159,9 +159,9 @@ def _extremes_3x3(
     h, w = shape
     out = []
     for pick in (np.fmin, np.fmax):
-        rows = pick(pick(padded[:, : -2 : step], padded[:, 1 : -1 : step]), padded[:, 2::step])
+        rows = pick(pick(padded[:, :-2:step], padded[:, 1:-1:step]), padded[:, 2::step])
         rows = rows[:, :w]
-        out.append(pick(pick(rows[: -2 : step], rows[1 : -1 : step]), rows[2::step])[:h])
+        out.append(pick(pick(rows[:-2:step], rows[1:-1:step]), rows[2::step])[:h])
     return out[0], out[1]
 
 
