@@ -176,28 +176,35 @@ def sparse_voxels(
     [True, False, True, True]
     """
     every = voxels if among is None else among
-    origin = np.floor(every / voxel_m + 0.5).astype(np.int64).min(axis=0) - 1
-    span = np.floor(every / voxel_m + 0.5).astype(np.int64).max(axis=0) - origin + 2
+    cells = np.floor(every / voxel_m + 0.5).astype(np.int64)
+    origin = cells.min(axis=0) - 1
+    span = cells.max(axis=0) - origin + 2
 
-    def flat_keys(v: FloatArray) -> npt.NDArray[np.int64]:
-        k = np.floor(v / voxel_m + 0.5).astype(np.int64) - origin
+    def flat_keys(c: npt.NDArray[np.int64]) -> npt.NDArray[np.int64]:
+        k = c - origin
         return np.asarray((k[:, 0] * span[1] + k[:, 1]) * span[2] + k[:, 2], dtype=np.int64)
 
-    occupied = np.sort(flat_keys(every))
+    # Each occupied cell once (two voxel means may round to one cell), and three sentinels
+    # past the end, so that the column read below never runs off it.
+    sentinel = np.iinfo(np.int64).max
+    occupied = np.concatenate((np.unique(flat_keys(cells)), np.full(3, sentinel)))
+    keys = flat_keys(cells if among is None else np.floor(voxels / voxel_m + 0.5).astype(np.int64))
     # Probed in sorted order (each probe is the sorted keys plus a constant), which
     # searchsorted walks through far faster than keys in voxel order.
-    order = np.argsort(flat_keys(voxels), kind="stable")
-    flat = flat_keys(voxels)[order]
+    order = np.argsort(keys, kind="stable")
+    flat = keys[order]
     count = np.zeros(len(voxels), dtype=np.int64)
     for dx in (-1, 0, 1):
         for dy in (-1, 0, 1):
-            for dz in (-1, 0, 1):
-                if dx == dy == dz == 0:
-                    continue
-                probe = flat + (dx * span[1] + dy) * span[2] + dz
-                at = np.searchsorted(occupied, probe)
-                at = np.minimum(at, len(occupied) - 1)
-                count += occupied[at] == probe
+            # A column of three cells (dz = -1, 0, 1) is three consecutive keys: one search
+            # finds the first, and the occupied ones among them follow it in the sorted keys.
+            middle = flat + (dx * span[1] + dy) * span[2]
+            at = np.searchsorted(occupied, middle - 1)
+            for j in range(3):
+                found = occupied[at + j] <= middle + 1
+                if dx == dy == 0:
+                    found &= occupied[at + j] != middle  # the voxel's own cell
+                count += found
     sparse = np.empty(len(voxels), dtype=np.bool_)
     sparse[order] = count < min_neighbours
     return sparse
