@@ -37,6 +37,7 @@ import numpy as np
 import numpy.typing as npt
 from scipy.spatial import cKDTree
 
+from shapes.columns import column_max, column_min
 from shapes.types import FloatArray
 
 __all__ = ["depth_noise_1m", "flying_pixels", "sparse_points", "sparse_voxels"]
@@ -177,8 +178,8 @@ def sparse_voxels(
     """
     every = voxels if among is None else among
     cells = np.floor(every / voxel_m + 0.5).astype(np.int64)
-    origin = cells.min(axis=0) - 1
-    span = cells.max(axis=0) - origin + 2
+    origin = column_min(cells) - 1
+    span = column_max(cells) - origin + 2
 
     def flat_keys(c: npt.NDArray[np.int64]) -> npt.NDArray[np.int64]:
         k = c - origin

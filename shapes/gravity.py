@@ -11,7 +11,8 @@ On an organised frame (a camera's optical frame: x right, y down, z forward) a p
 normal points away from the camera's up side (``-y``) by more than ``max_up_angle_deg`` is a
 wall or a ceiling, never the support: a camera is not held upside down.
 
->>> from shapes.frame import Frame
+>>> from shapes.columns import column_max, column_min
+from shapes.frame import Frame
 >>> rng = np.random.default_rng(0)
 >>> xy = rng.uniform(-0.5, 0.5, (4000, 2))
 >>> tilt = np.radians(40)  # a floor 1 m below, seen by a camera pitched 40 deg down
@@ -29,6 +30,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from shapes.columns import column_max, column_min
 from shapes.frame import Frame
 from shapes.segment import SegmentationParams, Survey, survey
 from shapes.types import FloatArray
@@ -90,7 +92,8 @@ def _objects_on(
     e1 /= np.linalg.norm(e1)
     e2 = np.cross(normal, e1)
     axes = np.column_stack((e1, e2))
-    lo, hi = (plane @ axes).min(axis=0), (plane @ axes).max(axis=0)
+    across = plane @ axes
+    lo, hi = column_min(across), column_max(across)
     flat = free @ axes
     inside = np.all((flat > lo) & (flat < hi), axis=1)
     return int(np.count_nonzero(inside & (height > _MIN_OBJECT_HEIGHT_M) & (height < max_height_m)))

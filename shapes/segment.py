@@ -73,6 +73,7 @@ from scipy.sparse.csgraph import connected_components
 from scipy.spatial import cKDTree
 
 from shapes.artefacts import depth_noise_1m, flying_pixels, sparse_points, sparse_voxels
+from shapes.columns import column_max, column_min, column_span
 from shapes.frame import Frame
 from shapes.split import split_touching
 from shapes.support_region import SupportRegion, support_region
@@ -174,8 +175,8 @@ def voxel_grid(points: FloatArray, voxel_m: float) -> tuple[FloatArray, npt.NDAr
     ([[0.002, 0.0, 0.0], [0.5, 0.0, 0.0]], [0, 0, 1])
     """
     keys = np.floor(points / voxel_m).astype(np.int64)
-    keys -= keys.min(axis=0)
-    span = keys.max(axis=0) + 1
+    keys -= column_min(keys)
+    span = column_max(keys) + 1
     flat = (keys[:, 0] * span[1] + keys[:, 1]) * span[2] + keys[:, 2]
     _, index, counts = np.unique(flat, return_inverse=True, return_counts=True)
     means = np.empty((len(counts), 3))
@@ -285,7 +286,7 @@ def find_planes(
         if found is None or len(found[1]) < min_inliers:
             break
         n, inl = found
-        if np.ptp(voxels[remaining[inl]], axis=0).max() < params.min_plane_extent_m:
+        if column_span(voxels[remaining[inl]]).max() < params.min_plane_extent_m:
             break  # a face of an object (a box side, a can's top), not a table, floor or wall
         mask = np.zeros(len(voxels), dtype=bool)
         mask[remaining[inl]] = True
@@ -459,8 +460,8 @@ def _standing_on(
         if plane.horizontal and np.median(height) < params.floor_step_m:
             return float(np.median(height))  # a step of the support, wherever it lies
         base = points[other.inliers][:, :2]
-        lo = base.min(axis=0) + params.edge_margin_m
-        hi = base.max(axis=0) - params.edge_margin_m
+        lo = column_min(base) + params.edge_margin_m
+        hi = column_max(base) - params.edge_margin_m
         inside = np.all((mine[:, :2] > lo) & (mine[:, :2] < hi), axis=1)
         if inside.mean() < 0.98:
             continue
@@ -609,7 +610,7 @@ def segment(
         region = support_region(table[:, :2], params.support_cell_m)
         regions.append(region)
         table = table[region.piece]
-        span = np.ptp(table[:, :2], axis=0)
+        span = column_span(table[:, :2])
         support = SupportPlane(
             vec3(p.normal),
             p.offset,
@@ -621,8 +622,8 @@ def segment(
         margin = max(params.above_margin_m, 3 * sigma_vox)
         margins.append(margin)
         height = support.signed_distance(voxels)
-        lo = table[:, :2].min(axis=0) + params.edge_margin_m
-        hi = table[:, :2].max(axis=0) - params.edge_margin_m
+        lo = column_min(table[:, :2]) + params.edge_margin_m
+        hi = column_max(table[:, :2]) - params.edge_margin_m
         over = (
             free
             & (height > margin)
@@ -773,7 +774,7 @@ def _split(
         members = np.flatnonzero(labels == label)
         if len(members) < 2 * params.min_cluster_voxels:
             continue
-        if np.ptp(voxels[members, :2], axis=0).max() < params.min_split_extent_m:
+        if column_span(voxels[members, :2]).max() < params.min_split_extent_m:
             continue  # narrower than two of the smallest objects side by side
         ranges = 1.0 if viewpoint is None else np.linalg.norm(voxels[members] - viewpoint, axis=1)
         noise = sigma_1m * float(np.median(ranges)) ** 2

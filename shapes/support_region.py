@@ -26,6 +26,7 @@ from scipy.sparse import coo_matrix
 from scipy.sparse.csgraph import connected_components
 from scipy.spatial import ConvexHull, QhullError
 
+from shapes.columns import column_min
 from shapes.types import FloatArray
 
 __all__ = ["SupportRegion", "support_region"]
@@ -57,7 +58,7 @@ def _main_piece(xy: FloatArray, cell_m: float) -> npt.NDArray[np.bool_]:
     """Which points belong to the largest set of occupied cells joined side by side or
     corner to corner. Only the occupied cells are held (a sparse graph, not a dense grid), so
     a cloud kilometres wide costs no more than its points."""
-    cells = np.floor((xy - xy.min(axis=0)) / cell_m).astype(np.int64) + 1
+    cells = np.floor((xy - column_min(xy)) / cell_m).astype(np.int64) + 1
     span = int(cells[:, 1].max()) + 2  # a neighbour's column never wraps into the next row
     keys, of_point = np.unique(cells[:, 0] * span + cells[:, 1], return_inverse=True)
     rows, cols = [], []
