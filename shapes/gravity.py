@@ -11,8 +11,7 @@ On an organised frame (a camera's optical frame: x right, y down, z forward) a p
 normal points away from the camera's up side (``-y``) by more than ``max_up_angle_deg`` is a
 wall or a ceiling, never the support: a camera is not held upside down.
 
->>> from shapes.columns import column_max, column_min
-from shapes.frame import Frame
+>>> from shapes.frame import Frame
 >>> rng = np.random.default_rng(0)
 >>> xy = rng.uniform(-0.5, 0.5, (4000, 2))
 >>> tilt = np.radians(40)  # a floor 1 m below, seen by a camera pitched 40 deg down
