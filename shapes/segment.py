@@ -75,7 +75,7 @@ from scipy.spatial import cKDTree
 from shapes.artefacts import depth_noise_1m, flying_pixels, sparse_points, sparse_voxels
 from shapes.columns import column_max, column_min, column_span
 from shapes.frame import Frame
-from shapes.split import split_touching
+from shapes.split import split_each
 from shapes.support_region import SupportRegion, support_region
 from shapes.types import FloatArray, SupportPlane, vec3
 
@@ -776,17 +776,25 @@ def _split(
     part stands on the support (``heights``: each voxel's height over it, when known)."""
     out = labels.copy()
     next_label = int(labels.max(initial=-1)) + 1
+    order = np.argsort(labels, kind="stable")
+    bounds = np.searchsorted(labels[order], np.arange(next_label + 1))
+    cut, noise = [], []
     for label in range(next_label):
-        members = np.flatnonzero(labels == label)
+        members = order[bounds[label] : bounds[label + 1]]
         if len(members) < 2 * params.min_cluster_voxels:
             continue
         if column_span(voxels[members, :2]).max() < params.min_split_extent_m:
             continue  # narrower than two of the smallest objects side by side
         ranges = 1.0 if viewpoint is None else np.linalg.norm(voxels[members] - viewpoint, axis=1)
-        noise = sigma_1m * float(np.median(ranges)) ** 2
-        parts = split_touching(
-            voxels[members], viewpoint, min_voxels=params.min_cluster_voxels, noise_m=noise
-        )
+        cut.append(members)
+        noise.append(sigma_1m * float(np.median(ranges)) ** 2)
+    found = split_each(
+        [voxels[m] for m in cut],
+        viewpoint,
+        min_voxels=params.min_cluster_voxels,
+        noise_m=noise,
+    )
+    for members, parts in zip(cut, found, strict=True):
         if parts.max() == 0 or _stacked(voxels[members], parts, params.cluster_eps_m):
             continue
         if heights is not None and not _each_stands(heights[members], parts, params):
