@@ -37,7 +37,7 @@ import numpy as np
 import numpy.typing as npt
 from scipy.spatial import cKDTree
 
-from shapes.columns import column_max, column_min
+from shapes.arrays import column_max, column_min, unique_sorted
 from shapes.types import FloatArray
 
 __all__ = ["depth_noise_1m", "flying_pixels", "sparse_points", "sparse_voxels"]
@@ -188,7 +188,7 @@ def sparse_voxels(
     # Each occupied cell once (two voxel means may round to one cell), and three sentinels
     # past the end, so that the column read below never runs off it.
     sentinel = np.iinfo(np.int64).max
-    occupied = np.concatenate((np.unique(flat_keys(cells)), np.full(3, sentinel)))
+    occupied = np.concatenate((unique_sorted(flat_keys(cells)), np.full(3, sentinel)))
     keys = flat_keys(cells if among is None else np.floor(voxels / voxel_m + 0.5).astype(np.int64))
     # Probed in sorted order (each probe is the sorted keys plus a constant), which
     # searchsorted walks through far faster than keys in voxel order.

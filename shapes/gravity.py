@@ -29,7 +29,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from shapes.columns import column_max, column_min
+from shapes.arrays import column_max, column_min
 from shapes.frame import Frame
 from shapes.segment import SegmentationParams, Survey, survey
 from shapes.types import FloatArray

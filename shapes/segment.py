@@ -72,8 +72,8 @@ from scipy.sparse import coo_matrix
 from scipy.sparse.csgraph import connected_components
 from scipy.spatial import cKDTree
 
+from shapes.arrays import column_max, column_min, column_span, unique_inverse
 from shapes.artefacts import depth_noise_1m, flying_pixels, sparse_points, sparse_voxels
-from shapes.columns import column_max, column_min, column_span
 from shapes.frame import Frame
 from shapes.split import split_each
 from shapes.support_region import SupportRegion, support_region
@@ -178,7 +178,7 @@ def voxel_grid(points: FloatArray, voxel_m: float) -> tuple[FloatArray, npt.NDAr
     keys -= column_min(keys)
     span = column_max(keys) + 1
     flat = (keys[:, 0] * span[1] + keys[:, 1]) * span[2] + keys[:, 2]
-    _, index, counts = np.unique(flat, return_inverse=True, return_counts=True)
+    _, index, counts = unique_inverse(flat)
     means = np.empty((len(counts), 3))
     for axis in range(3):
         means[:, axis] = np.bincount(index, weights=points[:, axis]) / counts

@@ -46,6 +46,7 @@ from scipy.sparse import coo_matrix
 from scipy.sparse.csgraph import connected_components
 from scipy.spatial import cKDTree
 
+from shapes.arrays import unique_inverse
 from shapes.normals import patch_normals
 from shapes.types import FloatArray
 
@@ -182,5 +183,5 @@ def _parts(
     # Small parts (seam voxels, specks) join the part of their nearest voxel in a big part.
     _, nearest = cKDTree(voxels[in_big]).query(voxels[~in_big])
     labels[~in_big] = labels[in_big][nearest]
-    _, compact = np.unique(labels, return_inverse=True)
+    _, compact, _ = unique_inverse(labels)
     return np.asarray(compact, dtype=np.int64)

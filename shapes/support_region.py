@@ -26,7 +26,7 @@ from scipy.sparse import coo_matrix
 from scipy.sparse.csgraph import connected_components
 from scipy.spatial import ConvexHull, QhullError
 
-from shapes.columns import column_min
+from shapes.arrays import column_min, unique_inverse
 from shapes.types import FloatArray
 
 __all__ = ["SupportRegion", "support_region"]
@@ -60,7 +60,7 @@ def _main_piece(xy: FloatArray, cell_m: float) -> npt.NDArray[np.bool_]:
     a cloud kilometres wide costs no more than its points."""
     cells = np.floor((xy - column_min(xy)) / cell_m).astype(np.int64) + 1
     span = int(cells[:, 1].max()) + 2  # a neighbour's column never wraps into the next row
-    keys, of_point = np.unique(cells[:, 0] * span + cells[:, 1], return_inverse=True)
+    keys, of_point, _ = unique_inverse(cells[:, 0] * span + cells[:, 1])
     rows, cols = [], []
     for step in (1, span - 1, span, span + 1):  # half the neighbourhood: the graph is undirected
         at = np.minimum(np.searchsorted(keys, keys + step), len(keys) - 1)
