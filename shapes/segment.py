@@ -286,27 +286,24 @@ def find_planes(
     for _ in range(params.max_planes):
         if len(remaining) < min_inliers:
             break
-        found = ransac_plane(
-            voxels[remaining], params.support_threshold_m, params.support_iterations, rng
-        )
+        left = voxels[remaining]  # gathered once a plane (remaining is in index order)
+        found = ransac_plane(left, params.support_threshold_m, params.support_iterations, rng)
         if found is None or len(found[1]) < min_inliers:
             break
         n, inl = found
-        if column_span(voxels[remaining[inl]]).max() < params.min_plane_extent_m:
+        pts = left[inl]
+        if column_span(pts).max() < params.min_plane_extent_m:
             break  # a face of an object (a box side, a can's top), not a table, floor or wall
-        mask = np.zeros(len(voxels), dtype=bool)
-        mask[remaining[inl]] = True
         # Refit by least squares on the inliers; the refit plane takes the voxels within
         # their tolerance of it.
-        pts = voxels[mask]
         centre = pts.mean(axis=0)
         n = np.linalg.svd(pts - centre, full_matrices=False)[2][2]
         offset = float(-n @ centre)
-        near = np.abs(voxels[remaining] @ n + offset) <= tolerance[remaining]
-        mask[:] = False
+        near = np.abs(left @ n + offset) <= tolerance[remaining]
+        mask = np.zeros(len(voxels), dtype=bool)
         mask[remaining[near]] = True
         planes.append(_Plane(np.asarray(n), offset, mask, False))
-        remaining = remaining[~mask[remaining]]
+        remaining = remaining[~near]
     return planes
 
 
