@@ -564,21 +564,21 @@ def segment(
     points = frame.world_points_of(scan.points)
     voxels = frame.world_points_of(scan.voxels)
     viewpoint = frame.world_from_sensor[:3, 3] if scan.in_camera_frame else None
-    colours = None if frame.colours is None else frame.colours[keep]
-    alive = np.ones(len(voxels), dtype=bool)
-    alive_idx = np.arange(len(voxels))
+    # The frame's colours and which point of the frame each kept point is: a cluster's
+    # colours are gathered from the frame's (all the kept points' would cost a pass over it).
+    colours = None if frame.colours is None else (frame.colours, np.flatnonzero(keep))
     planes = [_in_world(p, frame.world_from_sensor, params) for p in scan.planes]
     level = [p for p in planes if p.horizontal]
     faces = {
         id(p)
         for p in planes
-        if _faces_on(voxels[alive_idx[p.inliers]], [q for q in level if q is not p], params)
+        if _faces_on(voxels[p.inliers], [q for q in level if q is not p], params)
     }
     steps: set[int] = set()
     for p in planes:
         if id(p) in faces:
             continue
-        below = _standing_on(voxels[alive_idx], p, level, params)
+        below = _standing_on(voxels, p, level, params)
         if below is None:
             continue
         if p.horizontal and below < params.floor_step_m:
@@ -598,8 +598,8 @@ def segment(
     in_plane = np.zeros(len(voxels), dtype=bool)
     for p in planes:
         if id(p) not in faces:  # the fronts or tops of objects stay free
-            in_plane[alive_idx[p.inliers]] = True
-    free = alive & ~in_plane
+            in_plane[p.inliers] = True
+    free = ~in_plane
     # Stray returns and outliers: free voxels with fewer than two occupied neighbours.
     free_idx = np.flatnonzero(free)
     stray = sparse_voxels(scan.voxels[free_idx], params.voxel_m, among=scan.voxels)
@@ -609,7 +609,7 @@ def segment(
     owner = np.full(len(voxels), -1)
     margins, supports, regions = [], [], []
     for k, p in enumerate(horizontal):
-        table = voxels[alive_idx[p.inliers]]
+        table = voxels[p.inliers]
         region = support_region(table[:, :2], params.support_cell_m)
         regions.append(region)
         table = table[region.piece]
@@ -631,7 +631,10 @@ def segment(
             free
             & (height > margin)
             & (height < params.max_height_m)
-            & np.all((voxels[:, :2] > lo) & (voxels[:, :2] < hi), axis=1)
+            & (voxels[:, 0] > lo[0])
+            & (voxels[:, 0] < hi[0])
+            & (voxels[:, 1] > lo[1])
+            & (voxels[:, 1] < hi[1])
             & (height < best_height)
         )
         best_height[over] = height[over]
@@ -640,7 +643,7 @@ def segment(
         # Unorganised: the noise from the full-resolution residuals of the biggest support.
         main = max(range(len(horizontal)), key=lambda k: int(horizontal[k].inliers.sum()))
         on = np.zeros(len(voxels), dtype=bool)
-        on[alive_idx[horizontal[main].inliers]] = True
+        on[horizontal[main].inliers] = True
         sel = on[voxel_of]
         if sel.sum() > 100:
             resid = supports[main].signed_distance(points[sel])
@@ -808,7 +811,7 @@ def _clusters(
     voxel_of: npt.NDArray[np.intp],
     points: FloatArray,
     depth: FloatArray,
-    colours: FloatArray | None,
+    colours: tuple[FloatArray, npt.NDArray[np.intp]] | None,
     support: SupportPlane,
     margin: float,
     sigma_1m: float,
@@ -816,7 +819,9 @@ def _clusters(
     organised: bool,
     viewpoint: FloatArray | None,
 ) -> tuple[list[Cluster], int]:
-    """DBSCAN clusters of the candidate voxels above one support, and how many were too small."""
+    """DBSCAN clusters of the candidate voxels above one support, and how many were too small.
+
+    ``colours``: the frame's colours and the index in the frame of each of ``points``."""
     cloud = _cloud(voxels[candidates])
     _, kept = cloud.remove_statistical_outlier(params.outlier_neighbours, params.outlier_std_ratio)
     candidates = candidates[np.asarray(kept, dtype=np.intp)]
@@ -855,7 +860,7 @@ def _clusters(
         clusters.append(
             Cluster(
                 points[idx],
-                None if colours is None else colours[idx],
+                None if colours is None else colours[0][colours[1][idx]],
                 voxels[candidates[labels == label]],
                 support,
                 sigma_1m * float(np.median(depth[idx])) ** 2,
