@@ -117,11 +117,11 @@ def split_each(
     starts = np.concatenate(([0], np.cumsum(sizes)[:-1]))
     voxels = np.concatenate([clusters[k] for k in work])
     n = len(voxels)
-    trees, near, pairs = [], [], []
+    near, pairs = [], []
     for k, start in zip(work, starts, strict=True):
         tree = cKDTree(clusters[k], balanced_tree=False, compact_nodes=False)  # faster to build
-        trees.append(tree)
-        near.append(tree.query(clusters[k], k=min(neighbours, len(clusters[k])))[1] + start)
+        found = tree.query(clusters[k], k=min(neighbours, len(clusters[k])))[1]
+        near.append(np.reshape(found, (len(clusters[k]), -1)) + start)  # (n, k) even for k = 1
         pairs.append(tree.query_pairs(link_m, output_type="ndarray") + start)
     if len({a.shape[1] for a in near}) == 1:
         normals = patch_normals(voxels, np.concatenate(near))
