@@ -29,6 +29,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from shapes.arrays import column_max, column_min
 from shapes.frame import Frame
 from shapes.segment import SegmentationParams, Survey, survey
 from shapes.types import FloatArray
@@ -90,7 +91,8 @@ def _objects_on(
     e1 /= np.linalg.norm(e1)
     e2 = np.cross(normal, e1)
     axes = np.column_stack((e1, e2))
-    lo, hi = (plane @ axes).min(axis=0), (plane @ axes).max(axis=0)
+    across = plane @ axes
+    lo, hi = column_min(across), column_max(across)
     flat = free @ axes
     inside = np.all((flat > lo) & (flat < hi), axis=1)
     return int(np.count_nonzero(inside & (height > _MIN_OBJECT_HEIGHT_M) & (height < max_height_m)))

@@ -6,8 +6,9 @@ Steps (PITT's, with its quirks fixed; see ``shared/reference/pitt-perception.md`
    ``max_range_noise_m`` (:func:`depth_cut_m`; a Kinect keeps a floor 4.4 m away, not its walls
    at 5 m). On an organised frame the depth noise is measured from the image and
    flying pixels and veils are dropped
-   (:mod:`shapes.artefacts`), at full resolution; then only every k-th pixel of every k-th row
-   is kept, k chosen to leave about ``target_points`` points (:func:`pixel_stride`; a 640 x 480
+   (:mod:`shapes.artefacts`), judged on the full-resolution image; only every k-th pixel of
+   every k-th row is kept, k chosen from the points within range to leave about
+   ``target_points`` points (:func:`pixel_stride`; a 640 x 480
    frame keeps one pixel in four, still about 4 to 13 per 1 cm voxel of a surface facing the
    camera at 1.5 to 0.8 m, and a cluster its hundreds of points), and the points go to the
    world frame (z up, the gravity direction);
@@ -74,9 +75,10 @@ from scipy.sparse import coo_matrix
 from scipy.sparse.csgraph import connected_components
 from scipy.spatial import cKDTree
 
+from shapes.arrays import column_max, column_min, column_span, unique_inverse
 from shapes.artefacts import depth_noise_1m, flying_pixels, sparse_points, sparse_voxels
 from shapes.frame import Frame
-from shapes.split import split_touching
+from shapes.split import split_each
 from shapes.support_region import SupportRegion, support_region
 from shapes.types import FloatArray, SupportPlane, vec3
 from shapes.view import ImageView, image_view
@@ -190,10 +192,10 @@ def voxel_grid(points: FloatArray, voxel_m: float) -> tuple[FloatArray, npt.NDAr
     ([[0.002, 0.0, 0.0], [0.5, 0.0, 0.0]], [0, 0, 1])
     """
     keys = np.floor(points / voxel_m).astype(np.int64)
-    keys -= keys.min(axis=0)
-    span = keys.max(axis=0) + 1
+    keys -= column_min(keys)
+    span = column_max(keys) + 1
     flat = (keys[:, 0] * span[1] + keys[:, 1]) * span[2] + keys[:, 2]
-    _, index, counts = np.unique(flat, return_inverse=True, return_counts=True)
+    _, index, counts = unique_inverse(flat)
     means = np.empty((len(counts), 3))
     for axis in range(3):
         means[:, axis] = np.bincount(index, weights=points[:, axis]) / counts
@@ -244,14 +246,20 @@ def ransac_plane(
     normals = normals[spanning] / lengths[spanning, None]
     offsets = -np.einsum("ij,ij->i", normals, a[spanning])
     best, best_count = 0, -1
+    within = np.empty((_HYPOTHESES_PER_PASS, len(points)), dtype=np.float32)
+    ones = np.ones(len(points), dtype=np.float32)
     for start in range(0, len(normals), _HYPOTHESES_PER_PASS):
         stop = start + _HYPOTHESES_PER_PASS
         # One row per hypothesis, summed along the row: a count down the columns of the
-        # transposed matrix (np.count_nonzero with an axis) took seven times as long.
+        # transposed matrix (np.count_nonzero with an axis) took seven times as long. The
+        # count is a float32 matrix-vector product of the 0/1 matrix (exact below 2**24),
+        # cheaper than numpy's sum of booleans.
         distances = normals[start:stop] @ points.T
         distances += offsets[start:stop, None]
         np.abs(distances, out=distances)
-        counts = (distances <= threshold).sum(axis=1)
+        rows = within[: len(distances)]
+        np.less_equal(distances, threshold, out=rows, casting="unsafe")
+        counts = rows @ ones
         k = int(np.argmax(counts))
         if counts[k] > best_count:
             best, best_count = start + k, int(counts[k])
@@ -295,27 +303,24 @@ def find_planes(
     for _ in range(params.max_planes):
         if len(remaining) < min_inliers:
             break
-        found = ransac_plane(
-            voxels[remaining], params.support_threshold_m, params.support_iterations, rng
-        )
+        left = voxels[remaining]  # gathered once a plane (remaining is in index order)
+        found = ransac_plane(left, params.support_threshold_m, params.support_iterations, rng)
         if found is None or len(found[1]) < min_inliers:
             break
         n, inl = found
-        if np.ptp(voxels[remaining[inl]], axis=0).max() < params.min_plane_extent_m:
+        pts = left[inl]
+        if column_span(pts).max() < params.min_plane_extent_m:
             break  # a face of an object (a box side, a can's top), not a table, floor or wall
-        mask = np.zeros(len(voxels), dtype=bool)
-        mask[remaining[inl]] = True
         # Refit by least squares on the inliers; the refit plane takes the voxels within
         # their tolerance of it.
-        pts = voxels[mask]
         centre = pts.mean(axis=0)
         n = np.linalg.svd(pts - centre, full_matrices=False)[2][2]
         offset = float(-n @ centre)
-        near = np.abs(voxels[remaining] @ n + offset) <= tolerance[remaining]
-        mask[:] = False
+        near = np.abs(left @ n + offset) <= tolerance[remaining]
+        mask = np.zeros(len(voxels), dtype=bool)
         mask[remaining[near]] = True
         planes.append(_Plane(np.asarray(n), offset, mask, False))
-        remaining = remaining[~mask[remaining]]
+        remaining = remaining[~near]
     return planes
 
 
@@ -354,7 +359,8 @@ class Survey:
     reason: str | None = None
     """Why nothing can be found (no point within range), else None."""
     depth_image: FloatArray | None = None
-    """Every depth of an organised frame as its image, NaN where there is none."""
+    """Every depth of an organised frame as its image, NaN where there is none (and, when
+    artefacts are filtered, beyond the depth cut)."""
 
 
 def _nothing_to_survey(keep: npt.NDArray[np.bool_], frame: Frame, reason: str) -> Survey:
@@ -377,21 +383,26 @@ def survey(frame: Frame, params: SegmentationParams, seed: int) -> Survey:
     """Steps 1 to 3 of the module doc in the sensor frame: the kept points, their voxel grid
     and the planes. Deterministic for a given ``seed``; the frame's pose plays no part."""
     sigma_1m = 0.0
-    image = None if frame.pixels is None else _depth_image(frame, np.ones(len(frame.points), bool))
+    image = None if frame.pixels is None else _depth_image(frame)
     if params.filter_artefacts and image is not None:
         sigma_1m = depth_noise_1m(image)
     cut = depth_cut_m(sigma_1m, params)
     keep = frame.points[:, 2] <= cut
     if not keep.any():
         return _nothing_to_survey(keep, frame, f"no point within {cut:.2f} m")
-    if params.filter_artefacts and frame.pixels is not None:
-        keep = _artefact_mask(frame, keep, sigma_1m)
+    # The stride comes from the points within range: the artefacts are then judged only on
+    # the pixels it keeps (a quarter of them at stride 2).
+    stride = pixel_stride(int(keep.sum()), params)
+    if frame.pixels is None or frame.image_shape is None:
+        stride = 1
+    if params.filter_artefacts and image is not None:
+        image[image > cut] = np.nan  # nothing beyond the cut is nearer than what it keeps
+        keep &= _artefact_mask(frame, image, sigma_1m, stride)
         if not keep.any():
             reason = f"no point within {cut:.2f} m but flying pixels and veils"
             return _nothing_to_survey(keep, frame, reason)
-    stride = pixel_stride(int(keep.sum()), params)
-    if stride > 1 and frame.pixels is not None and frame.image_shape is not None:
-        # Every stride-th pixel of every stride-th row, once the artefacts are known.
+    elif stride > 1:
+        assert frame.image_shape is not None
         on_grid = np.zeros(frame.image_shape, dtype=np.bool_)
         on_grid[::stride, ::stride] = True
         keep &= on_grid.ravel()[frame.pixels]
@@ -479,8 +490,8 @@ def _standing_on(
         if plane.horizontal and np.median(height) < params.floor_step_m:
             return float(np.median(height))  # a step of the support, wherever it lies
         base = points[other.inliers][:, :2]
-        lo = base.min(axis=0) + params.edge_margin_m
-        hi = base.max(axis=0) - params.edge_margin_m
+        lo = column_min(base) + params.edge_margin_m
+        hi = column_max(base) - params.edge_margin_m
         inside = np.all((mine[:, :2] > lo) & (mine[:, :2] < hi), axis=1)
         if inside.mean() < 0.98:
             continue
@@ -506,22 +517,25 @@ def _focal_px(frame: Frame) -> float:
     return float(1.0 / a) if a > 0 else 570.0
 
 
-def _depth_image(frame: Frame, keep: npt.NDArray[np.bool_]) -> FloatArray:
-    """The depths of the kept points of an organised frame as its image, NaN elsewhere."""
+def _depth_image(frame: Frame) -> FloatArray:
+    """The depths of an organised frame's points as its image, NaN where there is no point."""
     assert frame.image_shape is not None and frame.pixels is not None
     image = np.full(frame.image_shape[0] * frame.image_shape[1], np.nan)
-    image[frame.pixels[keep]] = frame.points[keep, 2]
+    image[frame.pixels] = frame.points[:, 2]
     return image.reshape(frame.image_shape)
 
 
 def _artefact_mask(
-    frame: Frame, keep: npt.NDArray[np.bool_], sigma_1m: float
+    frame: Frame, image: FloatArray, sigma_1m: float, stride: int
 ) -> npt.NDArray[np.bool_]:
-    """Points kept after dropping flying pixels and veils (organised)."""
+    """Which of an organised frame's points lie on every ``stride``-th pixel of every
+    ``stride``-th row and are neither flying pixels nor veils of ``image`` (its depths, NaN
+    where there is none)."""
     assert frame.pixels is not None
-    image = _depth_image(frame, keep)
-    drop = flying_pixels(image, sigma_1m, focal_px=_focal_px(frame)).ravel()
-    return keep & ~drop[frame.pixels]
+    on_grid = np.zeros(image.shape, dtype=np.bool_)
+    drop = flying_pixels(image, sigma_1m, focal_px=_focal_px(frame), step=stride)
+    on_grid[::stride, ::stride] = ~drop
+    return np.asarray(on_grid.ravel()[frame.pixels], dtype=np.bool_)
 
 
 def depth_cut_m(sigma_1m: float, params: SegmentationParams) -> float:
@@ -582,21 +596,21 @@ def segment(
     points = frame.world_points_of(scan.points)
     voxels = frame.world_points_of(scan.voxels)
     viewpoint = frame.world_from_sensor[:3, 3] if scan.in_camera_frame else None
-    colours = None if frame.colours is None else frame.colours[keep]
-    alive = np.ones(len(voxels), dtype=bool)
-    alive_idx = np.arange(len(voxels))
+    # The frame's colours and which point of the frame each kept point is: a cluster's
+    # colours are gathered from the frame's (all the kept points' would cost a pass over it).
+    colours = None if frame.colours is None else (frame.colours, np.flatnonzero(keep))
     planes = [_in_world(p, frame.world_from_sensor, params) for p in scan.planes]
     level = [p for p in planes if p.horizontal]
     faces = {
         id(p)
         for p in planes
-        if _faces_on(voxels[alive_idx[p.inliers]], [q for q in level if q is not p], params)
+        if _faces_on(voxels[p.inliers], [q for q in level if q is not p], params)
     }
     steps: set[int] = set()
     for p in planes:
         if id(p) in faces:
             continue
-        below = _standing_on(voxels[alive_idx], p, level, params)
+        below = _standing_on(voxels, p, level, params)
         if below is None:
             continue
         if p.horizontal and below < params.floor_step_m:
@@ -616,8 +630,8 @@ def segment(
     in_plane = np.zeros(len(voxels), dtype=bool)
     for p in planes:
         if id(p) not in faces:  # the fronts or tops of objects stay free
-            in_plane[alive_idx[p.inliers]] = True
-    free = alive & ~in_plane
+            in_plane[p.inliers] = True
+    free = ~in_plane
     # Stray returns and outliers: free voxels with fewer than two occupied neighbours.
     free_idx = np.flatnonzero(free)
     stray = sparse_voxels(scan.voxels[free_idx], params.voxel_m, among=scan.voxels)
@@ -627,11 +641,11 @@ def segment(
     owner = np.full(len(voxels), -1)
     margins, supports, regions = [], [], []
     for k, p in enumerate(horizontal):
-        table = voxels[alive_idx[p.inliers]]
+        table = voxels[p.inliers]
         region = support_region(table[:, :2], params.support_cell_m)
         regions.append(region)
         table = table[region.piece]
-        span = np.ptp(table[:, :2], axis=0)
+        span = column_span(table[:, :2])
         support = SupportPlane(
             vec3(p.normal),
             p.offset,
@@ -643,13 +657,16 @@ def segment(
         margin = max(params.above_margin_m, 3 * sigma_vox)
         margins.append(margin)
         height = support.signed_distance(voxels)
-        lo = table[:, :2].min(axis=0) + params.edge_margin_m
-        hi = table[:, :2].max(axis=0) - params.edge_margin_m
+        lo = column_min(table[:, :2]) + params.edge_margin_m
+        hi = column_max(table[:, :2]) - params.edge_margin_m
         over = (
             free
             & (height > margin)
             & (height < params.max_height_m)
-            & np.all((voxels[:, :2] > lo) & (voxels[:, :2] < hi), axis=1)
+            & (voxels[:, 0] > lo[0])
+            & (voxels[:, 0] < hi[0])
+            & (voxels[:, 1] > lo[1])
+            & (voxels[:, 1] < hi[1])
             & (height < best_height)
         )
         best_height[over] = height[over]
@@ -658,7 +675,7 @@ def segment(
         # Unorganised: the noise from the full-resolution residuals of the biggest support.
         main = max(range(len(horizontal)), key=lambda k: int(horizontal[k].inliers.sum()))
         on = np.zeros(len(voxels), dtype=bool)
-        on[alive_idx[horizontal[main].inliers]] = True
+        on[horizontal[main].inliers] = True
         sel = on[voxel_of]
         if sel.sum() > 100:
             resid = supports[main].signed_distance(points[sel])
@@ -742,7 +759,7 @@ class _Reach:
     view: ImageView | None = None
     """The image's valid window (None for a cloud that is not a camera's image)."""
     depth_image: FloatArray | None = None
-    """Every depth of the frame as its image, NaN where there is none."""
+    """The survey's depth image (:attr:`Survey.depth_image`)."""
 
 
 def _reaching(near: npt.NDArray[np.bool_], params: SegmentationParams) -> bool:
@@ -851,17 +868,25 @@ def _split(
     part stands on the support (``heights``: each voxel's height over it, when known)."""
     out = labels.copy()
     next_label = int(labels.max(initial=-1)) + 1
+    order = np.argsort(labels, kind="stable")
+    bounds = np.searchsorted(labels[order], np.arange(next_label + 1))
+    cut, noise = [], []
     for label in range(next_label):
-        members = np.flatnonzero(labels == label)
+        members = order[bounds[label] : bounds[label + 1]]
         if len(members) < 2 * params.min_cluster_voxels:
             continue
-        if np.ptp(voxels[members, :2], axis=0).max() < params.min_split_extent_m:
+        if column_span(voxels[members, :2]).max() < params.min_split_extent_m:
             continue  # narrower than two of the smallest objects side by side
         ranges = 1.0 if viewpoint is None else np.linalg.norm(voxels[members] - viewpoint, axis=1)
-        noise = sigma_1m * float(np.median(ranges)) ** 2
-        parts = split_touching(
-            voxels[members], viewpoint, min_voxels=params.min_cluster_voxels, noise_m=noise
-        )
+        cut.append(members)
+        noise.append(sigma_1m * float(np.median(ranges)) ** 2)
+    found = split_each(
+        [voxels[m] for m in cut],
+        viewpoint,
+        min_voxels=params.min_cluster_voxels,
+        noise_m=noise,
+    )
+    for members, parts in zip(cut, found, strict=True):
         if parts.max() == 0 or _stacked(voxels[members], parts, params.cluster_eps_m):
             continue
         if heights is not None and not _each_stands(heights[members], parts, params):
@@ -878,7 +903,7 @@ def _clusters(
     voxel_of: npt.NDArray[np.intp],
     points: FloatArray,
     depth: FloatArray,
-    colours: FloatArray | None,
+    colours: tuple[FloatArray, npt.NDArray[np.intp]] | None,
     pixels: npt.NDArray[np.intp] | None,
     support: SupportPlane,
     margin: float,
@@ -887,7 +912,10 @@ def _clusters(
     organised: bool,
     viewpoint: FloatArray | None,
 ) -> tuple[list[Cluster], int]:
-    """DBSCAN clusters of the candidate voxels above one support, and how many were too small."""
+    """DBSCAN clusters of the candidate voxels above one support, and how many were too small.
+
+    ``colours``: the frame's colours and the index in the frame of each of ``points``;
+    ``pixels``: the image pixel of each of ``points`` on an organised frame."""
     cloud = _cloud(voxels[candidates])
     _, kept = cloud.remove_statistical_outlier(params.outlier_neighbours, params.outlier_std_ratio)
     candidates = candidates[np.asarray(kept, dtype=np.intp)]
@@ -926,7 +954,7 @@ def _clusters(
         clusters.append(
             Cluster(
                 points[idx],
-                None if colours is None else colours[idx],
+                None if colours is None else colours[0][colours[1][idx]],
                 voxels[candidates[labels == label]],
                 support,
                 sigma_1m * float(np.median(depth[idx])) ** 2,

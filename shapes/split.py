@@ -46,10 +46,11 @@ from scipy.sparse import coo_matrix
 from scipy.sparse.csgraph import connected_components
 from scipy.spatial import cKDTree
 
+from shapes.arrays import unique_inverse
 from shapes.normals import patch_normals
 from shapes.types import FloatArray
 
-__all__ = ["split_touching"]
+__all__ = ["split_each", "split_touching"]
 
 log = logging.getLogger(__name__)
 
@@ -71,44 +72,116 @@ def split_touching(
     ``noise_m``: the depth noise at the cluster's range; above 2 mm the concave angle grows by
     3 degrees per millimetre, as noisy normals bend more at random.
     """
-    concave_deg += 3000.0 * max(0.0, noise_m - 0.002)
+    return split_each(
+        [voxels],
+        viewpoint,
+        link_m=link_m,
+        neighbours=neighbours,
+        concave_deg=concave_deg,
+        seam_links=seam_links,
+        min_voxels=min_voxels,
+        noise_m=[noise_m],
+        max_seam_share=max_seam_share,
+    )[0]
+
+
+def split_each(
+    clusters: list[FloatArray],
+    viewpoint: FloatArray | None,
+    *,
+    link_m: float = 0.018,
+    neighbours: int = 10,
+    concave_deg: float = 20.0,
+    seam_links: int = 2,
+    min_voxels: int = 12,
+    noise_m: list[float] | None = None,
+    max_seam_share: float = 0.15,
+) -> list[npt.NDArray[np.int64]]:
+    """:func:`split_touching` of each of several clusters (``noise_m``: each one's noise, 0 by
+    default), with the same labels: each cluster's neighbours and links are its own, and the
+    normals, the concave links, the seams and the connected parts of all of them are found in
+    one set of array operations (a frame's clusters cost a few numpy calls, not a few each).
+
+    Raises ValueError when ``noise_m`` does not give one noise per cluster.
+    """
+    noise = [0.0] * len(clusters) if noise_m is None else list(noise_m)
+    if len(noise) != len(clusters):
+        raise ValueError(
+            f"noise_m: expected one noise per cluster ({len(clusters)}), got {len(noise)}"
+        )
+    out: list[npt.NDArray[np.int64]] = [np.zeros(len(v), dtype=np.int64) for v in clusters]
+    work = [k for k, v in enumerate(clusters) if len(v) >= 2 * min_voxels]
+    if not work:
+        return out
+    sizes = np.array([len(clusters[k]) for k in work])
+    starts = np.concatenate(([0], np.cumsum(sizes)[:-1]))
+    voxels = np.concatenate([clusters[k] for k in work])
     n = len(voxels)
-    if n < 2 * min_voxels:
-        return np.zeros(n, dtype=np.int64)
-    tree = cKDTree(voxels, balanced_tree=False, compact_nodes=False)  # faster to build
-    normals = patch_normals(voxels, tree.query(voxels, k=min(neighbours, n))[1])
+    near, pairs = [], []
+    for k, start in zip(work, starts, strict=True):
+        tree = cKDTree(clusters[k], balanced_tree=False, compact_nodes=False)  # faster to build
+        found = tree.query(clusters[k], k=min(neighbours, len(clusters[k])))[1]
+        near.append(np.reshape(found, (len(clusters[k]), -1)) + start)  # (n, k) even for k = 1
+        pairs.append(tree.query_pairs(link_m, output_type="ndarray") + start)
+    if len({a.shape[1] for a in near}) == 1:
+        normals = patch_normals(voxels, np.concatenate(near))
+    else:  # fewer voxels than neighbours in some cluster (a tiny min_voxels)
+        normals = np.concatenate([patch_normals(voxels, a) for a in near])
     if viewpoint is not None:
         toward = np.asarray(viewpoint) - voxels
     else:
-        toward = voxels - voxels.mean(axis=0)
+        toward = np.concatenate([v - v.mean(axis=0) for v in (clusters[k] for k in work)])
         toward[:, 2] = np.abs(toward[:, 2]) + 0.01
     normals *= np.where(np.einsum("ij,ij->i", normals, toward) < 0, -1.0, 1.0)[:, None]
-    pairs = tree.query_pairs(link_m, output_type="ndarray")
-    if len(pairs) == 0:
-        return np.arange(n, dtype=np.int64)
-    i, j = pairs[:, 0], pairs[:, 1]
+    group = np.repeat(np.arange(len(work)), sizes)
+    linked = np.concatenate(pairs)
+    i, j = linked[:, 0], linked[:, 1]
+    # Above 2 mm of noise the concave angle grows by 3 degrees per millimetre.
+    flat_cos = [
+        math.cos(math.radians(concave_deg + 3000.0 * max(0.0, noise[k] - 0.002))) for k in work
+    ]
+    bend_cos = np.array(flat_cos)[group[i]]
     converge = np.einsum("ij,ij->i", normals[i] - normals[j], voxels[i] - voxels[j]) < 0
-    bend = np.einsum("ij,ij->i", normals[i], normals[j]) < math.cos(math.radians(concave_deg))
+    bend = np.einsum("ij,ij->i", normals[i], normals[j]) < bend_cos
     concave = converge & bend
     # Normals are smoothed over the seam, so some links across it still look flat: the voxels
     # at either end of ``seam_links`` or more concave links are set aside as the seam, and
     # only the links between the other voxels count.
     hits = np.bincount(i[concave], minlength=n) + np.bincount(j[concave], minlength=n)
     seam = hits >= seam_links
-    if seam.mean() > max_seam_share:
-        # Concave links everywhere: the normals are too noisy to show a seam.
-        return np.zeros(n, dtype=np.int64)
+    # Concave links everywhere: the normals are too noisy to show a seam.
+    noisy = np.bincount(group, weights=seam, minlength=len(work)) / sizes > max_seam_share
     keep = ~concave & ~seam[i] & ~seam[j]
     graph = coo_matrix((np.ones(int(keep.sum())), (i[keep], j[keep])), shape=(n, n))
-    count, labels = connected_components(graph, directed=False)
-    sizes = np.bincount(labels, minlength=count)
+    # Components are numbered in the order of their lowest voxel, so each cluster's are a run
+    # of numbers in the order its own graph would give them.
+    _, labels = connected_components(graph, directed=False)
+    for g, (k, start, size) in enumerate(zip(work, starts, sizes, strict=True)):
+        if noisy[g] or not len(pairs[g]):
+            if not noisy[g]:
+                out[k] = np.arange(size, dtype=np.int64)  # no links at all: every voxel alone
+            continue
+        own = labels[start : start + size] - labels[start : start + size].min()
+        out[k] = _parts(clusters[k], own, min_voxels, int(seam[start : start + size].sum()))
+    return out
+
+
+def _parts(
+    voxels: FloatArray, labels: npt.NDArray[np.intp], min_voxels: int, seam: int
+) -> npt.NDArray[np.int64]:
+    """One cluster's connected parts as labels 0, 1, ...: all 0 unless two or more parts have
+    ``min_voxels`` voxels; smaller parts join the part of their nearest voxel in a big one."""
+    sizes = np.bincount(labels)
     big = np.flatnonzero(sizes >= min_voxels)
     if len(big) <= 1:
-        return np.zeros(n, dtype=np.int64)
-    log.debug("cluster of %d voxels split in %d parts (%d seam voxels)", n, len(big), seam.sum())
+        return np.zeros(len(voxels), dtype=np.int64)
+    log.debug(
+        "cluster of %d voxels split in %d parts (%d seam voxels)", len(voxels), len(big), seam
+    )
+    labels = labels.copy()
     in_big = np.isin(labels, big)
     # Small parts (seam voxels, specks) join the part of their nearest voxel in a big part.
     _, nearest = cKDTree(voxels[in_big]).query(voxels[~in_big])
     labels[~in_big] = labels[in_big][nearest]
-    _, compact = np.unique(labels, return_inverse=True)
+    _, compact, _ = unique_inverse(labels)
     return np.asarray(compact, dtype=np.int64)

@@ -26,6 +26,7 @@ from scipy.sparse import coo_matrix
 from scipy.sparse.csgraph import connected_components
 from scipy.spatial import ConvexHull, QhullError
 
+from shapes.arrays import column_min, unique_inverse
 from shapes.types import FloatArray
 
 __all__ = ["SupportRegion", "support_region"]
@@ -57,9 +58,9 @@ def _main_piece(xy: FloatArray, cell_m: float) -> npt.NDArray[np.bool_]:
     """Which points belong to the largest set of occupied cells joined side by side or
     corner to corner. Only the occupied cells are held (a sparse graph, not a dense grid), so
     a cloud kilometres wide costs no more than its points."""
-    cells = np.floor((xy - xy.min(axis=0)) / cell_m).astype(np.int64) + 1
+    cells = np.floor((xy - column_min(xy)) / cell_m).astype(np.int64) + 1
     span = int(cells[:, 1].max()) + 2  # a neighbour's column never wraps into the next row
-    keys, of_point = np.unique(cells[:, 0] * span + cells[:, 1], return_inverse=True)
+    keys, of_point, _ = unique_inverse(cells[:, 0] * span + cells[:, 1])
     rows, cols = [], []
     for step in (1, span - 1, span, span + 1):  # half the neighbourhood: the graph is undirected
         at = np.minimum(np.searchsorted(keys, keys + step), len(keys) - 1)
@@ -73,12 +74,32 @@ def _main_piece(xy: FloatArray, cell_m: float) -> npt.NDArray[np.bool_]:
     return np.asarray(of_point_label == np.argmax(np.bincount(of_point_label)), dtype=np.bool_)
 
 
+_DIRECTIONS = np.array(
+    [[1, 0], [1, 1], [0, 1], [-1, 1], [-1, 0], [-1, -1], [0, -1], [1, -1]], float
+)
+"""Eight directions, counter-clockwise: the extreme points along them bound an octagon."""
+
+
+def _hull_candidates(xy: FloatArray) -> npt.NDArray[np.bool_]:
+    """Which points may be vertices of the convex hull: all but those strictly inside the
+    octagon of the extreme points in eight directions (Akl and Toussaint's filter; the hull of
+    what is left is the same, and qhull runs on a few hundred points, not thousands)."""
+    corners = xy[np.argmax(xy @ _DIRECTIONS.T, axis=0)]
+    inside = np.ones(len(xy), dtype=np.bool_)
+    for a, b in zip(corners, np.roll(corners, -1, axis=0), strict=True):
+        if (a != b).any():  # a point extreme in two directions is one corner, not an edge
+            inside &= (b[0] - a[0]) * (xy[:, 1] - a[1]) - (b[1] - a[1]) * (xy[:, 0] - a[0]) > 0
+    return ~inside
+
+
 def support_region(xy: FloatArray, cell_m: float) -> SupportRegion:
     """The main piece of a support's voxels (``xy``: their coordinates across the support) and
     its convex hull; the piece's bounding box when its points span no area."""
     piece = _main_piece(xy, cell_m)
     try:
-        halfplanes = np.asarray(ConvexHull(xy[piece]).equations, dtype=np.float64)
+        outline = xy[piece]
+        hull = ConvexHull(outline[_hull_candidates(outline)])
+        halfplanes = np.asarray(hull.equations, dtype=np.float64)
     except (QhullError, ValueError):  # fewer than three points, or all on one line
         halfplanes = _box(xy[piece])
     return SupportRegion(piece, halfplanes)

@@ -38,6 +38,19 @@ def test_flying_pixels_are_dropped_and_the_surfaces_kept(shot):
     assert (drop & surface).sum() < 0.01 * surface.sum()
 
 
+@pytest.mark.parametrize("step", [2, 3])
+def test_flying_pixels_judged_on_a_grid_are_the_full_masks_grid(shot, step):
+    full = flying_pixels(shot.depth, depth_noise_1m(shot.depth), focal_px=CAMERA.fx)
+    grid = flying_pixels(shot.depth, depth_noise_1m(shot.depth), focal_px=CAMERA.fx, step=step)
+    assert full[::step, ::step].sum() > 20
+    np.testing.assert_array_equal(grid, full[::step, ::step])
+
+
+def test_a_step_below_one_is_refused():
+    with pytest.raises(ValueError, match="step: expected a positive integer, got 0"):
+        flying_pixels(np.ones((4, 4)), 0.001, step=0)
+
+
 def test_a_veil_along_the_ray_is_dropped():
     # A surface seen almost edge-on: depth grows by 5 cm per pixel across the image.
     depth = 1.0 + 0.05 * np.tile(np.arange(20.0), (20, 1))

@@ -1,8 +1,10 @@
 """The main piece of a support's plane and the outline it covers (shapes.support_region)."""
 
 import numpy as np
+import pytest
+from scipy.spatial import ConvexHull
 
-from shapes.support_region import support_region
+from shapes.support_region import _hull_candidates, support_region
 
 
 def test_a_plane_kilometres_wide_is_joined_on_its_occupied_cells_only() -> None:
@@ -29,3 +31,15 @@ def test_points_on_one_line_cover_their_bounding_box() -> None:
         True,
         False,
     ]
+
+
+@pytest.mark.parametrize("seed", range(4))
+def test_the_hull_of_the_filtered_points_is_the_hull_of_all(seed: int) -> None:
+    """qhull sees only the points outside the octagon of extremes, and finds the same edges."""
+    rng = np.random.default_rng(seed)
+    xy = np.round(rng.uniform(-1.0, 1.0, (5000, 2)) * (1.0, 0.4), 2 + seed % 2)
+    xy = np.vstack((xy, xy[:20]))  # repeated points, and extremes repeated along two directions
+    kept = _hull_candidates(xy)
+    assert kept.sum() < 0.1 * len(xy)
+    full, filtered = ConvexHull(xy).equations, ConvexHull(xy[kept]).equations
+    np.testing.assert_array_equal(full[np.lexsort(full.T)], filtered[np.lexsort(filtered.T)])
