@@ -47,6 +47,11 @@ class Model(Protocol):
         """Whether one model respects the radius or angle limits."""
         ...
 
+    def hopeless(self, normals: FloatArray) -> bool:
+        """True only when no minimal sample of points with these ``normals`` can give a valid
+        hypothesis (so a search would try ``max_iterations`` samples for nothing)."""
+        ...
+
 
 @dataclass(frozen=True)
 class RansacResult:
@@ -103,6 +108,13 @@ def ransac(
     keep = max(4, batch // 8)
     if preview_points and n > 2 * preview_points:
         preview = points[np.sort(rng.choice(n, preview_points, replace=False))]
+    if model.hopeless(normals):
+        # Every batch would be drawn and found invalid: draw the same samples (cheap) without
+        # building hypotheses, so ``rng`` is left as the full search would leave it.
+        while tried < needed:
+            _samples(rng, n, model.sample_size, min(batch, needed - tried))
+            tried += batch
+        return None
     while tried < needed:
         idx = _samples(rng, n, model.sample_size, min(batch, needed - tried))
         tried += batch

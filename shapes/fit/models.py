@@ -16,6 +16,7 @@ and cone hypotheses.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -35,6 +36,10 @@ __all__ = [
 
 Mask = npt.NDArray[np.bool_]
 Index = npt.NDArray[np.intp]
+
+MIN_AXIS_SINE = 0.1
+"""A cylinder hypothesis needs two normals whose angle has at least this sine (its axis is
+their cross product)."""
 
 
 def _unit(v: FloatArray) -> tuple[FloatArray, FloatArray]:
@@ -112,6 +117,9 @@ class PlaneModel:
     def within_limits(self, params: FloatArray) -> bool:
         return bool(np.isfinite(params).all())
 
+    def hopeless(self, normals: FloatArray) -> bool:
+        return False  # the normals play no part in its hypotheses
+
 
 @dataclass(frozen=True)
 class SphereModel:
@@ -162,6 +170,9 @@ class SphereModel:
     def within_limits(self, params: FloatArray) -> bool:
         return bool(np.isfinite(params).all() and self.min_radius <= params[3] <= self.max_radius)
 
+    def hopeless(self, normals: FloatArray) -> bool:
+        return False  # the normals play no part in its hypotheses
+
 
 @dataclass(frozen=True)
 class CylinderModel:
@@ -183,7 +194,7 @@ class CylinderModel:
         p1, p2 = points[idx[:, 0]], points[idx[:, 1]]
         n1, n2 = normals[idx[:, 0]], normals[idx[:, 1]]
         axis, norm = _unit(np.cross(n1, n2))
-        ok = norm > 0.1
+        ok = norm > MIN_AXIS_SINE
 
         def flat(v: FloatArray) -> FloatArray:
             return np.asarray(v - np.einsum("ij,ij->i", v, axis)[:, None] * axis, dtype=np.float64)
@@ -265,6 +276,18 @@ class CylinderModel:
 
     def within_limits(self, params: FloatArray) -> bool:
         return bool(np.isfinite(params).all() and self.min_radius <= params[6] <= self.max_radius)
+
+    def hopeless(self, normals: FloatArray) -> bool:
+        """Whether every pair of normals is too near parallel for an axis (the sine of their
+        angle at most ``MIN_AXIS_SINE``, which :meth:`hypotheses` rejects): true when they all
+        lie within ``alpha`` of one line with ``sin(2 alpha)`` below that bound, as on a
+        cluster of fewer points than a normal's neighbours (all normals are one)."""
+        if len(normals) < 2:
+            return True
+        line = np.linalg.eigh(normals.T @ normals)[1][:, 2]
+        sine = float(np.linalg.norm(np.cross(normals, line), axis=1).max())
+        # Two normals within alpha of the line are within 2 alpha of each other (mod pi).
+        return sine < math.sin(math.asin(0.99 * MIN_AXIS_SINE) / 2)
 
 
 @dataclass(frozen=True)
@@ -365,6 +388,9 @@ class ConeModel:
             np.isfinite(params).all() and self.min_half_angle <= params[6] <= self.max_half_angle
         )
 
+    def hopeless(self, normals: FloatArray) -> bool:
+        return False  # not worked out for three or more normals
+
 
 @dataclass(frozen=True)
 class UprightConeModel:
@@ -409,6 +435,9 @@ class UprightConeModel:
     def within_limits(self, params: FloatArray) -> bool:
         return self.cone.within_limits(params)
 
+    def hopeless(self, normals: FloatArray) -> bool:
+        return False  # not worked out for the flattened normals
+
 
 @dataclass(frozen=True)
 class UprightCylinderModel:
@@ -447,6 +476,9 @@ class UprightCylinderModel:
 
     def within_limits(self, params: FloatArray) -> bool:
         return self.cylinder.within_limits(params)
+
+    def hopeless(self, normals: FloatArray) -> bool:
+        return False  # not worked out for the flattened normals
 
 
 def _lines_crossing(flat_p: FloatArray, flat_n: FloatArray) -> tuple[FloatArray, Mask]:

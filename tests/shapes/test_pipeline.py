@@ -14,9 +14,9 @@ from shapes import (
     ShapeKind,
     StableScene,
     colour_name,
+    pipeline,
     segment,
 )
-from shapes import pipeline
 from shapes.fit import fit_cluster
 from shapes.synthetic import PALETTE, TabletopScene, TruthObject
 
