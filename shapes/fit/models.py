@@ -284,6 +284,8 @@ class CylinderModel:
         cluster of fewer points than a normal's neighbours (all normals are one)."""
         if len(normals) < 2:
             return True
+        if not np.isfinite(normals).all():
+            return False  # no shortcut: the full search decides, as before
         line = np.linalg.eigh(normals.T @ normals)[1][:, 2]
         sine = float(np.linalg.norm(np.cross(normals, line), axis=1).max())
         # Two normals within alpha of the line are within 2 alpha of each other (mod pi).

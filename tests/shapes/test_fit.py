@@ -322,3 +322,5 @@ def test_a_cylinder_search_is_hopeless_only_when_no_two_normals_make_an_axis():
     assert not CylinderModel().hopeless(flat)
     flat[7] = (0.0, -1.0, 0.0)  # unoriented: the opposite normal is the same line
     assert CylinderModel().hopeless(flat)
+    flat[7] = np.nan  # a broken normal: no shortcut, the search decides
+    assert not CylinderModel().hopeless(flat)
