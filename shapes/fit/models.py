@@ -78,9 +78,9 @@ def _axial(
     """
     mean = points.mean(axis=0)
     pts, org = points - mean, origin - mean
-    sq = (pts * pts).sum(axis=1)[None, :] - 2.0 * org @ pts.T + (org * org).sum(axis=1)[:, None]
+    sq = _dot3(pts, pts)[None, :] - 2.0 * org @ pts.T + _dot3(org, org)[:, None]
     sq = np.maximum(sq, 0.0)
-    t = axis @ pts.T - (axis * org).sum(axis=1)[:, None]
+    t = axis @ pts.T - _dot3(axis, org)[:, None]
     rho = np.sqrt(np.maximum(sq - t * t, 0.0))
     return t, rho, sq
 
