@@ -141,11 +141,13 @@ class Perception:
         seg = segment(frame, self.params.segmentation, self.seed + index, surveyed=surveyed)
         fitted = []
         for cluster in seg.clusters:
+            # A fresh generator per cluster: no fit depends on the frame's other clusters.
+            rng = np.random.default_rng([self.seed, index])
             fit = fit_cluster(
                 cluster.points,
                 support=cluster.support or seg.support,
                 params=self.params.fit.for_noise(cluster.noise_m),
-                rng=np.random.default_rng([self.seed, index]),
+                rng=rng,
             )
             if fit is not None:
                 fitted.append((cluster, fit.primitive))
