@@ -96,7 +96,9 @@ def ransac(
     ``preview_points``, each batch is first ranked on that many fixed points and only the best
     eighth is scored on all points. The first batch holds all ``min_iterations`` hypotheses
     (at least ``batch``): they are tried whatever the first ones show, so one evaluation of
-    them all costs the same arithmetic in fewer numpy calls.
+    them all costs the same arithmetic in fewer numpy calls. When ``model.hopeless(normals)``,
+    the samples are drawn as the full search draws them and no hypothesis is built: the result
+    (None) and the state ``rng`` is left in are the full search's.
     """
     n = len(points)
     if n < model.sample_size:
