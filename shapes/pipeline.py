@@ -104,7 +104,9 @@ def _supports_under(fitted: list[tuple[Cluster, Primitive]]) -> list[tuple[Clust
 class Perception:
     """Stateful chain: call :meth:`process` once per frame, in order.
 
-    Deterministic for a given ``seed``: frame k uses a generator seeded with ``(seed, k)``.
+    Deterministic for a given ``seed``. In frame k, each cluster's fit draws from a fresh
+    generator seeded with ``(seed, k)``, so one cluster's fit does not depend on the other
+    clusters of the frame (how many there are, their order, their sizes).
     """
 
     def __init__(self, params: PerceptionParams | None = None, *, seed: int = 0) -> None:
@@ -125,7 +127,6 @@ class Perception:
         """Run one frame through the chain."""
         index = self.frames
         self.frames += 1
-        rng = np.random.default_rng([self.seed, index])
         gravity = "pose"
         surveyed = survey(frame, self.params.segmentation, self.seed + index)
         if self.params.gravity_from_scene:
@@ -142,6 +143,8 @@ class Perception:
         viewpoint = frame.world_from_sensor[:3, 3] if surveyed.in_camera_frame else None
         fitted = []
         for cluster in seg.clusters:
+            # A fresh generator per cluster: no fit depends on the frame's other clusters.
+            rng = np.random.default_rng([self.seed, index])
             fit = fit_cluster(
                 cluster.points,
                 support=cluster.support or seg.support,

@@ -47,6 +47,11 @@ class Model(Protocol):
         """Whether one model respects the radius or angle limits."""
         ...
 
+    def hopeless(self, normals: FloatArray) -> bool:
+        """True only when no minimal sample of points with these ``normals`` can give a valid
+        hypothesis (so a search would try ``max_iterations`` samples for nothing)."""
+        ...
+
 
 @dataclass(frozen=True)
 class RansacResult:
@@ -89,7 +94,11 @@ def ransac(
     inlier share so far, capped by ``max_iterations`` and at least ``min_iterations`` (a wrong
     model that explains many points would otherwise stop the search early). With
     ``preview_points``, each batch is first ranked on that many fixed points and only the best
-    eighth is scored on all points.
+    eighth is scored on all points. The first batch holds all ``min_iterations`` hypotheses
+    (at least ``batch``): they are tried whatever the first ones show, so one evaluation of
+    them all costs the same arithmetic in fewer numpy calls. When ``model.hopeless(normals)``,
+    the samples are drawn as the full search draws them and no hypothesis is built: the result
+    (None) and the state ``rng`` is left in are the full search's.
     """
     n = len(points)
     if n < model.sample_size:
@@ -100,18 +109,24 @@ def ransac(
     needed, tried = max_iterations, 0
     thr2 = threshold * threshold
     preview = None
-    keep = max(4, batch // 8)
     if preview_points and n > 2 * preview_points:
         preview = points[np.sort(rng.choice(n, preview_points, replace=False))]
+    hopeless = model.hopeless(normals)
     while tried < needed:
-        idx = _samples(rng, n, model.sample_size, min(batch, needed - tried))
-        tried += batch
+        size = max(batch, min_iterations - tried)
+        idx = _samples(rng, n, model.sample_size, min(size, needed - tried))
+        tried += size
+        if hopeless:
+            # Every batch would be drawn and found invalid: draw the same samples (cheap)
+            # without building hypotheses, so ``rng`` is left as the full search leaves it.
+            continue
         if len(idx) == 0:
             continue
         params, valid = model.hypotheses(points, normals, idx)
         params = params[valid]
         if len(params) == 0:
             continue
+        keep = max(4, size // 8)
         if preview is not None and len(params) > keep:
             # Preemptive scoring: rank the batch on a fixed subset, score the best fully.
             dp = model.distances(params, preview)

@@ -16,6 +16,7 @@ and cone hypotheses.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -36,9 +37,33 @@ __all__ = [
 Mask = npt.NDArray[np.bool_]
 Index = npt.NDArray[np.intp]
 
+MIN_AXIS_SINE = 0.1
+"""A cylinder hypothesis needs two normals whose angle has at least this sine (its axis is
+their cross product)."""
+
+
+def _dot3(a: FloatArray, b: FloatArray) -> FloatArray:
+    """The dot products of 3-vectors along the last axis, added in numpy's order (so equal to
+    ``(a * b).sum(axis=-1)`` to the bit): a reduction over an axis of length 3 costs numpy
+    several times more than two additions of whole arrays."""
+    return np.asarray(a[..., 0] * b[..., 0] + a[..., 1] * b[..., 1] + a[..., 2] * b[..., 2])
+
+
+def _norm3(v: FloatArray) -> FloatArray:
+    """``np.linalg.norm(v, axis=-1)`` for 3-vectors, to the bit (see :func:`_dot3`)."""
+    return np.asarray(np.sqrt(_dot3(v, v)))
+
+
+def _cross3(a: FloatArray, b: FloatArray) -> FloatArray:
+    """``np.cross(a, b)`` for 3-vectors along the last axis, to the bit, without its axis
+    juggling."""
+    a0, a1, a2 = a[..., 0], a[..., 1], a[..., 2]
+    b0, b1, b2 = b[..., 0], b[..., 1], b[..., 2]
+    return np.stack((a1 * b2 - a2 * b1, a2 * b0 - a0 * b2, a0 * b1 - a1 * b0), axis=-1)
+
 
 def _unit(v: FloatArray) -> tuple[FloatArray, FloatArray]:
-    norm = np.linalg.norm(v, axis=-1)
+    norm = _norm3(v)
     return v / np.where(norm > 1e-12, norm, 1.0)[..., None], norm
 
 
@@ -53,9 +78,9 @@ def _axial(
     """
     mean = points.mean(axis=0)
     pts, org = points - mean, origin - mean
-    sq = (pts * pts).sum(axis=1)[None, :] - 2.0 * org @ pts.T + (org * org).sum(axis=1)[:, None]
+    sq = _dot3(pts, pts)[None, :] - 2.0 * org @ pts.T + _dot3(org, org)[:, None]
     sq = np.maximum(sq, 0.0)
-    t = axis @ pts.T - (axis * org).sum(axis=1)[:, None]
+    t = axis @ pts.T - _dot3(axis, org)[:, None]
     rho = np.sqrt(np.maximum(sq - t * t, 0.0))
     return t, rho, sq
 
@@ -93,7 +118,7 @@ class PlaneModel:
         self, points: FloatArray, normals: FloatArray, idx: Index
     ) -> tuple[FloatArray, Mask]:
         a, b, c = points[idx[:, 0]], points[idx[:, 1]], points[idx[:, 2]]
-        n, norm = _unit(np.cross(b - a, c - a))
+        n, norm = _unit(_cross3(b - a, c - a))
         d = -np.einsum("ij,ij->i", n, a)
         return np.column_stack((n, d)), norm > 1e-9
 
@@ -111,6 +136,9 @@ class PlaneModel:
 
     def within_limits(self, params: FloatArray) -> bool:
         return bool(np.isfinite(params).all())
+
+    def hopeless(self, normals: FloatArray) -> bool:
+        return False  # the normals play no part in its hypotheses
 
 
 @dataclass(frozen=True)
@@ -145,7 +173,7 @@ class SphereModel:
     @staticmethod
     def residuals(x: FloatArray, pts: FloatArray) -> FloatArray:
         diff = pts[None, :, :] - x[:, None, :3]
-        return np.asarray(np.linalg.norm(diff, axis=2) - x[:, 3:4], dtype=np.float64)
+        return np.asarray(_norm3(diff) - x[:, 3:4], dtype=np.float64)
 
     def refine(self, params: FloatArray, points: FloatArray, threshold: float) -> FloatArray:
         inl = points[self.distances(params[None, :], points)[0] < threshold]
@@ -161,6 +189,9 @@ class SphereModel:
 
     def within_limits(self, params: FloatArray) -> bool:
         return bool(np.isfinite(params).all() and self.min_radius <= params[3] <= self.max_radius)
+
+    def hopeless(self, normals: FloatArray) -> bool:
+        return False  # the normals play no part in its hypotheses
 
 
 @dataclass(frozen=True)
@@ -182,8 +213,8 @@ class CylinderModel:
     ) -> tuple[FloatArray, Mask]:
         p1, p2 = points[idx[:, 0]], points[idx[:, 1]]
         n1, n2 = normals[idx[:, 0]], normals[idx[:, 1]]
-        axis, norm = _unit(np.cross(n1, n2))
-        ok = norm > 0.1
+        axis, norm = _unit(_cross3(n1, n2))
+        ok = norm > MIN_AXIS_SINE
 
         def flat(v: FloatArray) -> FloatArray:
             return np.asarray(v - np.einsum("ij,ij->i", v, axis)[:, None] * axis, dtype=np.float64)
@@ -199,7 +230,7 @@ class CylinderModel:
         ok &= np.abs(den) > 1e-9
         s = (dd * cc - ee * bb) / np.where(ok, den, 1.0)
         centre = q1 + s[:, None] * m1
-        r = (np.linalg.norm(q1 - centre, axis=1) + np.linalg.norm(q2 - centre, axis=1)) / 2
+        r = (_norm3(q1 - centre) + _norm3(q2 - centre)) / 2
         ok &= (r >= self.min_radius) & (r <= self.max_radius)
         return np.column_stack((centre, axis, r)), ok
 
@@ -245,8 +276,8 @@ class CylinderModel:
     def residuals(x: FloatArray, pts: FloatArray) -> FloatArray:
         axis = _unit(x[:, 3:6])[0][:, None, :]
         v = pts[None, :, :] - x[:, None, :3]
-        radial = v - (v * axis).sum(axis=2, keepdims=True) * axis
-        return np.asarray(np.linalg.norm(radial, axis=2) - x[:, 6:7], dtype=np.float64)
+        radial = v - _dot3(v, axis)[..., None] * axis
+        return np.asarray(_norm3(radial) - x[:, 6:7], dtype=np.float64)
 
     def refine(self, params: FloatArray, points: FloatArray, threshold: float) -> FloatArray:
         # Points of a flat end disc that lie within the threshold of the rim would pull the
@@ -265,6 +296,20 @@ class CylinderModel:
 
     def within_limits(self, params: FloatArray) -> bool:
         return bool(np.isfinite(params).all() and self.min_radius <= params[6] <= self.max_radius)
+
+    def hopeless(self, normals: FloatArray) -> bool:
+        """Whether every pair of normals is too near parallel for an axis (the sine of their
+        angle at most ``MIN_AXIS_SINE``, which :meth:`hypotheses` rejects): true when they all
+        lie within ``alpha`` of one line with ``sin(2 alpha)`` below that bound, as on a
+        cluster of fewer points than a normal's neighbours (all normals are one)."""
+        if len(normals) < 2:
+            return True
+        if not np.isfinite(normals).all():
+            return False  # no shortcut: the full search decides, as before
+        line = np.linalg.eigh(normals.T @ normals)[1][:, 2]
+        sine = float(np.linalg.norm(np.cross(normals, line), axis=1).max())
+        # Two normals within alpha of the line are within 2 alpha of each other (mod pi).
+        return sine < math.sin(math.asin(0.99 * MIN_AXIS_SINE) / 2)
 
 
 @dataclass(frozen=True)
@@ -298,7 +343,7 @@ class ConeModel:
         # on a plane whose normal is the axis.
         u = _unit(p - apex[:, None, :])[0]
         if u.shape[1] == 3:  # three unit vectors: their plane's normal, a cross product
-            axis = _unit(np.cross(u[:, 1] - u[:, 0], u[:, 2] - u[:, 0]))[0]
+            axis = _unit(_cross3(u[:, 1] - u[:, 0], u[:, 2] - u[:, 0]))[0]
         else:
             centred = u - u.mean(axis=1, keepdims=True)
             axis = np.linalg.eigh(np.einsum("hsi,hsj->hij", centred, centred))[1][:, :, 0]
@@ -307,7 +352,7 @@ class ConeModel:
         theta = np.arccos(np.clip(np.abs(cosines), -1, 1)).mean(axis=1)
         ok &= np.isfinite(axis).all(axis=1)
         ok &= (theta >= self.min_half_angle) & (theta <= self.max_half_angle)
-        ok &= np.linalg.norm(apex - p[:, 0], axis=1) <= self.max_apex_distance
+        ok &= _norm3(apex - p[:, 0]) <= self.max_apex_distance
         return np.column_stack((apex, axis, theta)), ok
 
     def lateral_distances(self, params: FloatArray, points: FloatArray) -> FloatArray:
@@ -350,8 +395,8 @@ class ConeModel:
     def residuals(x: FloatArray, pts: FloatArray) -> FloatArray:
         axis = _unit(x[:, 3:6])[0][:, None, :]
         v = pts[None, :, :] - x[:, None, :3]
-        k = (v * axis).sum(axis=2)
-        rho = np.linalg.norm(v - k[..., None] * axis, axis=2)
+        k = _dot3(v, axis)
+        rho = _norm3(v - k[..., None] * axis)
         return np.asarray(rho * np.cos(x[:, 6:7]) - k * np.sin(x[:, 6:7]), dtype=np.float64)
 
     def refine(self, params: FloatArray, points: FloatArray, threshold: float) -> FloatArray:
@@ -364,6 +409,9 @@ class ConeModel:
         return bool(
             np.isfinite(params).all() and self.min_half_angle <= params[6] <= self.max_half_angle
         )
+
+    def hopeless(self, normals: FloatArray) -> bool:
+        return False  # not worked out for three or more normals
 
 
 @dataclass(frozen=True)
@@ -391,7 +439,7 @@ class UprightConeModel:
         flat_n = n - (n @ up)[..., None] * up
         centre, ok = _lines_crossing(flat_p, flat_n)
         theta = np.arcsin(np.clip(sin_theta, 0.0, 1.0))
-        rho = np.linalg.norm(flat_p - centre[:, None, :], axis=2)
+        rho = _norm3(flat_p - centre[:, None, :])
         tan = np.tan(np.maximum(theta, 1e-6))
         top = ((p @ up) + rho / tan[:, None]).mean(axis=1)
         apex = centre + top[:, None] * up
@@ -408,6 +456,9 @@ class UprightConeModel:
 
     def within_limits(self, params: FloatArray) -> bool:
         return self.cone.within_limits(params)
+
+    def hopeless(self, normals: FloatArray) -> bool:
+        return False  # not worked out for the flattened normals
 
 
 @dataclass(frozen=True)
@@ -433,7 +484,7 @@ class UprightCylinderModel:
         flat_p = p - (p @ up)[..., None] * up
         flat_n = n - (n @ up)[..., None] * up
         centre, ok = _lines_crossing(flat_p, flat_n)
-        r = np.linalg.norm(flat_p - centre[:, None, :], axis=2).mean(axis=1)
+        r = _norm3(flat_p - centre[:, None, :]).mean(axis=1)
         ok &= (r >= self.cylinder.min_radius) & (r <= self.cylinder.max_radius)
         ok &= np.isfinite(centre).all(axis=1)
         axis = np.broadcast_to(up, centre.shape)
@@ -447,6 +498,9 @@ class UprightCylinderModel:
 
     def within_limits(self, params: FloatArray) -> bool:
         return self.cylinder.within_limits(params)
+
+    def hopeless(self, normals: FloatArray) -> bool:
+        return False  # not worked out for the flattened normals
 
 
 def _lines_crossing(flat_p: FloatArray, flat_n: FloatArray) -> tuple[FloatArray, Mask]:

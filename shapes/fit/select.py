@@ -618,6 +618,7 @@ def fit_cluster(
     costs: dict[ShapeKind, float] = {}
     counts: dict[ShapeKind, int] = {}
     fitted: dict[ShapeKind, FloatArray] = {}
+    built: dict[ShapeKind, Primitive] = {}  # each kept curved candidate, as scored
     surface: dict[ShapeKind, FloatArray] = {}
 
     margin = t_sel + fp.snap_distance_m
@@ -633,11 +634,13 @@ def fit_cluster(
     def score(kind: ShapeKind, params: FloatArray, d: FloatArray | None = None) -> None:
         """Keep a candidate (in place of the model's last one) if it is bounded; ``d``: the
         sample's distances to it, when known."""
-        if not bounded(curved(kind, params), points, margin_m=margin, box=box):
+        primitive = curved(kind, params)
+        if not bounded(primitive, points, margin_m=margin, box=box):
             return  # a fit that leaves its own points is never a candidate
         if d is None:
             d = models[kind][0].distances(params[None, :], sample)[0]
         fitted[kind], surface[kind], costs[kind] = params, d, _cost(d, t_sel)
+        built[kind] = primitive
 
     for kind, (model, thr) in models.items():
         res = ransac(
@@ -810,7 +813,7 @@ def fit_cluster(
             plane, inl = max(planes, key=lambda p: len(p[1]))
             prim = _build_plane(plane, sample, inl)
         else:
-            prim = curved(kind, fitted[kind])
+            prim = built[kind]
         if bounded(prim, points, margin_m=margin, box=box):
             break
         del costs[kind]  # a fit that leaves its own points is never output

@@ -287,3 +287,51 @@ def test_ransac_returns_the_distances_its_inliers_were_drawn_from(refine):
     expected = model.distances(res.params[None, :], points)[0]
     np.testing.assert_allclose(res.distances, expected, rtol=0, atol=1e-12)
     assert np.array_equal(res.inliers, res.distances < 0.007)
+
+
+class NeverHopeless(CylinderModel):
+    """The cylinder model without its shortcut: every search builds every hypothesis."""
+
+    def hopeless(self, normals):
+        return False
+
+
+@pytest.mark.parametrize("preview_points", [0, 40])
+def test_a_hopeless_cylinder_search_draws_what_the_full_search_draws(preview_points):
+    points = np.random.default_rng(1).random((120, 3))
+    up = np.tile([0.0, 0.0, 1.0], (120, 1))
+    normals = up + np.random.default_rng(2).normal(0, 0.01, up.shape)  # all within a degree
+    normals /= np.linalg.norm(normals, axis=1)[:, None]
+    assert CylinderModel().hopeless(normals)
+    after = []
+    for model in (CylinderModel(), NeverHopeless()):
+        rng = np.random.default_rng(3)
+        kwargs = {"threshold": 0.01, "rng": rng, "preview_points": preview_points}
+        assert ransac(model, points, normals, **kwargs) is None
+        after.append(rng.integers(0, 2**62, 4).tolist())
+    assert after[0] == after[1]  # the next search's draws are the same
+
+
+def test_a_cylinder_search_is_hopeless_only_when_no_two_normals_make_an_axis():
+    rng = np.random.default_rng(4)
+    normals = cylinder_side(rng, (0, 0, 0), (0, 0, 1), 1.0, 0.0, n=50, arc=0.3)  # 17 degrees
+    assert not CylinderModel().hopeless(normals)
+    flat = np.tile([0.0, 1.0, 0.0], (50, 1))
+    assert CylinderModel().hopeless(flat)
+    flat[7] = (0.0, 0.0, 1.0)  # one normal across the others: one pair makes an axis
+    assert not CylinderModel().hopeless(flat)
+    flat[7] = (0.0, -1.0, 0.0)  # unoriented: the opposite normal is the same line
+    assert CylinderModel().hopeless(flat)
+    flat[7] = np.nan  # a broken normal: no shortcut, the search decides
+    assert not CylinderModel().hopeless(flat)
+
+
+def test_the_models_3_vector_helpers_equal_numpy_to_the_bit():
+    from shapes.fit.models import _cross3, _dot3, _norm3
+
+    rng = np.random.default_rng(6)
+    a = rng.normal(size=(8, 250, 3)) * rng.uniform(1e-3, 10.0, size=(8, 250, 3))
+    b = rng.normal(size=(8, 1, 3))
+    assert np.array_equal(_dot3(a, b), (a * b).sum(axis=2))
+    assert np.array_equal(_norm3(a), np.linalg.norm(a, axis=2))
+    assert np.array_equal(_cross3(a[0], a[1]), np.cross(a[0], a[1]))

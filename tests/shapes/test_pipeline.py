@@ -1,7 +1,7 @@
 """The whole chain on synthetic tabletop frames: segmentation, shapes, ids, averages, scenes."""
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 import pytest
@@ -14,6 +14,7 @@ from shapes import (
     ShapeKind,
     StableScene,
     colour_name,
+    pipeline,
     segment,
 )
 from shapes.fit import fit_cluster
@@ -186,3 +187,21 @@ def test_the_chain_is_deterministic_under_a_seed():
     first = [r.primitives for r in Perception(seed=3).run(frames)]
     second = [r.primitives for r in Perception(seed=3).run(frames)]
     assert first == second
+
+
+def test_a_cluster_fits_the_same_whatever_the_other_clusters(monkeypatch):
+    frame = SCENE.render(np.random.default_rng(4)).frame
+    whole = Perception(seed=2).process(frame)
+    assert len(whole.primitives) == 4
+    real_segment = pipeline.segment
+
+    def without_the_first_cluster(*args, **kwargs):
+        found = real_segment(*args, **kwargs)
+        return replace(found, clusters=found.clusters[1:])
+
+    monkeypatch.setattr(pipeline, "segment", without_the_first_cluster)
+    fewer = Perception(seed=2).process(frame)
+    # Everything but the tracking ids (given in order) is the same, to the last bit.
+    assert [replace(p, tracking_id=None) for p in fewer.primitives] == [
+        replace(p, tracking_id=None) for p in whole.primitives[1:]
+    ]

@@ -109,6 +109,7 @@ def _turned_about_up(pose: np.ndarray, angle: float) -> np.ndarray:
         ("bottles_kinect", "turned"),
         ("laptop_box_kinect_0", "moved"),
         ("laptop_box_kinect_2", "turned"),
+        ("desk_tum", "turned"),  # one cluster more or less no longer moves the others' fits
     ],
 )
 def test_a_pose_changed_by_a_millionth_gives_the_same_primitives_on_a_cluttered_scan(
