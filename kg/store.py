@@ -117,6 +117,9 @@ class Store:
         self._generation = 0
         self._committer: ThreadPoolExecutor | None = None
         self._flusher: threading.Thread | None = None
+        self._flush_lock = threading.Lock()
+        """One flush (or backup, whose checkpoint flushes) at a time: two at once on one
+        RocksDB store can wait on each other for ever."""
         self._commit_log: CommitLog | None = None
         if self.path is not None or (backend is not None and not backend.read_only):
             self.recover_bulk_writes()
@@ -578,12 +581,15 @@ class Store:
         if target.exists():
             raise FileExistsError(f"backup target {target} already exists")
         target.parent.mkdir(parents=True, exist_ok=True)
-        self._store.backup(str(target))
+        with self._flush_lock:
+            self._store.backup(str(target))
         return target
 
     def flush(self) -> None:
-        """Make sure every committed write is on disk."""
-        self._store.flush()
+        """Make sure every committed write is on disk (after any flush under way, from any
+        thread)."""
+        with self._flush_lock:
+            self._store.flush()
 
     def flush_in_background(self) -> None:
         """Start :meth:`flush` in a thread of its own and return at once (an embedded store on
@@ -595,11 +601,12 @@ class Store:
             return
         if self._flusher is not None and self._flusher.is_alive():
             return
-        store, path = self._store, self.path  # not self: see __del__
+        store, path, lock = self._store, self.path, self._flush_lock  # not self: see __del__
 
         def flush() -> None:
             try:
-                store.flush()
+                with lock:
+                    store.flush()
             except OSError as error:
                 log.warning("the store at %s could not be flushed: %s", path, error)
 
@@ -620,7 +627,7 @@ class Store:
             return
         if self._flusher is not None:
             self._flusher.join()
-        self._store.flush()
+        self.flush()
         self._store = _ClosedStore(self.path)  # type: ignore[assignment]
 
     def __len__(self) -> int:

@@ -237,3 +237,32 @@ def test_a_large_transaction_is_flushed_in_the_background(
         for k in range(LARGE_WRITE_QUADS):
             tx.insert(NamedNode(f"http://example.org/t{k}"), RDFS_LABEL, Literal(k), MEMORY)
     assert started == [2 * LARGE_WRITE_QUADS - 1]  # once the write is done
+
+
+def test_flushes_from_many_threads_all_return(tmp_path: Path) -> None:
+    # Two flushes at once on one RocksDB store can wait on each other for ever (seen as a hung
+    # `engram ask --samples` while a large write's background flush ran): the store takes
+    # them one at a time, whichever thread asks.
+    store = Store(tmp_path / "store")
+
+    def write_and_flush(k: int) -> None:
+        for i in range(150):
+            with store.transaction() as tx:
+                for j in range(20):
+                    tx.insert(
+                        NamedNode(f"http://example.org/{k}/{i}/{j}"), RDFS_LABEL, Literal(j), MEMORY
+                    )
+            if i % 2:
+                store.flush()
+            else:
+                store.flush_in_background()
+
+    threads = [threading.Thread(target=write_and_flush, args=(k,), daemon=True) for k in range(3)]
+    for thread in threads:
+        thread.start()
+    deadline = time.monotonic() + 90  # the 900 flushes take a few seconds when none hangs
+    for thread in threads:
+        thread.join(timeout=max(0.0, deadline - time.monotonic()))
+    assert not any(thread.is_alive() for thread in threads), "a flush never returned"
+    store.close()
+    assert len(Store(tmp_path / "store")) == 3 * 150 * 20
