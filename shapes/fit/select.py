@@ -146,6 +146,11 @@ class FitParams:
     """With a viewpoint: how much more than its rival (by the distance to the surface) a sphere
     may cost and still be weighed against it along the rays; ``ray_iterations``: the
     Levenberg-Marquardt steps of each refinement along them."""
+    coarse_standing_margin: float = 0.05
+    coarse_standing_share: float = 0.4
+    """Standing under coarse depth (module docstring): how much more than the free cylinder a
+    standing one may cost and still be chosen, when the selection threshold is at least
+    ``coarse_standing_share`` of its radius."""
 
     def for_noise(self, sigma_m: float) -> FitParams:
         """These parameters with every distance threshold raised to at least
@@ -560,6 +565,29 @@ def _sphere_on_rays(
     return ball if cost <= costs[rival][0] + fp.tie_margin else None
 
 
+def _standing_under_coarse_depth(
+    standing: FloatArray,
+    free: FloatArray,
+    sample: FloatArray,
+    support: SupportPlane | None,
+    model: Model,
+    fp: FitParams,
+) -> FloatArray | None:
+    """The standing cylinder ``standing``, refined, in place of the cylinder ``free`` when the
+    rule "standing under coarse depth" (module docstring) chooses it; else None."""
+    if support is None or _orient_up(free[3:6], support, fp.upright_tolerance_deg):
+        return None
+    up = refine_if_better(model, standing, sample, fp.cylinder_threshold_m)
+    if not _orient_up(up[3:6], support, fp.upright_tolerance_deg):
+        return None
+    if fp.selection_threshold_m < fp.coarse_standing_share * float(up[6]):
+        return None
+    up_cost, free_cost = (
+        _cost(model.distances(x[None, :], sample)[0], fp.selection_threshold_m) for x in (up, free)
+    )
+    return up if up_cost <= free_cost + fp.coarse_standing_margin else None
+
+
 def fit_cluster(
     points: FloatArray,
     *,
@@ -618,6 +646,7 @@ def fit_cluster(
     costs: dict[ShapeKind, float] = {}
     counts: dict[ShapeKind, int] = {}
     fitted: dict[ShapeKind, FloatArray] = {}
+    standing_cylinder: FloatArray | None = None  # the standing search's best, kept or not
     built: dict[ShapeKind, Primitive] = {}  # each kept curved candidate, as scored
     surface: dict[ShapeKind, FloatArray] = {}
 
@@ -686,7 +715,11 @@ def fit_cluster(
                 min_iterations=iterations // 2,
                 preview_points=fp.preview_points,
             )
-            if res is not None and _cost(res.distances, t_sel) < costs.get(kind, np.inf):
+            if res is None:
+                continue
+            if kind is ShapeKind.CYLINDER:
+                standing_cylinder = res.params
+            if _cost(res.distances, t_sel) < costs.get(kind, np.inf):
                 score(kind, res.params, res.distances)
     # Planes, one after another on what the previous ones left.
     plane_model = PlaneModel()
@@ -775,6 +808,20 @@ def fit_cluster(
         if costs[kind] <= best + fp.refine_margin:
             model, thr = models[kind]
             score(kind, refine_if_better(model, fitted[kind], sample, thr))
+    if standing_cylinder is not None and ShapeKind.CYLINDER in costs:
+        up = _standing_under_coarse_depth(
+            standing_cylinder,
+            fitted[ShapeKind.CYLINDER],
+            sample,
+            support,
+            models[ShapeKind.CYLINDER][0],
+            fp,
+        )
+        if up is not None:
+            free_cost = costs[ShapeKind.CYLINDER]
+            score(ShapeKind.CYLINDER, up)
+            if fitted[ShapeKind.CYLINDER] is up:  # bounded: it meets the others at the lower cost
+                costs[ShapeKind.CYLINDER] = min(free_cost, costs[ShapeKind.CYLINDER])
     sphere_on_rays: bool | None = None
     if eye is not None and ShapeKind.SPHERE in costs:
         # The sphere against the model the rule would choose without it, along the rays.
