@@ -62,6 +62,19 @@ is chosen when it costs no more than the rival plus ``tie_margin``, and then mee
 with the lower of the two costs (by the distance to the surface); otherwise the sphere is out.
 The rival is not refitted otherwise: the cylinder/cone choice stays the rule's own.
 
+Standing under coarse depth
+---------------------------
+When the depth noise is comparable to a thing's radius (the selection threshold, which grows
+with the cluster's noise, at least ``coarse_standing_share`` of the radius of the best standing
+cylinder hypothesis, before and after its refinement), the distances to the surface no longer
+tell a standing cylinder from one lying or leaning: quantised depths put the points on sheets
+square to the sensor's rays, and a wide cylinder whose end disc faces the sensor explains those
+sheets better than the true narrow one standing. There, when the support is known and the free
+search's cylinder does not stand, the best standing hypothesis (refined by least squares, still
+standing) takes its place if it costs at most ``coarse_standing_margin`` more, and meets the
+other models with the lower of the two costs. At the lowest threshold (8 mm, low noise) only
+standing radii of 2 cm or less qualify.
+
 Heights are measured to the support: when a cylinder's or cone's axis is within
 ``upright_tolerance_deg`` of the support normal and its lowest points lie within
 ``snap_distance_m`` of the support, the base is put on the support plane. The segmentation has
@@ -577,10 +590,13 @@ def _standing_under_coarse_depth(
     rule "standing under coarse depth" (module docstring) chooses it; else None."""
     if support is None or _orient_up(free[3:6], support, fp.upright_tolerance_deg):
         return None
+    coarse = fp.coarse_standing_share * float(standing[6]) <= fp.selection_threshold_m
+    if not coarse:  # before refining, which most clusters need not pay for
+        return None
     up = refine_if_better(model, standing, sample, fp.cylinder_threshold_m)
     if not _orient_up(up[3:6], support, fp.upright_tolerance_deg):
         return None
-    if fp.selection_threshold_m < fp.coarse_standing_share * float(up[6]):
+    if fp.coarse_standing_share * float(up[6]) > fp.selection_threshold_m:
         return None
     up_cost, free_cost = (
         _cost(model.distances(x[None, :], sample)[0], fp.selection_threshold_m) for x in (up, free)
