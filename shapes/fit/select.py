@@ -62,6 +62,19 @@ is chosen when it costs no more than the rival plus ``tie_margin``, and then mee
 with the lower of the two costs (by the distance to the surface); otherwise the sphere is out.
 The rival is not refitted otherwise: the cylinder/cone choice stays the rule's own.
 
+Standing under coarse depth
+---------------------------
+When the depth noise is comparable to a thing's radius (the selection threshold, which grows
+with the cluster's noise, at least ``coarse_standing_share`` of the radius of the best standing
+cylinder hypothesis, before and after its refinement), the distances to the surface no longer
+tell a standing cylinder from one lying or leaning: quantised depths put the points on sheets
+square to the sensor's rays, and a wide cylinder whose end disc faces the sensor explains those
+sheets better than the true narrow one standing. There, when the support is known and the free
+search's cylinder does not stand, the best standing hypothesis (refined by least squares, still
+standing) takes its place if it costs at most ``coarse_standing_margin`` more, and meets the
+other models with the lower of the two costs. At the lowest threshold (8 mm, low noise) only
+standing radii of 2 cm or less qualify.
+
 Heights are measured to the support: when a cylinder's or cone's axis is within
 ``upright_tolerance_deg`` of the support normal and its lowest points lie within
 ``snap_distance_m`` of the support, the base is put on the support plane. The segmentation has
@@ -146,6 +159,11 @@ class FitParams:
     """With a viewpoint: how much more than its rival (by the distance to the surface) a sphere
     may cost and still be weighed against it along the rays; ``ray_iterations``: the
     Levenberg-Marquardt steps of each refinement along them."""
+    coarse_standing_margin: float = 0.05
+    coarse_standing_share: float = 0.4
+    """Standing under coarse depth (module docstring): how much more than the free cylinder a
+    standing one may cost and still be chosen, when the selection threshold is at least
+    ``coarse_standing_share`` of its radius."""
 
     def for_noise(self, sigma_m: float) -> FitParams:
         """These parameters with every distance threshold raised to at least
@@ -560,6 +578,32 @@ def _sphere_on_rays(
     return ball if cost <= costs[rival][0] + fp.tie_margin else None
 
 
+def _standing_under_coarse_depth(
+    standing: FloatArray,
+    free: FloatArray,
+    sample: FloatArray,
+    support: SupportPlane | None,
+    model: Model,
+    fp: FitParams,
+) -> FloatArray | None:
+    """The standing cylinder ``standing``, refined, in place of the cylinder ``free`` when the
+    rule "standing under coarse depth" (module docstring) chooses it; else None."""
+    if support is None or _orient_up(free[3:6], support, fp.upright_tolerance_deg):
+        return None
+    coarse = fp.coarse_standing_share * float(standing[6]) <= fp.selection_threshold_m
+    if not coarse:  # before refining, which most clusters need not pay for
+        return None
+    up = refine_if_better(model, standing, sample, fp.cylinder_threshold_m)
+    if not _orient_up(up[3:6], support, fp.upright_tolerance_deg):
+        return None
+    if fp.coarse_standing_share * float(up[6]) > fp.selection_threshold_m:
+        return None
+    up_cost, free_cost = (
+        _cost(model.distances(x[None, :], sample)[0], fp.selection_threshold_m) for x in (up, free)
+    )
+    return up if up_cost <= free_cost + fp.coarse_standing_margin else None
+
+
 def fit_cluster(
     points: FloatArray,
     *,
@@ -618,6 +662,7 @@ def fit_cluster(
     costs: dict[ShapeKind, float] = {}
     counts: dict[ShapeKind, int] = {}
     fitted: dict[ShapeKind, FloatArray] = {}
+    standing_cylinder: FloatArray | None = None  # the standing search's best, kept or not
     built: dict[ShapeKind, Primitive] = {}  # each kept curved candidate, as scored
     surface: dict[ShapeKind, FloatArray] = {}
 
@@ -686,7 +731,11 @@ def fit_cluster(
                 min_iterations=iterations // 2,
                 preview_points=fp.preview_points,
             )
-            if res is not None and _cost(res.distances, t_sel) < costs.get(kind, np.inf):
+            if res is None:
+                continue
+            if kind is ShapeKind.CYLINDER:
+                standing_cylinder = res.params
+            if _cost(res.distances, t_sel) < costs.get(kind, np.inf):
                 score(kind, res.params, res.distances)
     # Planes, one after another on what the previous ones left.
     plane_model = PlaneModel()
@@ -775,6 +824,20 @@ def fit_cluster(
         if costs[kind] <= best + fp.refine_margin:
             model, thr = models[kind]
             score(kind, refine_if_better(model, fitted[kind], sample, thr))
+    if standing_cylinder is not None and ShapeKind.CYLINDER in costs:
+        up = _standing_under_coarse_depth(
+            standing_cylinder,
+            fitted[ShapeKind.CYLINDER],
+            sample,
+            support,
+            models[ShapeKind.CYLINDER][0],
+            fp,
+        )
+        if up is not None:
+            free_cost = costs[ShapeKind.CYLINDER]
+            score(ShapeKind.CYLINDER, up)
+            if fitted[ShapeKind.CYLINDER] is up:  # bounded: it meets the others at the lower cost
+                costs[ShapeKind.CYLINDER] = min(free_cost, costs[ShapeKind.CYLINDER])
     sphere_on_rays: bool | None = None
     if eye is not None and ShapeKind.SPHERE in costs:
         # The sphere against the model the rule would choose without it, along the rays.

@@ -177,3 +177,21 @@ def test_a_static_scene_keeps_the_ids_of_its_objects_over_consecutive_frames() -
         ids.append(near)
     assert ids[0] == ids[1] == ids[2]
     assert len(set(ids[0].values())) == 3
+
+
+# The TUM desk's mug, 2.27 m away, where the Kinect's depths come in ~2 cm steps (truth.json).
+TUM_MUG_CENTRE = np.array([0.9367, -0.1399, 2.2742])
+TUM_MUG_RADIUS = 0.031
+
+
+@pytest.mark.parametrize("seed", [0, 1, 2])
+def test_a_far_mug_on_coarse_depth_steps_is_a_standing_cylinder_of_its_radius(seed: int) -> None:
+    frame = next(open_source(SCANS / "desk_tum.npz"))
+    result = Perception(PerceptionParams(gravity_from_scene=True), seed=seed).process(frame)
+    seen = [_in_sensor(result, tuple(c)) for c in result.centroids]
+    k = int(np.argmin([np.linalg.norm(c - TUM_MUG_CENTRE) for c in seen]))
+    assert np.linalg.norm(seen[k] - TUM_MUG_CENTRE) < 0.08
+    mug = result.primitives[k]
+    assert mug.kind is ShapeKind.CYLINDER and mug.radius is not None
+    assert abs(mug.radius - TUM_MUG_RADIUS) < 0.25 * TUM_MUG_RADIUS
+    assert mug.axis is not None and mug.axis[2] > 0.95  # it stands

@@ -38,7 +38,8 @@ REGIONS = {
         (215, 245, 180, 232),
         {
             # The desk shows through the corners of the die's box 30-45 cm behind it (446 of
-            # its 2,419 points, 2.43-2.49 m away): only the points nearer than 2.2 m (NEARER_THAN_M).
+            # its 2,419 points, 2.43-2.49 m away): only the points nearer than 2.2 m
+            # (NEARER_THAN_M).
             "die": ((193, 247, 124, 172), False),
             "mug": ((197, 228, 526, 552), True),
             "striped board": ((140, 205, 168, 222), False),
