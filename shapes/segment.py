@@ -829,8 +829,8 @@ def _under(cluster: Cluster, part: Cluster, params: SegmentationParams) -> bool:
     parts of one thing."""
     assert cluster.support is not None
     centre = cluster.voxels[:, :2].mean(axis=0)
-    lo = part.voxels[:, :2].min(axis=0) - params.cluster_eps_m
-    hi = part.voxels[:, :2].max(axis=0) + params.cluster_eps_m
+    lo = column_min(part.voxels[:, :2]) - params.cluster_eps_m
+    hi = column_max(part.voxels[:, :2]) + params.cluster_eps_m
     if not bool(np.all((centre >= lo) & (centre <= hi))):
         return False
     top = float(cluster.support.signed_distance(cluster.voxels).max())

@@ -48,6 +48,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from shapes.arrays import column_max, column_min
 from shapes.types import FloatArray
 
 __all__ = ["Box", "Track", "Tracker", "box_of"]
@@ -66,7 +67,7 @@ def box_of(points: FloatArray) -> Box:
     ([0.0, 0.0, 2.0], [1.0, 1.0, 3.0])
     """
     pts = np.asarray(points, dtype=np.float64).reshape(-1, 3)
-    return pts.min(axis=0), pts.max(axis=0)
+    return column_min(pts), column_max(pts)
 
 
 def _extent(box: Box | None) -> Box | None:

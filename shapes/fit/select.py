@@ -91,6 +91,7 @@ import numpy as np
 import open3d as o3d
 from scipy.spatial import ConvexHull, QhullError, cKDTree
 
+from shapes.arrays import column_max, column_min, column_span
 from shapes.fit._ransac import Model, ransac, refine_if_better
 from shapes.fit.models import (
     ConeModel,
@@ -99,6 +100,7 @@ from shapes.fit.models import (
     SphereModel,
     UprightConeModel,
     UprightCylinderModel,
+    _norm3,
 )
 from shapes.fit.ray import RayModel, ray_cost, refine_on_rays, sphere_from_outline
 from shapes.normals import patch_normals
@@ -239,7 +241,7 @@ def estimate_normals(points: FloatArray, neighbours: int) -> FloatArray:
 def _axial(params: FloatArray, points: FloatArray) -> tuple[FloatArray, FloatArray]:
     v = points - params[:3]
     t = v @ params[3:6]
-    rho = np.linalg.norm(v - np.outer(t, params[3:6]), axis=1)
+    rho = _norm3(v - np.outer(t, params[3:6]))
     return t, rho
 
 
@@ -355,7 +357,7 @@ def _cone_on_base(plane: FloatArray, points: FloatArray, threshold: float) -> Fl
     base = cu * e1 + cv * e2 - offset * n  # the circle's centre, on the plane (n is unit)
     rel = points[~on] - base
     t = rel @ up
-    rho = np.linalg.norm(rel - np.outer(t, up), axis=1)
+    rho = _norm3(rel - np.outer(t, up))
     ok = (t > threshold) & (rho < 0.95 * radius)
     if radius <= 0 or ok.sum() < 5:
         return None
@@ -511,7 +513,7 @@ def bounded(
     ``box``: the points' ``(min, max)`` corners when the caller has them already (a cluster's
     candidates are all held to the same box).
     """
-    lo, hi = box if box is not None else (points.min(axis=0), points.max(axis=0))
+    lo, hi = box if box is not None else (column_min(points), column_max(points))
     diagonal = float(np.linalg.norm(hi - lo)) + margin_m
     radius, height = primitive.radius or 0.0, primitive.height or 0.0
     if not (math.isfinite(radius) and math.isfinite(height)):
@@ -642,7 +644,7 @@ def fit_cluster(
     # A sphere or cylinder is seen over a good part of its circumference (a third of it already
     # spans 1.7 radii), so its radius is bounded by the cluster's size: wider ones only imitate
     # a flat face with a slight bend.
-    extent = float(np.linalg.norm(np.ptp(sample, axis=0)))
+    extent = float(np.linalg.norm(column_span(sample)))
     max_radius = min(fp.max_radius_m, fp.max_radius_per_extent * extent)
     models: dict[ShapeKind, tuple[Model, float]] = {
         ShapeKind.SPHERE: (SphereModel(fp.min_radius_m, max_radius), fp.sphere_threshold_m),
@@ -667,7 +669,7 @@ def fit_cluster(
     surface: dict[ShapeKind, FloatArray] = {}
 
     margin = t_sel + fp.snap_distance_m
-    box = (points.min(axis=0), points.max(axis=0))
+    box = (column_min(points), column_max(points))
 
     def curved(kind: ShapeKind, params: FloatArray) -> Primitive:
         if kind is ShapeKind.SPHERE:
