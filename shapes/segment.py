@@ -449,10 +449,10 @@ def _faces_on(inliers: FloatArray, below: list[_Plane], params: SegmentationPara
     over it, and falls apart into pieces (voxels ``_FACES_LINK_M`` apart) of which none spans
     ``min_plane_extent_m``: a table or a wall is one piece that wide.
     """
+    heights = (inliers @ plane.normal + plane.offset for plane in below)
     if not any(
-        np.percentile(inliers @ plane.normal + plane.offset, 2.0) > -params.support_threshold_m
-        and float((inliers @ plane.normal + plane.offset).max()) < params.max_height_m
-        for plane in below
+        np.percentile(h, 2.0) > -params.support_threshold_m and float(h.max()) < params.max_height_m
+        for h in heights
     ):
         return False
     pairs = cKDTree(inliers).query_pairs(_FACES_LINK_M, output_type="ndarray")
@@ -492,7 +492,8 @@ def _standing_on(
         base = points[other.inliers][:, :2]
         lo = column_min(base) + params.edge_margin_m
         hi = column_max(base) - params.edge_margin_m
-        inside = np.all((mine[:, :2] > lo) & (mine[:, :2] < hi), axis=1)
+        x, y = mine[:, 0], mine[:, 1]
+        inside = (x > lo[0]) & (x < hi[0]) & (y > lo[1]) & (y < hi[1])
         if inside.mean() < 0.98:
             continue
         return float(np.median(height))
@@ -646,10 +647,11 @@ def segment(
         regions.append(region)
         table = table[region.piece]
         span = column_span(table[:, :2])
+        centre = table.mean(axis=0)
         support = SupportPlane(
             vec3(p.normal),
             p.offset,
-            vec3(table.mean(axis=0) - (table.mean(axis=0) @ p.normal + p.offset) * p.normal),
+            vec3(centre - (centre @ p.normal + p.offset) * p.normal),
             (float(span[0]), float(span[1])),
         )
         supports.append(support)
