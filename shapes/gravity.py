@@ -94,7 +94,8 @@ def _objects_on(
     across = plane @ axes
     lo, hi = column_min(across), column_max(across)
     flat = free @ axes
-    inside = np.all((flat > lo) & (flat < hi), axis=1)
+    u, v = flat[:, 0], flat[:, 1]
+    inside = (u > lo[0]) & (u < hi[0]) & (v > lo[1]) & (v < hi[1])
     return int(np.count_nonzero(inside & (height > _MIN_OBJECT_HEIGHT_M) & (height < max_height_m)))
 
 
