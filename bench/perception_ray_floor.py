@@ -78,8 +78,8 @@ def main() -> None:
     weigh = select._sphere_on_rays
     segment = pipeline.segment
 
-    def recorded(sphere, rival, params, sample, eye, models, fp, within, up=None):  # type: ignore[no-untyped-def]
-        ball = weigh(sphere, rival, params, sample, eye, models, fp, within, up)
+    def recorded(sphere, rival, params, sample, eye, models, fp, within, up=None, others=None):  # type: ignore[no-untyped-def]
+        ball = weigh(sphere, rival, params, sample, eye, models, fp, within, up, others)
         t = fp.selection_threshold_m
         model = models[rival][0]
         rival_refined = refine_on_rays(
