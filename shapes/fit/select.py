@@ -57,8 +57,10 @@ rule above chooses without it, when that is a cylinder or cone and the sphere co
 surface the ray meets (:mod:`shapes.fit.ray`: its range minus the range at which its ray first
 meets the candidate's closed surface; a ray that misses it costs the most), after refining it
 under that error (the sphere from its fit and from its outline, the cylinder or cone from its
-fit and, standing, with the support's normal for an axis; the cheaper start kept). The sphere
-is chosen when it costs no more than the rival plus ``tie_margin``, and then meets the planes
+fit and, standing, with the support's normal for an axis; the cheaper start kept). The other
+curved model (the cone against a cylinder, the cylinder against a cone) is refined and scored the
+same way, since the rule's rival may be the one that refines worse. The sphere is chosen when it
+costs no more than the cheaper of the two plus ``tie_margin``, and then meets the planes
 with the lower of the two costs (by the distance to the surface); otherwise the sphere is out.
 The rival is not refitted otherwise: the cylinder/cone choice stays the rule's own.
 
@@ -545,25 +547,28 @@ def _sphere_on_rays(
     fp: FitParams,
     within: Callable[[ShapeKind, FloatArray], bool],
     up: SupportPlane | None = None,
+    others: dict[ShapeKind, FloatArray] | None = None,
 ) -> FloatArray | None:
-    """The sphere refined along the rays when it costs, along the rays, no more than the rival
-    cylinder or cone refined the same way (plus ``tie_margin``); else None. The sphere starts
-    from the fitted one and from the one its outline gives, the rival from its fit and, when
-    it stands on ``up`` (within ``upright_tolerance_deg``), from the same with the support's
-    normal for an axis; each keeps its cheapest, before or after refining. Only parameters
-    that pass ``within`` (the model's limits are checked here) are candidates."""
+    """The sphere refined along the rays when it costs, along the rays, no more than every
+    cylinder or cone refined the same way (plus ``tie_margin``); else None. The rivals are
+    ``rival`` (``params``) and ``others`` (the other curved fits, kind to parameters). The
+    sphere starts from the fitted one and from the one its outline gives, each rival from its
+    fit and, when it stands on ``up`` (within ``upright_tolerance_deg``), from the same with
+    the support's normal for an axis; each kind keeps its cheapest, before or after refining.
+    Only parameters that pass ``within`` (the model's limits are checked here) are
+    candidates."""
     t_sel = fp.selection_threshold_m
     costs: dict[ShapeKind, tuple[float, FloatArray]] = {}
+    others = {rival: params, **{k: x for k, x in (others or {}).items() if k is not rival}}
     starts = [
         (ShapeKind.SPHERE, sphere),
         (ShapeKind.SPHERE, sphere_from_outline(sample, eye)),
-        (rival, params),
     ]
-    if up is not None and _orient_up(params[3:6], up, fp.upright_tolerance_deg):
-        n = np.asarray(up.normal, dtype=np.float64)
-        starts.append(
-            (rival, np.concatenate((params[:3], n if n @ params[3:6] > 0 else -n, params[6:])))
-        )
+    for kind, x in others.items():
+        starts.append((kind, x))
+        if up is not None and _orient_up(x[3:6], up, fp.upright_tolerance_deg):
+            n = np.asarray(up.normal, dtype=np.float64)
+            starts.append((kind, np.concatenate((x[:3], n if n @ x[3:6] > 0 else -n, x[6:]))))
     for kind, x in starts:
         model: RayModel = models[kind][0]  # type: ignore[assignment]
         for y in (
@@ -577,7 +582,8 @@ def _sphere_on_rays(
     if ShapeKind.SPHERE not in costs or rival not in costs:
         return None
     cost, ball = costs[ShapeKind.SPHERE]
-    return ball if cost <= costs[rival][0] + fp.tie_margin else None
+    best = min(c for k, (c, _) in costs.items() if k is not ShapeKind.SPHERE)
+    return ball if cost <= best + fp.tie_margin else None
 
 
 def _standing_under_coarse_depth(
@@ -867,6 +873,7 @@ def fit_cluster(
                     fp,
                     lambda k, x: bounded(curved(k, x), points, margin_m=margin, box=box),
                     support,
+                    {k: fitted[k] for k in (ShapeKind.CYLINDER, ShapeKind.CONE) if k in fitted},
                 )
                 if ball is not None:
                     score(ShapeKind.SPHERE, ball)
