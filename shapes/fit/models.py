@@ -22,6 +22,7 @@ from dataclasses import dataclass
 import numpy as np
 import numpy.typing as npt
 
+from shapes.arrays import cross3, dot3, norm3
 from shapes.fit._ransac import levenberg_marquardt
 from shapes.types import FloatArray
 
@@ -42,28 +43,8 @@ MIN_AXIS_SINE = 0.1
 their cross product)."""
 
 
-def _dot3(a: FloatArray, b: FloatArray) -> FloatArray:
-    """The dot products of 3-vectors along the last axis, added in numpy's order (so equal to
-    ``(a * b).sum(axis=-1)`` to the bit): a reduction over an axis of length 3 costs numpy
-    several times more than two additions of whole arrays."""
-    return np.asarray(a[..., 0] * b[..., 0] + a[..., 1] * b[..., 1] + a[..., 2] * b[..., 2])
-
-
-def _norm3(v: FloatArray) -> FloatArray:
-    """``np.linalg.norm(v, axis=-1)`` for 3-vectors, to the bit (see :func:`_dot3`)."""
-    return np.asarray(np.sqrt(_dot3(v, v)))
-
-
-def _cross3(a: FloatArray, b: FloatArray) -> FloatArray:
-    """``np.cross(a, b)`` for 3-vectors along the last axis, to the bit, without its axis
-    juggling."""
-    a0, a1, a2 = a[..., 0], a[..., 1], a[..., 2]
-    b0, b1, b2 = b[..., 0], b[..., 1], b[..., 2]
-    return np.stack((a1 * b2 - a2 * b1, a2 * b0 - a0 * b2, a0 * b1 - a1 * b0), axis=-1)
-
-
 def _unit(v: FloatArray) -> tuple[FloatArray, FloatArray]:
-    norm = _norm3(v)
+    norm = norm3(v)
     return v / np.where(norm > 1e-12, norm, 1.0)[..., None], norm
 
 
@@ -78,9 +59,9 @@ def _axial(
     """
     mean = points.mean(axis=0)
     pts, org = points - mean, origin - mean
-    sq = _dot3(pts, pts)[None, :] - 2.0 * org @ pts.T + _dot3(org, org)[:, None]
+    sq = dot3(pts, pts)[None, :] - 2.0 * org @ pts.T + dot3(org, org)[:, None]
     sq = np.maximum(sq, 0.0)
-    t = axis @ pts.T - _dot3(axis, org)[:, None]
+    t = axis @ pts.T - dot3(axis, org)[:, None]
     rho = np.sqrt(np.maximum(sq - t * t, 0.0))
     return t, rho, sq
 
@@ -118,7 +99,7 @@ class PlaneModel:
         self, points: FloatArray, normals: FloatArray, idx: Index
     ) -> tuple[FloatArray, Mask]:
         a, b, c = points[idx[:, 0]], points[idx[:, 1]], points[idx[:, 2]]
-        n, norm = _unit(_cross3(b - a, c - a))
+        n, norm = _unit(cross3(b - a, c - a))
         d = -np.einsum("ij,ij->i", n, a)
         return np.column_stack((n, d)), norm > 1e-9
 
@@ -173,7 +154,7 @@ class SphereModel:
     @staticmethod
     def residuals(x: FloatArray, pts: FloatArray) -> FloatArray:
         diff = pts[None, :, :] - x[:, None, :3]
-        return np.asarray(_norm3(diff) - x[:, 3:4], dtype=np.float64)
+        return np.asarray(norm3(diff) - x[:, 3:4], dtype=np.float64)
 
     def refine(self, params: FloatArray, points: FloatArray, threshold: float) -> FloatArray:
         inl = points[self.distances(params[None, :], points)[0] < threshold]
@@ -213,7 +194,7 @@ class CylinderModel:
     ) -> tuple[FloatArray, Mask]:
         p1, p2 = points[idx[:, 0]], points[idx[:, 1]]
         n1, n2 = normals[idx[:, 0]], normals[idx[:, 1]]
-        axis, norm = _unit(_cross3(n1, n2))
+        axis, norm = _unit(cross3(n1, n2))
         ok = norm > MIN_AXIS_SINE
 
         def flat(v: FloatArray) -> FloatArray:
@@ -230,7 +211,7 @@ class CylinderModel:
         ok &= np.abs(den) > 1e-9
         s = (dd * cc - ee * bb) / np.where(ok, den, 1.0)
         centre = q1 + s[:, None] * m1
-        r = (_norm3(q1 - centre) + _norm3(q2 - centre)) / 2
+        r = (norm3(q1 - centre) + norm3(q2 - centre)) / 2
         ok &= (r >= self.min_radius) & (r <= self.max_radius)
         return np.column_stack((centre, axis, r)), ok
 
@@ -276,8 +257,8 @@ class CylinderModel:
     def residuals(x: FloatArray, pts: FloatArray) -> FloatArray:
         axis = _unit(x[:, 3:6])[0][:, None, :]
         v = pts[None, :, :] - x[:, None, :3]
-        radial = v - _dot3(v, axis)[..., None] * axis
-        return np.asarray(_norm3(radial) - x[:, 6:7], dtype=np.float64)
+        radial = v - dot3(v, axis)[..., None] * axis
+        return np.asarray(norm3(radial) - x[:, 6:7], dtype=np.float64)
 
     def refine(self, params: FloatArray, points: FloatArray, threshold: float) -> FloatArray:
         # Points of a flat end disc that lie within the threshold of the rim would pull the
@@ -343,7 +324,7 @@ class ConeModel:
         # on a plane whose normal is the axis.
         u = _unit(p - apex[:, None, :])[0]
         if u.shape[1] == 3:  # three unit vectors: their plane's normal, a cross product
-            axis = _unit(_cross3(u[:, 1] - u[:, 0], u[:, 2] - u[:, 0]))[0]
+            axis = _unit(cross3(u[:, 1] - u[:, 0], u[:, 2] - u[:, 0]))[0]
         else:
             centred = u - u.mean(axis=1, keepdims=True)
             axis = np.linalg.eigh(np.einsum("hsi,hsj->hij", centred, centred))[1][:, :, 0]
@@ -352,7 +333,7 @@ class ConeModel:
         theta = np.arccos(np.clip(np.abs(cosines), -1, 1)).mean(axis=1)
         ok &= np.isfinite(axis).all(axis=1)
         ok &= (theta >= self.min_half_angle) & (theta <= self.max_half_angle)
-        ok &= _norm3(apex - p[:, 0]) <= self.max_apex_distance
+        ok &= norm3(apex - p[:, 0]) <= self.max_apex_distance
         return np.column_stack((apex, axis, theta)), ok
 
     def lateral_distances(self, params: FloatArray, points: FloatArray) -> FloatArray:
@@ -395,8 +376,8 @@ class ConeModel:
     def residuals(x: FloatArray, pts: FloatArray) -> FloatArray:
         axis = _unit(x[:, 3:6])[0][:, None, :]
         v = pts[None, :, :] - x[:, None, :3]
-        k = _dot3(v, axis)
-        rho = _norm3(v - k[..., None] * axis)
+        k = dot3(v, axis)
+        rho = norm3(v - k[..., None] * axis)
         return np.asarray(rho * np.cos(x[:, 6:7]) - k * np.sin(x[:, 6:7]), dtype=np.float64)
 
     def refine(self, params: FloatArray, points: FloatArray, threshold: float) -> FloatArray:
@@ -439,7 +420,7 @@ class UprightConeModel:
         flat_n = n - (n @ up)[..., None] * up
         centre, ok = _lines_crossing(flat_p, flat_n)
         theta = np.arcsin(np.clip(sin_theta, 0.0, 1.0))
-        rho = _norm3(flat_p - centre[:, None, :])
+        rho = norm3(flat_p - centre[:, None, :])
         tan = np.tan(np.maximum(theta, 1e-6))
         top = ((p @ up) + rho / tan[:, None]).mean(axis=1)
         apex = centre + top[:, None] * up
@@ -484,7 +465,7 @@ class UprightCylinderModel:
         flat_p = p - (p @ up)[..., None] * up
         flat_n = n - (n @ up)[..., None] * up
         centre, ok = _lines_crossing(flat_p, flat_n)
-        r = _norm3(flat_p - centre[:, None, :]).mean(axis=1)
+        r = norm3(flat_p - centre[:, None, :]).mean(axis=1)
         ok &= (r >= self.cylinder.min_radius) & (r <= self.cylinder.max_radius)
         ok &= np.isfinite(centre).all(axis=1)
         axis = np.broadcast_to(up, centre.shape)

@@ -93,7 +93,7 @@ import numpy as np
 import open3d as o3d
 from scipy.spatial import ConvexHull, QhullError, cKDTree
 
-from shapes.arrays import column_max, column_min, column_span
+from shapes.arrays import column_max, column_min, column_span, norm3
 from shapes.fit._ransac import Model, ransac, refine_if_better
 from shapes.fit.models import (
     ConeModel,
@@ -102,7 +102,6 @@ from shapes.fit.models import (
     SphereModel,
     UprightConeModel,
     UprightCylinderModel,
-    _norm3,
 )
 from shapes.fit.ray import RayModel, ray_cost, refine_on_rays, sphere_from_outline
 from shapes.normals import patch_normals
@@ -243,7 +242,7 @@ def estimate_normals(points: FloatArray, neighbours: int) -> FloatArray:
 def _axial(params: FloatArray, points: FloatArray) -> tuple[FloatArray, FloatArray]:
     v = points - params[:3]
     t = v @ params[3:6]
-    rho = _norm3(v - np.outer(t, params[3:6]))
+    rho = norm3(v - np.outer(t, params[3:6]))
     return t, rho
 
 
@@ -359,7 +358,7 @@ def _cone_on_base(plane: FloatArray, points: FloatArray, threshold: float) -> Fl
     base = cu * e1 + cv * e2 - offset * n  # the circle's centre, on the plane (n is unit)
     rel = points[~on] - base
     t = rel @ up
-    rho = _norm3(rel - np.outer(t, up))
+    rho = norm3(rel - np.outer(t, up))
     ok = (t > threshold) & (rho < 0.95 * radius)
     if radius <= 0 or ok.sum() < 5:
         return None

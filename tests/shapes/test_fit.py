@@ -327,11 +327,11 @@ def test_a_cylinder_search_is_hopeless_only_when_no_two_normals_make_an_axis():
 
 
 def test_the_models_3_vector_helpers_equal_numpy_to_the_bit():
-    from shapes.fit.models import _cross3, _dot3, _norm3
+    from shapes.arrays import cross3, dot3, norm3
 
     rng = np.random.default_rng(6)
     a = rng.normal(size=(8, 250, 3)) * rng.uniform(1e-3, 10.0, size=(8, 250, 3))
     b = rng.normal(size=(8, 1, 3))
-    assert np.array_equal(_dot3(a, b), (a * b).sum(axis=2))
-    assert np.array_equal(_norm3(a), np.linalg.norm(a, axis=2))
-    assert np.array_equal(_cross3(a[0], a[1]), np.cross(a[0], a[1]))
+    assert np.array_equal(dot3(a, b), (a * b).sum(axis=2))
+    assert np.array_equal(norm3(a), np.linalg.norm(a, axis=2))
+    assert np.array_equal(cross3(a[0], a[1]), np.cross(a[0], a[1]))
