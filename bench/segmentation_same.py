@@ -1,12 +1,13 @@
 """Whether two checkouts segment alike: every cluster's points, voxels, colours and noise.
 
-Segments the nine real scans of ``tests/data/real_scans`` (no pose: gravity from the scene)
-and three frames of each of ``bench/perception.py``'s simulated conditions, plus one of them as
-an unorganised cloud, with seeds 0 and 1, in this checkout and in ``--against``'s (a
-subprocess with the same interpreter), and prints each case that differs: the survey's counts
-(kept points, voxels, planes), the reason, the supports, and every cluster array, compared
-exactly (``--tolerance`` allows a difference in the coordinates). For speed work that must not
-change the output. Run from the repository root::
+Segments the real scans of ``tests/data/real_scans`` tuned on (no pose: gravity from the
+scene; the held-out ones, ``"held_out": true`` in truth.json, are never loaded, so that speed
+work never sees them) and three frames of each of ``bench/perception.py``'s simulated
+conditions, plus one of them as an unorganised cloud, with seeds 0 and 1, in this checkout and
+in ``--against``'s (a subprocess with the same interpreter), and prints each case that differs:
+the survey's counts (kept points, voxels, planes), the reason, the supports, and every cluster
+array, compared exactly (``--tolerance`` allows a difference in the coordinates). For speed work
+that must not change the output. Run from the repository root::
 
     PYTHONPATH=. .venv/bin/python bench/segmentation_same.py --against /path/to/main
 """
@@ -18,6 +19,7 @@ for _var in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS"):
     os.environ.setdefault(_var, "1")
 
 import argparse  # noqa: E402
+import json  # noqa: E402
 import pickle  # noqa: E402
 import subprocess  # noqa: E402
 import sys  # noqa: E402
@@ -38,9 +40,12 @@ def frames() -> list[tuple[str, Any, bool]]:
 
     from shapes import Frame, open_source
 
+    root = Path("tests/data/real_scans")
+    truth = json.loads((root / "truth.json").read_text())
     out = []
-    for path in sorted(Path("tests/data/real_scans").glob("*.npz")):
-        out.append((path.stem, next(open_source(path)), True))
+    for scan, measured in bench.REAL_TRUTH.items():
+        if not truth[measured].get("held_out"):
+            out.append((scan, next(open_source(root / f"{scan}.npz")), True))
     for cond in bench.CONDITIONS:
         for i in range(SIMULATED_PER_CONDITION):
             rng = np.random.default_rng([20261123, i, len(cond.name)])
