@@ -79,22 +79,20 @@ class ImageView:
         something in front of it (an occluder), not its own. ``pixels`` are flat row-major,
         ``depth_m`` their depths; the depth image holds NaN where there is no depth."""
         row, col = np.divmod(np.asarray(pixels), self.width)
-        height = depth_image.shape[0]
         vertical = self.open_edge in ("top", "bottom")
         along, across = (row, col) if vertical else (col, row)
+        limit = depth_image.shape[0] if vertical else self.width
         sign = 1 if self.open_edge in ("bottom", "right") else -1
-        key = along * sign
-        order = np.lexsort((key, across))
+        order = np.lexsort((along * sign, across))
         last = np.r_[across[order][1:] != across[order][:-1], True]
         ends = order[last]
+        end_across, end_depth = across[ends], depth_m[ends]
         hidden = np.zeros(len(ends), dtype=bool)
         for step in range(1, probe_px + 1):
             beyond = along[ends] + sign * step
-            limit = height if vertical else self.width
             inside = (beyond >= 0) & (beyond < limit)
-            r = np.where(vertical, beyond, across[ends])[inside]
-            c = np.where(vertical, across[ends], beyond)[inside]
-            found = depth_image[r, c] < depth_m[ends][inside] - nearer_m
+            r, c = (beyond, end_across) if vertical else (end_across, beyond)
+            found = depth_image[r[inside], c[inside]] < end_depth[inside] - nearer_m
             hidden[np.flatnonzero(inside)[found]] = True
         return float(hidden.mean()) if len(ends) else 0.0
 

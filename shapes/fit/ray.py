@@ -221,13 +221,14 @@ def refine_on_rays(
     *,
     threshold: float,
     iterations: int = 8,
+    ends: tuple[FloatArray, FloatArray] | None = None,
 ) -> FloatArray:
     """Parameters refined from ``params`` to minimise the squared errors along the rays
-    (Levenberg-Marquardt; a cylinder's or cone's end discs from :func:`fit_ends` at the start,
-    held still). An error ``e`` counts as ``threshold * tanh(e / threshold)`` (an outlier
-    pulls no further than ``threshold``, yet still a little), and a ray that misses the
-    surface counts ``threshold`` plus the point's distance to the surface, so that the surface
-    moves to cover every ray.
+    (Levenberg-Marquardt; a cylinder's or cone's end discs held still: ``ends``, else
+    :func:`fit_ends` of ``params``). An error ``e`` counts as ``threshold * tanh(e /
+    threshold)`` (an outlier pulls no further than ``threshold``, yet still a little), and a ray
+    that misses the surface counts ``threshold`` plus the point's distance to the surface, so
+    that the surface moves to cover every ray.
 
     >>> rng = np.random.default_rng(0)
     >>> d = rng.normal(size=(300, 3))
@@ -238,8 +239,7 @@ def refine_on_rays(
     >>> bool(np.abs(x - [0.0, 0.0, 1.0, 0.05]).max() < 1e-3)
     True
     """
-    ends = None
-    if isinstance(model, (CylinderModel, ConeModel)):
+    if ends is None and isinstance(model, (CylinderModel, ConeModel)):
         ends = fit_ends(model, params, points, viewpoint, threshold=threshold)
 
     def residuals(x: FloatArray) -> FloatArray:
@@ -262,10 +262,11 @@ def ray_cost(
     viewpoint: FloatArray,
     *,
     threshold: float,
+    ends: tuple[FloatArray, FloatArray] | None = None,
 ) -> float:
-    """The truncated cost of one candidate along the rays (its end discs from :func:`fit_ends`)."""
-    ends = None
-    if isinstance(model, (CylinderModel, ConeModel)):
+    """The truncated cost of one candidate along the rays (a cylinder's or cone's end discs:
+    ``ends``, else :func:`fit_ends` of ``params``)."""
+    if ends is None and isinstance(model, (CylinderModel, ConeModel)):
         ends = fit_ends(model, params, points, viewpoint, threshold=threshold)
     errors = ray_errors(model, params, points, viewpoint, ends=ends)
     return float(truncated_cost(errors, threshold)[0])

@@ -103,7 +103,7 @@ from shapes.fit.models import (
     UprightConeModel,
     UprightCylinderModel,
 )
-from shapes.fit.ray import RayModel, ray_cost, refine_on_rays, sphere_from_outline
+from shapes.fit.ray import RayModel, fit_ends, ray_cost, refine_on_rays, sphere_from_outline
 from shapes.normals import patch_normals
 from shapes.types import FloatArray, Primitive, ShapeKind, SupportPlane, vec3
 
@@ -570,12 +570,18 @@ def _sphere_on_rays(
             starts.append((kind, np.concatenate((x[:3], n if n @ x[3:6] > 0 else -n, x[6:]))))
     for kind, x in starts:
         model: RayModel = models[kind][0]  # type: ignore[assignment]
-        for y in (
-            x,
-            refine_on_rays(model, x, sample, eye, threshold=t_sel, iterations=fp.ray_iterations),
-        ):
+        # A start's end discs serve both its refinement and its own cost.
+        ends = (
+            fit_ends(model, x, sample, eye, threshold=t_sel)
+            if isinstance(model, (CylinderModel, ConeModel))
+            else None
+        )
+        refined = refine_on_rays(
+            model, x, sample, eye, threshold=t_sel, iterations=fp.ray_iterations, ends=ends
+        )
+        for y, y_ends in ((x, ends), (refined, None)):
             if model.within_limits(y) and within(kind, y):
-                cost = ray_cost(model, y, sample, eye, threshold=t_sel)
+                cost = ray_cost(model, y, sample, eye, threshold=t_sel, ends=y_ends)
                 if cost < costs.get(kind, (np.inf, y))[0]:
                     costs[kind] = (cost, y)
     if ShapeKind.SPHERE not in costs or rival not in costs:
