@@ -108,15 +108,9 @@ REGIONS = {
         },
     ),
 }
-HELD_OUT = {
-    "bottle_pack_floor_kinect",
-    "people_floor_kinect",
-    "desk_fr1_tum_0",
-    "desk_fr1_tum_1",
-    "box_floor_kinect",
-    "chair_boxes_kinect",
-}
-"""Scans no parameter or rule of ``shapes`` was chosen by looking at (README.md)."""
+HELD_OUT: set[str] = set()
+"""Scans no parameter or rule of ``shapes`` was chosen by looking at (README.md). Those held out
+until stop 36 were run and diagnosed then, and are tuned on from stop 37; fresh ones join here."""
 MAX_HEIGHT_M = {
     "desk_tum": 0.6,
     "office_kinect": 0.8,
