@@ -107,8 +107,26 @@ REGIONS = {
             "box": ((282, 440, 530, 612), False),
         },
     ),
+    # Held out, added at stop 37: converted and measured here, never given to the pipeline
+    # before the lead's one run after the merge (README.md).
+    "desk_fr2_tum_0": (
+        ((360, 400, 100, 360), (360, 395, 440, 600), (290, 340, 100, 190), (195, 212, 392, 416)),
+        {
+            "left can": ((258, 322, 40, 86), True),
+            # 2.1 m away a can's visible arc is 2-3 depth steps deep: its circle is 2.4 cm
+            # against a silhouette 7.3 cm wide, so only its visible centroid is given.
+            "back can": ((128, 164, 418, 440), False),
+            "mug": ((288, 358, 446, 492), True),
+            "tape roll": ((290, 352, 536, 612), True),
+            "keyboard": ((262, 314, 198, 388), False),
+            "mouse": ((318, 360, 376, 412), False),
+            "book": ((218, 276, 502, 600), False),
+            "telephone": ((215, 292, 418, 498), False),
+            "monitor": ((98, 254, 232, 390), False),
+        },
+    ),
 }
-HELD_OUT: set[str] = set()
+HELD_OUT: set[str] = {"desk_fr2_tum_0"}
 """Scans no parameter or rule of ``shapes`` was chosen by looking at (README.md). Those held out
 until stop 36 were run and diagnosed then, and are tuned on from stop 37; fresh ones join here."""
 MAX_HEIGHT_M = {
@@ -117,13 +135,30 @@ MAX_HEIGHT_M = {
     "people_floor_kinect": 0.6,
     "box_floor_kinect": 0.8,
     "chair_boxes_kinect": 1.0,
+    "desk_fr2_tum_0": 0.6,
 }
 """Scans whose objects stand taller than the default 40 cm (a bag, an archive box; people,
 measured up to 60 cm, the height of objects segmentation looks at; cardboard boxes, a chair)."""
-NEARER_THAN_M = {("chair_boxes_kinect", "chair"): 1.85, ("desk_tum", "die"): 2.2}
+NEARER_THAN_M = {
+    ("chair_boxes_kinect", "chair"): 1.85,
+    ("desk_tum", "die"): 2.2,
+    # The telephone shows above the mug's rim (1.37-1.39 m, the mug 1.12-1.25 m); the stand's
+    # foot behind the keyboard (1.55-1.60 m, the keyboard's back edge 1.47 m); the teddy bear and
+    # the hall behind the monitor (1.75-2.85 m, the monitor 1.45-1.70 m).
+    ("desk_fr2_tum_0", "mug"): 1.3,
+    ("desk_fr2_tum_0", "keyboard"): 1.5,
+    ("desk_fr2_tum_0", "monitor"): 1.7,
+}
 """Objects whose boxes also hold what is seen behind them (between the chair's back and seat and
 its legs): their points are those nearer to the camera than this. The chair's depths stop at
 1.85 m and the wall and stairs behind it start at 1.90 m."""
+SIDE_WALL_CIRCLE = {("desk_fr2_tum_0", "left can"), ("desk_fr2_tum_0", "mug")}
+SIDE_WALL_CIRCLE |= {("desk_fr2_tum_0", "tape roll")}
+"""Round objects whose circle is fitted to their side wall alone: the points more than 1.5 cm
+below their top (the lid, rim and inside drop out), then again without the points more than
+three scaled median deviations (at least 3 mm) off the circle, ten times. On the can the plain
+fit through every point gives 8 cm, pulled by its lid and by the mixed depths at its outline; the
+side wall's gives 3.1 cm, within 1 mm whatever the cut (1-2.5 cm) and threshold (2.5-4)."""
 
 
 def points_of(name: str) -> np.ndarray:
@@ -145,6 +180,28 @@ def points_in(image: np.ndarray, region: tuple) -> np.ndarray:
     """The finite points of a box, or of the union of a tuple of boxes."""
     boxes = region if isinstance(region[0], tuple) else (region,)
     return np.concatenate([box(image, b) for b in boxes])
+
+
+SIDE_WALL_BELOW_TOP_M = 0.015
+
+
+def circle(a: np.ndarray, b: np.ndarray) -> tuple[float, float, float]:
+    """The algebraic least-squares circle (Kasa) through the points (a, b): centre and radius."""
+    design = np.column_stack((a, b, np.ones_like(a)))
+    sol = np.linalg.lstsq(design, a**2 + b**2, rcond=None)[0]
+    ca, cb = sol[0] / 2, sol[1] / 2
+    return float(ca), float(cb), float(np.sqrt(sol[2] + ca**2 + cb**2))
+
+
+def side_wall_circle(a: np.ndarray, b: np.ndarray, side: np.ndarray) -> tuple[float, float, float]:
+    """The circle through the side wall's points, refitted ten times without those off it."""
+    keep = side
+    for _ in range(10):
+        ca, cb, radius = circle(a[keep], b[keep])
+        off = np.abs(np.hypot(a - ca, b - cb) - radius)
+        spread = 3 * 1.4826 * float(np.median(off[keep]))
+        keep = side & (off < max(spread, 0.003))
+    return ca, cb, radius
 
 
 def measure(name: str) -> dict[str, object]:
@@ -179,10 +236,10 @@ def measure(name: str) -> dict[str, object]:
         item: dict[str, object] = {"points": len(pts), "height_m": round(top, 4)}
         if round_:
             a, b = pts @ e1, pts @ e2
-            design = np.column_stack((a, b, np.ones_like(a)))
-            sol = np.linalg.lstsq(design, a**2 + b**2, rcond=None)[0]
-            ca, cb = sol[0] / 2, sol[1] / 2
-            radius = float(np.sqrt(sol[2] + ca**2 + cb**2))
+            if (name, label) in SIDE_WALL_CIRCLE:
+                ca, cb, radius = side_wall_circle(a, b, h < top - SIDE_WALL_BELOW_TOP_M)
+            else:
+                ca, cb, radius = circle(a, b)
             foot = ca * e1 + cb * e2 - offset * normal  # the axis meets the support here
             item["radius_m"] = round(radius, 4)
             item["centre"] = (foot + normal * top / 2).round(4).tolist()

@@ -18,8 +18,12 @@ registered to the colour PNG, 5000 units a metre) from the example data of
 intrinsics the benchmark recommends for its registered depth images, ROS's defaults (525 px,
 centre 319.5, 239.5), which that repository's ``examples/kinect_params.txt`` also gives.
 
+Two Freiburg 2 frames of the benchmark's ``fr2/desk`` scene come the same way from the example
+data of ``gaoxiang12/slambook2`` (MIT; ``ch7/{1,2}.png`` and ``ch7/{1,2}_depth.png``), with the
+same recommended intrinsics for registered depth images.
+
     python tests/data/real_scans/prepare.py PCL_CHECKOUT/test OPEN3D_CHECKOUT/examples/test_data \
-        PCL_DATA_CHECKOUT DENSE_RGBD_VO_CHECKOUT/examples
+        PCL_DATA_CHECKOUT DENSE_RGBD_VO_CHECKOUT/examples SLAMBOOK2_CHECKOUT
 """
 
 import sys
@@ -52,6 +56,11 @@ TUM_FR1 = {
 }
 """Freiburg 1 frames of ``fr1/desk``; the examples' ``dep_curr.png`` is one file in both cases
 (case 1's and case 2's ``img_curr.png`` differ), so only the ``prev`` pairs are taken."""
+TUM_FR2 = {
+    "ch7/1_depth.png": ("ch7/1.png", "desk_fr2_tum_0.npz"),
+    "ch7/2_depth.png": ("ch7/2.png", "desk_fr2_tum_1.npz"),
+}
+"""Freiburg 2 frames of ``fr2/desk`` (the fifth argument), two views of one desk from a sweep."""
 ROS_DEFAULT = {"fx": 525.0, "fy": 525.0, "cx": 319.5, "cy": 239.5}
 """The intrinsics the TUM benchmark recommends for its registered Freiburg 1 and 2 depth images."""
 WIDTH, HEIGHT = 640, 480
@@ -113,3 +122,8 @@ if __name__ == "__main__":
         for depth_png, (colour_png, out) in TUM_FR1.items():
             target = Path(__file__).with_name(out)
             convert_tum(examples / depth_png, examples / colour_png, target, ROS_DEFAULT)
+    if len(sys.argv) > 5:
+        slambook = Path(sys.argv[5])
+        for depth_png, (colour_png, out) in TUM_FR2.items():
+            target = Path(__file__).with_name(out)
+            convert_tum(slambook / depth_png, slambook / colour_png, target, ROS_DEFAULT)
