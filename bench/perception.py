@@ -444,6 +444,7 @@ REAL_TRUTH = {  # scan: the scan its ground truth was measured on (the laptop sc
     "box_floor_kinect": "box_floor_kinect",
     "chair_boxes_kinect": "chair_boxes_kinect",
     "desk_fr2_tum_0": "desk_fr2_tum_0",
+    "desk_fr2_tum_1": "desk_fr2_tum_1",
 }
 
 
