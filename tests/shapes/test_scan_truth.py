@@ -33,6 +33,7 @@ def test_the_held_out_scans_are_marked() -> None:
     assert {name for name, scan in TRUTH.items() if scan["held_out"]} == {
         "desk_fr2_tum_0",
         "desk_fr2_tum_1",
+        "lab_floor_rtabmap",
     }
 
 

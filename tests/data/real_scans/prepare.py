@@ -22,8 +22,12 @@ Two Freiburg 2 frames of the benchmark's ``fr2/desk`` scene come the same way fr
 data of ``gaoxiang12/slambook2`` (MIT; ``ch7/{1,2}.png`` and ``ch7/{1,2}_depth.png``), with the
 same recommended intrinsics for registered depth images.
 
+A frame of a lab seen from a robot comes from RTAB-Map's test data (``introlab/rtabmap``, BSD,
+commit 982ba35e3d3393b1faa4b3906b234a2e9a9ed656 on its ``gtest`` branch, ``data/rgbd``): a depth
+PNG in millimetres registered to a JPEG colour image, with the intrinsics of ``calib/154.yaml``.
+
     python tests/data/real_scans/prepare.py PCL_CHECKOUT/test OPEN3D_CHECKOUT/examples/test_data \
-        PCL_DATA_CHECKOUT DENSE_RGBD_VO_CHECKOUT/examples SLAMBOOK2_CHECKOUT
+        PCL_DATA_CHECKOUT DENSE_RGBD_VO_CHECKOUT/examples SLAMBOOK2_CHECKOUT RTABMAP_CHECKOUT
 """
 
 import sys
@@ -61,6 +65,9 @@ TUM_FR2 = {
     "ch7/2_depth.png": ("ch7/2.png", "desk_fr2_tum_1.npz"),
 }
 """Freiburg 2 frames of ``fr2/desk`` (the fifth argument), two views of one desk from a sweep."""
+RTABMAP = ("data/rgbd/depth/154.png", "data/rgbd/rgb/154.jpg", "lab_floor_rtabmap.npz")
+RTABMAP_CALIB = {"fx": 525.0, "fy": 525.0, "cx": 319.5, "cy": 239.5}
+"""``data/rgbd/calib/154.yaml``'s camera matrix (the sixth argument)."""
 ROS_DEFAULT = {"fx": 525.0, "fy": 525.0, "cx": 319.5, "cy": 239.5}
 """The intrinsics the TUM benchmark recommends for its registered Freiburg 1 and 2 depth images."""
 WIDTH, HEIGHT = 640, 480
@@ -96,14 +103,18 @@ def convert(source: Path, target: Path, depth_scale: float) -> None:
 
 
 def convert_tum(
-    depth_png: Path, colour_png: Path, target: Path, intrinsics: dict[str, float] = TUM_FREIBURG3
+    depth_png: Path,
+    colour_png: Path,
+    target: Path,
+    intrinsics: dict[str, float] = TUM_FREIBURG3,
+    depth_scale: float = 1 / 5000,
 ) -> None:
     from PIL import Image
 
     depth = np.asarray(Image.open(depth_png))
     assert depth.dtype == np.uint16 and depth.shape == (HEIGHT, WIDTH), depth_png
     rgb = np.asarray(Image.open(colour_png).convert("RGB"))
-    np.savez_compressed(target, depth=depth, rgb=rgb, depth_scale=1 / 5000, **intrinsics)
+    np.savez_compressed(target, depth=depth, rgb=rgb, depth_scale=depth_scale, **intrinsics)
 
 
 if __name__ == "__main__":
@@ -127,3 +138,8 @@ if __name__ == "__main__":
         for depth_png, (colour_png, out) in TUM_FR2.items():
             target = Path(__file__).with_name(out)
             convert_tum(slambook / depth_png, slambook / colour_png, target, ROS_DEFAULT)
+    if len(sys.argv) > 6:
+        depth_png, colour_png, out = RTABMAP
+        rtabmap = Path(sys.argv[6])
+        target = Path(__file__).with_name(out)
+        convert_tum(rtabmap / depth_png, rtabmap / colour_png, target, RTABMAP_CALIB, 1e-3)
