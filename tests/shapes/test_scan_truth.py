@@ -34,6 +34,7 @@ def test_the_held_out_scans_are_marked() -> None:
         "desk_fr2_tum_0",
         "desk_fr2_tum_1",
         "lab_floor_rtabmap",
+        "box_floor_realsense",
     }
 
 

@@ -26,8 +26,15 @@ A frame of a lab seen from a robot comes from RTAB-Map's test data (``introlab/r
 commit 982ba35e3d3393b1faa4b3906b234a2e9a9ed656 on its ``gtest`` branch, ``data/rgbd``): a depth
 PNG in millimetres registered to a JPEG colour image, with the intrinsics of ``calib/154.yaml``.
 
+A RealSense frame of a cardboard box on a floor comes from the test data of
+``felixchenfy/ros_detect_planes_from_depth_img`` (MIT, commit
+4d0037cdc67ab919545d4b8c2f14394a1e5eb405, ``data/test_img_{depth,color}.png``): depth in
+millimetres (the repository's ``depth_unit``) aligned to the colour image, whose intrinsics
+``data/cam_params_realsense.json`` gives.
+
     python tests/data/real_scans/prepare.py PCL_CHECKOUT/test OPEN3D_CHECKOUT/examples/test_data \
-        PCL_DATA_CHECKOUT DENSE_RGBD_VO_CHECKOUT/examples SLAMBOOK2_CHECKOUT RTABMAP_CHECKOUT
+        PCL_DATA_CHECKOUT DENSE_RGBD_VO_CHECKOUT/examples SLAMBOOK2_CHECKOUT RTABMAP_CHECKOUT \
+        PLANES_CHECKOUT
 """
 
 import sys
@@ -68,6 +75,15 @@ TUM_FR2 = {
 RTABMAP = ("data/rgbd/depth/154.png", "data/rgbd/rgb/154.jpg", "lab_floor_rtabmap.npz")
 RTABMAP_CALIB = {"fx": 525.0, "fy": 525.0, "cx": 319.5, "cy": 239.5}
 """``data/rgbd/calib/154.yaml``'s camera matrix (the sixth argument)."""
+REALSENSE = ("data/test_img_depth.png", "data/test_img_color.png", "box_floor_realsense.npz")
+REALSENSE_CALIB = {
+    "fx": 617.25,
+    "fy": 617.5486450195312,
+    "cx": 317.3921203613281,
+    "cy": 245.98019409179688,
+}
+"""``data/cam_params_realsense.json``'s intrinsic matrix (column-major, as Open3D writes it); the
+seventh argument."""
 ROS_DEFAULT = {"fx": 525.0, "fy": 525.0, "cx": 319.5, "cy": 239.5}
 """The intrinsics the TUM benchmark recommends for its registered Freiburg 1 and 2 depth images."""
 WIDTH, HEIGHT = 640, 480
@@ -143,3 +159,8 @@ if __name__ == "__main__":
         rtabmap = Path(sys.argv[6])
         target = Path(__file__).with_name(out)
         convert_tum(rtabmap / depth_png, rtabmap / colour_png, target, RTABMAP_CALIB, 1e-3)
+    if len(sys.argv) > 7:
+        depth_png, colour_png, out = REALSENSE
+        planes = Path(sys.argv[7])
+        target = Path(__file__).with_name(out)
+        convert_tum(planes / depth_png, planes / colour_png, target, REALSENSE_CALIB, 1e-3)
