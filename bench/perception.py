@@ -33,22 +33,22 @@ process pinned to one core. The curve at the end is the time per frame against t
 points, from the same view at 1/4 to 2.75 times the resolution (10k to 1M points).
 
 Real scans (``tests/data/real_scans`` and its README.md: Kinect, RealSense and stereo frames of
-tables and floors from PCL's repositories and the TUM benchmark) come first, with no pose: the
-support's normal (deg) and height (cm) against the hand-measured ones, for each measured object the
-number of primitives whose cluster lies within 8 cm of it (1 is right), the distance between their
-centroids (for round objects the axis centre, a ball's the sphere's, with the radius), the kind,
-the primitives of objects not in the ground truth (chair wheels, a cardboard box at the back: real
-objects), and the CPU time per frame; then the median CPU time per Kinect frame beside a simulated
-frame's, timed in the same run (their ratio is what survives the machine's load), against the
-target (< 100 ms per Kinect frame); then the track ids over the three consecutive laptop frames.
-The "set" column says which scans the pipeline's rules may have been chosen on ("tuned on": every
-scan vendored up to stop 36, the six held out until then included, since all were run and diagnosed
-at stop 36) and which were never given to the pipeline before the lead's one run after the merge of
-stop 37 ("held out" in ``truth.json``: two frames of the TUM benchmark's Freiburg 2 desk, with two
-drink cans, a mug and a roll of tape (cylinders), a ball in one frame, a keyboard, a mouse, a book,
-a telephone and a monitor; and a lab seen from a robot 41 cm over the floor, with a rack case and
-two office chairs 3 m away, from RTAB-Map's test data; and a RealSense frame of a cardboard box on
-a floor 0.55 m away; ``--tuned-only`` leaves them out).
+tables and floors from PCL's repositories, the TUM benchmark, RTAB-Map and a RealSense demo) come
+first, with no pose: the support's normal (deg) and height (cm) against the hand-measured ones, for
+each measured object the number of primitives whose cluster lies within 8 cm of it (1 is right),
+the distance between their centroids (for round objects the axis centre, a ball's the sphere's,
+with the radius), the kind, the primitives of objects not in the ground truth (chair wheels, a
+cardboard box at the back: real objects), and the CPU time per frame; then the median CPU time per
+Kinect frame beside a simulated frame's, timed in the same run (their ratio is what survives the
+machine's load), against the target (< 100 ms per Kinect frame); then the track ids over the three
+consecutive laptop frames. The "set" column says which scans the pipeline's rules may have been
+chosen on ("tuned on": every scan vendored up to stop 36, the six held out until then included,
+since all were run and diagnosed at stop 36) and which were never given to the pipeline before the
+lead's one run after the merge of stop 37 ("held out" in ``truth.json``: two frames of the TUM
+benchmark's Freiburg 2 desk, with two drink cans, a mug and a roll of tape (cylinders), a ball in
+one frame, a keyboard, a mouse, a book, a telephone and a monitor; and a lab seen from a robot 41
+cm over the floor, with a rack case and two office chairs 3 m away, from RTAB-Map's test data; and
+a RealSense frame of a cardboard box on a floor 0.55 m away; ``--tuned-only`` leaves them out).
 
 Run from the repository root::
 
