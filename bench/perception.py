@@ -48,7 +48,8 @@ lead's one run after the merge of stop 37 ("held out" in ``truth.json``: two fra
 benchmark's Freiburg 2 desk, with two drink cans, a mug and a roll of tape (cylinders), a ball in
 one frame, a keyboard, a mouse, a book, a telephone and a monitor; and a lab seen from a robot 41
 cm over the floor, with a rack case and two office chairs 3 m away, from RTAB-Map's test data; and
-a RealSense frame of a cardboard box on a floor 0.55 m away; ``--tuned-only`` leaves them out).
+two RealSense frames of a cardboard box on a floor, 0.55 and 1.17 m away; ``--tuned-only`` leaves
+them out).
 
 Run from the repository root::
 
@@ -448,7 +449,8 @@ REAL_TRUTH = {  # scan: the scan its ground truth was measured on (the laptop sc
     "desk_fr2_tum_0": "desk_fr2_tum_0",
     "desk_fr2_tum_1": "desk_fr2_tum_1",
     "lab_floor_rtabmap": "lab_floor_rtabmap",
-    "box_floor_realsense": "box_floor_realsense",
+    "box_floor_realsense_0": "box_floor_realsense_0",
+    "box_floor_realsense_1": "box_floor_realsense_1",
 }
 
 

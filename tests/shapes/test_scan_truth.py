@@ -34,7 +34,8 @@ def test_the_held_out_scans_are_marked() -> None:
         "desk_fr2_tum_0",
         "desk_fr2_tum_1",
         "lab_floor_rtabmap",
-        "box_floor_realsense",
+        "box_floor_realsense_0",
+        "box_floor_realsense_1",
     }
 
 

@@ -26,9 +26,10 @@ A frame of a lab seen from a robot comes from RTAB-Map's test data (``introlab/r
 commit 982ba35e3d3393b1faa4b3906b234a2e9a9ed656 on its ``gtest`` branch, ``data/rgbd``): a depth
 PNG in millimetres registered to a JPEG colour image, with the intrinsics of ``calib/154.yaml``.
 
-A RealSense frame of a cardboard box on a floor comes from the test data of
+Two RealSense frames of a cardboard box on a floor come from the test data of
 ``felixchenfy/ros_detect_planes_from_depth_img`` (MIT, commit
-4d0037cdc67ab919545d4b8c2f14394a1e5eb405, ``data/test_img_{depth,color}.png``): depth in
+4d0037cdc67ab919545d4b8c2f14394a1e5eb405, ``data/test_img_{depth,color}.png`` and
+``data/{depth,color}/000003.png``): depth in
 millimetres (the repository's ``depth_unit``) aligned to the colour image, whose intrinsics
 ``data/cam_params_realsense.json`` gives.
 
@@ -75,7 +76,10 @@ TUM_FR2 = {
 RTABMAP = ("data/rgbd/depth/154.png", "data/rgbd/rgb/154.jpg", "lab_floor_rtabmap.npz")
 RTABMAP_CALIB = {"fx": 525.0, "fy": 525.0, "cx": 319.5, "cy": 239.5}
 """``data/rgbd/calib/154.yaml``'s camera matrix (the sixth argument)."""
-REALSENSE = ("data/test_img_depth.png", "data/test_img_color.png", "box_floor_realsense.npz")
+REALSENSE = {
+    "data/test_img_depth.png": ("data/test_img_color.png", "box_floor_realsense_0.npz"),
+    "data/depth/000003.png": ("data/color/000003.png", "box_floor_realsense_1.npz"),
+}
 REALSENSE_CALIB = {
     "fx": 617.25,
     "fy": 617.5486450195312,
@@ -160,7 +164,7 @@ if __name__ == "__main__":
         target = Path(__file__).with_name(out)
         convert_tum(rtabmap / depth_png, rtabmap / colour_png, target, RTABMAP_CALIB, 1e-3)
     if len(sys.argv) > 7:
-        depth_png, colour_png, out = REALSENSE
         planes = Path(sys.argv[7])
-        target = Path(__file__).with_name(out)
-        convert_tum(planes / depth_png, planes / colour_png, target, REALSENSE_CALIB, 1e-3)
+        for depth_png, (colour_png, out) in REALSENSE.items():
+            target = Path(__file__).with_name(out)
+            convert_tum(planes / depth_png, planes / colour_png, target, REALSENSE_CALIB, 1e-3)
