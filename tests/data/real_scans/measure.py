@@ -155,8 +155,8 @@ REGIONS = {
         },
     ),
     # A RealSense (active stereo) 28 cm over a floor, looking down 15 degrees at a cardboard box
-    # 0.5-0.6 m away; a wall and a door 1.2-1.6 m behind it. The floor is fitted near (0.4 m)
-    # and far (1.5 m): through the near box alone, the far floor lies 7-11 mm above the plane.
+    # 0.5-0.6 m away; a wall and a door 0.9-1.6 m behind it. The floor is fitted near (0.46 m)
+    # and beside the box (0.8-0.94 m): through the nearest box alone, that lies 7-11 mm above.
     "box_floor_realsense_0": (
         ((420, 475, 60, 600), (390, 420, 100, 500), (265, 300, 520, 630)),
         {"box": ((34, 388, 40, 510), False)},
