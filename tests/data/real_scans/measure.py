@@ -37,7 +37,9 @@ REGIONS = {
     ),
     # Held out when they were added (stop 34), tuned on since (README.md).
     "desk_tum": (
-        (215, 245, 180, 232),
+        # The desk through one box per quarter of it that holds bare desk (README.md, stop 37):
+        # far left, near left, near right; its far right is all objects.
+        ((206, 217, 85, 115), (217, 246, 177, 227), (227, 246, 315, 362)),
         {
             # The desk shows through the corners of the die's box 30-45 cm behind it (446 of
             # its 2,419 points, 2.43-2.49 m away): only the points nearer than 2.2 m
@@ -50,7 +52,8 @@ REGIONS = {
         },
     ),
     "office_kinect": (
-        (395, 470, 262, 405),
+        # Far right, near left, near right; the far left is holes in the depth.
+        ((407, 423, 323, 362), (423, 458, 260, 322), (433, 458, 322, 398)),
         {"box": ((378, 455, 482, 590), False), "bag": ((400, 470, 415, 470), False)},
     ),
     # Held out: boxes chosen after the pipeline's code was frozen, never used to change it.
@@ -59,7 +62,8 @@ REGIONS = {
         {"bottle pack": ((130, 298, 328, 440), False)},
     ),
     "people_floor_kinect": (
-        (400, 478, 240, 300),
+        # Far left, near left, near right, between the people; the far right is all people.
+        ((365, 401, 226, 293), (401, 468, 218, 293), (442, 468, 314, 365)),
         {
             "person 1": ((330, 478, 30, 140), False),
             "person 2": ((330, 478, 150, 240), False),
@@ -91,11 +95,13 @@ REGIONS = {
         },
     ),
     "box_floor_kinect": (
-        (440, 472, 30, 440),
+        # Far left, far right, near left, near right of the floor in front of the boxes.
+        ((428, 449, 38, 190), (437, 449, 245, 290), (449, 469, 38, 245), (449, 469, 245, 451)),
         {"front box": ((280, 436, 298, 434), False), "right box": ((312, 428, 434, 574), False)},
     ),
     "chair_boxes_kinect": (
-        (425, 470, 260, 440),
+        # Far left (left of the chair), far right, near left, near right.
+        ((410, 439, 35, 78), (421, 439, 321, 386), (439, 469, 255, 321), (440, 469, 321, 525)),
         {
             "chair": (
                 (
