@@ -28,7 +28,11 @@ Steps (PITT's, with its quirks fixed; see ``shared/reference/pitt-perception.md`
    than ``min_support_rise_m`` (horizontal) or ``max_height_m`` (tilted) over it, is part of
    an object (a box's top, a laptop's open lid) and its voxels stay free, except a horizontal
    one less than ``floor_step_m`` over it (a rug, a seam of the floor), which joins the support
-   (``_standing_on``);
+   (``_standing_on``). A plane is also judged by its connected pieces (:mod:`shapes.plane_pieces`):
+   a tilted plane whose main piece stands on a larger horizontal one is an object's face, and
+   its standing pieces stay free however far the plane's other voxels reach; a would-be
+   support whose main piece holds under ``min_main_piece_share`` of its voxels is no support,
+   and removes only its main piece's voxels (``_supports_by_pieces``);
 4. **the support rule**: a support is a *horizontal* plane (normal within
    ``max_support_tilt_deg`` of world z, i.e. of gravity) *with objects on it*. Every voxel that
    belongs to no plane and lies between ``above_margin`` and ``max_height_m`` above a horizontal
