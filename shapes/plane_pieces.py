@@ -33,6 +33,7 @@ its pieces (its voxels joined on a grid, diagonals included, as a support's main
 
 from __future__ import annotations
 
+import math
 from collections.abc import Sequence
 from dataclasses import dataclass
 
@@ -70,11 +71,13 @@ def is_scattered(region: SupportRegion, min_main_share: float) -> bool:
 
 
 def _in_plane_axes(points: FloatArray, normal: FloatArray) -> FloatArray:
-    """The points' coordinates along two unit axes of the plane whose normal is ``normal``."""
-    seed = np.array([1.0, 0.0, 0.0]) if abs(float(normal[0])) < 0.9 else np.array([0.0, 1.0, 0.0])
-    e1 = np.cross(normal, seed)
-    e1 /= np.linalg.norm(e1)
-    e2 = np.cross(normal, e1)
+    """The points' coordinates along two unit axes of the plane whose normal is ``normal``
+    (cross products written out: ``np.cross`` costs more than the rest on three numbers)."""
+    a, b, c = (float(v) for v in normal)
+    # e1 = normal x (1, 0, 0), or normal x (0, 1, 0) when the normal lies near x.
+    e1 = np.array([0.0, c, -b]) if abs(a) < 0.9 else np.array([-c, 0.0, a])
+    e1 /= math.sqrt(float(e1 @ e1))
+    e2 = np.array([b * e1[2] - c * e1[1], c * e1[0] - a * e1[2], a * e1[1] - b * e1[0]])
     return np.asarray(points @ np.column_stack((e1, e2)), dtype=np.float64)
 
 
