@@ -47,8 +47,8 @@ WIDTHS = (7, 8, 9, 9, 13, 7)
 HEADER = f"{'scan':<22}{'frame':>7}{'survey':>8}{'gravity':>9}{'segment':>9}{'before fits':>13}"
 
 
-def measure(seeds: int) -> None:
-    """Print the stage table for the checkout on ``sys.path``."""
+def measure(seeds: int, scans: tuple[str, ...] = SCANS) -> None:
+    """Print the stage table for the checkout on ``sys.path``, over the real scans ``scans``."""
     import shapes.pipeline  # noqa: F401  (the module object, not the package's re-exports)
     from shapes import Perception, PerceptionParams, open_source
 
@@ -69,8 +69,8 @@ def measure(seeds: int) -> None:
         setattr(pipeline, name, timed(name, getattr(pipeline, name)))
     root = Path("tests/data/real_scans")
     params = PerceptionParams(gravity_from_scene=True)
-    frames = {scan: next(open_source(root / f"{scan}.npz")) for scan in SCANS}
-    Perception(params, seed=0).process(frames[SCANS[0]])  # warm: lazy imports, caches
+    frames = {scan: next(open_source(root / f"{scan}.npz")) for scan in scans}
+    Perception(params, seed=0).process(frames[scans[0]])  # warm: lazy imports, caches
     print(f"{Path.cwd()}: CPU ms per frame, median of {seeds} seeds, load {os.getloadavg()[0]:.1f}")
     print(HEADER + f"{'fits':>7}{'primitives':>12}")
     rows = []
@@ -126,15 +126,18 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("--seeds", type=int, default=5, help="seeds of the chain per scan (5)")
     parser.add_argument("--against", type=Path, help="a baseline checkout, measured after this")
+    parser.add_argument(
+        "--scans", nargs="+", default=list(SCANS), help="real scans to run (the five Kinect scans)"
+    )
     args = parser.parse_args()
     if hasattr(os, "sched_setaffinity"):
         os.sched_setaffinity(0, {min(os.sched_getaffinity(0))})
-    measure(args.seeds)
+    measure(args.seeds, tuple(args.scans))
     if args.against is not None:
         env = {**os.environ, "PYTHONPATH": str(args.against.resolve())}
         script = Path(__file__).resolve()
         subprocess.run(
-            [sys.executable, str(script), "--seeds", str(args.seeds)],
+            [sys.executable, str(script), "--seeds", str(args.seeds), "--scans", *args.scans],
             cwd=args.against,
             env=env,
             check=True,

@@ -28,7 +28,11 @@ Steps (PITT's, with its quirks fixed; see ``shared/reference/pitt-perception.md`
    than ``min_support_rise_m`` (horizontal) or ``max_height_m`` (tilted) over it, is part of
    an object (a box's top, a laptop's open lid) and its voxels stay free, except a horizontal
    one less than ``floor_step_m`` over it (a rug, a seam of the floor), which joins the support
-   (``_standing_on``);
+   (``_standing_on``). A plane is also judged by its connected pieces (:mod:`shapes.plane_pieces`):
+   a tilted plane whose main piece stands on a larger horizontal one is an object's face, and
+   its standing pieces stay free however far the plane's other voxels reach; a would-be
+   support whose main piece holds under ``min_main_piece_share`` of its voxels is no support,
+   and removes only its main piece's voxels (``_supports_by_pieces``);
 4. **the support rule**: a support is a *horizontal* plane (normal within
    ``max_support_tilt_deg`` of world z, i.e. of gravity) *with objects on it*. Every voxel that
    belongs to no plane and lies between ``above_margin`` and ``max_height_m`` above a horizontal
@@ -66,7 +70,7 @@ from __future__ import annotations
 
 import logging
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 import numpy.typing as npt
@@ -78,6 +82,7 @@ from scipy.spatial import cKDTree
 from shapes.arrays import column_max, column_min, column_span, unique_inverse
 from shapes.artefacts import depth_noise_1m, flying_pixels, sparse_points, sparse_voxels
 from shapes.frame import Frame
+from shapes.plane_pieces import Ground, faces_standing_on, is_scattered
 from shapes.split import split_each
 from shapes.support_region import SupportRegion, support_region
 from shapes.types import FloatArray, SupportPlane, vec3
@@ -128,7 +133,12 @@ class SegmentationParams:
     max_base_height_m: float = 0.04
     floor_step_m: float = 0.03
     support_cell_m: float = 0.05
-    """The grid on which a support plane's voxels are joined into pieces (its main piece)."""
+    """The grid on which a plane's voxels are joined into pieces (a support's main piece, a
+    tilted plane's pieces: :mod:`shapes.plane_pieces`)."""
+    min_main_piece_share: float = 0.5
+    """The share of a horizontal plane's voxels its main piece must hold for the plane to be a
+    surface of its own; a plane scattered in smaller pieces is reduced to its main piece
+    (:func:`shapes.plane_pieces.is_scattered`)."""
     extent_margin_m: float = 0.05
     """How far past the hull of its support's main piece an object's centre may lie."""
     cut_band_m: float = 0.03
@@ -500,6 +510,42 @@ def _standing_on(
     return None
 
 
+def _supports_by_pieces(
+    planes: list[_Plane],
+    candidates: list[_Plane],
+    level: list[_Plane],
+    faces: set[int],
+    voxels: FloatArray,
+    params: SegmentationParams,
+) -> tuple[list[_Plane], dict[int, SupportRegion], set[int]]:
+    """The planes with every scattered one of the would-be supports (``candidates``) reduced
+    to its main piece (:func:`shapes.plane_pieces.is_scattered`), each would-be support's
+    region by its id, and the ids of the scattered ones, which are no support.
+
+    A scattered plane's other voxels belong to other things and stay free. Its main piece is
+    judged again as a plane of its own (:func:`_standing_on`): the top of an object (its id
+    is added to ``faces``, and its voxels stay free too), else a strip of a surface already
+    found or too small to tell, whose voxels are removed."""
+    judged, regions, scattered = [], {}, set()
+    for plane in planes:
+        if any(plane is q for q in candidates):
+            inliers = np.flatnonzero(plane.inliers)
+            region = support_region(voxels[inliers, :2], params.support_cell_m)
+            if is_scattered(region, params.min_main_piece_share):
+                kept = np.zeros_like(plane.inliers)
+                kept[inliers[region.piece]] = True
+                main = replace(plane, inliers=kept)
+                others = [main if q is plane else q for q in level]
+                below = _standing_on(voxels, main, others, params)
+                if below is not None and below >= params.floor_step_m:
+                    faces.add(id(main))
+                scattered.add(id(main))
+                plane = main
+            regions[id(plane)] = region
+        judged.append(plane)
+    return judged, regions, scattered
+
+
 def _robust_sigma(values: FloatArray) -> float:
     if len(values) == 0:
         return 0.0
@@ -619,6 +665,10 @@ def segment(
         else:
             faces.add(id(p))  # the top or the side of an object standing on a support
     horizontal = [p for p in level if id(p) not in faces and id(p) not in steps]
+    planes, regions, scattered = _supports_by_pieces(
+        planes, horizontal, level, faces, voxels, params
+    )
+    horizontal = [p for p in planes if p.horizontal and id(p) not in faces | steps | scattered]
     if not horizontal:
         seen = "; ".join(p.describe() for p in planes) or "none"
         log.info("no horizontal support plane in %d voxels", len(voxels))
@@ -628,10 +678,28 @@ def segment(
             noise_1m=sigma_1m,
             reason=f"no support found: no horizontal plane among the planes seen ({seen})",
         )
+    grounds = [
+        Ground(p.normal, p.offset, regions[id(p)], int(regions[id(p)].piece.sum()))
+        for p in horizontal
+    ]
     in_plane = np.zeros(len(voxels), dtype=bool)
     for p in planes:
-        if id(p) not in faces:  # the fronts or tops of objects stay free
-            in_plane[p.inliers] = True
+        if id(p) in faces:  # the fronts or tops of objects stay free
+            continue
+        in_plane[p.inliers] = True
+        if not p.horizontal:  # and so do the pieces of a tilted plane that stand on a support
+            inliers = np.flatnonzero(p.inliers)
+            faces_of_objects = faces_standing_on(
+                voxels[inliers],
+                scan.tolerance[inliers],
+                p.normal,
+                grounds,
+                cell_m=params.support_cell_m,
+                max_height_m=params.max_height_m,
+                edge_margin_m=params.edge_margin_m,
+                min_voxels=params.min_cluster_voxels,
+            )
+            in_plane[inliers[faces_of_objects]] = False
     free = ~in_plane
     # Stray returns and outliers: free voxels with fewer than two occupied neighbours.
     free_idx = np.flatnonzero(free)
@@ -640,11 +708,13 @@ def segment(
     # Each free voxel goes to the nearest horizontal plane below it that covers it.
     best_height = np.full(len(voxels), np.inf)
     owner = np.full(len(voxels), -1)
-    margins, supports, regions = [], [], []
+    margins: list[float] = []
+    supports: list[SupportPlane] = []
+    supported: list[SupportRegion] = []
     for k, p in enumerate(horizontal):
         table = voxels[p.inliers]
-        region = support_region(table[:, :2], params.support_cell_m)
-        regions.append(region)
+        region = regions[id(p)]
+        supported.append(region)
         table = table[region.piece]
         span = column_span(table[:, :2])
         centre = table.mean(axis=0)
@@ -706,7 +776,7 @@ def segment(
             viewpoint,
         )
         too_small += small
-        found = [c for c in found if _stands_within(c, regions[k], params)]
+        found = [c for c in found if _stands_within(c, supported[k], params)]
         parts = [
             c
             for c in found

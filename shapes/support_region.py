@@ -29,7 +29,7 @@ from scipy.spatial import ConvexHull, QhullError
 from shapes.arrays import column_min, unique_inverse
 from shapes.types import FloatArray
 
-__all__ = ["SupportRegion", "support_region"]
+__all__ = ["SupportRegion", "pieces", "support_region"]
 
 
 @dataclass(frozen=True, eq=False)
@@ -54,10 +54,15 @@ def _box(xy: FloatArray) -> FloatArray:
     return np.array(rows)
 
 
-def _main_piece(xy: FloatArray, cell_m: float) -> npt.NDArray[np.bool_]:
-    """Which points belong to the largest set of occupied cells joined side by side or
-    corner to corner. Only the occupied cells are held (a sparse graph, not a dense grid), so
-    a cloud kilometres wide costs no more than its points."""
+def pieces(xy: FloatArray, cell_m: float) -> npt.NDArray[np.intp]:
+    """The connected piece of each point: points in occupied cells of a ``cell_m`` grid joined
+    side by side or corner to corner are one piece. Pieces are numbered from 0 in no particular
+    order. Only the occupied cells are held (a sparse graph, not a dense grid), so a cloud
+    kilometres wide costs no more than its points.
+
+    >>> pieces(np.array([[0.0, 0.0], [0.06, 0.06], [0.3, 0.0]]), cell_m=0.05).tolist()
+    [0, 0, 1]
+    """
     cells = np.floor((xy - column_min(xy)) / cell_m).astype(np.int64) + 1
     span = int(cells[:, 1].max()) + 2  # a neighbour's column never wraps into the next row
     keys, of_point, _ = unique_inverse(cells[:, 0] * span + cells[:, 1])
@@ -70,8 +75,13 @@ def _main_piece(xy: FloatArray, cell_m: float) -> npt.NDArray[np.bool_]:
     first, second = np.concatenate(rows), np.concatenate(cols)
     graph = coo_matrix((np.ones(len(first)), (first, second)), shape=(len(keys), len(keys)))
     _, label = connected_components(graph, directed=False)
-    of_point_label = label[of_point.ravel()]
-    return np.asarray(of_point_label == np.argmax(np.bincount(of_point_label)), dtype=np.bool_)
+    return np.asarray(label[of_point.ravel()], dtype=np.intp)
+
+
+def _main_piece(xy: FloatArray, cell_m: float) -> npt.NDArray[np.bool_]:
+    """Which points belong to the largest piece (:func:`pieces`)."""
+    label = pieces(xy, cell_m)
+    return np.asarray(label == np.argmax(np.bincount(label)), dtype=np.bool_)
 
 
 _DIRECTIONS = np.array(
