@@ -877,24 +877,25 @@ def _taken_cut(
     """
     count = int(parts.max()) + 1
     lowest = np.array([float(heights[parts == k].min()) for k in range(count)])
-    standing = np.flatnonzero(lowest < params.max_base_height_m)
+    footprints = [
+        (
+            column_min(voxels[parts == k, :2]) - params.cluster_eps_m,
+            column_max(voxels[parts == k, :2]) + params.cluster_eps_m,
+        )
+        for k in np.flatnonzero(lowest < params.max_base_height_m)
+    ]
     apart = []
     for k in np.flatnonzero(lowest >= margin_m + params.max_base_height_m):
         centre = voxels[parts == k, :2].mean(axis=0)
-        over = False
-        for s in standing:
-            lo = column_min(voxels[parts == s, :2]) - params.cluster_eps_m
-            hi = column_max(voxels[parts == s, :2]) + params.cluster_eps_m
-            over = over or bool(np.all((centre >= lo) & (centre <= hi)))
-        if not over and len(standing):
+        if footprints and not any(np.all((centre >= lo) & (centre <= hi)) for lo, hi in footprints):
             apart.append(int(k))
     rest = np.flatnonzero(~np.isin(parts, apart))
     taken = np.zeros(len(parts), dtype=np.int64)
     kept = np.asarray(unique_inverse(parts[rest])[1], dtype=np.int64)
     if _each_stands(heights[rest], kept, params):
         taken[rest] = kept
-    for label, k in enumerate(apart, start=int(taken.max()) + 1):
-        taken[parts == k] = label
+    for label, part in enumerate(apart, start=int(taken.max()) + 1):
+        taken[parts == part] = label
     return taken
 
 

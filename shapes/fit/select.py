@@ -103,6 +103,7 @@ from shapes.fit.models import (
     UprightConeModel,
     UprightCylinderModel,
 )
+from shapes.fit.profile import cylinder_without_taper, side_profile
 from shapes.fit.ray import RayModel, fit_ends, ray_cost, refine_on_rays, sphere_from_outline
 from shapes.normals import patch_normals
 from shapes.types import FloatArray, Primitive, ShapeKind, SupportPlane, vec3
@@ -390,24 +391,29 @@ def standing_taper(
     >>> round(drop, 3), round(spread, 3)
     (0.024, 0.007)
     """
-    normal = np.asarray(support.normal, dtype=np.float64)
-    height = points @ normal + support.offset
-    side = height < float(np.percentile(height, 99)) - cut_m
-    if side.sum() < 20:
+    profile = side_profile(points, support, cut_m)
+    return None if profile is None else (profile.drop_m, profile.spread_m)
+
+
+def _without_taper(
+    points: FloatArray,
+    sample: FloatArray,
+    support: SupportPlane,
+    fp: FitParams,
+    model: CylinderModel,
+) -> tuple[FloatArray, FloatArray] | None:
+    """The standing cylinder of a thing whose side widens upwards, and the distances of
+    ``sample`` to it with the taper taken out (:func:`shapes.fit.profile.cylinder_without_taper`;
+    module docstring, "Standing and widening upwards"); None when the side (measured on all the
+    ``points``) does not widen by more than ``taper_sigmas`` times its spread, or the radius
+    is out of the model's limits."""
+    profile = side_profile(points, support, fp.selection_threshold_m)
+    if profile is None:
         return None
-    e1 = np.cross(normal, [1.0, 0.0, 0.0] if abs(normal[0]) < 0.9 else [0.0, 1.0, 0.0])
-    e1 /= np.linalg.norm(e1)
-    e2 = np.cross(normal, e1)
-    a, b, h = points[side] @ e1, points[side] @ e2, height[side]
-    design = np.column_stack((a, b, np.ones_like(a)))
-    sol = np.linalg.lstsq(design, a**2 + b**2, rcond=None)[0]
-    rho = np.hypot(a - sol[0] / 2, b - sol[1] / 2)
-    line = np.column_stack((np.ones_like(h), h))
-    coef = np.linalg.lstsq(line, rho, rcond=None)[0]
-    residual = rho - line @ coef
-    spread = 1.4826 * float(np.median(np.abs(residual - np.median(residual))))
-    lo, hi = np.percentile(h, [5, 95])
-    return -float(coef[1]) * float(hi - lo), spread
+    if -profile.drop_m <= fp.taper_sigmas * max(profile.spread_m, fp.taper_min_spread_m):
+        return None
+    params, d = cylinder_without_taper(sample, profile, support, model)
+    return (params, d) if model.within_limits(params) else None
 
 
 def _choose(
@@ -851,6 +857,20 @@ def fit_cluster(
             score(ShapeKind.CYLINDER, up)
             if fitted[ShapeKind.CYLINDER] is up:  # bounded: it meets the others at the lower cost
                 costs[ShapeKind.CYLINDER] = min(free_cost, costs[ShapeKind.CYLINDER])
+    if (
+        support is not None
+        and ShapeKind.PLANE in costs
+        and _choose(costs, fitted, support, fp, points) is ShapeKind.PLANE
+    ):
+        # A round thing that widens upwards has no model of its own (standing cones point
+        # up): the planes bend round it and win unless the cylinder is scored without taper.
+        cylinder = models[ShapeKind.CYLINDER][0]
+        assert isinstance(cylinder, CylinderModel)
+        untapered = _without_taper(points, sample, support, fp, cylinder)
+        if untapered is not None and _cost(untapered[1], t_sel) < costs.get(
+            ShapeKind.CYLINDER, np.inf
+        ):
+            score(ShapeKind.CYLINDER, *untapered)
     sphere_on_rays: bool | None = None
     if eye is not None and ShapeKind.SPHERE in costs:
         # The sphere against the model the rule would choose without it, along the rays.
