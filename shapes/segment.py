@@ -873,7 +873,9 @@ def _taken_cut(
     across the support outside each standing part's extent grown by ``cluster_eps_m``): a
     monitor's screen whose lower edge touches the rim of a cup in front of it. The other parts
     are judged among themselves the same way, so a bottle's shoulder, which hangs over its
-    standing body, still keeps the body whole.
+    standing body, still keeps the body whole. No part is cut off when the others would then
+    fall apart (no chain of voxels ``cluster_eps_m`` apart joins them): what hangs holds them
+    together, as a table's top its legs.
     """
     count = int(parts.max()) + 1
     lowest = np.array([float(heights[parts == k].min()) for k in range(count)])
@@ -891,12 +893,23 @@ def _taken_cut(
             apart.append(int(k))
     rest = np.flatnonzero(~np.isin(parts, apart))
     taken = np.zeros(len(parts), dtype=np.int64)
+    if apart and not _connected(voxels[rest], params.cluster_eps_m):
+        return taken  # what hangs holds the rest together: parts of one thing
     kept = np.asarray(unique_inverse(parts[rest])[1], dtype=np.int64)
     if _each_stands(heights[rest], kept, params):
         taken[rest] = kept
     for label, part in enumerate(apart, start=int(taken.max()) + 1):
         taken[parts == part] = label
     return taken
+
+
+def _connected(voxels: FloatArray, link_m: float) -> bool:
+    """Whether voxels form one piece, each linked to another within ``link_m``."""
+    pairs = cKDTree(voxels).query_pairs(link_m, output_type="ndarray")
+    graph = coo_matrix(
+        (np.ones(len(pairs)), (pairs[:, 0], pairs[:, 1])), shape=(len(voxels), len(voxels))
+    )
+    return int(connected_components(graph, directed=False)[0]) == 1
 
 
 def _split(
