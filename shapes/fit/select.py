@@ -77,6 +77,18 @@ standing) takes its place if it costs at most ``coarse_standing_margin`` more, a
 other models with the lower of the two costs. At the lowest threshold (8 mm, low noise) only
 standing radii of 2 cm or less qualify.
 
+Standing and widening upwards
+-----------------------------
+A round thing that widens upwards (a paper cup, a flower pot) has no model of its own: standing
+cones point up. Three planes bent round its visible arc then cost less than a cylinder, whose
+side misses the bottom and the rim. So, when the rule above would choose the planes and the
+support is known, the side's profile is read (:func:`shapes.fit.profile.side_profile`: the
+radius about the support's normal through the side's circle, a straight line of the height);
+when it widens upwards by more than ``taper_sigmas`` times its spread (at least
+``taper_min_spread_m``), the standing cylinder of its mid-side radius is scored on the points
+moved along their radii by the profile's excess at their height, and that cost, when lower,
+becomes the cylinder's. A side that narrows upwards is the cone's, and is left to it.
+
 Heights are measured to the support: when a cylinder's or cone's axis is within
 ``upright_tolerance_deg`` of the support normal and its lowest points lie within
 ``snap_distance_m`` of the support, the base is put on the support plane. The segmentation has
@@ -396,7 +408,6 @@ def standing_taper(
 
 
 def _without_taper(
-    points: FloatArray,
     sample: FloatArray,
     support: SupportPlane,
     fp: FitParams,
@@ -404,10 +415,11 @@ def _without_taper(
 ) -> tuple[FloatArray, FloatArray] | None:
     """The standing cylinder of a thing whose side widens upwards, and the distances of
     ``sample`` to it with the taper taken out (:func:`shapes.fit.profile.cylinder_without_taper`;
-    module docstring, "Standing and widening upwards"); None when the side (measured on all the
-    ``points``) does not widen by more than ``taper_sigmas`` times its spread, or the radius
-    is out of the model's limits."""
-    profile = side_profile(points, support, fp.selection_threshold_m)
+    module docstring, "Standing and widening upwards"); None when the side (measured on the
+    ``sample``: the cost, not the profile, decides, and the profile on all the points cost twice
+    as much) does not widen by more than ``taper_sigmas`` times its spread, or the radius is out
+    of the model's limits."""
+    profile = side_profile(sample, support, fp.selection_threshold_m)
     if profile is None:
         return None
     if -profile.drop_m <= fp.taper_sigmas * max(profile.spread_m, fp.taper_min_spread_m):
@@ -866,7 +878,7 @@ def fit_cluster(
         # up): the planes bend round it and win unless the cylinder is scored without taper.
         cylinder = models[ShapeKind.CYLINDER][0]
         assert isinstance(cylinder, CylinderModel)
-        untapered = _without_taper(points, sample, support, fp, cylinder)
+        untapered = _without_taper(sample, support, fp, cylinder)
         if untapered is not None and _cost(untapered[1], t_sel) < costs.get(
             ShapeKind.CYLINDER, np.inf
         ):
