@@ -872,10 +872,11 @@ def _taken_cut(
     ``margin_m + max_base_height_m`` or more over it) over no part that stands (its centre
     across the support outside each standing part's extent grown by ``cluster_eps_m``): a
     monitor's screen whose lower edge touches the rim of a cup in front of it. The other parts
-    are judged among themselves the same way, so a bottle's shoulder, which hangs over its
-    standing body, still keeps the body whole. No part is cut off when the others would then
-    fall apart (no chain of voxels ``cluster_eps_m`` apart joins them): what hangs holds them
-    together, as a table's top its legs.
+    stay one, as a refused cut leaves them: a bottle's shoulder, which hangs over its standing
+    body, keeps the body whole, and an open cup's front wall is not cut from its inside (the
+    splitter finds a seam where the inside meets the bottom). No part is cut off when the
+    others would then fall apart (no chain of voxels ``cluster_eps_m`` apart joins them): what
+    hangs holds them together, as a table's top its legs.
     """
     count = int(parts.max()) + 1
     lowest = np.array([float(heights[parts == k].min()) for k in range(count)])
@@ -895,9 +896,10 @@ def _taken_cut(
     taken = np.zeros(len(parts), dtype=np.int64)
     if apart and not _connected(voxels[rest], params.cluster_eps_m):
         return taken  # what hangs holds the rest together: parts of one thing
-    kept = np.asarray(unique_inverse(parts[rest])[1], dtype=np.int64)
-    if _each_stands(heights[rest], kept, params):
-        taken[rest] = kept
+    if not apart:
+        kept = np.asarray(unique_inverse(parts[rest])[1], dtype=np.int64)
+        if _each_stands(heights[rest], kept, params):
+            taken[rest] = kept
     for label, part in enumerate(apart, start=int(taken.max()) + 1):
         taken[parts == part] = label
     return taken

@@ -63,6 +63,11 @@ def _parts(*blocks: tuple[tuple[float, float], float, float]) -> tuple[np.ndarra
     [
         # A cup (standing) and a screen hanging 10 cm up behind it: the screen is cut off.
         ((((0.0, 0.0), 0.01, 0.12), ((0.0, 0.2), 0.10, 0.40)), 2),
+        # Two cans and a screen hanging behind them: the screen is cut off, the cans stay one.
+        (
+            (((0.0, 0.0), 0.01, 0.12), ((0.06, 0.0), 0.01, 0.10), ((0.03, 0.2), 0.10, 0.40)),
+            2,
+        ),
         # Two cans side by side, both standing: the cut is taken as before.
         ((((0.0, 0.0), 0.01, 0.12), ((0.06, 0.0), 0.01, 0.10)), 2),
         # A bottle's shoulder hanging over its standing body: refused, as before.
