@@ -892,15 +892,12 @@ def _taken_cut(
         centre = voxels[parts == k, :2].mean(axis=0)
         if footprints and not any(np.all((centre >= lo) & (centre <= hi)) for lo, hi in footprints):
             apart.append(int(k))
-    rest = np.flatnonzero(~np.isin(parts, apart))
     taken = np.zeros(len(parts), dtype=np.int64)
-    if apart and not _connected(voxels[rest], params.cluster_eps_m):
-        return taken  # what hangs holds the rest together: parts of one thing
     if not apart:
-        kept = np.asarray(unique_inverse(parts[rest])[1], dtype=np.int64)
-        if _each_stands(heights[rest], kept, params):
-            taken[rest] = kept
-    for label, part in enumerate(apart, start=int(taken.max()) + 1):
+        return parts.copy() if _each_stands(heights, parts, params) else taken
+    if not _connected(voxels[~np.isin(parts, apart)], params.cluster_eps_m):
+        return taken  # what hangs holds the rest together: parts of one thing
+    for label, part in enumerate(apart, start=1):
         taken[parts == part] = label
     return taken
 

@@ -415,10 +415,10 @@ def _without_taper(
 ) -> tuple[FloatArray, FloatArray] | None:
     """The standing cylinder of a thing whose side widens upwards, and the distances of
     ``sample`` to it with the taper taken out (:func:`shapes.fit.profile.cylinder_without_taper`;
-    module docstring, "Standing and widening upwards"); None when the side (measured on the
-    ``sample``: the cost, not the profile, decides, and on a large cluster the profile on all
-    the points cost twice as much) does not widen by more than ``taper_sigmas`` times its spread, or the radius is out
-    of the model's limits."""
+    module docstring, "Standing and widening upwards"); None when the side does not widen by
+    more than ``taper_sigmas`` times its spread, or the radius is out of the model's limits.
+    The side is measured on the ``sample``: the cost, not the profile, decides, and on a large
+    cluster the profile on all the points cost twice as much."""
     profile = side_profile(sample, support, fp.selection_threshold_m)
     if profile is None:
         return None
