@@ -928,6 +928,59 @@ def _each_stands(
     return max(lowest) < params.max_base_height_m
 
 
+def _taken_cut(
+    voxels: FloatArray,
+    heights: FloatArray,
+    parts: npt.NDArray[np.int64],
+    margin_m: float,
+    params: SegmentationParams,
+) -> npt.NDArray[np.int64]:
+    """The parts of a seam cut that are taken, as labels 0, 1, ... (all 0: the cut is refused).
+
+    Every part, when each stands (:func:`_each_stands`). Otherwise a part is cut off on its own
+    when it hangs clear of the support as :func:`_floats` reads a hanging bottom (lowest voxel
+    ``margin_m + max_base_height_m`` or more over it) over no part that stands (its centre
+    across the support outside each standing part's extent grown by ``cluster_eps_m``): a
+    monitor's screen whose lower edge touches the rim of a cup in front of it. The other parts
+    stay one, as a refused cut leaves them: a bottle's shoulder, which hangs over its standing
+    body, keeps the body whole, and an open cup's front wall is not cut from its inside (the
+    splitter finds a seam where the inside meets the bottom). No part is cut off when the
+    others would then fall apart (no chain of voxels ``cluster_eps_m`` apart joins them): what
+    hangs holds them together, as a table's top its legs.
+    """
+    count = int(parts.max()) + 1
+    lowest = np.array([float(heights[parts == k].min()) for k in range(count)])
+    footprints = [
+        (
+            column_min(voxels[parts == k, :2]) - params.cluster_eps_m,
+            column_max(voxels[parts == k, :2]) + params.cluster_eps_m,
+        )
+        for k in np.flatnonzero(lowest < params.max_base_height_m)
+    ]
+    apart = []
+    for k in np.flatnonzero(lowest >= margin_m + params.max_base_height_m):
+        centre = voxels[parts == k, :2].mean(axis=0)
+        if footprints and not any(np.all((centre >= lo) & (centre <= hi)) for lo, hi in footprints):
+            apart.append(int(k))
+    taken = np.zeros(len(parts), dtype=np.int64)
+    if not apart:
+        return parts.copy() if _each_stands(heights, parts, params) else taken
+    if not _connected(voxels[~np.isin(parts, apart)], params.cluster_eps_m):
+        return taken  # what hangs holds the rest together: parts of one thing
+    for label, part in enumerate(apart, start=1):
+        taken[parts == part] = label
+    return taken
+
+
+def _connected(voxels: FloatArray, link_m: float) -> bool:
+    """Whether voxels form one piece, each linked to another within ``link_m``."""
+    pairs = cKDTree(voxels).query_pairs(link_m, output_type="ndarray")
+    graph = coo_matrix(
+        (np.ones(len(pairs)), (pairs[:, 0], pairs[:, 1])), shape=(len(voxels), len(voxels))
+    )
+    return int(connected_components(graph, directed=False)[0]) == 1
+
+
 def _split(
     labels: npt.NDArray[np.int64],
     voxels: FloatArray,
@@ -935,9 +988,11 @@ def _split(
     params: SegmentationParams,
     sigma_1m: float,
     heights: FloatArray | None = None,
+    margin_m: float = 0.0,
 ) -> npt.NDArray[np.int64]:
-    """Labels with every cluster cut along its concave seams (:mod:`shapes.split`), where each
-    part stands on the support (``heights``: each voxel's height over it, when known)."""
+    """Labels with every cluster cut along its concave seams (:mod:`shapes.split`), where
+    :func:`_taken_cut` takes the cut (``heights``: each voxel's height over the support, when
+    known; ``margin_m``: the support's noise margin)."""
     out = labels.copy()
     next_label = int(labels.max(initial=-1)) + 1
     order = np.argsort(labels, kind="stable")
@@ -961,8 +1016,8 @@ def _split(
     for members, parts in zip(cut, found, strict=True):
         if parts.max() == 0 or _stacked(voxels[members], parts, params.cluster_eps_m):
             continue
-        if heights is not None and not _each_stands(heights[members], parts, params):
-            continue
+        if heights is not None:
+            parts = _taken_cut(voxels[members], heights[members], parts, margin_m, params)
         for part in range(1, int(parts.max()) + 1):
             out[members[parts == part]] = next_label
             next_label += 1
@@ -1003,6 +1058,7 @@ def _clusters(
             params,
             sigma_1m,
             support.signed_distance(voxels[candidates]),
+            margin,
         )
     voxel_label = np.full(len(voxels), -1, dtype=np.int64)
     voxel_label[candidates] = labels

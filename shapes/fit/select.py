@@ -77,6 +77,18 @@ standing) takes its place if it costs at most ``coarse_standing_margin`` more, a
 other models with the lower of the two costs. At the lowest threshold (8 mm, low noise) only
 standing radii of 2 cm or less qualify.
 
+Standing and widening upwards
+-----------------------------
+A round thing that widens upwards (a paper cup, a flower pot) has no model of its own: standing
+cones point up. Three planes bent round its visible arc then cost less than a cylinder, whose
+side misses the bottom and the rim. So, when the rule above would choose the planes and the
+support is known, the side's profile is read (:func:`shapes.fit.profile.side_profile`: the
+radius about the support's normal through the side's circle, a straight line of the height);
+when it widens upwards by more than ``taper_sigmas`` times its spread (at least
+``taper_min_spread_m``), the standing cylinder of its mid-side radius is scored on the points
+moved along their radii by the profile's excess at their height, and that cost, when lower,
+becomes the cylinder's. A side that narrows upwards is the cone's, and is left to it.
+
 Heights are measured to the support: when a cylinder's or cone's axis is within
 ``upright_tolerance_deg`` of the support normal and its lowest points lie within
 ``snap_distance_m`` of the support, the base is put on the support plane. The segmentation has
@@ -103,6 +115,7 @@ from shapes.fit.models import (
     UprightConeModel,
     UprightCylinderModel,
 )
+from shapes.fit.profile import cylinder_without_taper, side_profile
 from shapes.fit.ray import RayModel, fit_ends, ray_cost, refine_on_rays, sphere_from_outline
 from shapes.normals import patch_normals
 from shapes.types import FloatArray, Primitive, ShapeKind, SupportPlane, vec3
@@ -390,24 +403,29 @@ def standing_taper(
     >>> round(drop, 3), round(spread, 3)
     (0.024, 0.007)
     """
-    normal = np.asarray(support.normal, dtype=np.float64)
-    height = points @ normal + support.offset
-    side = height < float(np.percentile(height, 99)) - cut_m
-    if side.sum() < 20:
+    profile = side_profile(points, support, cut_m)
+    return None if profile is None else (profile.drop_m, profile.spread_m)
+
+
+def _without_taper(
+    sample: FloatArray,
+    support: SupportPlane,
+    fp: FitParams,
+    model: CylinderModel,
+) -> tuple[FloatArray, FloatArray] | None:
+    """The standing cylinder of a thing whose side widens upwards, and the distances of
+    ``sample`` to it with the taper taken out (:func:`shapes.fit.profile.cylinder_without_taper`;
+    module docstring, "Standing and widening upwards"); None when the side does not widen by
+    more than ``taper_sigmas`` times its spread, or the radius is out of the model's limits.
+    The side is measured on the ``sample``: the cost, not the profile, decides, and on a large
+    cluster the profile on all the points cost twice as much."""
+    profile = side_profile(sample, support, fp.selection_threshold_m)
+    if profile is None:
         return None
-    e1 = np.cross(normal, [1.0, 0.0, 0.0] if abs(normal[0]) < 0.9 else [0.0, 1.0, 0.0])
-    e1 /= np.linalg.norm(e1)
-    e2 = np.cross(normal, e1)
-    a, b, h = points[side] @ e1, points[side] @ e2, height[side]
-    design = np.column_stack((a, b, np.ones_like(a)))
-    sol = np.linalg.lstsq(design, a**2 + b**2, rcond=None)[0]
-    rho = np.hypot(a - sol[0] / 2, b - sol[1] / 2)
-    line = np.column_stack((np.ones_like(h), h))
-    coef = np.linalg.lstsq(line, rho, rcond=None)[0]
-    residual = rho - line @ coef
-    spread = 1.4826 * float(np.median(np.abs(residual - np.median(residual))))
-    lo, hi = np.percentile(h, [5, 95])
-    return -float(coef[1]) * float(hi - lo), spread
+    if -profile.drop_m <= fp.taper_sigmas * max(profile.spread_m, fp.taper_min_spread_m):
+        return None
+    params, d = cylinder_without_taper(sample, profile, support, model)
+    return (params, d) if model.within_limits(params) else None
 
 
 def _choose(
@@ -851,6 +869,20 @@ def fit_cluster(
             score(ShapeKind.CYLINDER, up)
             if fitted[ShapeKind.CYLINDER] is up:  # bounded: it meets the others at the lower cost
                 costs[ShapeKind.CYLINDER] = min(free_cost, costs[ShapeKind.CYLINDER])
+    if (
+        support is not None
+        and ShapeKind.PLANE in costs
+        and _choose(costs, fitted, support, fp, points) is ShapeKind.PLANE
+    ):
+        # A round thing that widens upwards has no model of its own (standing cones point
+        # up): the planes bend round it and win unless the cylinder is scored without taper.
+        cylinder = models[ShapeKind.CYLINDER][0]
+        assert isinstance(cylinder, CylinderModel)
+        untapered = _without_taper(sample, support, fp, cylinder)
+        if untapered is not None and _cost(untapered[1], t_sel) < costs.get(
+            ShapeKind.CYLINDER, np.inf
+        ):
+            score(ShapeKind.CYLINDER, *untapered)
     sphere_on_rays: bool | None = None
     if eye is not None and ShapeKind.SPHERE in costs:
         # The sphere against the model the rule would choose without it, along the rays.
