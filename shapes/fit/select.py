@@ -94,10 +94,11 @@ import open3d as o3d
 from scipy.spatial import ConvexHull, QhullError, cKDTree
 
 from shapes.arrays import column_max, column_min, column_span, norm3
-from shapes.fit._ransac import Model, ransac, refine_if_better
+from shapes.fit._ransac import Model, levenberg_marquardt, ransac, refine_if_better
 from shapes.fit.models import (
     ConeModel,
     CylinderModel,
+    Mask,
     PlaneModel,
     SphereModel,
     UprightConeModel,
@@ -162,6 +163,10 @@ class FitParams:
     """With a viewpoint: how much more than its rival (by the distance to the surface) a sphere
     may cost and still be weighed against it along the rays; ``ray_iterations``: the
     Levenberg-Marquardt steps of each refinement along them."""
+    cone_around_points: int = 100
+    cone_around_iterations: int = 6
+    """Cones around a cylinder (module docstring): the cylinder's inliers they are fitted on,
+    at most, and the Levenberg-Marquardt steps of each fit."""
     coarse_standing_margin: float = 0.05
     coarse_standing_share: float = 0.4
     """Standing under coarse depth (module docstring): how much more than the free cylinder a
@@ -366,6 +371,35 @@ def _cone_on_base(plane: FloatArray, points: FloatArray, threshold: float) -> Fl
     if not math.isfinite(h) or h <= 0:
         return None
     return np.concatenate((base + h * up, -up, [math.atan2(radius, h)]))
+
+
+def _cones_around(
+    cylinder: FloatArray,
+    points: FloatArray,
+    inliers: Mask,
+    model: ConeModel,
+    *,
+    max_points: int,
+    iterations: int,
+) -> list[FloatArray]:
+    """Cones fitted by least squares (``iterations`` Levenberg-Marquardt steps, on at most
+    ``max_points`` of the cylinder's ``inliers`` taken at an even stride) from the two narrowest
+    cones (``model.min_half_angle``) on the cylinder's axis, one narrowing each way, each as wide
+    as the cylinder at the inliers' median position along the axis. Empty with fewer than 10
+    inliers; the cones may lie outside the model's limits."""
+    on = points[inliers]
+    if len(on) < 10:
+        return []
+    on = on[:: -(-len(on) // max_points)]  # an even stride keeps the spread
+    p0, axis, r = cylinder[:3], cylinder[3:6], float(cylinder[6])
+    middle = p0 + float(np.median((on - p0) @ axis)) * axis
+    reach = r / math.tan(model.min_half_angle)  # from the apex to where the radius is r
+    cones = []
+    for way in (axis, -axis):
+        start = np.concatenate((middle - reach * way, way, [model.min_half_angle]))
+        x = levenberg_marquardt(lambda p: model.residuals(p, on), start, iterations=iterations)
+        cones.append(np.concatenate((x[:3], x[3:6] / np.linalg.norm(x[3:6]), x[6:])))
+    return cones
 
 
 def standing_taper(
@@ -837,6 +871,28 @@ def fit_cluster(
         if costs[kind] <= best + fp.refine_margin:
             model, thr = models[kind]
             score(kind, refine_if_better(model, fitted[kind], sample, thr))
+    cylinder_cost = costs.get(ShapeKind.CYLINDER, np.inf)
+    if (
+        cylinder_cost <= best + fp.refine_margin
+        and cylinder_cost < costs.get(ShapeKind.CONE, np.inf)
+        and not _orient_up(fitted[ShapeKind.CYLINDER][3:6], support, fp.upright_tolerance_deg)
+    ):
+        # Cones around a cylinder that beats every cone and does not stand (standing cones
+        # have hypotheses of their own): a narrow leaning cone's free hypotheses often miss
+        # it, and a cylinder then fits it best.
+        cone_model = models[ShapeKind.CONE][0]
+        assert isinstance(cone_model, ConeModel)  # as built above
+        for x in _cones_around(
+            fitted[ShapeKind.CYLINDER],
+            sample,
+            surface[ShapeKind.CYLINDER] < t_sel,
+            cone_model,
+            max_points=fp.cone_around_points,
+            iterations=fp.cone_around_iterations,
+        ):
+            d = cone_model.distances(x[None, :], sample)[0]
+            if cone_model.within_limits(x) and _cost(d, t_sel) < costs.get(ShapeKind.CONE, np.inf):
+                score(ShapeKind.CONE, x, d)
     if standing_cylinder is not None and ShapeKind.CYLINDER in costs:
         up = _standing_under_coarse_depth(
             standing_cylinder,
