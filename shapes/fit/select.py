@@ -723,6 +723,12 @@ def fit_cluster(
             return _build_cylinder(params, points, support, fp)
         return _build_cone(params, points, support, fp)
 
+    def ranked(kind: ShapeKind, params: FloatArray, cost: float) -> float:
+        """A curved candidate's cost with the oblique penalty, as :func:`_choose` ranks it."""
+        if support is None or _can_rest(kind, params, support, fp):
+            return cost
+        return cost + fp.oblique_penalty
+
     def score(kind: ShapeKind, params: FloatArray, d: FloatArray | None = None) -> None:
         """Keep a candidate (in place of the model's last one) if it is bounded; ``d``: the
         sample's distances to it, when known."""
@@ -890,8 +896,14 @@ def fit_cluster(
             max_points=fp.cone_around_points,
             iterations=fp.cone_around_iterations,
         ):
+            if not cone_model.within_limits(x):
+                continue
             d = cone_model.distances(x[None, :], sample)[0]
-            if cone_model.within_limits(x) and _cost(d, t_sel) < costs.get(ShapeKind.CONE, np.inf):
+            # Ranked as the rule ranks the curved models: with the oblique penalty, so that a
+            # resting cone is not given up for a slightly cheaper tilted one.
+            if ShapeKind.CONE not in costs or ranked(ShapeKind.CONE, x, _cost(d, t_sel)) < ranked(
+                ShapeKind.CONE, fitted[ShapeKind.CONE], costs[ShapeKind.CONE]
+            ):
                 score(ShapeKind.CONE, x, d)
     if standing_cylinder is not None and ShapeKind.CYLINDER in costs:
         up = _standing_under_coarse_depth(
