@@ -31,6 +31,14 @@ within ``refine_margin`` of the best cost are refined by least squares (Levenber
 the inliers; a cylinder on its lateral band away from the discs), and a refinement is kept only
 if it lowers the cost and respects the limits.
 
+Cones around a cylinder: when the refined cylinder costs less than every cone and does not
+stand on the support, two more cone candidates are fitted by least squares to its inliers
+(``cone_around_points`` of them, ``cone_around_iterations`` steps), starting from the narrowest
+cones (``min_cone_half_angle_deg``) on its axis, one narrowing each way; one replaces the cone if
+it ranks better, the oblique penalty included. A narrow leaning cone's free three-point
+hypotheses often miss it (their apex comes from three noisy normals), and a cylinder is then the
+best curved fit; a cylinder around such a cone lies close to the cone's own axis.
+
 The lowest cost wins; candidates within ``tie_margin`` of it are resolved in the order sphere,
 cylinder, cone, plane (fewest parameters first). Between a cylinder and a cone standing on the
 support whose costs lie within ``taper_margin`` of each other, the points decide instead: a cone
@@ -158,6 +166,7 @@ class FitParams:
     taper_sigmas: float = 0.35
     taper_upright_deg: float = 30.0
     taper_min_spread_m: float = 0.002
+    taper_cut_share: float = 0.4
     ray_iterations: int = 8
     ray_gate: float = 0.03
     """With a viewpoint: how much more than its rival (by the distance to the surface) a sphere
@@ -515,7 +524,13 @@ def _by_taper(
         return curved
     if not any(_orient_up(fitted[k][3:6], support, fp.taper_upright_deg) for k in pair):
         return curved
-    taper = standing_taper(points, support, fp.selection_threshold_m)
+    # The top (a cylinder's flat end, spread by the noise over about the threshold) is cut
+    # off, but never more than a share of the visible height: far away the threshold may be
+    # as tall as the part of the object in view, and the side left would show no slope.
+    height = points @ np.asarray(support.normal, dtype=np.float64) + support.offset
+    span = float(np.subtract(*np.percentile(height, [99, 1])))
+    cut = min(fp.selection_threshold_m, fp.taper_cut_share * span)
+    taper = standing_taper(points, support, cut)
     if taper is None:
         return curved
     drop, spread = taper
