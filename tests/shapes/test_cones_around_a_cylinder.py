@@ -17,7 +17,7 @@ def test_a_narrow_leaning_cone_comes_out_a_cone_whatever_the_draws() -> None:
     """Before the cones around a cylinder, seed 1 gave a Cylinder (its best free cone cost 0.14
     against the true cone's 0.07) and seed 0 a Plane; 16 of seeds 0-19 gave the Cone."""
     kinds = []
-    for seed in range(12):
+    for seed in range(8):
         shot = DepthCamera().shoot(TabletopScene((LEANING_CONE,)), np.random.default_rng(seed))
         kinds.append([p.kind for p in Perception(seed=seed).process(shot.frame).primitives])
-    assert kinds == [[ShapeKind.CONE]] * 12
+    assert kinds == [[ShapeKind.CONE]] * 8
