@@ -31,13 +31,14 @@ within ``refine_margin`` of the best cost are refined by least squares (Levenber
 the inliers; a cylinder on its lateral band away from the discs), and a refinement is kept only
 if it lowers the cost and respects the limits.
 
-Cones around a cylinder: when the refined cylinder costs less than every cone and does not
-stand on the support, two more cone candidates are fitted by least squares to its inliers
-(``cone_around_points`` of them, ``cone_around_iterations`` steps), starting from the narrowest
-cones (``min_cone_half_angle_deg``) on its axis, one narrowing each way; one replaces the cone if
-it ranks better, the oblique penalty included. A narrow leaning cone's free three-point
-hypotheses often miss it (their apex comes from three noisy normals), and a cylinder is then the
-best curved fit; a cylinder around such a cone lies close to the cone's own axis.
+Cones around a cylinder: when the refined cylinder costs less than every cone, does not stand on
+the support and is not seen under coarse depth (the selection threshold less than
+``coarse_standing_share`` times its radius), two more cone candidates are fitted by least squares
+to its inliers (``cone_around_points`` of them, ``cone_around_iterations`` steps), starting from
+the narrowest cones (``min_cone_half_angle_deg``) on its axis, one narrowing each way; one
+replaces the cone if it ranks better, the oblique penalty included. A narrow leaning cone's free
+three-point hypotheses often miss it (their apex comes from three noisy normals), and a cylinder
+is then the best curved fit; a cylinder around such a cone lies close to the cone's own axis.
 
 The lowest cost wins; candidates within ``tie_margin`` of it are resolved in the order sphere,
 cylinder, cone, plane (fewest parameters first). Between a cylinder and a cone standing on the
@@ -897,10 +898,12 @@ def fit_cluster(
         cylinder_cost <= best + fp.refine_margin
         and cylinder_cost < costs.get(ShapeKind.CONE, np.inf)
         and not _orient_up(fitted[ShapeKind.CYLINDER][3:6], support, fp.upright_tolerance_deg)
+        and fp.coarse_standing_share * float(fitted[ShapeKind.CYLINDER][6]) > t_sel
     ):
-        # Cones around a cylinder that beats every cone and does not stand (standing cones
-        # have hypotheses of their own): a narrow leaning cone's free hypotheses often miss
-        # it, and a cylinder then fits it best.
+        # Cones around a cylinder that beats every cone, does not stand (standing cones have
+        # hypotheses of their own) and is not seen under coarse depth (the distances to the
+        # surface then tell a cone from a cylinder no better than the fit's draws do): a narrow
+        # leaning cone's free hypotheses often miss it, and a cylinder then fits it best.
         cone_model = models[ShapeKind.CONE][0]
         assert isinstance(cone_model, ConeModel)  # as built above
         for x in _cones_around(
