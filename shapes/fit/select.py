@@ -31,6 +31,15 @@ within ``refine_margin`` of the best cost are refined by least squares (Levenber
 the inliers; a cylinder on its lateral band away from the discs), and a refinement is kept only
 if it lowers the cost and respects the limits.
 
+Cones around a cylinder: when the refined cylinder costs less than every cone, does not stand on
+the support and is not seen under coarse depth (the selection threshold less than
+``coarse_standing_share`` times its radius), two more cone candidates are fitted by least squares
+to its inliers (``cone_around_points`` of them, ``cone_around_iterations`` steps), starting from
+the narrowest cones (``min_cone_half_angle_deg``) on its axis, one narrowing each way; one
+replaces the cone if it ranks better, the oblique penalty included. A narrow leaning cone's free
+three-point hypotheses often miss it (their apex comes from three noisy normals), and a cylinder
+is then the best curved fit; a cylinder around such a cone lies close to the cone's own axis.
+
 The lowest cost wins; candidates within ``tie_margin`` of it are resolved in the order sphere,
 cylinder, cone, plane (fewest parameters first). Between a cylinder and a cone standing on the
 support whose costs lie within ``taper_margin`` of each other, the points decide instead: a cone
@@ -106,10 +115,11 @@ import open3d as o3d
 from scipy.spatial import ConvexHull, QhullError, cKDTree
 
 from shapes.arrays import column_max, column_min, column_span, norm3
-from shapes.fit._ransac import Model, ransac, refine_if_better
+from shapes.fit._ransac import Model, levenberg_marquardt, ransac, refine_if_better
 from shapes.fit.models import (
     ConeModel,
     CylinderModel,
+    Mask,
     PlaneModel,
     SphereModel,
     UprightConeModel,
@@ -170,11 +180,16 @@ class FitParams:
     taper_sigmas: float = 0.35
     taper_upright_deg: float = 30.0
     taper_min_spread_m: float = 0.002
+    taper_cut_share: float = 0.4
     ray_iterations: int = 8
     ray_gate: float = 0.03
     """With a viewpoint: how much more than its rival (by the distance to the surface) a sphere
     may cost and still be weighed against it along the rays; ``ray_iterations``: the
     Levenberg-Marquardt steps of each refinement along them."""
+    cone_around_points: int = 100
+    cone_around_iterations: int = 6
+    """Cones around a cylinder (module docstring): the cylinder's inliers they are fitted on,
+    at most, and the Levenberg-Marquardt steps of each fit."""
     coarse_standing_margin: float = 0.05
     coarse_standing_share: float = 0.4
     """Standing under coarse depth (module docstring): how much more than the free cylinder a
@@ -381,6 +396,35 @@ def _cone_on_base(plane: FloatArray, points: FloatArray, threshold: float) -> Fl
     return np.concatenate((base + h * up, -up, [math.atan2(radius, h)]))
 
 
+def _cones_around(
+    cylinder: FloatArray,
+    points: FloatArray,
+    inliers: Mask,
+    model: ConeModel,
+    *,
+    max_points: int,
+    iterations: int,
+) -> list[FloatArray]:
+    """Cones fitted by least squares (``iterations`` Levenberg-Marquardt steps, on at most
+    ``max_points`` of the cylinder's ``inliers`` taken at an even stride) from the two narrowest
+    cones (``model.min_half_angle``) on the cylinder's axis, one narrowing each way, each as wide
+    as the cylinder at the inliers' median position along the axis. Empty with fewer than 10
+    inliers; the cones may lie outside the model's limits."""
+    on = points[inliers]
+    if len(on) < 10:
+        return []
+    on = on[:: -(-len(on) // max_points)]  # an even stride keeps the spread
+    p0, axis, r = cylinder[:3], cylinder[3:6], float(cylinder[6])
+    middle = p0 + float(np.median((on - p0) @ axis)) * axis
+    reach = r / math.tan(model.min_half_angle)  # from the apex to where the radius is r
+    cones = []
+    for way in (axis, -axis):
+        start = np.concatenate((middle - reach * way, way, [model.min_half_angle]))
+        x = levenberg_marquardt(lambda p: model.residuals(p, on), start, iterations=iterations)
+        cones.append(np.concatenate((x[:3], x[3:6] / np.linalg.norm(x[3:6]), x[6:])))
+    return cones
+
+
 def standing_taper(
     points: FloatArray, support: SupportPlane, cut_m: float
 ) -> tuple[float, float] | None:
@@ -499,7 +543,13 @@ def _by_taper(
         return curved
     if not any(_orient_up(fitted[k][3:6], support, fp.taper_upright_deg) for k in pair):
         return curved
-    taper = standing_taper(points, support, fp.selection_threshold_m)
+    # The top (a cylinder's flat end, spread by the noise over about the threshold) is cut
+    # off, but never more than a share of the visible height: far away the threshold may be
+    # as tall as the part of the object in view, and the side left would show no slope.
+    height = points @ np.asarray(support.normal, dtype=np.float64) + support.offset
+    span = float(np.subtract(*np.percentile(height, [99, 1])))
+    cut = min(fp.selection_threshold_m, fp.taper_cut_share * span)
+    taper = standing_taper(points, support, cut)
     if taper is None:
         return curved
     drop, spread = taper
@@ -707,6 +757,12 @@ def fit_cluster(
             return _build_cylinder(params, points, support, fp)
         return _build_cone(params, points, support, fp)
 
+    def ranked(kind: ShapeKind, params: FloatArray, cost: float) -> float:
+        """A curved candidate's cost with the oblique penalty, as :func:`_choose` ranks it."""
+        if support is None or _can_rest(kind, params, support, fp):
+            return cost
+        return cost + fp.oblique_penalty
+
     def score(kind: ShapeKind, params: FloatArray, d: FloatArray | None = None) -> None:
         """Keep a candidate (in place of the model's last one) if it is bounded; ``d``: the
         sample's distances to it, when known."""
@@ -855,6 +911,36 @@ def fit_cluster(
         if costs[kind] <= best + fp.refine_margin:
             model, thr = models[kind]
             score(kind, refine_if_better(model, fitted[kind], sample, thr))
+    cylinder_cost = costs.get(ShapeKind.CYLINDER, np.inf)
+    if (
+        cylinder_cost <= best + fp.refine_margin
+        and cylinder_cost < costs.get(ShapeKind.CONE, np.inf)
+        and not _orient_up(fitted[ShapeKind.CYLINDER][3:6], support, fp.upright_tolerance_deg)
+        and fp.coarse_standing_share * float(fitted[ShapeKind.CYLINDER][6]) > t_sel
+    ):
+        # Cones around a cylinder that beats every cone, does not stand (standing cones have
+        # hypotheses of their own) and is not seen under coarse depth (the distances to the
+        # surface then tell a cone from a cylinder no better than the fit's draws do): a narrow
+        # leaning cone's free hypotheses often miss it, and a cylinder then fits it best.
+        cone_model = models[ShapeKind.CONE][0]
+        assert isinstance(cone_model, ConeModel)  # as built above
+        for x in _cones_around(
+            fitted[ShapeKind.CYLINDER],
+            sample,
+            surface[ShapeKind.CYLINDER] < t_sel,
+            cone_model,
+            max_points=fp.cone_around_points,
+            iterations=fp.cone_around_iterations,
+        ):
+            if not cone_model.within_limits(x):
+                continue
+            d = cone_model.distances(x[None, :], sample)[0]
+            # Ranked as the rule ranks the curved models: with the oblique penalty, so that a
+            # resting cone is not given up for a slightly cheaper tilted one.
+            if ShapeKind.CONE not in costs or ranked(ShapeKind.CONE, x, _cost(d, t_sel)) < ranked(
+                ShapeKind.CONE, fitted[ShapeKind.CONE], costs[ShapeKind.CONE]
+            ):
+                score(ShapeKind.CONE, x, d)
     if standing_cylinder is not None and ShapeKind.CYLINDER in costs:
         up = _standing_under_coarse_depth(
             standing_cylinder,

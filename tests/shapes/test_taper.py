@@ -84,3 +84,36 @@ def test_the_far_cylinder_seen_under_3_mm_noise_stands() -> None:
     assert [p.kind for p in found] == [ShapeKind.CYLINDER]
     assert found[0].axis is not None and abs(found[0].axis[2]) > np.cos(np.radians(10))
     assert found[0].radius is not None and abs(found[0].radius - obj.radius) < 0.01
+
+
+# Seen from 1.8 m off to the left under 3 mm noise (a selection threshold near 4 cm), short
+# standing objects lose their bottom few centimetres with the table: the top cut of the taper,
+# the threshold, then left too little of a cone's side to show its slope (seed 7's far-left row
+# of bench/perception.py, scene 1, whose objects these are).
+FAR_LEFT = DepthCamera(world_from_camera=look_at((-0.4, -1.5, 1.0), (0.0, 0.1, 0.0)))
+SHORT_CONES = (
+    TruthObject("Cone", (0.268, 0.248, 0.0), radius=0.0525, height=0.0907),
+    TruthObject("Cone", (-0.3, 0.165, 0.0), radius=0.0592, height=0.0849),
+    TruthObject("Cylinder", (-0.114, -0.021, 0.0), radius=0.0298, height=0.1435),
+    TruthObject("Cylinder", (-0.179, -0.203, 0.0), radius=0.0216, height=0.1543),
+)
+
+
+def test_short_far_cones_keep_side_enough_for_their_taper() -> None:
+    """Before the cut was held to 40 % of the visible height, seeds 0-5 gave four of the twelve
+    cones as Cylinders; the cylinders stay Cylinders."""
+    found = []
+    for seed in range(6):
+        shot = FAR_LEFT.shoot(
+            TabletopScene(SHORT_CONES), np.random.default_rng(seed), SensorModel(sigma_1m=0.003)
+        )
+        result = Perception(seed=seed).process(shot.frame)
+        for obj in SHORT_CONES:
+            found.append(
+                [
+                    p.kind.value
+                    for p, c in zip(result.primitives, result.centroids, strict=True)
+                    if np.linalg.norm(c[:2] - np.asarray(obj.position[:2])) < 0.06
+                ]
+            )
+    assert found == [[obj.kind] for obj in SHORT_CONES] * 6
