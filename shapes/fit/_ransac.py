@@ -67,11 +67,15 @@ class RansacResult:
 
 def _samples(rng: np.random.Generator, n: int, size: int, count: int) -> npt.NDArray[np.intp]:
     """``count`` rows of ``size`` distinct indices below ``n``."""
-    idx = rng.integers(0, n, size=(count, size))
-    if size > 1:
+    return _distinct(rng.integers(0, n, size=(count, size)))
+
+
+def _distinct(idx: npt.NDArray[np.int64]) -> npt.NDArray[np.intp]:
+    """The rows of ``idx`` whose indices are all different, as ``intp``."""
+    if idx.shape[1] > 1:
         # Column against column: a sort and an ``all`` along rows of two to four cost more.
         ok = idx[:, 0] != idx[:, 1]
-        for i, j in itertools.combinations(range(size), 2):
+        for i, j in itertools.combinations(range(idx.shape[1]), 2):
             if j > 1:
                 ok &= idx[:, i] != idx[:, j]
         idx = idx[ok]
@@ -102,7 +106,9 @@ def ransac(
     (at least ``batch``): they are tried whatever the first ones show, so one evaluation of
     them all costs the same arithmetic in fewer numpy calls. When ``model.hopeless(normals)``,
     the samples are drawn as the full search draws them and no hypothesis is built: the result
-    (None) and the state ``rng`` is left in are the full search's.
+    (None) and the state ``rng`` is left in are the full search's. After a batch with no valid
+    hypothesis, the following ones are built in one call until one holds a valid hypothesis
+    (:func:`_ahead`): the same search, hypothesis for hypothesis.
     """
     n = len(points)
     if n < model.sample_size:
@@ -124,9 +130,16 @@ def ransac(
             # Every batch would be drawn and found invalid: draw the same samples (cheap)
             # without building hypotheses, so ``rng`` is left as the full search leaves it.
             continue
-        if len(idx) == 0:
-            continue
-        params, valid = model.hypotheses(points, normals, idx)
+        if len(idx):
+            params, valid = model.hypotheses(points, normals, idx)
+        else:
+            params, valid = np.zeros((0, 1)), np.zeros(0, dtype=np.bool_)
+        if not valid.any():
+            # A batch with no valid hypothesis leaves ``needed`` as it was: the next batches
+            # are drawn and built at once, and the search resumes at the first holding one.
+            params, valid, tried = _ahead(
+                model, points, normals, rng, tried, needed, batch, min_iterations
+            )
         params = params[valid]
         if len(params) == 0:
             continue
@@ -152,6 +165,54 @@ def ransac(
         best = refine_if_better(model, best, points, threshold)
         best_d = model.distances(best[None, :], points)[0]
     return RansacResult(best, best_d < threshold, tried, best_d)
+
+
+def _ahead(
+    model: Model,
+    points: FloatArray,
+    normals: FloatArray,
+    rng: np.random.Generator,
+    tried: int,
+    needed: int,
+    batch: int,
+    min_iterations: int,
+) -> tuple[FloatArray, npt.NDArray[np.bool_], int]:
+    """What :func:`ransac`'s loop does from ``tried`` on while its batches hold no valid
+    hypothesis (``needed`` then stays as it is), in one call of ``model.hypotheses``: the
+    hypotheses and validity of the first batch that holds a valid one and the ``tried`` count
+    after it, with ``rng`` left as that batch's draw leaves it (the later batches' draws are
+    undone); or, when none does, an empty batch, ``tried`` at the loop's end and ``rng`` as the
+    loop leaves it. Each batch is drawn by the call the loop makes (the same samples), and a
+    hypothesis depends on its own sample only, so the search is the loop's, in fewer calls: a
+    cluster no sphere or cone fits (a small flat patch) costs one call for all its
+    ``max_iterations`` samples, not one a batch."""
+    draws, states, counts = [], [], []
+    while tried < needed:
+        size = max(batch, min_iterations - tried)
+        count = min(size, needed - tried)
+        draws.append(rng.integers(0, len(points), size=(count, model.sample_size)))
+        tried += size
+        states.append(rng.bit_generator.state)
+        counts.append(tried)
+    if not draws:
+        return np.zeros((0, 1)), np.zeros(0, dtype=np.bool_), tried
+    # Each batch's rows as _samples keeps them, from one pass over all of them.
+    batch_of = np.repeat(np.arange(len(draws)), [len(d) for d in draws])
+    raw = np.concatenate(draws)
+    ok = np.ones(len(raw), dtype=np.bool_)
+    for i, j in itertools.combinations(range(raw.shape[1]), 2):
+        ok &= raw[:, i] != raw[:, j]
+    idx, batch_of = raw[ok].astype(np.intp), batch_of[ok]
+    if not len(idx):
+        return np.zeros((0, 1)), np.zeros(0, dtype=np.bool_), tried
+    params, valid = model.hypotheses(points, normals, idx)
+    hits = np.flatnonzero(valid)
+    if not len(hits):
+        return params[:0], valid[:0], tried
+    first = int(batch_of[hits[0]])
+    rng.bit_generator.state = states[first]
+    rows = batch_of == first
+    return params[rows], valid[rows], counts[first]
 
 
 def refine_if_better(

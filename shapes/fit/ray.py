@@ -19,6 +19,8 @@ from.
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 import numpy as np
 import numpy.typing as npt
 
@@ -63,7 +65,7 @@ def _first(ranges: FloatArray, *meetings: tuple[FloatArray, Mask]) -> FloatArray
     among the valid ones, else inf: the surface the sensor sees along a ray is the first it
     meets, so a point is never explained by a surface hidden behind another part of the same
     candidate."""
-    first = np.full(np.broadcast_shapes(ranges.shape, meetings[0][0].shape), np.inf)
+    first = np.full(np.broadcast(ranges, meetings[0][0]).shape, np.inf)
     for s, valid in meetings:
         first = np.where(valid & (s > 0), np.minimum(first, s), first)
     return np.asarray(np.abs(ranges - first), dtype=np.float64)
@@ -131,10 +133,36 @@ def ray_errors(
     >>> ray_errors(SphereModel(), np.array([[0.0, 0.0, 1.0, 0.05]]), pts, np.zeros(3)).round(6)
     array([[0.01,  inf]])
     """
-    eye = np.asarray(viewpoint, dtype=np.float64)
-    offsets = np.asarray(points, dtype=np.float64) - eye
-    ranges = np.linalg.norm(offsets, axis=1)[None, :]
-    rays = offsets / ranges.T
+    return _errors(model, params, points, _Rays.of(points, viewpoint), ends)
+
+
+@dataclass(frozen=True)
+class _Rays:
+    """The sensor's centre ``eye``, each point's range ``(1, n)`` and unit ray ``(n, 3)``:
+    what :func:`ray_errors` needs of the points whatever the parameters (a refinement computes
+    them once for all its steps)."""
+
+    eye: FloatArray
+    ranges: FloatArray
+    rays: FloatArray
+
+    @staticmethod
+    def of(points: FloatArray, viewpoint: FloatArray) -> _Rays:
+        eye = np.asarray(viewpoint, dtype=np.float64)
+        offsets = np.asarray(points, dtype=np.float64) - eye
+        ranges = np.linalg.norm(offsets, axis=1)[None, :]
+        return _Rays(eye, ranges, offsets / ranges.T)
+
+
+def _errors(
+    model: RayModel,
+    params: FloatArray,
+    points: FloatArray,
+    along: _Rays,
+    ends: tuple[FloatArray, FloatArray] | None,
+) -> FloatArray:
+    """:func:`ray_errors` with the points' rays given."""
+    eye, ranges, rays = along.eye, along.ranges, along.rays
     x = np.atleast_2d(np.asarray(params, dtype=np.float64))
     if isinstance(model, PlaneModel):
         n, d = x[:, :3], x[:, 3:4]
@@ -201,13 +229,12 @@ def fit_ends(
     shifts = (np.arange(steps + 1) * threshold / 4)[:, None]
     rows = np.repeat(x, steps + 1, axis=0)
     ones = np.ones_like(shifts)
-    cost = truncated_cost(
-        ray_errors(model, rows, points, viewpoint, ends=(lo * ones, hi - shifts)), threshold
-    )
+    along = _Rays.of(points, viewpoint)
+    cost = truncated_cost(_errors(model, rows, points, along, (lo * ones, hi - shifts)), threshold)
     hi = hi - shifts[int(np.argmin(cost))]
     if isinstance(model, CylinderModel):
         cost = truncated_cost(
-            ray_errors(model, rows, points, viewpoint, ends=(lo + shifts, hi * ones)), threshold
+            _errors(model, rows, points, along, (lo + shifts, hi * ones)), threshold
         )
         lo = lo + shifts[int(np.argmin(cost))]
     return lo, hi
@@ -241,9 +268,10 @@ def refine_on_rays(
     """
     if ends is None and isinstance(model, (CylinderModel, ConeModel)):
         ends = fit_ends(model, params, points, viewpoint, threshold=threshold)
+    along = _Rays.of(points, viewpoint)
 
     def residuals(x: FloatArray) -> FloatArray:
-        e = ray_errors(model, x, points, viewpoint, ends=ends)
+        e = _errors(model, x, points, along, ends)
         missed = ~np.isfinite(e)
         if missed.any():
             e = np.where(missed, threshold + model.distances(x, points), e)
