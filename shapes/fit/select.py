@@ -345,6 +345,21 @@ def _build_cone(
     )
 
 
+def _stands_on_its_tip(params: FloatArray, support: SupportPlane | None, fp: FitParams) -> bool:
+    """Whether a cone stands (its axis within ``upright_tolerance_deg`` of the support's
+    normal) with its apex down: it widens upwards from a tip at or under the support.
+
+    >>> table = SupportPlane((0.0, 0.0, 1.0), 0.0)
+    >>> down = np.array([0.0, 0.0, 0.3, 0.0, 0.0, -1.0, 0.3])  # apex up, widening downwards
+    >>> up = np.array([0.0, 0.0, -0.08, 0.0, 0.0, 1.0, 0.3])  # apex under the table
+    >>> _stands_on_its_tip(down, table, FitParams()), _stands_on_its_tip(up, table, FitParams())
+    (False, True)
+    """
+    if support is None or not _orient_up(params[3:6], support, fp.upright_tolerance_deg):
+        return False
+    return float(params[3:6] @ np.asarray(support.normal)) > 0
+
+
 def _build_plane(params: FloatArray, points: FloatArray, inliers: FloatArray) -> Primitive:
     n = params[:3].copy()
     centre = inliers.mean(axis=0)
@@ -766,6 +781,8 @@ def fit_cluster(
     def score(kind: ShapeKind, params: FloatArray, d: FloatArray | None = None) -> None:
         """Keep a candidate (in place of the model's last one) if it is bounded; ``d``: the
         sample's distances to it, when known."""
+        if kind is ShapeKind.CONE and _stands_on_its_tip(params, support, fp):
+            return  # a thing widening upwards: not a cone ("Standing and widening upwards")
         primitive = curved(kind, params)
         if not bounded(primitive, points, margin_m=margin, box=box):
             return  # a fit that leaves its own points is never a candidate
