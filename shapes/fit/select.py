@@ -96,7 +96,10 @@ radius about the support's normal through the side's circle, a straight line of 
 when it widens upwards by more than ``taper_sigmas`` times its spread (at least
 ``taper_min_spread_m``), the standing cylinder of its mid-side radius is scored on the points
 moved along their radii by the profile's excess at their height, and that cost, when lower,
-becomes the cylinder's. A side that narrows upwards is the cone's, and is left to it.
+becomes the cylinder's. A side that narrows upwards is the cone's, and is left to it. So no cone
+stands on its tip: a cone candidate whose axis lies within ``upright_tolerance_deg`` of the
+support's normal and which widens upwards (its apex at the bottom) is never kept, from any of
+the searches above; such a thing is the cylinder's, taper taken out or not.
 
 Heights are measured to the support: when a cylinder's or cone's axis is within
 ``upright_tolerance_deg`` of the support normal and its lowest points lie within
