@@ -5,9 +5,9 @@ lies. A box's front face lines up with voxels scattered across the room (the wal
 the edges of furniture); a plane found just under a desk's top runs through the near edge of
 the desk, the keys of a keyboard and a strip of paper. Judged whole, the box's face rises to
 the height of the furniture and is taken for a wall, and the plane under the desk's top is
-taken for a support, its voxels removed from the keyboard. So segmentation judges a plane by
-its pieces (its voxels joined on a grid, diagonals included, as a support's main piece is:
-:mod:`shapes.support_region`):
+taken for a support of its own, which takes the keyboard's lower voxels from the desk. So
+segmentation judges a plane by its pieces (its voxels joined on a grid, diagonals included, as
+a support's main piece is: :mod:`shapes.support_region`):
 
 - a *tilted* plane whose main piece stands on a larger horizontal plane (its centre inside
   the hull of that plane's main piece, all but a few of its voxels above it and lower than

@@ -521,8 +521,8 @@ def _supports_by_pieces(
     params: SegmentationParams,
 ) -> tuple[list[_Plane], dict[int, SupportRegion], set[int]]:
     """The planes with every scattered one of the would-be supports (``candidates``) reduced
-    to its main piece (:func:`shapes.plane_pieces.is_scattered`), each would-be support's
-    region by its id, and the ids of the scattered ones, which are no support.
+    to its main piece (:func:`shapes.plane_pieces.is_scattered`), the region of each of the
+    others by its id, and the ids of the scattered ones, which are no support.
 
     A scattered plane's other voxels belong to other things and stay free. Its main piece is
     judged again as a plane of its own (:func:`_standing_on`): the top of an object (its id
@@ -543,7 +543,8 @@ def _supports_by_pieces(
                     faces.add(id(main))
                 scattered.add(id(main))
                 plane = main
-            regions[id(plane)] = region
+            else:
+                regions[id(plane)] = region
         judged.append(plane)
     return judged, regions, scattered
 
@@ -667,7 +668,7 @@ def segment(
         else:
             faces.add(id(p))  # the top or the side of an object standing on a support
     horizontal = [p for p in level if id(p) not in faces and id(p) not in steps]
-    planes, regions, scattered = _supports_by_pieces(
+    planes, region_of, scattered = _supports_by_pieces(
         planes, horizontal, level, faces, voxels, params
     )
     horizontal = [p for p in planes if p.horizontal and id(p) not in faces | steps | scattered]
@@ -681,7 +682,7 @@ def segment(
             reason=f"no support found: no horizontal plane among the planes seen ({seen})",
         )
     grounds = [
-        Ground(p.normal, p.offset, regions[id(p)], int(regions[id(p)].piece.sum()))
+        Ground(p.normal, p.offset, region_of[id(p)], int(region_of[id(p)].piece.sum()))
         for p in horizontal
     ]
     in_plane = np.zeros(len(voxels), dtype=bool)
@@ -710,13 +711,11 @@ def segment(
     # Each free voxel goes to the nearest horizontal plane below it that covers it.
     best_height = np.full(len(voxels), np.inf)
     owner = np.full(len(voxels), -1)
-    margins: list[float] = []
-    supports: list[SupportPlane] = []
-    supported: list[SupportRegion] = []
+    margins, supports, regions = [], [], []
     for k, p in enumerate(horizontal):
         table = voxels[p.inliers]
-        region = regions[id(p)]
-        supported.append(region)
+        region = region_of[id(p)]
+        regions.append(region)
         table = table[region.piece]
         span = column_span(table[:, :2])
         centre = table.mean(axis=0)
@@ -778,7 +777,7 @@ def segment(
             viewpoint,
         )
         too_small += small
-        found = [c for c in found if _stands_within(c, supported[k], params)]
+        found = [c for c in found if _stands_within(c, regions[k], params)]
         parts = [
             c
             for c in found
