@@ -141,8 +141,11 @@ def split_each(
         math.cos(math.radians(concave_deg + 3000.0 * max(0.0, noise[k] - 0.002))) for k in work
     ]
     bend_cos = np.array(flat_cos)[group[i]]
-    converge = np.einsum("ij,ij->i", normals[i] - normals[j], voxels[i] - voxels[j]) < 0
-    bend = np.einsum("ij,ij->i", normals[i], normals[j]) < bend_cos
+    # np.take: the rows of ``a[i]``, at a third of the cost of an index on an (N, 3) array.
+    normal_i, normal_j = np.take(normals, i, axis=0), np.take(normals, j, axis=0)
+    voxel_i, voxel_j = np.take(voxels, i, axis=0), np.take(voxels, j, axis=0)
+    converge = np.einsum("ij,ij->i", normal_i - normal_j, voxel_i - voxel_j) < 0
+    bend = np.einsum("ij,ij->i", normal_i, normal_j) < bend_cos
     concave = converge & bend
     # Normals are smoothed over the seam, so some links across it still look flat: the voxels
     # at either end of ``seam_links`` or more concave links are set aside as the seam, and

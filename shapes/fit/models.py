@@ -43,6 +43,12 @@ MIN_AXIS_SINE = 0.1
 their cross product)."""
 
 
+def _rows(a: FloatArray, idx: Index) -> FloatArray:
+    """``a[idx]`` for the rows of a 2-D array: ``np.take`` gives the same values at a third of
+    the cost of an index on an ``(N, 3)`` array."""
+    return np.take(a, idx, axis=0)
+
+
 def _unit(v: FloatArray) -> tuple[FloatArray, FloatArray]:
     norm = norm3(v)
     return v / np.where(norm > 1e-12, norm, 1.0)[..., None], norm
@@ -98,7 +104,7 @@ class PlaneModel:
     def hypotheses(
         self, points: FloatArray, normals: FloatArray, idx: Index
     ) -> tuple[FloatArray, Mask]:
-        a, b, c = points[idx[:, 0]], points[idx[:, 1]], points[idx[:, 2]]
+        a, b, c = _rows(points, idx[:, 0]), _rows(points, idx[:, 1]), _rows(points, idx[:, 2])
         n, norm = _unit(cross3(b - a, c - a))
         d = -np.einsum("ij,ij->i", n, a)
         return np.column_stack((n, d)), norm > 1e-9
@@ -134,7 +140,7 @@ class SphereModel:
     def hypotheses(
         self, points: FloatArray, normals: FloatArray, idx: Index
     ) -> tuple[FloatArray, Mask]:
-        p = points[idx]  # (H, 4, 3)
+        p = _rows(points, idx)  # (H, 4, 3)
         a = np.concatenate((p, np.ones((*p.shape[:2], 1))), axis=2)
         b = -(p * p).sum(axis=2)
         ok = np.abs(np.linalg.det(a)) > 1e-12
@@ -192,8 +198,8 @@ class CylinderModel:
     def hypotheses(
         self, points: FloatArray, normals: FloatArray, idx: Index
     ) -> tuple[FloatArray, Mask]:
-        p1, p2 = points[idx[:, 0]], points[idx[:, 1]]
-        n1, n2 = normals[idx[:, 0]], normals[idx[:, 1]]
+        p1, p2 = _rows(points, idx[:, 0]), _rows(points, idx[:, 1])
+        n1, n2 = _rows(normals, idx[:, 0]), _rows(normals, idx[:, 1])
         axis, norm = _unit(cross3(n1, n2))
         ok = norm > MIN_AXIS_SINE
 
@@ -310,7 +316,7 @@ class ConeModel:
     def hypotheses(
         self, points: FloatArray, normals: FloatArray, idx: Index
     ) -> tuple[FloatArray, Mask]:
-        p, n = points[idx], normals[idx]  # (H, s, 3)
+        p, n = _rows(points, idx), _rows(normals, idx)  # (H, s, 3)
         # The apex lies on every tangent plane n . x = n . p: least squares over the sample
         # (PCL's three-plane intersection when s = 3).
         dots = np.einsum("hsi,hsi->hs", p, n)
@@ -413,7 +419,7 @@ class UprightConeModel:
         self, points: FloatArray, normals: FloatArray, idx: Index
     ) -> tuple[FloatArray, Mask]:
         up = np.asarray(self.up, dtype=np.float64)
-        p, n = points[idx], normals[idx]  # (H, 2, 3)
+        p, n = _rows(points, idx), _rows(normals, idx)  # (H, 2, 3)
         n = n * np.where((n @ up) < 0, -1.0, 1.0)[..., None]  # the normals of a cone point up
         sin_theta = (n @ up).mean(axis=1)
         flat_p = p - (p @ up)[..., None] * up
@@ -461,7 +467,7 @@ class UprightCylinderModel:
         self, points: FloatArray, normals: FloatArray, idx: Index
     ) -> tuple[FloatArray, Mask]:
         up = np.asarray(self.up, dtype=np.float64)
-        p, n = points[idx], normals[idx]  # (H, 2, 3)
+        p, n = _rows(points, idx), _rows(normals, idx)  # (H, 2, 3)
         flat_p = p - (p @ up)[..., None] * up
         flat_n = n - (n @ up)[..., None] * up
         centre, ok = _lines_crossing(flat_p, flat_n)
