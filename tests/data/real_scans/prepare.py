@@ -33,9 +33,15 @@ Two RealSense frames of a cardboard box on a floor come from the test data of
 millimetres (the repository's ``depth_unit``) aligned to the colour image, whose intrinsics
 ``data/cam_params_realsense.json`` gives.
 
+A RealSense frame of a living room (objects on a wooden floor, a man on a sofa) comes the same way
+from ``felixchenfy/ros_3d_pointing_detection`` (MIT, commit
+6ba52e0893abca91563d201b2d9cde0e108c8139, ``data/images_n76/{depth,color}/00000.png``): depth
+in millimetres aligned to the colour image, with the intrinsics of
+``data/images_n76/cam_params_realsense.json``, the same as the box frames'.
+
     python tests/data/real_scans/prepare.py PCL_CHECKOUT/test OPEN3D_CHECKOUT/examples/test_data \
         PCL_DATA_CHECKOUT DENSE_RGBD_VO_CHECKOUT/examples SLAMBOOK2_CHECKOUT RTABMAP_CHECKOUT \
-        PLANES_CHECKOUT
+        PLANES_CHECKOUT POINTING_CHECKOUT
 """
 
 import sys
@@ -88,6 +94,14 @@ REALSENSE_CALIB = {
 }
 """``data/cam_params_realsense.json``'s intrinsic matrix (column-major, as Open3D writes it); the
 seventh argument."""
+POINTING = {
+    "data/images_n76/depth/00000.png": (
+        "data/images_n76/color/00000.png",
+        "living_room_floor_realsense.npz",
+    ),
+}
+"""``felixchenfy/ros_3d_pointing_detection``'s first frame (the eighth argument); its camera
+file gives ``REALSENSE_CALIB``'s numbers."""
 ROS_DEFAULT = {"fx": 525.0, "fy": 525.0, "cx": 319.5, "cy": 239.5}
 """The intrinsics the TUM benchmark recommends for its registered Freiburg 1 and 2 depth images."""
 WIDTH, HEIGHT = 640, 480
@@ -168,3 +182,8 @@ if __name__ == "__main__":
         for depth_png, (colour_png, out) in REALSENSE.items():
             target = Path(__file__).with_name(out)
             convert_tum(planes / depth_png, planes / colour_png, target, REALSENSE_CALIB, 1e-3)
+    if len(sys.argv) > 8:
+        pointing = Path(sys.argv[8])
+        for depth_png, (colour_png, out) in POINTING.items():
+            target = Path(__file__).with_name(out)
+            convert_tum(pointing / depth_png, pointing / colour_png, target, REALSENSE_CALIB, 1e-3)
