@@ -39,9 +39,15 @@ from ``felixchenfy/ros_3d_pointing_detection`` (MIT, commit
 in millimetres aligned to the colour image, with the intrinsics of
 ``data/images_n76/cam_params_realsense.json``, the same as the box frames'.
 
+A RealSense frame of a tissue box and a mallet on a carpet comes the same way from
+``sakizuki/6DPoseAnnotator`` (MIT, commit 6a91bd2ea09847b4ada5e28fc7b42e02a17e6c95,
+``data/{depth,rgb}.png``): depth in millimetres (its code reads it with Open3D's depth scale
+1000) with pixel-to-pixel correspondence to the colour image, intrinsics in
+``data/realsense_intrinsic.json``.
+
     python tests/data/real_scans/prepare.py PCL_CHECKOUT/test OPEN3D_CHECKOUT/examples/test_data \
         PCL_DATA_CHECKOUT DENSE_RGBD_VO_CHECKOUT/examples SLAMBOOK2_CHECKOUT RTABMAP_CHECKOUT \
-        PLANES_CHECKOUT POINTING_CHECKOUT
+        PLANES_CHECKOUT POINTING_CHECKOUT ANNOTATOR_CHECKOUT
 """
 
 import sys
@@ -102,6 +108,14 @@ POINTING = {
 }
 """``felixchenfy/ros_3d_pointing_detection``'s first frame (the eighth argument); its camera
 file gives ``REALSENSE_CALIB``'s numbers."""
+ANNOTATOR = ("data/depth.png", "data/rgb.png", "mallet_box_carpet_realsense.npz")
+ANNOTATOR_CALIB = {
+    "fx": 622.4392700195312,
+    "fy": 622.4393310546875,
+    "cx": 315.746337890625,
+    "cy": 250.80445861816406,
+}
+"""``data/realsense_intrinsic.json``'s intrinsic matrix (column-major); the ninth argument."""
 ROS_DEFAULT = {"fx": 525.0, "fy": 525.0, "cx": 319.5, "cy": 239.5}
 """The intrinsics the TUM benchmark recommends for its registered Freiburg 1 and 2 depth images."""
 WIDTH, HEIGHT = 640, 480
@@ -187,3 +201,8 @@ if __name__ == "__main__":
         for depth_png, (colour_png, out) in POINTING.items():
             target = Path(__file__).with_name(out)
             convert_tum(pointing / depth_png, pointing / colour_png, target, REALSENSE_CALIB, 1e-3)
+    if len(sys.argv) > 9:
+        depth_png, colour_png, out = ANNOTATOR
+        annotator = Path(sys.argv[9])
+        target = Path(__file__).with_name(out)
+        convert_tum(annotator / depth_png, annotator / colour_png, target, ANNOTATOR_CALIB, 1e-3)
