@@ -54,7 +54,8 @@ two office chairs 3 m away, from RTAB-Map's test data; and two RealSense frames 
 on a floor, 0.55 and 1.17 m away; ``--tuned-only`` leaves them out). Scans reserved for the next
 stop (``"reserved": true`` beside ``"held_out": true``: a RealSense frame of a living room, a cup,
 a bowl, bananas and a laptop on its floor 1.5-2 m away; a RealSense frame of a tissue box and a
-wooden mallet on a carpet 0.45-0.55 m away) are skipped unless ``--reserved`` is
+wooden mallet on a carpet 0.45-0.55 m away; a mustard bottle lying on a table 0.9 m away, from a
+camera with a RealSense L515's intrinsics) are skipped unless ``--reserved`` is
 given, and are labelled "reserved"; nobody runs them before the next stop.
 
 Run from the repository root::
@@ -459,6 +460,7 @@ REAL_TRUTH = {  # scan: the scan its ground truth was measured on (the laptop sc
     "box_floor_realsense_1": "box_floor_realsense_1",
     "living_room_floor_realsense": "living_room_floor_realsense",
     "mallet_box_carpet_realsense": "mallet_box_carpet_realsense",
+    "mustard_table_l515": "mustard_table_l515",
 }
 
 

@@ -45,9 +45,14 @@ A RealSense frame of a tissue box and a mallet on a carpet comes the same way fr
 1000) with pixel-to-pixel correspondence to the colour image, intrinsics in
 ``data/realsense_intrinsic.json``.
 
+A frame of a mustard bottle on a table comes the same way from
+``shiyoung77/6DoF_Pose_Estimation_with_Particle_Filtering`` (BSD-2-Clause, commit
+69c653efe00bed8439c4648094345f4233de9576, ``sample_data/{depth,color}.png``): depth in units of
+0.25 mm (its ``example.py`` divides by 4000) with the intrinsics that file gives.
+
     python tests/data/real_scans/prepare.py PCL_CHECKOUT/test OPEN3D_CHECKOUT/examples/test_data \
         PCL_DATA_CHECKOUT DENSE_RGBD_VO_CHECKOUT/examples SLAMBOOK2_CHECKOUT RTABMAP_CHECKOUT \
-        PLANES_CHECKOUT POINTING_CHECKOUT ANNOTATOR_CHECKOUT
+        PLANES_CHECKOUT POINTING_CHECKOUT ANNOTATOR_CHECKOUT PARTICLE_FILTER_CHECKOUT
 """
 
 import sys
@@ -116,6 +121,9 @@ ANNOTATOR_CALIB = {
     "cy": 250.80445861816406,
 }
 """``data/realsense_intrinsic.json``'s intrinsic matrix (column-major); the ninth argument."""
+PARTICLE_FILTER = ("sample_data/depth.png", "sample_data/color.png", "mustard_table_l515.npz")
+PARTICLE_FILTER_CALIB = {"fx": 459.906, "fy": 460.156, "cx": 347.191, "cy": 256.039}
+"""``example.py``'s camera (the tenth argument); its depth scale is 4000 units a metre."""
 ROS_DEFAULT = {"fx": 525.0, "fy": 525.0, "cx": 319.5, "cy": 239.5}
 """The intrinsics the TUM benchmark recommends for its registered Freiburg 1 and 2 depth images."""
 WIDTH, HEIGHT = 640, 480
@@ -206,3 +214,10 @@ if __name__ == "__main__":
         annotator = Path(sys.argv[9])
         target = Path(__file__).with_name(out)
         convert_tum(annotator / depth_png, annotator / colour_png, target, ANNOTATOR_CALIB, 1e-3)
+    if len(sys.argv) > 10:
+        depth_png, colour_png, out = PARTICLE_FILTER
+        checkout = Path(sys.argv[10])
+        target = Path(__file__).with_name(out)
+        convert_tum(
+            checkout / depth_png, checkout / colour_png, target, PARTICLE_FILTER_CALIB, 1 / 4000
+        )
