@@ -98,7 +98,7 @@ def test_the_support_plane_lies_on_the_points_of_its_boxes(name: str) -> None:
         (name, label)
         for name, truth in sorted(TRUTH.items())
         for label in truth
-        if label not in ("support", "held_out")
+        if label not in ("support", "held_out", "reserved")
     ],
 )
 def test_each_object_stands_on_the_support_where_its_box_is(name: str, label: str) -> None:
@@ -117,11 +117,20 @@ def test_each_object_stands_on_the_support_where_its_box_is(name: str, label: st
     centre_height = float(centre @ normal + distance)
     assert 0.0 < centre_height < truth["height_m"]
     # The centre is seen inside the object's box (an axis centre, behind the visible surface,
-    # within a few pixels of it).
+    # within a few pixels of it); an object seen in several boxes around something in front of
+    # it (a box behind a mallet's handle) may have it in the gap, inside the boxes' bounds.
     data = np.load(SCANS / f"{name}.npz")
     col = float(data["fx"]) * centre[0] / centre[2] + float(data["cx"])
     row = float(data["fy"]) * centre[1] / centre[2] + float(data["cy"])
     boxes = region if isinstance(region[0], tuple) else (region,)
+    rows_cols = np.asarray(boxes)
+    bounds = (
+        rows_cols[:, 0].min(),
+        rows_cols[:, 1].max(),
+        rows_cols[:, 2].min(),
+        rows_cols[:, 3].max(),
+    )
+    boxes = (*boxes, tuple(int(v) for v in bounds))
     margin = 10 if "radius_m" in truth else 0
     assert any(
         r0 - margin <= row < r1 + margin and c0 - margin <= col < c1 + margin

@@ -36,7 +36,22 @@ def test_the_held_out_scans_are_marked() -> None:
         "lab_floor_rtabmap",
         "box_floor_realsense_0",
         "box_floor_realsense_1",
+        "living_room_floor_realsense",
+        "mallet_box_carpet_realsense",
+        "mustard_table_l515",
     }
+
+
+def test_the_reserved_scans_are_held_out_and_marked() -> None:
+    """Reserved scans are kept for the next stop: held out, and marked so the bench skips them."""
+    reserved = {name for name, scan in TRUTH.items() if scan.get("reserved")}
+    assert reserved == {
+        "living_room_floor_realsense",
+        "mallet_box_carpet_realsense",
+        "mustard_table_l515",
+    }
+    assert all(TRUTH[name]["held_out"] for name in reserved)
+    assert all(scan.get("reserved", True) is True for scan in TRUTH.values())
 
 
 def test_the_tum_frame_loads_with_its_depths_unchanged() -> None:

@@ -33,9 +33,26 @@ Two RealSense frames of a cardboard box on a floor come from the test data of
 millimetres (the repository's ``depth_unit``) aligned to the colour image, whose intrinsics
 ``data/cam_params_realsense.json`` gives.
 
+A RealSense frame of a living room (objects on a wooden floor, a man on a sofa) comes the same way
+from ``felixchenfy/ros_3d_pointing_detection`` (MIT, commit
+6ba52e0893abca91563d201b2d9cde0e108c8139, ``data/images_n76/{depth,color}/00000.png``): depth
+in millimetres aligned to the colour image, with the intrinsics of
+``data/images_n76/cam_params_realsense.json``, the same as the box frames'.
+
+A RealSense frame of a tissue box and a mallet on a carpet comes the same way from
+``sakizuki/6DPoseAnnotator`` (MIT, commit 6a91bd2ea09847b4ada5e28fc7b42e02a17e6c95,
+``data/{depth,rgb}.png``): depth in millimetres (its code reads it with Open3D's depth scale
+1000) with pixel-to-pixel correspondence to the colour image, intrinsics in
+``data/realsense_intrinsic.json``.
+
+A frame of a mustard bottle on a table comes the same way from
+``shiyoung77/6DoF_Pose_Estimation_with_Particle_Filtering`` (BSD-2-Clause, commit
+69c653efe00bed8439c4648094345f4233de9576, ``sample_data/{depth,color}.png``): depth in units of
+0.25 mm (its ``example.py`` divides by 4000) with the intrinsics that file gives.
+
     python tests/data/real_scans/prepare.py PCL_CHECKOUT/test OPEN3D_CHECKOUT/examples/test_data \
         PCL_DATA_CHECKOUT DENSE_RGBD_VO_CHECKOUT/examples SLAMBOOK2_CHECKOUT RTABMAP_CHECKOUT \
-        PLANES_CHECKOUT
+        PLANES_CHECKOUT POINTING_CHECKOUT ANNOTATOR_CHECKOUT PARTICLE_FILTER_CHECKOUT
 """
 
 import sys
@@ -88,6 +105,25 @@ REALSENSE_CALIB = {
 }
 """``data/cam_params_realsense.json``'s intrinsic matrix (column-major, as Open3D writes it); the
 seventh argument."""
+POINTING = {
+    "data/images_n76/depth/00000.png": (
+        "data/images_n76/color/00000.png",
+        "living_room_floor_realsense.npz",
+    ),
+}
+"""``felixchenfy/ros_3d_pointing_detection``'s first frame (the eighth argument); its camera
+file gives ``REALSENSE_CALIB``'s numbers."""
+ANNOTATOR = ("data/depth.png", "data/rgb.png", "mallet_box_carpet_realsense.npz")
+ANNOTATOR_CALIB = {
+    "fx": 622.4392700195312,
+    "fy": 622.4393310546875,
+    "cx": 315.746337890625,
+    "cy": 250.80445861816406,
+}
+"""``data/realsense_intrinsic.json``'s intrinsic matrix (column-major); the ninth argument."""
+PARTICLE_FILTER = ("sample_data/depth.png", "sample_data/color.png", "mustard_table_l515.npz")
+PARTICLE_FILTER_CALIB = {"fx": 459.906, "fy": 460.156, "cx": 347.191, "cy": 256.039}
+"""``example.py``'s camera (the tenth argument); its depth scale is 4000 units a metre."""
 ROS_DEFAULT = {"fx": 525.0, "fy": 525.0, "cx": 319.5, "cy": 239.5}
 """The intrinsics the TUM benchmark recommends for its registered Freiburg 1 and 2 depth images."""
 WIDTH, HEIGHT = 640, 480
@@ -168,3 +204,20 @@ if __name__ == "__main__":
         for depth_png, (colour_png, out) in REALSENSE.items():
             target = Path(__file__).with_name(out)
             convert_tum(planes / depth_png, planes / colour_png, target, REALSENSE_CALIB, 1e-3)
+    if len(sys.argv) > 8:
+        pointing = Path(sys.argv[8])
+        for depth_png, (colour_png, out) in POINTING.items():
+            target = Path(__file__).with_name(out)
+            convert_tum(pointing / depth_png, pointing / colour_png, target, REALSENSE_CALIB, 1e-3)
+    if len(sys.argv) > 9:
+        depth_png, colour_png, out = ANNOTATOR
+        annotator = Path(sys.argv[9])
+        target = Path(__file__).with_name(out)
+        convert_tum(annotator / depth_png, annotator / colour_png, target, ANNOTATOR_CALIB, 1e-3)
+    if len(sys.argv) > 10:
+        depth_png, colour_png, out = PARTICLE_FILTER
+        checkout = Path(sys.argv[10])
+        target = Path(__file__).with_name(out)
+        convert_tum(
+            checkout / depth_png, checkout / colour_png, target, PARTICLE_FILTER_CALIB, 1 / 4000
+        )
