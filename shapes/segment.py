@@ -846,17 +846,26 @@ def _cut_by_limits(cluster: Cluster, reach: _Reach, params: SegmentationParams) 
     ``min_cut_share`` of its voxels (and ``min_cut_voxels``) lie within ``cut_band_m`` of
     ``max_height_m`` over its support, or as large a share of its points within
     ``reach.band_m`` of the depth cut, or within ``border_band_px`` of an edge of the image's
-    valid window other than the one the camera looks down through (:mod:`shapes.view`)."""
+    valid window other than the one the camera looks down through, on a line where nothing
+    more than ``cut_band_m`` (or three times its noise) behind it shows between it and that
+    edge (:meth:`shapes.view.ImageView.cut_at_closed_edge`)."""
     assert cluster.support is not None
     height = cluster.support.signed_distance(cluster.voxels)
     if _reaching(height >= params.max_height_m - params.cut_band_m, params):
         return True
-    if (
-        reach.view is not None
-        and cluster.pixels is not None
-        and _reaching(reach.view.at_closed_edge(cluster.pixels, params.border_band_px), params)
-    ):
-        return True
+    if reach.view is not None and cluster.pixels is not None:
+        at_edge = (
+            reach.view.at_closed_edge(cluster.pixels, params.border_band_px)
+            if reach.depth_image is None
+            else reach.view.cut_at_closed_edge(
+                cluster.pixels,
+                params.border_band_px,
+                reach.depth_image,
+                max(params.cut_band_m, 3 * cluster.noise_m),
+            )
+        )
+        if _reaching(at_edge, params):
+            return True
     if reach.world_from_sensor is None:
         return False
     rotation, shift = reach.world_from_sensor[:3, :3], reach.world_from_sensor[:3, 3]
