@@ -853,19 +853,24 @@ def _cut_by_limits(cluster: Cluster, reach: _Reach, params: SegmentationParams) 
     height = cluster.support.signed_distance(cluster.voxels)
     if _reaching(height >= params.max_height_m - params.cut_band_m, params):
         return True
-    if reach.view is not None and cluster.pixels is not None:
-        at_edge = (
-            reach.view.at_closed_edge(cluster.pixels, params.border_band_px)
-            if reach.depth_image is None
-            else reach.view.cut_at_closed_edge(
-                cluster.pixels,
-                params.border_band_px,
-                reach.depth_image,
-                max(params.cut_band_m, 3 * cluster.noise_m),
+    if (
+        reach.view is not None
+        and cluster.pixels is not None
+        and _reaching(reach.view.at_closed_edge(cluster.pixels, params.border_band_px), params)
+        and (
+            reach.depth_image is None
+            or _reaching(
+                reach.view.cut_at_closed_edge(
+                    cluster.pixels,
+                    params.border_band_px,
+                    reach.depth_image,
+                    max(params.cut_band_m, 3 * cluster.noise_m),
+                ),
+                params,
             )
         )
-        if _reaching(at_edge, params):
-            return True
+    ):
+        return True
     if reach.world_from_sensor is None:
         return False
     rotation, shift = reach.world_from_sensor[:3, :3], reach.world_from_sensor[:3, 3]

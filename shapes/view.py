@@ -81,7 +81,7 @@ class ImageView:
         region ends in view there, and the edge does not cut it."""
         pixels = np.asarray(pixels)
         row, col = np.divmod(pixels, self.width)
-        depth = depth_image.ravel()[pixels]
+        flat = depth_image.ravel()
         lines = {  # edge: (distance to it, the line across it, outward step in flat pixels)
             "top": (row - self.rows[0], col, -self.width),
             "bottom": (self.rows[1] - row, col, self.width),
@@ -97,11 +97,12 @@ class ImageView:
             order = near[np.lexsort((gap[near], across[near]))]
             first = np.r_[True, across[order][1:] != across[order][:-1]]
             ends = order[first]
+            behind_m = flat[pixels[ends]] + farther_m
             seen_behind = np.zeros(len(ends), dtype=bool)
             for k in range(1, band_px + 1):
-                inside = gap[ends] >= k
-                beyond = depth_image.ravel()[pixels[ends[inside]] + k * step]
-                seen_behind[np.flatnonzero(inside)[beyond > depth[ends[inside]] + farther_m]] = True
+                inside = np.flatnonzero(gap[ends] >= k)
+                beyond = flat[pixels[ends[inside]] + k * step]
+                seen_behind[inside[beyond > behind_m[inside]]] = True
             line_cut = np.isin(across[near], across[ends][~seen_behind])
             cut[near[line_cut]] = True
         return cut
