@@ -846,7 +846,9 @@ def _cut_by_limits(cluster: Cluster, reach: _Reach, params: SegmentationParams) 
     ``min_cut_share`` of its voxels (and ``min_cut_voxels``) lie within ``cut_band_m`` of
     ``max_height_m`` over its support, or as large a share of its points within
     ``reach.band_m`` of the depth cut, or within ``border_band_px`` of an edge of the image's
-    valid window other than the one the camera looks down through (:mod:`shapes.view`)."""
+    valid window other than the one the camera looks down through, on a line where nothing
+    behind it (:func:`_behind_m`) shows between it and that edge
+    (:meth:`shapes.view.ImageView.cut_at_closed_edge`)."""
     assert cluster.support is not None
     height = cluster.support.signed_distance(cluster.voxels)
     if _reaching(height >= params.max_height_m - params.cut_band_m, params):
@@ -855,6 +857,18 @@ def _cut_by_limits(cluster: Cluster, reach: _Reach, params: SegmentationParams) 
         reach.view is not None
         and cluster.pixels is not None
         and _reaching(reach.view.at_closed_edge(cluster.pixels, params.border_band_px), params)
+        and (
+            reach.depth_image is None
+            or _reaching(
+                reach.view.cut_at_closed_edge(
+                    cluster.pixels,
+                    params.border_band_px,
+                    reach.depth_image,
+                    _behind_m(cluster, reach.depth_image, params),
+                ),
+                params,
+            )
+        )
     ):
         return True
     if reach.world_from_sensor is None:
@@ -862,6 +876,16 @@ def _cut_by_limits(cluster: Cluster, reach: _Reach, params: SegmentationParams) 
     rotation, shift = reach.world_from_sensor[:3, :3], reach.world_from_sensor[:3, 3]
     depth = (cluster.points - shift) @ rotation[:, 2]
     return _reaching(depth >= reach.depth_cut_m - reach.band_m, params)
+
+
+def _behind_m(cluster: Cluster, depth_image: FloatArray, params: SegmentationParams) -> float:
+    """How much farther than a cluster's outline a depth must lie to be something seen behind
+    it: ``cut_band_m`` (or three times its noise), and no less than the cluster's own depth
+    extent, so that a surface receding towards the image's edge (a chair's leg, the floor
+    round a wheel) does not pass for a background behind the cluster."""
+    assert cluster.pixels is not None
+    extent_m = float(np.ptp(depth_image.ravel()[cluster.pixels]))
+    return max(params.cut_band_m, 3 * cluster.noise_m, extent_m)
 
 
 def _floats(cluster: Cluster, reach: _Reach, margin_m: float, params: SegmentationParams) -> bool:

@@ -65,6 +65,48 @@ class ImageView:
                 near |= gap <= band_px
         return near
 
+    def cut_at_closed_edge(
+        self,
+        pixels: npt.NDArray[np.intp],
+        band_px: int,
+        depth_image: FloatArray,
+        farther_m: float,
+    ) -> npt.NDArray[np.bool_]:
+        """Which of the flat row-major ``pixels`` (a region of ``depth_image``, which holds
+        NaN where there is no depth) lie within ``band_px`` of an edge of the window other
+        than the open one, on a line across that edge (a row, for the left and right edges)
+        where nothing behind the region is seen between it and the edge: no pixel between the
+        region's outermost pixel on that line and the window's edge holds a depth more than
+        ``farther_m`` beyond that pixel's. Where the background shows past its outline, the
+        region ends in view there, and the edge does not cut it."""
+        pixels = np.asarray(pixels)
+        row, col = np.divmod(pixels, self.width)
+        flat = depth_image.ravel()
+        lines = {  # edge: (distance to it, the line across it, outward step in flat pixels)
+            "top": (row - self.rows[0], col, -self.width),
+            "bottom": (self.rows[1] - row, col, self.width),
+            "left": (col - self.cols[0], row, -1),
+            "right": (self.cols[1] - col, row, 1),
+        }
+        cut = np.zeros(len(pixels), dtype=bool)
+        for edge, (gap, across, step) in lines.items():
+            near = np.flatnonzero(gap <= band_px)
+            if edge == self.open_edge or not len(near):
+                continue
+            # The outermost pixel of each line, and whether anything farther shows past it.
+            order = near[np.lexsort((gap[near], across[near]))]
+            first = np.r_[True, across[order][1:] != across[order][:-1]]
+            ends = order[first]
+            behind_m = flat[pixels[ends]] + farther_m
+            seen_behind = np.zeros(len(ends), dtype=bool)
+            for k in range(1, band_px + 1):
+                inside = np.flatnonzero(gap[ends] >= k)
+                beyond = flat[pixels[ends[inside]] + k * step]
+                seen_behind[inside[beyond > behind_m[inside]]] = True
+            line_cut = np.isin(across[near], across[ends][~seen_behind])
+            cut[near[line_cut]] = True
+        return cut
+
     def hidden_below(
         self,
         pixels: npt.NDArray[np.intp],

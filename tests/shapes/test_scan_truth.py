@@ -31,11 +31,6 @@ def test_truth_json_is_what_measure_py_computes(name: str) -> None:
 
 def test_the_held_out_scans_are_marked() -> None:
     assert {name for name, scan in TRUTH.items() if scan["held_out"]} == {
-        "desk_fr2_tum_0",
-        "desk_fr2_tum_1",
-        "lab_floor_rtabmap",
-        "box_floor_realsense_0",
-        "box_floor_realsense_1",
         "living_room_floor_realsense",
         "mallet_box_carpet_realsense",
         "mustard_table_l515",
