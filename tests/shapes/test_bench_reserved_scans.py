@@ -12,6 +12,9 @@ import pytest
 ROOT = Path(__file__).parents[2]
 TRUTH = json.loads((ROOT / "tests" / "data" / "real_scans" / "truth.json").read_text())
 RESERVED = sorted(name for name, scan in TRUTH.items() if scan.get("reserved"))
+RESERVED_AT_STOP_38 = {"ycb_desk_xtion"}
+"""Kept for the stop after stop 38: the bench does not even list them, so that the lead's
+``--reserved`` run of stop 38 (the scans reserved at stop 37) leaves them unseen."""
 
 
 class Loaded(Exception):
@@ -26,7 +29,7 @@ def _bench(monkeypatch: pytest.MonkeyPatch) -> ModuleType:
     assert spec is not None and spec.loader is not None
     bench = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(bench)
-    assert RESERVED and set(RESERVED) <= set(bench.REAL_TRUTH)
+    assert RESERVED and set(RESERVED) - RESERVED_AT_STOP_38 <= set(bench.REAL_TRUTH)
 
     def refuse(path: Path) -> None:
         raise Loaded(Path(path).stem)
@@ -44,3 +47,16 @@ def test_the_bench_skips_the_reserved_scans_unless_asked(monkeypatch: pytest.Mon
     bench.real_scans(tuned_only=True, reserved=True)  # reserved scans are held out too
     with pytest.raises(Loaded):
         bench.real_scans(reserved=True)
+
+
+def test_the_scans_reserved_at_stop_38_are_not_in_the_bench() -> None:
+    """Not even ``--reserved`` gives them to the pipeline before the next stop."""
+    spec = importlib.util.spec_from_file_location(
+        "bench_perception", ROOT / "bench" / "perception.py"
+    )
+    assert spec is not None and spec.loader is not None
+    bench = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(bench)
+    assert RESERVED_AT_STOP_38 <= set(RESERVED)
+    listed = set(bench.REAL_TRUTH) | set(bench.REAL_TRUTH.values())
+    assert not RESERVED_AT_STOP_38 & listed

@@ -21,6 +21,13 @@ def _measure_module():
 
 
 TRUTH = json.loads((SCANS / "truth.json").read_text())
+RESERVED_AT_STOP_37 = {
+    "living_room_floor_realsense",
+    "mallet_box_carpet_realsense",
+    "mustard_table_l515",
+}
+RESERVED_AT_STOP_38 = {"ycb_desk_xtion"}
+"""Found and measured at stop 38, kept for the next stop (README.md): nobody runs them before."""
 
 
 @pytest.mark.parametrize("name", sorted(TRUTH))
@@ -30,23 +37,20 @@ def test_truth_json_is_what_measure_py_computes(name: str) -> None:
 
 
 def test_the_held_out_scans_are_marked() -> None:
-    assert {name for name, scan in TRUTH.items() if scan["held_out"]} == {
-        "living_room_floor_realsense",
-        "mallet_box_carpet_realsense",
-        "mustard_table_l515",
-    }
+    assert {name for name, scan in TRUTH.items() if scan["held_out"]} == (
+        RESERVED_AT_STOP_37 | RESERVED_AT_STOP_38
+    )
 
 
 def test_the_reserved_scans_are_held_out_and_marked() -> None:
-    """Reserved scans are kept for the next stop: held out, and marked so the bench skips them."""
+    """Reserved scans are kept for a later stop: held out, and marked so the bench skips them."""
     reserved = {name for name, scan in TRUTH.items() if scan.get("reserved")}
-    assert reserved == {
-        "living_room_floor_realsense",
-        "mallet_box_carpet_realsense",
-        "mustard_table_l515",
-    }
+    assert reserved == RESERVED_AT_STOP_37 | RESERVED_AT_STOP_38
     assert all(TRUTH[name]["held_out"] for name in reserved)
     assert all(scan.get("reserved", True) is True for scan in TRUTH.values())
+    measure = _measure_module()
+    assert measure.RESERVED_AT_STOP_37 == RESERVED_AT_STOP_37
+    assert measure.RESERVED_AT_STOP_38 == RESERVED_AT_STOP_38
 
 
 def test_the_tum_frame_loads_with_its_depths_unchanged() -> None:

@@ -50,9 +50,16 @@ A frame of a mustard bottle on a table comes the same way from
 69c653efe00bed8439c4648094345f4233de9576, ``sample_data/{depth,color}.png``): depth in units of
 0.25 mm (its ``example.py`` divides by 4000) with the intrinsics that file gives.
 
+Frames of YCB objects on tables come the same way from PoseCNN's demo images (``yuxng/PoseCNN``,
+MIT, commit 9f3dd7b7bce21dcafc05e8f18ccc90da3caabd04,
+``data/demo_images/00000{1,2,5}-{color,depth}.png``): an Asus Xtion's depth
+registered to its colour image, in units of 0.1 mm (its ``tools/demo.py`` gives
+``factor_depth`` 10000), with the intrinsic matrix that file gives.
+
     python tests/data/real_scans/prepare.py PCL_CHECKOUT/test OPEN3D_CHECKOUT/examples/test_data \
         PCL_DATA_CHECKOUT DENSE_RGBD_VO_CHECKOUT/examples SLAMBOOK2_CHECKOUT RTABMAP_CHECKOUT \
-        PLANES_CHECKOUT POINTING_CHECKOUT ANNOTATOR_CHECKOUT PARTICLE_FILTER_CHECKOUT
+        PLANES_CHECKOUT POINTING_CHECKOUT ANNOTATOR_CHECKOUT PARTICLE_FILTER_CHECKOUT \
+        POSECNN_CHECKOUT
 """
 
 import sys
@@ -124,6 +131,11 @@ ANNOTATOR_CALIB = {
 PARTICLE_FILTER = ("sample_data/depth.png", "sample_data/color.png", "mustard_table_l515.npz")
 PARTICLE_FILTER_CALIB = {"fx": 459.906, "fy": 460.156, "cx": 347.191, "cy": 256.039}
 """``example.py``'s camera (the tenth argument); its depth scale is 4000 units a metre."""
+POSECNN = {
+    "data/demo_images/000005-depth.png": ("data/demo_images/000005-color.png", "ycb_desk_xtion.npz"),
+}
+POSECNN_CALIB = {"fx": 1066.778, "fy": 1067.487, "cx": 312.9869, "cy": 241.3109}
+"""``tools/demo.py``'s intrinsic matrix (the eleventh argument); its depth factor is 10000 a metre."""
 ROS_DEFAULT = {"fx": 525.0, "fy": 525.0, "cx": 319.5, "cy": 239.5}
 """The intrinsics the TUM benchmark recommends for its registered Freiburg 1 and 2 depth images."""
 WIDTH, HEIGHT = 640, 480
@@ -221,3 +233,8 @@ if __name__ == "__main__":
         convert_tum(
             checkout / depth_png, checkout / colour_png, target, PARTICLE_FILTER_CALIB, 1 / 4000
         )
+    if len(sys.argv) > 11:
+        posecnn = Path(sys.argv[11])
+        for depth_png, (colour_png, out) in POSECNN.items():
+            target = Path(__file__).with_name(out)
+            convert_tum(posecnn / depth_png, posecnn / colour_png, target, POSECNN_CALIB, 1e-4)
