@@ -132,10 +132,13 @@ PARTICLE_FILTER = ("sample_data/depth.png", "sample_data/color.png", "mustard_ta
 PARTICLE_FILTER_CALIB = {"fx": 459.906, "fy": 460.156, "cx": 347.191, "cy": 256.039}
 """``example.py``'s camera (the tenth argument); its depth scale is 4000 units a metre."""
 POSECNN = {
-    "data/demo_images/000005-depth.png": ("data/demo_images/000005-color.png", "ycb_desk_xtion.npz"),
+    "data/demo_images/000005-depth.png": (
+        "data/demo_images/000005-color.png",
+        "ycb_desk_xtion.npz",
+    ),
 }
 POSECNN_CALIB = {"fx": 1066.778, "fy": 1067.487, "cx": 312.9869, "cy": 241.3109}
-"""``tools/demo.py``'s intrinsic matrix (the eleventh argument); its depth factor is 10000 a metre."""
+"""``tools/demo.py``'s intrinsic matrix (the eleventh argument); 10000 depth units a metre."""
 ROS_DEFAULT = {"fx": 525.0, "fy": 525.0, "cx": 319.5, "cy": 239.5}
 """The intrinsics the TUM benchmark recommends for its registered Freiburg 1 and 2 depth images."""
 WIDTH, HEIGHT = 640, 480
