@@ -12,7 +12,7 @@ import pytest
 ROOT = Path(__file__).parents[2]
 TRUTH = json.loads((ROOT / "tests" / "data" / "real_scans" / "truth.json").read_text())
 RESERVED = sorted(name for name, scan in TRUTH.items() if scan.get("reserved"))
-RESERVED_AT_STOP_38 = {"ycb_desk_xtion", "ycb_chair_tablet_xtion"}
+RESERVED_AT_STOP_38 = {"ycb_desk_xtion", "ycb_chair_tablet_xtion", "ycb_chessboard_table_xtion"}
 """Kept for the stop after stop 38: the bench does not even list them, so that the lead's
 ``--reserved`` run of stop 38 (the scans reserved at stop 37) leaves them unseen."""
 

@@ -52,7 +52,7 @@ A frame of a mustard bottle on a table comes the same way from
 
 Frames of YCB objects on tables come the same way from PoseCNN's demo images (``yuxng/PoseCNN``,
 MIT, commit 9f3dd7b7bce21dcafc05e8f18ccc90da3caabd04,
-``data/demo_images/00000{3,5}-{color,depth}.png``): an Asus Xtion's depth
+``data/demo_images/00000{1,3,5}-{color,depth}.png``): an Asus Xtion's depth
 registered to its colour image, in units of 0.1 mm (its ``tools/demo.py`` gives
 ``factor_depth`` 10000), with the intrinsic matrix that file gives.
 
@@ -132,6 +132,10 @@ PARTICLE_FILTER = ("sample_data/depth.png", "sample_data/color.png", "mustard_ta
 PARTICLE_FILTER_CALIB = {"fx": 459.906, "fy": 460.156, "cx": 347.191, "cy": 256.039}
 """``example.py``'s camera (the tenth argument); its depth scale is 4000 units a metre."""
 POSECNN = {
+    "data/demo_images/000001-depth.png": (
+        "data/demo_images/000001-color.png",
+        "ycb_chessboard_table_xtion.npz",
+    ),
     "data/demo_images/000003-depth.png": (
         "data/demo_images/000003-color.png",
         "ycb_chair_tablet_xtion.npz",
