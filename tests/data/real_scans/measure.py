@@ -228,7 +228,7 @@ REGIONS = {
     ),
     # Reserved at stop 38 for the next stop (README.md): PoseCNN's demo frames, an Asus Xtion
     # (structured light) with YCB objects, depth registered to colour, 0.1 mm units.
-    # A wooden desk 0.85-1.1 m away, the camera 0.62 m over it, looking down 35 degrees: a
+    # A wooden desk 0.85-1.1 m away, the camera 0.63 m over it, looking down 36 degrees: a
     # cracker box standing behind a bleach bottle, a drill on its battery, a clamp and a sugar box
     # lying on its side; a chair and a wall behind, unmeasured.
     "ycb_desk_xtion": (
@@ -275,7 +275,7 @@ REGIONS = {
         },
     ),
     # The writing tablet of a lecture chair (about 45 x 35 cm) 0.75-0.95 m away, the camera 0.65 m
-    # over it, looking down 47 degrees: a meat can, a soup can standing and a bowl; the carpet
+    # over it, looking down 43 degrees: a meat can, a soup can standing and a bowl; the carpet
     # 0.6-0.7 m below it and other chairs fill the rest of the view, unmeasured.
     "ycb_chair_tablet_xtion": (
         # One box per quarter of the visible tablet; the far left one is the strip between the
@@ -310,8 +310,9 @@ REGIONS = {
             ),
             "mustard bottle": (((205, 240, 358, 392), (240, 445, 327, 399)), False),
             # Its left third is hidden behind the mustard bottle: through the arc seen, the side
-            # wall's circle is 2.75 cm (2.4-2.8 cm as the cut varies) against YCB's 3.4 cm, so
-            # only its visible centroid is given. The mustard's edge reaches column 405.
+            # wall's circle is 2.75 cm (2.4-2.8 cm as the cut varies), against 3.26 cm for the
+            # same kind of can on the chair's tablet, so only its visible centroid is given. The
+            # mustard's edge reaches column 405.
             "soup can": ((245, 378, 406, 466), False),
             # The drill's body, then either side of the banana's stem.
             "drill": (((262, 340, 40, 278), (340, 368, 40, 130), (340, 368, 200, 278)), False),
