@@ -150,3 +150,25 @@ def test_each_object_stands_on_the_support_where_its_box_is(name: str, label: st
         assert abs(float(np.median(off_axis)) - truth["radius_m"]) < 0.25 * truth["radius_m"]
     else:  # the centroid of the visible points above the support
         np.testing.assert_allclose(above.mean(axis=0), centre, atol=0.01)
+
+
+POSECNN_FRAMES = ("ycb_desk_xtion", "ycb_chair_tablet_xtion", "ycb_chessboard_table_xtion")
+"""PoseCNN's demo frames (an Asus Xtion), reserved at stop 38 (README.md)."""
+POSECNN_CAMERA = {"fx": 1066.778, "fy": 1067.487, "cx": 312.9869, "cy": 241.3109}
+"""``tools/demo.py``'s intrinsic matrix, which reads the depth PNGs at 10000 units a metre."""
+
+
+@pytest.mark.parametrize("name", POSECNN_FRAMES)
+def test_the_xtion_frames_keep_their_depths_and_camera(name: str) -> None:
+    """Depths stored unchanged (whole millimetres in 0.1 mm units) with demo.py's camera, and
+    loaded by ``open_source`` at that scale."""
+    data = np.load(SCANS / f"{name}.npz")
+    assert float(data["depth_scale"]) == 1e-4
+    assert {key: float(data[key]) for key in POSECNN_CAMERA} == POSECNN_CAMERA
+    depth = data["depth"]
+    assert not (depth % 10).any() and 0.6 < np.median(depth[depth > 0]) / 10_000 < 1.5
+    frame = next(open_source(SCANS / f"{name}.npz"))
+    assert frame.pixels is not None
+    np.testing.assert_allclose(
+        frame.points[:, 2], depth.reshape(-1)[frame.pixels] / 10_000, atol=1e-6
+    )
