@@ -107,11 +107,15 @@ def test_each_object_stands_on_the_support_where_its_box_is(name: str, label: st
     region = MEASURE.REGIONS[name][1][label][0]
     pts = _in_boxes(_image(name), region)
     height = pts @ normal + distance
-    keep = (height > 0.015) & (height < MEASURE.MAX_HEIGHT_M.get(name, 0.40))
+    max_height = MEASURE.MAX_HEIGHT_M.get(name, 0.40)
+    keep = (height > 0.015) & (height < max_height)
     keep &= pts[:, 2] < MEASURE.NEARER_THAN_M.get((name, label), np.inf)
     above = pts[keep]
     assert len(above) >= MIN_OBJECT_POINTS
-    assert abs(len(above) - truth["points"]) <= 0.01 * truth["points"]
+    # The rounded normal moves points by up to 0.3 mm: those that near a height cut may fall
+    # either side of it (many, on a flat object a few cm tall).
+    at_cuts = (np.abs(height - 0.015) < 5e-4) | (np.abs(height - max_height) < 5e-4)
+    assert abs(len(above) - truth["points"]) <= 0.01 * truth["points"] + np.count_nonzero(at_cuts)
     assert float(np.percentile(height[keep], 99)) == pytest.approx(truth["height_m"], abs=2e-3)
     centre = np.asarray(truth["centre"])
     centre_height = float(centre @ normal + distance)
