@@ -155,6 +155,23 @@ REGIONS = {
             "book": ((218, 276, 508, 600), False),
             "telephone": ((215, 292, 418, 498), False),
             "monitor": ((98, 254, 232, 390), False),
+            # Measured at stop 38 (README.md). The lamp: its pole, its head, its leaning arm with
+            # the white board on it, its X-shaped foot; nearer than 1.75 m, the plant's leaves
+            # and the papers behind it from 1.8 m. The ball behind the monitor shows as a sliver
+            # of 119 pixels, 3 cm wide: not measured (README.md).
+            "magnifier lamp": (
+                (
+                    (55, 170, 96, 130),
+                    (170, 240, 92, 140),
+                    (120, 265, 140, 205),
+                    (240, 290, 90, 192),
+                ),
+                False,
+            ),
+            "plant": ((55, 250, 20, 92), False),
+            "papers": ((170, 215, 205, 232), False),
+            "yellow box": ((108, 160, 203, 232), False),
+            "teddy bear": ((55, 95, 285, 370), False),  # above the monitor's top edge
         },
     ),
     # The same desk from a camera moved to the right and back: a ball shows beside the monitor.
@@ -172,6 +189,21 @@ REGIONS = {
             "book": ((228, 292, 480, 562), False),
             "telephone": (((232, 300, 398, 476), (300, 312, 442, 476)), False),
             "monitor": ((100, 264, 226, 368), False),
+            # The monitor's left edge shows from column 220: the papers' and the yellow box's
+            # boxes stop short of it.
+            "magnifier lamp": (
+                (
+                    (45, 172, 86, 118),
+                    (172, 235, 78, 125),
+                    (125, 265, 125, 185),
+                    (235, 285, 78, 172),
+                ),
+                False,
+            ),
+            "plant": ((50, 250, 15, 78), False),
+            "papers": ((170, 215, 190, 218), False),
+            "yellow box": ((115, 165, 198, 218), False),
+            "teddy bear": ((78, 108, 290, 365), False),
         },
     ),
     # A lab seen from a robot, the camera 41 cm over the floor and level; the objects stand
@@ -298,6 +330,10 @@ NEARER_THAN_M = {
     ("desk_fr2_tum_1", "mug"): 1.32,
     ("desk_fr2_tum_1", "keyboard"): 1.56,
     ("desk_fr2_tum_1", "monitor"): 1.9,
+    # The lamp is 1.3-1.7 m away (1.4-1.8 m in frame 1); the plant's leaves and the papers seen
+    # past it start at 1.8 m (1.9 m), with next to no points between.
+    ("desk_fr2_tum_0", "magnifier lamp"): 1.75,
+    ("desk_fr2_tum_1", "magnifier lamp"): 1.85,
     # The wall behind the rack case and the chairs is 4.0-4.2 m away; the case ends at 3.4 m,
     # the chairs (and the desk's front edge, 3.1-3.4 m, where a box still holds it) at 3.45 m.
     ("lab_floor_rtabmap", "rack case"): 3.5,
