@@ -49,6 +49,19 @@ REGIONS = {
             "striped board": ((140, 205, 168, 222), False),
             "bag": ((97, 195, 465, 540), False),
             "green bottle": ((118, 188, 336, 350), False),
+            # Measured at stop 38 (README.md): the things standing on the desk right of the green
+            # bottle, in front of the partition (2.7-2.85 m away), and the shelf under the globe.
+            "clear bottle": ((130, 190, 360, 382), False),
+            "brown bottle": ((138, 186, 384, 404), False),
+            "jar": ((135, 183, 428, 447), False),
+            "beige cup": ((155, 186, 448, 465), False),  # left of the bag
+            "cup on saucer": ((195, 218, 470, 503), False),
+            "blue packet": ((186, 200, 362, 392), False),
+            "red tray": (((200, 242, 368, 440), (193, 200, 392, 440)), False),
+            "right bottle": ((110, 190, 542, 568), False),
+            "plate": ((203, 222, 558, 585), False),
+            # Its front below its top, round the striped board.
+            "shelf": (((100, 140, 80, 315), (140, 200, 80, 168), (140, 200, 222, 315)), False),
         },
     ),
     "office_kinect": (
@@ -315,6 +328,10 @@ monitor, a rack case 1 m tall; a mallet 29 cm tall)."""
 NEARER_THAN_M = {
     ("chair_boxes_kinect", "chair"): 1.85,
     ("desk_tum", "die"): 2.2,
+    # The clear bottle stands 2.5-2.6 m away, the partition behind it from 2.65 m; the shelf's
+    # front and top reach 2.6 m, the partition past its legs from 2.65 m.
+    ("desk_tum", "clear bottle"): 2.65,
+    ("desk_tum", "shelf"): 2.65,
     # The telephone shows above the mug's rim (1.37-1.39 m, the mug 1.12-1.25 m); the stand's
     # foot behind the keyboard (1.55-1.60 m, the keyboard's back edge 1.47 m); the teddy bear and
     # the hall behind the monitor (1.75-2.85 m, the monitor 1.45-1.70 m).
