@@ -51,7 +51,7 @@ REGIONS = {
             "green bottle": ((118, 188, 336, 350), False),
             # Measured at stop 38 (README.md): the things standing on the desk right of the green
             # bottle, in front of the partition (2.7-2.85 m away), and the shelf under the globe.
-            "clear bottle": ((130, 190, 360, 382), False),
+            "clear bottle": ((130, 186, 360, 382), False),
             "brown bottle": ((138, 186, 384, 404), False),
             "jar": ((135, 183, 428, 447), False),
             "beige cup": ((155, 186, 448, 465), False),  # left of the bag
@@ -61,7 +61,15 @@ REGIONS = {
             "right bottle": ((110, 190, 542, 568), False),
             "plate": ((203, 222, 558, 585), False),
             # Its front below its top, round the striped board.
-            "shelf": (((100, 140, 80, 315), (140, 200, 80, 168), (140, 200, 222, 315)), False),
+            "shelf": (
+                (
+                    (100, 140, 80, 315),
+                    (140, 193, 80, 168),
+                    (193, 200, 80, 124),
+                    (140, 200, 222, 315),
+                ),
+                False,
+            ),
         },
     ),
     "office_kinect": (
@@ -101,13 +109,16 @@ REGIONS = {
             "telephone and white box": (((215, 272, 140, 222), (272, 312, 140, 165)), False),
             "white sheet": ((272, 312, 165, 222), False),
             "tray's black device": ((172, 200, 238, 298), False),
-            "tray's purple device": ((198, 222, 256, 300), False),
-            "power strip": ((220, 262, 222, 285), False),
+            "tray's purple device": ((200, 222, 256, 300), False),
+            "power strip": ((222, 262, 222, 285), False),
             "red stapler": ((236, 264, 285, 308), False),
-            "tape dispenser": ((372, 422, 60, 122), False),
-            "power adapter": ((350, 390, 100, 145), False),
+            "tape dispenser": ((378, 422, 60, 122), False),
+            "power adapter": ((350, 378, 100, 145), False),
             "mouse": ((305, 360, 545, 605), False),
-            "monitor": (((40, 252, 295, 522), (252, 330, 340, 520)), False),
+            "monitor": (
+                ((40, 236, 300, 522), (236, 252, 308, 522), (252, 330, 340, 520)),
+                False,
+            ),
         },
     ),
     "desk_fr1_tum_1": (
@@ -122,13 +133,16 @@ REGIONS = {
             "telephone and white box": (((221, 278, 134, 216), (278, 318, 134, 159)), False),
             "white sheet": ((278, 318, 159, 216), False),
             "tray's black device": ((178, 206, 232, 292), False),
-            "tray's purple device": ((204, 228, 250, 294), False),
-            "power strip": ((226, 268, 216, 279), False),
+            "tray's purple device": ((206, 228, 250, 294), False),
+            "power strip": ((228, 268, 216, 279), False),
             "red stapler": ((242, 270, 279, 302), False),
-            "tape dispenser": ((380, 430, 52, 114), False),
-            "power adapter": ((358, 398, 92, 137), False),
-            "mouse": ((308, 367, 535, 595), False),
-            "monitor": (((45, 258, 285, 515), (258, 336, 330, 515)), False),
+            "tape dispenser": ((386, 430, 52, 114), False),
+            "power adapter": ((358, 386, 92, 137), False),
+            "mouse": ((308, 367, 538, 595), False),
+            "monitor": (
+                ((45, 242, 294, 515), (242, 258, 302, 515), (258, 336, 336, 515)),
+                False,
+            ),
         },
     ),
     "box_floor_kinect": (
@@ -176,14 +190,14 @@ REGIONS = {
                 (
                     (55, 170, 96, 130),
                     (170, 240, 92, 140),
-                    (120, 265, 140, 205),
+                    (120, 262, 140, 205),
                     (240, 290, 90, 192),
                 ),
                 False,
             ),
-            "plant": ((55, 250, 20, 92), False),
+            "plant": ((55, 250, 20, 90), False),
             "papers": ((170, 215, 205, 232), False),
-            "yellow box": ((108, 160, 203, 232), False),
+            "yellow box": ((108, 160, 205, 232), False),
             "teddy bear": ((55, 95, 285, 370), False),  # above the monitor's top edge
         },
     ),
@@ -208,7 +222,7 @@ REGIONS = {
                 (
                     (45, 172, 86, 118),
                     (172, 235, 78, 125),
-                    (125, 265, 125, 185),
+                    (125, 258, 125, 185),
                     (235, 285, 78, 172),
                 ),
                 False,
