@@ -51,6 +51,27 @@ REGIONS = {
             "striped board": ((140, 205, 168, 222), False),
             "bag": ((97, 195, 465, 540), False),
             "green bottle": ((118, 188, 336, 350), False),
+            # Measured at stop 38 (README.md): the things standing on the desk right of the green
+            # bottle, in front of the partition (2.7-2.85 m away), and the shelf under the globe.
+            "clear bottle": ((130, 186, 360, 382), False),
+            "brown bottle": ((138, 186, 384, 404), False),
+            "jar": ((135, 183, 428, 447), False),
+            "beige cup": ((155, 186, 448, 465), False),  # left of the bag
+            "cup on saucer": ((195, 218, 470, 503), False),
+            "blue packet": ((186, 200, 362, 392), False),
+            "red tray": (((200, 242, 368, 440), (193, 200, 392, 440)), False),
+            "right bottle": ((110, 190, 542, 568), False),
+            "plate": ((203, 222, 558, 585), False),
+            # Its front below its top, round the striped board.
+            "shelf": (
+                (
+                    (100, 140, 80, 315),
+                    (140, 193, 80, 168),
+                    (193, 200, 80, 124),
+                    (140, 200, 222, 315),
+                ),
+                False,
+            ),
         },
     ),
     "office_kinect": (
@@ -84,6 +105,28 @@ REGIONS = {
             "pen holder": ((310, 378, 236, 296), False),
             "book": ((250, 340, 25, 130), False),
             "keyboard": (((335, 462, 335, 545), (360, 462, 545, 592)), False),
+            # Measured at stop 38, the bench's strays that are real objects (README.md): the
+            # books' box leaves out the telephone's, the monitor's the cup's and the keyboard's.
+            "book pile": (((160, 215, 10, 150), (215, 248, 10, 140)), False),
+            "telephone and white box": (((215, 272, 140, 222), (272, 312, 140, 165)), False),
+            "white sheet": ((272, 312, 165, 222), False),
+            "tray's black device": ((172, 200, 238, 298), False),
+            "tray's purple device": ((200, 222, 256, 300), False),
+            "power strip": ((222, 262, 222, 285), False),
+            "red stapler": ((236, 264, 285, 308), False),
+            "tape dispenser": ((378, 422, 60, 122), False),
+            "power adapter": ((350, 378, 100, 145), False),
+            "mouse": ((305, 360, 545, 605), False),
+            # The screen's right part stops short of the white thing standing at its right.
+            "monitor": (
+                (
+                    (40, 236, 300, 522),
+                    (236, 252, 308, 522),
+                    (252, 330, 340, 520),
+                    (116, 232, 522, 574),
+                ),
+                False,
+            ),
         },
     ),
     "desk_fr1_tum_1": (
@@ -94,6 +137,26 @@ REGIONS = {
             "pen holder": ((312, 378, 230, 292), False),
             "book": ((258, 346, 20, 128), False),
             "keyboard": (((338, 465, 330, 538), (367, 465, 538, 590)), False),
+            "book pile": (((168, 221, 5, 145), (221, 256, 5, 134)), False),
+            "telephone and white box": (((221, 278, 134, 216), (278, 318, 134, 159)), False),
+            "white sheet": ((278, 318, 159, 216), False),
+            "tray's black device": ((178, 206, 232, 292), False),
+            "tray's purple device": ((206, 228, 250, 294), False),
+            "power strip": ((228, 268, 216, 279), False),
+            "red stapler": ((242, 270, 279, 302), False),
+            "tape dispenser": ((386, 430, 52, 114), False),
+            "power adapter": ((358, 386, 92, 137), False),
+            "mouse": ((308, 367, 538, 595), False),
+            "monitor": (
+                (
+                    (45, 242, 294, 515),
+                    (242, 258, 302, 515),
+                    (258, 336, 336, 515),
+                    (124, 210, 515, 572),
+                    (210, 236, 515, 560),
+                ),
+                False,
+            ),
         },
     ),
     "box_floor_kinect": (
@@ -133,6 +196,23 @@ REGIONS = {
             "book": ((218, 276, 508, 600), False),
             "telephone": ((215, 292, 418, 498), False),
             "monitor": ((98, 254, 232, 390), False),
+            # Measured at stop 38 (README.md). The lamp: its pole, its head, its leaning arm with
+            # the white board on it, its X-shaped foot; nearer than 1.75 m, the plant's leaves
+            # and the papers behind it from 1.8 m. The ball behind the monitor shows as a sliver
+            # of 119 pixels, 3 cm wide: not measured (README.md).
+            "magnifier lamp": (
+                (
+                    (55, 170, 96, 130),
+                    (170, 240, 92, 140),
+                    (120, 262, 140, 205),
+                    (240, 290, 90, 192),
+                ),
+                False,
+            ),
+            "plant": ((55, 250, 20, 90), False),
+            "papers": ((170, 215, 205, 232), False),
+            "yellow box": ((108, 160, 205, 232), False),
+            "teddy bear": ((55, 95, 285, 370), False),  # above the monitor's top edge
         },
     ),
     # The same desk from a camera moved to the right and back: a ball shows beside the monitor.
@@ -150,6 +230,21 @@ REGIONS = {
             "book": ((228, 292, 480, 562), False),
             "telephone": (((232, 300, 398, 476), (300, 312, 442, 476)), False),
             "monitor": ((100, 264, 226, 368), False),
+            # The monitor's left edge shows from column 220: the papers' and the yellow box's
+            # boxes stop short of it.
+            "magnifier lamp": (
+                (
+                    (45, 172, 86, 118),
+                    (172, 235, 78, 125),
+                    (125, 258, 125, 185),
+                    (235, 285, 78, 172),
+                ),
+                False,
+            ),
+            "plant": ((50, 250, 15, 78), False),
+            "papers": ((170, 215, 190, 218), False),
+            "yellow box": ((115, 165, 198, 218), False),
+            "teddy bear": ((78, 108, 290, 365), False),
         },
     ),
     # A lab seen from a robot, the camera 41 cm over the floor and level; the objects stand
@@ -345,6 +440,8 @@ RESERVED: set[str] = RESERVED_AT_STOP_37 | RESERVED_AT_STOP_38
 HELD_OUT |= RESERVED
 MAX_HEIGHT_M = {
     "desk_tum": 0.6,
+    "desk_fr1_tum_0": 0.6,
+    "desk_fr1_tum_1": 0.6,
     "office_kinect": 0.8,
     "people_floor_kinect": 0.6,
     "box_floor_kinect": 0.8,
@@ -362,9 +459,17 @@ monitor, a rack case 1 m tall; a mallet 29 cm tall)."""
 NEARER_THAN_M = {
     ("chair_boxes_kinect", "chair"): 1.85,
     ("desk_tum", "die"): 2.2,
+    # The clear bottle stands 2.5-2.6 m away, the partition behind it from 2.65 m; the shelf's
+    # front and top reach 2.6 m, the partition past its legs from 2.65 m.
+    ("desk_tum", "clear bottle"): 2.65,
+    ("desk_tum", "shelf"): 2.65,
     # The telephone shows above the mug's rim (1.37-1.39 m, the mug 1.12-1.25 m); the stand's
     # foot behind the keyboard (1.55-1.60 m, the keyboard's back edge 1.47 m); the teddy bear and
     # the hall behind the monitor (1.75-2.85 m, the monitor 1.45-1.70 m).
+    # The man sitting behind the fr1 desk's monitor shows past its edges from 1.5 m (the
+    # monitor's screen 0.9-1.4 m away).
+    ("desk_fr1_tum_0", "monitor"): 1.5,
+    ("desk_fr1_tum_1", "monitor"): 1.5,
     ("desk_fr2_tum_0", "mug"): 1.3,
     ("desk_fr2_tum_0", "keyboard"): 1.5,
     ("desk_fr2_tum_0", "monitor"): 1.7,
@@ -373,6 +478,10 @@ NEARER_THAN_M = {
     ("desk_fr2_tum_1", "mug"): 1.32,
     ("desk_fr2_tum_1", "keyboard"): 1.56,
     ("desk_fr2_tum_1", "monitor"): 1.9,
+    # The lamp is 1.3-1.7 m away (1.4-1.8 m in frame 1); the plant's leaves and the papers seen
+    # past it start at 1.8 m (1.9 m), with next to no points between.
+    ("desk_fr2_tum_0", "magnifier lamp"): 1.75,
+    ("desk_fr2_tum_1", "magnifier lamp"): 1.85,
     # The wall behind the rack case and the chairs is 4.0-4.2 m away; the case ends at 3.4 m,
     # the chairs (and the desk's front edge, 3.1-3.4 m, where a box still holds it) at 3.45 m.
     ("lab_floor_rtabmap", "rack case"): 3.5,
