@@ -543,9 +543,11 @@ def real_scans(tuned_only: bool = False, reserved: bool = False) -> None:
                 f"{angle:.1f} deg {100 * (height - distance):+.1f} cm; {100 * at_objects:.1f} cm"
             )
         seen = [back[:3, :3] @ c + back[:3, 3] for c in result.centroids]
-        objects = {label: np.asarray(item["centre"]) for label, item in gt.items()}
-        for label in NOT_OBJECTS:
-            objects.pop(label, None)
+        objects = {
+            label: np.asarray(item["centre"])
+            for label, item in gt.items()
+            if label not in NOT_OBJECTS
+        }
         owner = _nearest_objects(seen, objects)
         cells = []
         for label, centre in objects.items():
