@@ -128,6 +128,7 @@ from shapes.fit.models import (
     UprightConeModel,
     UprightCylinderModel,
 )
+from shapes.fit.outline import outline_rows, pointed
 from shapes.fit.profile import cylinder_without_taper, side_profile
 from shapes.fit.ray import RayModel, fit_ends, ray_cost, refine_on_rays, sphere_from_outline
 from shapes.normals import patch_normals
@@ -198,6 +199,15 @@ class FitParams:
     """Standing under coarse depth (module docstring): how much more than the free cylinder a
     standing one may cost and still be chosen, when the selection threshold is at least
     ``coarse_standing_share`` of its radius."""
+    outline_coarse_share: float = 0.4
+    outline_pointed_fullness: float = 0.6
+    outline_whole_share: float = 0.8
+    outline_min_rows: int = 8
+    """A pointed outline under coarse depth (module docstring): the selection threshold at
+    least ``outline_coarse_share`` of half the outline's width, its top half width filled
+    below ``outline_pointed_fullness`` (:func:`shapes.fit.outline.top_fullness`), at least
+    ``outline_min_rows`` rows, and as wide as ``outline_whole_share`` of the refused model's
+    diameter at least."""
 
     def for_noise(self, sigma_m: float) -> FitParams:
         """These parameters with every distance threshold raised to at least
@@ -703,6 +713,41 @@ def _standing_under_coarse_depth(
     return up if up_cost <= free_cost + fp.coarse_standing_margin else None
 
 
+def _refused_by_outline(
+    points: FloatArray,
+    eye: FloatArray,
+    support: SupportPlane,
+    costs: dict[ShapeKind, float],
+    fitted: dict[ShapeKind, FloatArray],
+    fp: FitParams,
+) -> list[ShapeKind]:
+    """The sphere and the standing cylinder among ``costs``, when the cluster's outline closes
+    to a point where the depths cannot tell the kinds and a cone is in the running (module
+    docstring, "A pointed outline under coarse depth"); else nothing. A model is refused only
+    when the outline is as wide as ``outline_whole_share`` of its diameter: a narrower outline
+    is a part of it (hidden, or cut off by a split), whose shape says nothing of the whole."""
+    if ShapeKind.CONE not in costs:
+        return []
+    kinds = [
+        k
+        for k in (ShapeKind.SPHERE, ShapeKind.CYLINDER)
+        if k in costs
+        and (k is ShapeKind.SPHERE or _orient_up(fitted[k][3:6], support, fp.upright_tolerance_deg))
+    ]
+    if not kinds:
+        return []
+    outline = outline_rows(points, eye, np.asarray(support.normal), min_rows=fp.outline_min_rows)
+    if outline is None or not pointed(
+        outline,
+        threshold_m=fp.selection_threshold_m,
+        coarse_share=fp.outline_coarse_share,
+        max_fullness=fp.outline_pointed_fullness,
+    ):
+        return []
+    radius = {k: float(fitted[k][3] if k is ShapeKind.SPHERE else fitted[k][6]) for k in kinds}
+    return [k for k in kinds if outline.widest_m >= fp.outline_whole_share * 2 * radius[k]]
+
+
 def fit_cluster(
     points: FloatArray,
     *,
@@ -1021,6 +1066,16 @@ def fit_cluster(
                 if ball is not None:
                     score(ShapeKind.SPHERE, ball)
                     sphere_on_rays = True
+    if (
+        eye is not None
+        and support is not None
+        and _choose(costs, fitted, support, fp, points, sphere_on_rays)
+        in (ShapeKind.SPHERE, ShapeKind.CYLINDER)
+    ):
+        # Under coarse depth the outline, which range noise leaves sharp, may contradict the
+        # choice: a pointed outline is neither a sphere's nor a standing cylinder's.
+        for kind in _refused_by_outline(points, eye, support, costs, fitted, fp):
+            del costs[kind]
     while True:
         # The taper is measured on every point: on the sample its noise alone passed the rule.
         kind = _choose(costs, fitted, support, fp, points, sphere_on_rays)
