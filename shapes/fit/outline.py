@@ -21,17 +21,19 @@ from scipy.spatial import cKDTree
 
 from shapes.types import FloatArray
 
-__all__ = ["Outline", "outline_rows", "pointed", "top_fullness"]
+__all__ = ["Outline", "outline_rows", "pointed", "top_fullness", "top_lean"]
 
 
 @dataclass(frozen=True)
 class Outline:
     """A cluster's outline, row by row from its top down (all in metres, on the plane across
     the mean ray at the cluster's median range): each row's distance under the outline's top,
-    its width, and the pitch of a pixel there."""
+    its width, its middle across (from the median point's ray), and the pitch of a pixel
+    there."""
 
     depth_m: FloatArray
     width_m: FloatArray
+    middle_m: FloatArray
     pitch_m: float
 
     @property
@@ -94,9 +96,9 @@ def outline_rows(
     starts = np.flatnonzero(np.r_[True, index[1:] != index[:-1]])
     if len(starts) < min_rows:
         return None
-    width = np.maximum.reduceat(across, starts) - np.minimum.reduceat(across, starts) + pitch
+    right, left = np.maximum.reduceat(across, starts), np.minimum.reduceat(across, starts)
     depth = (index[starts] + 0.5) * pitch
-    return Outline(depth, width, pitch)
+    return Outline(depth, right - left + pitch, (right + left) / 2, pitch)
 
 
 def top_fullness(outline: Outline) -> float | None:
@@ -106,7 +108,7 @@ def top_fullness(outline: Outline) -> float | None:
     widest no higher than half that width under it, up to 1 for a rectangle (module docstring).
 
     >>> d = np.arange(0.0, 0.1, 0.002) + 0.001
-    >>> circle = Outline(d, 2 * np.sqrt(np.maximum(0.05**2 - (d - 0.05) ** 2, 0)), 0.002)
+    >>> circle = Outline(d, 2 * np.sqrt(np.maximum(0.05**2 - (d - 0.05) ** 2, 0)), 0 * d, 0.002)
     >>> round(top_fullness(circle), 2)
     0.79
     """
@@ -117,6 +119,28 @@ def top_fullness(outline: Outline) -> float | None:
     top_rows = outline.depth_m < half
     rows = max(1, round(half / outline.pitch_m))
     return float(np.minimum(outline.width_m[top_rows], outline.widest_m).sum() / rows / (2 * half))
+
+
+def top_lean(outline: Outline) -> float:
+    """How far the middles of the outline's rows over its top half width stray from the middle
+    of its widest rows, on average, as a share of its width: about 0 for a thing standing
+    upright and whole in view (a cone, a sphere, a standing cylinder: their outlines are
+    symmetric about the image of the vertical through them); more for a part whose one side is
+    cut (a sliver of a ball left by a split or an occluder) or a thing leaning.
+
+    >>> d = np.arange(0.0, 0.05, 0.002) + 0.001
+    >>> arc = 2 * np.sqrt(np.maximum(0.05**2 - (d - 0.05) ** 2, 0))
+    >>> round(top_lean(Outline(d, arc, 0 * d, 0.002)), 2)  # a whole circle's top
+    0.0
+    >>> round(top_lean(Outline(d, arc / 2, -arc / 4, 0.002)), 2)  # its left half alone
+    0.2
+    """
+    widest = outline.width_m >= np.percentile(outline.width_m, 90)
+    axis = float(np.median(outline.middle_m[widest]))
+    top = outline.depth_m < outline.widest_m / 2
+    if not top.any():
+        return 0.0
+    return float(np.abs(outline.middle_m[top] - axis).mean() / outline.widest_m)
 
 
 def pointed(

@@ -86,6 +86,22 @@ standing) takes its place if it costs at most ``coarse_standing_margin`` more, a
 other models with the lower of the two costs. At the lowest threshold (8 mm, low noise) only
 standing radii of 2 cm or less qualify.
 
+A pointed outline under coarse depth
+------------------------------------
+Range noise moves a point along its ray; its pixel stays where it was, so the cluster's outline
+in the image stays sharp when the depths are coarse (:mod:`shapes.fit.outline`: each point moved
+along its ray onto the plane across the mean ray, its rows square to the support's normal). An
+outline that closes to a point at its top (its rows over its top half width filling less than
+``outline_pointed_fullness`` of its width) is a cone's, apex up: a sphere's outline is a circle
+and a standing cylinder's a rectangle under the ellipse of its top. So when the viewpoint and
+the support are known, the rule above chooses a sphere or a cylinder, a cone is in the running,
+the selection threshold is at least ``outline_coarse_share`` of half the outline's width and
+the outline has at least ``outline_min_rows`` rows, the sphere and the standing cylinder leave
+the running, unless the middles of the outline's top rows stray by more than
+``outline_max_lean`` of its width from those of its widest (a part of a thing, one side cut off
+by a split or an occluder: its shape says nothing of the whole). The choice is then made again
+without them.
+
 Standing and widening upwards
 -----------------------------
 A round thing that widens upwards (a paper cup, a flower pot) has no model of its own: standing
@@ -128,7 +144,7 @@ from shapes.fit.models import (
     UprightConeModel,
     UprightCylinderModel,
 )
-from shapes.fit.outline import outline_rows, pointed
+from shapes.fit.outline import outline_rows, pointed, top_lean
 from shapes.fit.profile import cylinder_without_taper, side_profile
 from shapes.fit.ray import RayModel, fit_ends, ray_cost, refine_on_rays, sphere_from_outline
 from shapes.normals import patch_normals
@@ -201,13 +217,13 @@ class FitParams:
     ``coarse_standing_share`` of its radius."""
     outline_coarse_share: float = 0.4
     outline_pointed_fullness: float = 0.6
-    outline_whole_share: float = 0.8
+    outline_max_lean: float = 0.1
     outline_min_rows: int = 8
     """A pointed outline under coarse depth (module docstring): the selection threshold at
     least ``outline_coarse_share`` of half the outline's width, its top half width filled
-    below ``outline_pointed_fullness`` (:func:`shapes.fit.outline.top_fullness`), at least
-    ``outline_min_rows`` rows, and as wide as ``outline_whole_share`` of the refused model's
-    diameter at least."""
+    below ``outline_pointed_fullness`` (:func:`shapes.fit.outline.top_fullness`), its top's
+    rows centred within ``outline_max_lean`` of its width (:func:`shapes.fit.outline.top_lean`)
+    and at least ``outline_min_rows`` rows."""
 
     def for_noise(self, sigma_m: float) -> FitParams:
         """These parameters with every distance threshold raised to at least
@@ -723,9 +739,9 @@ def _refused_by_outline(
 ) -> list[ShapeKind]:
     """The sphere and the standing cylinder among ``costs``, when the cluster's outline closes
     to a point where the depths cannot tell the kinds and a cone is in the running (module
-    docstring, "A pointed outline under coarse depth"); else nothing. A model is refused only
-    when the outline is as wide as ``outline_whole_share`` of its diameter: a narrower outline
-    is a part of it (hidden, or cut off by a split), whose shape says nothing of the whole."""
+    docstring, "A pointed outline under coarse depth"); else nothing. An outline whose top
+    leans (``outline_max_lean``) is a part of a thing, one side cut off by a split or an
+    occluder, whose shape says nothing of the whole."""
     if ShapeKind.CONE not in costs:
         return []
     kinds = [
@@ -744,8 +760,7 @@ def _refused_by_outline(
         max_fullness=fp.outline_pointed_fullness,
     ):
         return []
-    radius = {k: float(fitted[k][3] if k is ShapeKind.SPHERE else fitted[k][6]) for k in kinds}
-    return [k for k in kinds if outline.widest_m >= fp.outline_whole_share * 2 * radius[k]]
+    return kinds if top_lean(outline) <= fp.outline_max_lean else []
 
 
 def fit_cluster(
