@@ -98,7 +98,12 @@ def outline_rows(
         return None
     right, left = np.maximum.reduceat(across, starts), np.minimum.reduceat(across, starts)
     depth = (index[starts] + 0.5) * pitch
-    return Outline(depth, right - left + pitch, (right + left) / 2, pitch)
+    return Outline(
+        np.asarray(depth, dtype=np.float64),
+        np.asarray(right - left + pitch, dtype=np.float64),
+        np.asarray((right + left) / 2, dtype=np.float64),
+        pitch,
+    )
 
 
 def top_fullness(outline: Outline) -> float | None:

@@ -744,7 +744,7 @@ def _refused_by_outline(
     occluder, whose shape says nothing of the whole."""
     if ShapeKind.CONE not in costs:
         return []
-    kinds = [
+    kinds: list[ShapeKind] = [
         k
         for k in (ShapeKind.SPHERE, ShapeKind.CYLINDER)
         if k in costs
