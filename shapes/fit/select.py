@@ -752,6 +752,12 @@ def _refused_by_outline(
     ]
     if not kinds:
         return []
+    # The outline costs a k-d tree over every point: first the models' radii stand in for its
+    # half width (a whole sphere's or standing cylinder's outline is about as wide as the model),
+    # with half the share for a margin.
+    radius = max(float(fitted[k][3] if k is ShapeKind.SPHERE else fitted[k][6]) for k in kinds)
+    if fp.selection_threshold_m < fp.outline_coarse_share / 2 * radius:
+        return []
     outline = outline_rows(points, eye, np.asarray(support.normal), min_rows=fp.outline_min_rows)
     if outline is None or not pointed(
         outline,
