@@ -1087,19 +1087,17 @@ def fit_cluster(
                 if ball is not None:
                     score(ShapeKind.SPHERE, ball)
                     sphere_on_rays = True
-    if (
-        eye is not None
-        and support is not None
-        and _choose(costs, fitted, support, fp, points, sphere_on_rays)
-        in (ShapeKind.SPHERE, ShapeKind.CYLINDER)
-    ):
+    # The taper is measured on every point: on the sample its noise alone passed the rule.
+    kind = _choose(costs, fitted, support, fp, points, sphere_on_rays)
+    if eye is not None and support is not None and kind in (ShapeKind.SPHERE, ShapeKind.CYLINDER):
         # Under coarse depth the outline, which range noise leaves sharp, may contradict the
         # choice: a pointed outline is neither a sphere's nor a standing cylinder's.
-        for kind in _refused_by_outline(points, eye, support, costs, fitted, fp):
-            del costs[kind]
+        refused = _refused_by_outline(points, eye, support, costs, fitted, fp)
+        for k in refused:
+            del costs[k]
+        if refused:
+            kind = _choose(costs, fitted, support, fp, points, sphere_on_rays)
     while True:
-        # The taper is measured on every point: on the sample its noise alone passed the rule.
-        kind = _choose(costs, fitted, support, fp, points, sphere_on_rays)
         if kind is ShapeKind.PLANE:
             plane, inl = max(planes, key=lambda p: len(p[1]))
             prim = _build_plane(plane, sample, inl)
@@ -1110,6 +1108,7 @@ def fit_cluster(
         del costs[kind]  # a fit that leaves its own points is never output
         if not costs:
             return None
+        kind = _choose(costs, fitted, support, fp, points, sphere_on_rays)
     ratio = float((surface[kind] < t_sel).mean())
     prim = Primitive(**{**prim.__dict__, "inlier_ratio": ratio})
     return ClusterFit(prim, costs, counts)
