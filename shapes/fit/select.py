@@ -100,7 +100,9 @@ the outline has at least ``outline_min_rows`` rows, the sphere and the standing 
 the running, unless the middles of the outline's top rows stray by more than
 ``outline_max_lean`` of its width from those of its widest (a part of a thing, one side cut off
 by a split or an occluder: its shape says nothing of the whole). The choice is then made again
-without them.
+without them. The outline is read only where the threshold is at least half that share of the
+larger of the two models' radii (a whole one's outline is about as wide as the model): reading
+it costs a k-d tree over the cluster's points.
 
 Standing and widening upwards
 -----------------------------
