@@ -2,8 +2,8 @@
 
 Range noise moves a point along its own ray; the ray's direction (the pixel) is exact. So the
 outline of a cluster in the image keeps its shape however coarse or noisy the depths are. Each
-point is moved along its ray onto the plane through the cluster's median point square to the
-mean ray; there its coordinates are its place in the image, scaled by the range to metres. The
+point is moved along its ray onto the plane through the cluster's median point square to that
+point's ray; there its coordinates are its place in the image, scaled by the range to metres. The
 rows run along "up" (the support's normal, as the image shows it) and the widths across it.
 
 :func:`outline_rows` gives the width of each row; :func:`top_fullness` reads from them how
@@ -27,7 +27,7 @@ __all__ = ["Outline", "outline_rows", "pointed", "top_fullness", "top_lean"]
 @dataclass(frozen=True)
 class Outline:
     """A cluster's outline, row by row from its top down (all in metres, on the plane across
-    the mean ray at the cluster's median range): each row's distance under the outline's top,
+    the median point's ray at its range): each row's distance under the outline's top,
     its width, its middle across (from the median point's ray), and the pitch of a pixel
     there."""
 
@@ -47,9 +47,9 @@ def outline_rows(
     points: FloatArray, viewpoint: FloatArray, up: FloatArray, *, min_rows: int = 4
 ) -> Outline | None:
     """The outline of ``points`` seen from ``viewpoint`` (module docstring), its rows square to
-    ``up`` projected on the plane across the mean ray; None when fewer than ``min_rows`` rows
-    hold points, or when ``up`` lies along the mean ray (a view from straight above has no
-    rows by height).
+    ``up`` projected on the plane across the median point's ray; None when fewer than ``min_rows`` rows
+    hold points, or when ``up`` lies within about 12° of that ray (a view from straight above has
+    no rows by height).
 
     The row pitch is the points' median spacing on that plane (a pixel, for a full-resolution
     organised cluster); a row's width is the span of its points across plus one pitch.
