@@ -47,9 +47,9 @@ def outline_rows(
     points: FloatArray, viewpoint: FloatArray, up: FloatArray, *, min_rows: int = 4
 ) -> Outline | None:
     """The outline of ``points`` seen from ``viewpoint`` (module docstring), its rows square to
-    ``up`` projected on the plane across the median point's ray; None when fewer than ``min_rows`` rows
-    hold points, or when ``up`` lies within about 12° of that ray (a view from straight above has
-    no rows by height).
+    ``up`` projected on the plane across the median point's ray; None when fewer than
+    ``min_rows`` rows hold points, or when ``up`` lies within about 12° of that ray (a view from
+    straight above has no rows by height).
 
     The row pitch is the points' median spacing on that plane (a pixel, for a full-resolution
     organised cluster); a row's width is the span of its points across plus one pitch.

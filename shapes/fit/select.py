@@ -90,8 +90,8 @@ A pointed outline under coarse depth
 ------------------------------------
 Range noise moves a point along its ray; its pixel stays where it was, so the cluster's outline
 in the image stays sharp when the depths are coarse (:mod:`shapes.fit.outline`: each point moved
-along its ray onto the plane across its median point's ray, its rows square to the support's normal). An
-outline that closes to a point at its top (its rows over its top half width filling less than
+along its ray onto the plane across its median point's ray, its rows square to the support's
+normal). An outline that closes to a point at its top (its rows over its top half width filling less than
 ``outline_pointed_fullness`` of its width) is a cone's, apex up: a sphere's outline is a circle
 and a standing cylinder's a rectangle under the ellipse of its top. So when the viewpoint and
 the support are known, the rule above chooses a sphere or a cylinder, a cone is in the running,
