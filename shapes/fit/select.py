@@ -91,9 +91,9 @@ A pointed outline under coarse depth
 Range noise moves a point along its ray; its pixel stays where it was, so the cluster's outline
 in the image stays sharp when the depths are coarse (:mod:`shapes.fit.outline`: each point moved
 along its ray onto the plane across its median point's ray, its rows square to the support's
-normal). An outline that closes to a point at its top (its rows over its top half width filling less than
-``outline_pointed_fullness`` of its width) is a cone's, apex up: a sphere's outline is a circle
-and a standing cylinder's a rectangle under the ellipse of its top. So when the viewpoint and
+normal). An outline that closes to a point at its top (its rows over its top half width
+filling less than ``outline_pointed_fullness`` of its width) is a cone's, apex up: a sphere's
+outline is a circle and a standing cylinder's a rectangle under the ellipse of its top. So when the viewpoint and
 the support are known, the rule above chooses a sphere or a cylinder, a cone is in the running,
 the selection threshold is at least ``outline_coarse_share`` of half the outline's width and
 the outline has at least ``outline_min_rows`` rows, the sphere and the standing cylinder leave
