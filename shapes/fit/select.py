@@ -91,13 +91,13 @@ A pointed outline under coarse depth
 Range noise moves a point along its ray; its pixel stays where it was, so the cluster's outline
 in the image stays sharp when the depths are coarse (:mod:`shapes.fit.outline`: each point moved
 along its ray onto the plane across its median point's ray, its rows square to the support's
-normal). An outline that closes to a point at its top (its rows over its top half width
-filling less than ``outline_pointed_fullness`` of its width) is a cone's, apex up: a sphere's
-outline is a circle and a standing cylinder's a rectangle under the ellipse of its top. So when the viewpoint and
-the support are known, the rule above chooses a sphere or a cylinder, a cone is in the running,
-the selection threshold is at least ``outline_coarse_share`` of half the outline's width and
-the outline has at least ``outline_min_rows`` rows, the sphere and the standing cylinder leave
-the running, unless the middles of the outline's top rows stray by more than
+normal). An outline that closes to a point at its top (its rows over its top half width filling
+less than ``outline_pointed_fullness`` of its width) is a cone's, apex up: a sphere's outline is
+a circle and a standing cylinder's a rectangle under the ellipse of its top. So when the
+viewpoint and the support are known, the rule above chooses a sphere or a cylinder, a cone is in
+the running, the selection threshold is at least ``outline_coarse_share`` of half the outline's
+width and the outline has at least ``outline_min_rows`` rows, the sphere and the standing
+cylinder leave the running, unless the middles of the outline's top rows stray by more than
 ``outline_max_lean`` of its width from those of its widest (a part of a thing, one side cut off
 by a split or an occluder: its shape says nothing of the whole). The choice is then made again
 without them. The outline is read only where the threshold is at least half that share of the
