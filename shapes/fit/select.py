@@ -86,6 +86,24 @@ standing) takes its place if it costs at most ``coarse_standing_margin`` more, a
 other models with the lower of the two costs. At the lowest threshold (8 mm, low noise) only
 standing radii of 2 cm or less qualify.
 
+A pointed outline under coarse depth
+------------------------------------
+Range noise moves a point along its ray; its pixel stays where it was, so the cluster's outline
+in the image stays sharp when the depths are coarse (:mod:`shapes.fit.outline`: each point moved
+along its ray onto the plane across its median point's ray, its rows square to the support's
+normal). An outline that closes to a point at its top (its rows over its top half width filling
+less than ``outline_pointed_fullness`` of its width) is a cone's, apex up: a sphere's outline is
+a circle and a standing cylinder's a rectangle under the ellipse of its top. So when the
+viewpoint and the support are known, the rule above chooses a sphere or a cylinder, a cone is in
+the running, the selection threshold is at least ``outline_coarse_share`` of half the outline's
+width and the outline has at least ``outline_min_rows`` rows, the sphere and the standing
+cylinder leave the running, unless the middles of the outline's top rows stray by more than
+``outline_max_lean`` of its width from those of its widest (a part of a thing, one side cut off
+by a split or an occluder: its shape says nothing of the whole). The choice is then made again
+without them. The outline is read only where the threshold is at least half that share of the
+larger of the two models' radii (a whole one's outline is about as wide as the model): reading
+it costs a k-d tree over the cluster's points.
+
 Standing and widening upwards
 -----------------------------
 A round thing that widens upwards (a paper cup, a flower pot) has no model of its own: standing
@@ -128,6 +146,7 @@ from shapes.fit.models import (
     UprightConeModel,
     UprightCylinderModel,
 )
+from shapes.fit.outline import outline_rows, pointed, top_lean
 from shapes.fit.profile import cylinder_without_taper, side_profile
 from shapes.fit.ray import RayModel, fit_ends, ray_cost, refine_on_rays, sphere_from_outline
 from shapes.normals import patch_normals
@@ -198,6 +217,15 @@ class FitParams:
     """Standing under coarse depth (module docstring): how much more than the free cylinder a
     standing one may cost and still be chosen, when the selection threshold is at least
     ``coarse_standing_share`` of its radius."""
+    outline_coarse_share: float = 0.4
+    outline_pointed_fullness: float = 0.6
+    outline_max_lean: float = 0.1
+    outline_min_rows: int = 8
+    """A pointed outline under coarse depth (module docstring): the selection threshold at
+    least ``outline_coarse_share`` of half the outline's width, its top half width filled
+    below ``outline_pointed_fullness`` (:func:`shapes.fit.outline.top_fullness`), its top's
+    rows centred within ``outline_max_lean`` of its width (:func:`shapes.fit.outline.top_lean`)
+    and at least ``outline_min_rows`` rows."""
 
     def for_noise(self, sigma_m: float) -> FitParams:
         """These parameters with every distance threshold raised to at least
@@ -703,6 +731,46 @@ def _standing_under_coarse_depth(
     return up if up_cost <= free_cost + fp.coarse_standing_margin else None
 
 
+def _refused_by_outline(
+    points: FloatArray,
+    eye: FloatArray,
+    support: SupportPlane,
+    costs: dict[ShapeKind, float],
+    fitted: dict[ShapeKind, FloatArray],
+    fp: FitParams,
+) -> list[ShapeKind]:
+    """The sphere and the standing cylinder among ``costs``, when the cluster's outline closes
+    to a point where the depths cannot tell the kinds and a cone is in the running (module
+    docstring, "A pointed outline under coarse depth"); else nothing. An outline whose top
+    leans (``outline_max_lean``) is a part of a thing, one side cut off by a split or an
+    occluder, whose shape says nothing of the whole."""
+    if ShapeKind.CONE not in costs:
+        return []
+    kinds: list[ShapeKind] = [
+        k
+        for k in (ShapeKind.SPHERE, ShapeKind.CYLINDER)
+        if k in costs
+        and (k is ShapeKind.SPHERE or _orient_up(fitted[k][3:6], support, fp.upright_tolerance_deg))
+    ]
+    if not kinds:
+        return []
+    # The outline costs a k-d tree over every point: first the models' radii stand in for its
+    # half width (a whole sphere's or standing cylinder's outline is about as wide as the model),
+    # with half the share for a margin.
+    radius = max(float(fitted[k][3] if k is ShapeKind.SPHERE else fitted[k][6]) for k in kinds)
+    if fp.selection_threshold_m < fp.outline_coarse_share / 2 * radius:
+        return []
+    outline = outline_rows(points, eye, np.asarray(support.normal), min_rows=fp.outline_min_rows)
+    if outline is None or not pointed(
+        outline,
+        threshold_m=fp.selection_threshold_m,
+        coarse_share=fp.outline_coarse_share,
+        max_fullness=fp.outline_pointed_fullness,
+    ):
+        return []
+    return kinds if top_lean(outline) <= fp.outline_max_lean else []
+
+
 def fit_cluster(
     points: FloatArray,
     *,
@@ -1021,9 +1089,17 @@ def fit_cluster(
                 if ball is not None:
                     score(ShapeKind.SPHERE, ball)
                     sphere_on_rays = True
+    # The taper is measured on every point: on the sample its noise alone passed the rule.
+    kind = _choose(costs, fitted, support, fp, points, sphere_on_rays)
+    if eye is not None and support is not None and kind in (ShapeKind.SPHERE, ShapeKind.CYLINDER):
+        # Under coarse depth the outline, which range noise leaves sharp, may contradict the
+        # choice: a pointed outline is neither a sphere's nor a standing cylinder's.
+        refused = _refused_by_outline(points, eye, support, costs, fitted, fp)
+        for k in refused:
+            del costs[k]
+        if refused:
+            kind = _choose(costs, fitted, support, fp, points, sphere_on_rays)
     while True:
-        # The taper is measured on every point: on the sample its noise alone passed the rule.
-        kind = _choose(costs, fitted, support, fp, points, sphere_on_rays)
         if kind is ShapeKind.PLANE:
             plane, inl = max(planes, key=lambda p: len(p[1]))
             prim = _build_plane(plane, sample, inl)
@@ -1034,6 +1110,7 @@ def fit_cluster(
         del costs[kind]  # a fit that leaves its own points is never output
         if not costs:
             return None
+        kind = _choose(costs, fitted, support, fp, points, sphere_on_rays)
     ratio = float((surface[kind] < t_sel).mean())
     prim = Primitive(**{**prim.__dict__, "inlier_ratio": ratio})
     return ClusterFit(prim, costs, counts)
