@@ -83,6 +83,7 @@ from scipy.spatial import cKDTree
 from shapes.arrays import column_max, column_min, column_span, unique_inverse
 from shapes.artefacts import depth_noise_1m, flying_pixels, sparse_points, sparse_voxels
 from shapes.frame import Frame
+from shapes.grow_upwards import grow_upwards
 from shapes.plane_pieces import Ground, faces_standing_on, is_scattered
 from shapes.split import split_each
 from shapes.support_region import SupportRegion, support_region
@@ -122,6 +123,10 @@ class SegmentationParams:
     min_plane_extent_m: float = 0.25
     above_margin_m: float = 0.008
     max_height_m: float = 0.6
+    max_tall_height_m: float = 1.2
+    """How high a cluster that stands on its support and is cut at ``max_height_m`` may grow
+    (:func:`_grown_upwards`): what ends under it is a tall object, what reaches it a part of
+    something larger."""
     edge_margin_m: float = 0.02
     outlier_neighbours: int = 10
     outlier_std_ratio: float = 3.0
@@ -711,7 +716,7 @@ def segment(
     # Each free voxel goes to the nearest horizontal plane below it that covers it.
     best_height = np.full(len(voxels), np.inf)
     owner = np.full(len(voxels), -1)
-    margins, supports, regions = [], [], []
+    margins, supports, regions, boxes = [], [], [], []
     for k, p in enumerate(horizontal):
         table = voxels[p.inliers]
         region = region_of[id(p)]
@@ -732,6 +737,7 @@ def segment(
         height = support.signed_distance(voxels)
         lo = column_min(table[:, :2]) + params.edge_margin_m
         hi = column_max(table[:, :2]) - params.edge_margin_m
+        boxes.append((lo, hi))
         over = (
             free
             & (height > margin)
@@ -778,6 +784,23 @@ def segment(
         )
         too_small += small
         found = [c for c in found if _stands_within(c, regions[k], params)]
+        if any(_cut_at_band_top(c, params) for c in found):
+            tall = _above_band(voxels, free & (owner < 0), support, boxes[k], params)
+            found = _grown_upwards(
+                found,
+                tall,
+                voxels,
+                voxel_of,
+                points,
+                depth,
+                colours,
+                pixels,
+                reach,
+                margins[k],
+                sigma_1m,
+                params,
+            )
+            found = [c for c in found if _stands_within(c, regions[k], params)]
         parts = [
             c
             for c in found
@@ -811,6 +834,90 @@ def segment(
             )
     log.debug("segmented %d points into %d clusters", len(points), len(clusters))
     return Segmentation(primary, tuple(clusters), tuple(with_objects), sigma_1m, reason)
+
+
+def _cut_at_band_top(cluster: Cluster, params: SegmentationParams) -> bool:
+    """Whether a cluster within the height band reaches its top (``min_cut_share`` of its
+    voxels, and ``min_cut_voxels``, within ``cut_band_m`` of ``max_height_m``)."""
+    assert cluster.support is not None
+    height = cluster.support.signed_distance(cluster.voxels)
+    return _reaching(height >= params.max_height_m - params.cut_band_m, params)
+
+
+def _above_band(
+    voxels: FloatArray,
+    free: npt.NDArray[np.bool_],
+    support: SupportPlane,
+    box: tuple[FloatArray, FloatArray],
+    params: SegmentationParams,
+) -> npt.NDArray[np.intp]:
+    """The ``free`` voxels over the height band of ``support`` and under
+    ``max_tall_height_m``, inside its box (as the band's candidates): where a cluster cut at
+    the band's top may go on."""
+    height = support.signed_distance(voxels)
+    lo, hi = box
+    inside = (voxels[:, :2] > lo).all(axis=1) & (voxels[:, :2] < hi).all(axis=1)
+    return np.flatnonzero(
+        free & inside & (height >= params.max_height_m) & (height < params.max_tall_height_m)
+    )
+
+
+def _grown_upwards(
+    found: list[Cluster],
+    tall: npt.NDArray[np.intp],
+    voxels: FloatArray,
+    voxel_of: npt.NDArray[np.intp],
+    points: FloatArray,
+    depth: FloatArray,
+    colours: tuple[FloatArray, npt.NDArray[np.intp]] | None,
+    pixels: npt.NDArray[np.intp] | None,
+    reach: _Reach,
+    margin_m: float,
+    sigma_1m: float,
+    params: SegmentationParams,
+) -> list[Cluster]:
+    """``found`` with each cluster that stands on its support (does not hang, :func:`_floats`)
+    and is cut at the band's top (:func:`_cut_at_band_top`) grown upwards through the voxels
+    ``tall`` (:func:`_above_band`) that link to it within ``cluster_eps_m``
+    (:func:`shapes.grow_upwards.grow_upwards`); clusters that the voxels above join become
+    one. A grown cluster takes its first cluster's place. Clusters that hang or stay within
+    the band are left as they are: only what stands may reach higher, so the voxels above the
+    band never join a stray part to anything."""
+    seeds = [
+        k
+        for k, c in enumerate(found)
+        if _cut_at_band_top(c, params) and not _floats(c, reach, margin_m, params)
+    ]
+    if not seeds or len(tall) == 0:
+        return list(found)
+    groups = grow_upwards([found[k].voxels for k in seeds], voxels[tall], params.cluster_eps_m)
+    grown: dict[int, Cluster] = {}
+    dropped: set[int] = set()
+    for members, added in groups:
+        ks = [seeds[m] for m in members]
+        if len(added) == 0:
+            continue
+        marked = np.zeros(len(voxels), dtype=np.bool_)
+        marked[tall[added]] = True
+        idx = np.flatnonzero(marked[voxel_of])
+        parts = [found[k] for k in ks]
+        first = parts[0]
+        grown[ks[0]] = Cluster(
+            np.vstack([*(c.points for c in parts), points[idx]]),
+            None
+            if colours is None or first.colours is None
+            else np.vstack(
+                [*(c.colours for c in parts if c.colours is not None), colours[0][colours[1][idx]]]
+            ),
+            np.vstack([*(c.voxels for c in parts), voxels[tall[added]]]),
+            first.support,
+            max([c.noise_m for c in parts] + [sigma_1m * float(np.median(depth[idx])) ** 2]),
+            None
+            if pixels is None or first.pixels is None
+            else np.concatenate([*(c.pixels for c in parts if c.pixels is not None), pixels[idx]]),
+        )
+        dropped.update(ks[1:])
+    return [grown.get(k, c) for k, c in enumerate(found) if k not in dropped]
 
 
 def _stands_within(cluster: Cluster, region: SupportRegion, params: SegmentationParams) -> bool:
@@ -851,7 +958,10 @@ def _cut_by_limits(cluster: Cluster, reach: _Reach, params: SegmentationParams) 
     (:meth:`shapes.view.ImageView.cut_at_closed_edge`)."""
     assert cluster.support is not None
     height = cluster.support.signed_distance(cluster.voxels)
-    if _reaching(height >= params.max_height_m - params.cut_band_m, params):
+    # Only a cluster grown upwards (:func:`_grown_upwards`) rises over the band: its limit is
+    # the higher one.
+    limit = params.max_tall_height_m if height.max() >= params.max_height_m else params.max_height_m
+    if _reaching(height >= limit - params.cut_band_m, params):
         return True
     if (
         reach.view is not None
