@@ -862,6 +862,15 @@ def _above_band(
     )
 
 
+def _seen_standing(cluster: Cluster, margin_m: float, params: SegmentationParams) -> bool:
+    """Whether a cluster's lowest voxel lies on its support: less than ``max_base_height_m``
+    over the lowest an object's voxel can lie (``margin_m``). Unlike :func:`_floats`, a bottom
+    hidden behind something nearer does not count: it may be anything's upper part."""
+    assert cluster.support is not None
+    lowest = float(cluster.support.signed_distance(cluster.voxels).min())
+    return lowest < margin_m + params.max_base_height_m
+
+
 def _grown_upwards(
     found: list[Cluster],
     tall: npt.NDArray[np.intp],
@@ -876,8 +885,8 @@ def _grown_upwards(
     sigma_1m: float,
     params: SegmentationParams,
 ) -> list[Cluster]:
-    """``found`` with each cluster that stands on its support (does not hang, :func:`_floats`)
-    and is cut at the band's top (:func:`_cut_at_band_top`) grown upwards through the voxels
+    """``found`` with each cluster seen standing on its support (:func:`_seen_standing`) and
+    cut at the band's top (:func:`_cut_at_band_top`) grown upwards through the voxels
     ``tall`` (:func:`_above_band`) that link to it within ``cluster_eps_m``
     (:func:`shapes.grow_upwards.grow_upwards`); clusters that the voxels above join become
     one. A grown cluster takes its first cluster's place. Clusters that hang or stay within
@@ -886,7 +895,7 @@ def _grown_upwards(
     seeds = [
         k
         for k, c in enumerate(found)
-        if _cut_at_band_top(c, params) and not _floats(c, reach, margin_m, params)
+        if _cut_at_band_top(c, params) and _seen_standing(c, margin_m, params)
     ]
     if not seeds or len(tall) == 0:
         return list(found)
