@@ -16,15 +16,13 @@ SCANS = Path(__file__).parents[1] / "data" / "real_scans"
 TRUTH = json.loads((SCANS / "truth.json").read_text())
 LAB = TRUTH["lab_floor_rtabmap"]
 NOT_OBJECTS = {"support", "held_out", "reserved"}
+DEFAULT = SegmentationParams()
 
 
 @functools.cache
-def _lab(max_tall_height_m: float = SegmentationParams().max_tall_height_m) -> FrameResult:
+def _lab(segmentation: SegmentationParams = DEFAULT) -> FrameResult:
     frame = next(open_source(SCANS / "lab_floor_rtabmap.npz"))
-    params = PerceptionParams(
-        gravity_from_scene=True,
-        segmentation=SegmentationParams(max_tall_height_m=max_tall_height_m),
-    )
+    params = PerceptionParams(gravity_from_scene=True, segmentation=segmentation)
     return Perception(params, seed=0).process(frame)
 
 
@@ -46,7 +44,7 @@ def test_the_rack_case_is_one_primitive_near_its_centre() -> None:
 
 def test_without_growing_the_rack_case_is_missed() -> None:
     """The rule off (the higher limit at the band's top): the cut part is dropped, as before."""
-    tall_off = SegmentationParams().max_height_m
+    tall_off = SegmentationParams(max_tall_height_m=DEFAULT.max_height_m)
     assert min(_distances_m(_lab(tall_off), LAB["rack case"]["centre"]), default=1.0) >= 0.08
 
 
