@@ -54,25 +54,14 @@ def grow_upwards(
     _, labels = connected_components(graph, directed=False)
     first = int(sum(sizes))
     seed_labels, above_labels = labels[:first], labels[first:]
-    # Seeds sharing a piece are one group; a group takes every piece any of its seeds is in.
-    group = list(range(len(seeds)))
-
-    def root(k: int) -> int:
-        while group[k] != k:
-            k = group[k]
-        return k
-
-    owner: dict[int, int] = {}
-    for k, label in zip(seed_of.tolist(), seed_labels.tolist(), strict=True):
-        other = owner.setdefault(label, k)
-        a, b = root(k), root(other)
-        if a != b:
-            group[max(a, b)] = min(a, b)
-    members: dict[int, list[int]] = {}
-    for k in range(len(seeds)):
-        members.setdefault(root(k), []).append(k)
+    # Seeds sharing a piece are one group: the pieces of the seeds' voxels joined on a graph
+    # of seeds and pieces.
+    n, pieces = len(seeds), int(labels.max()) + 1
+    links = coo_matrix((np.ones(first), (seed_of, n + seed_labels)), shape=(n + pieces, n + pieces))
+    _, group = connected_components(links, directed=False)
+    piece_group = group[n:]
     out = []
-    for ks in members.values():
-        pieces = np.unique(seed_labels[np.isin(seed_of, ks)])
-        out.append((ks, np.flatnonzero(np.isin(above_labels, pieces)).astype(np.intp)))
+    for g in dict.fromkeys(group[:n].tolist()):
+        members = np.flatnonzero(group[:n] == g).tolist()
+        out.append((members, np.flatnonzero(piece_group[above_labels] == g).astype(np.intp)))
     return out

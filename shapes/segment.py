@@ -784,23 +784,21 @@ def segment(
         )
         too_small += small
         found = [c for c in found if _stands_within(c, regions[k], params)]
-        if any(_cut_at_band_top(c, params) for c in found):
-            tall = _above_band(voxels, free & (owner < 0), support, boxes[k], params)
-            found = _grown_upwards(
-                found,
-                tall,
-                voxels,
-                voxel_of,
-                points,
-                depth,
-                colours,
-                pixels,
-                reach,
-                margins[k],
-                sigma_1m,
-                params,
-            )
-            found = [c for c in found if _stands_within(c, regions[k], params)]
+        found = _grown_upwards(
+            found,
+            free & (owner < 0),
+            boxes[k],
+            voxels,
+            voxel_of,
+            points,
+            depth,
+            colours,
+            pixels,
+            margins[k],
+            sigma_1m,
+            params,
+        )
+        found = [c for c in found if _stands_within(c, regions[k], params)]
         parts = [
             c
             for c in found
@@ -852,14 +850,13 @@ def _above_band(
     params: SegmentationParams,
 ) -> npt.NDArray[np.intp]:
     """The ``free`` voxels over the height band of ``support`` and under
-    ``max_tall_height_m``, inside its box (as the band's candidates): where a cluster cut at
-    the band's top may go on."""
-    height = support.signed_distance(voxels)
+    ``max_tall_height_m``, inside ``box`` (across the support): where a cluster cut at the
+    band's top may go on."""
     lo, hi = box
-    inside = (voxels[:, :2] > lo).all(axis=1) & (voxels[:, :2] < hi).all(axis=1)
-    return np.flatnonzero(
-        free & inside & (height >= params.max_height_m) & (height < params.max_tall_height_m)
-    )
+    x, y = voxels[:, 0], voxels[:, 1]
+    idx = np.flatnonzero(free & (x > lo[0]) & (x < hi[0]) & (y > lo[1]) & (y < hi[1]))
+    height = support.signed_distance(voxels[idx])
+    return idx[(height >= params.max_height_m) & (height < params.max_tall_height_m)]
 
 
 def _seen_standing(cluster: Cluster, margin_m: float, params: SegmentationParams) -> bool:
@@ -873,38 +870,56 @@ def _seen_standing(cluster: Cluster, margin_m: float, params: SegmentationParams
 
 def _grown_upwards(
     found: list[Cluster],
-    tall: npt.NDArray[np.intp],
+    free: npt.NDArray[np.bool_],
+    box: tuple[FloatArray, FloatArray],
     voxels: FloatArray,
     voxel_of: npt.NDArray[np.intp],
     points: FloatArray,
     depth: FloatArray,
     colours: tuple[FloatArray, npt.NDArray[np.intp]] | None,
     pixels: npt.NDArray[np.intp] | None,
-    reach: _Reach,
     margin_m: float,
     sigma_1m: float,
     params: SegmentationParams,
 ) -> list[Cluster]:
-    """``found`` with each cluster seen standing on its support (:func:`_seen_standing`) and
-    cut at the band's top (:func:`_cut_at_band_top`) grown upwards through the voxels
-    ``tall`` (:func:`_above_band`) that link to it within ``cluster_eps_m``
-    (:func:`shapes.grow_upwards.grow_upwards`); clusters that the voxels above join become
-    one. A grown cluster takes its first cluster's place. Clusters that hang or stay within
-    the band are left as they are: only what stands may reach higher, so the voxels above the
-    band never join a stray part to anything."""
+    """``found`` (clusters on one support) with each cluster seen standing on it
+    (:func:`_seen_standing`) and cut at the band's top (:func:`_cut_at_band_top`) grown
+    upwards: joined with the ``free`` voxels over the band (:func:`_above_band`, inside ``box``
+    and no farther across the support from the clusters that grow than the band's rise,
+    ``max_tall_height_m - max_height_m``) that link to it within ``cluster_eps_m``
+    (:func:`shapes.grow_upwards.grow_upwards`). Clusters that the voxels above join become one,
+    in the first one's place. A group that reaches ``max_tall_height_m`` (``min_cut_share`` of
+    its voxels within ``cut_band_m`` of it) does not end, and its clusters are left as they
+    were, cut: a wall, a door, a person. Clusters that hang or stay within the band are left as
+    they are: only what stands may reach higher, so the voxels above the band never join a
+    stray part to anything."""
     seeds = [
         k
         for k, c in enumerate(found)
         if _cut_at_band_top(c, params) and _seen_standing(c, margin_m, params)
     ]
-    if not seeds or len(tall) == 0:
+    if not seeds:
+        return list(found)
+    support = found[seeds[0]].support
+    assert support is not None
+    rise = params.max_tall_height_m - params.max_height_m
+    every = np.vstack([found[k].voxels[:, :2] for k in seeds])
+    lo = np.maximum(box[0], column_min(every) - rise)
+    hi = np.minimum(box[1], column_max(every) + rise)
+    tall = _above_band(voxels, free, support, (lo, hi), params)
+    if len(tall) == 0:
         return list(found)
     groups = grow_upwards([found[k].voxels for k in seeds], voxels[tall], params.cluster_eps_m)
+    top = support.signed_distance(voxels[tall]) >= params.max_tall_height_m - params.cut_band_m
     grown: dict[int, Cluster] = {}
     dropped: set[int] = set()
     for members, added in groups:
         ks = [seeds[m] for m in members]
-        if len(added) == 0:
+        size = len(added) + sum(len(found[k].voxels) for k in ks)
+        if len(added) == 0 or (
+            int(top[added].sum()) >= params.min_cut_voxels
+            and int(top[added].sum()) >= params.min_cut_share * size
+        ):
             continue
         marked = np.zeros(len(voxels), dtype=np.bool_)
         marked[tall[added]] = True
@@ -960,7 +975,8 @@ def _cut_by_limits(cluster: Cluster, reach: _Reach, params: SegmentationParams) 
     """Whether a cluster is cut by the scene's limits, and so is a part of something larger
     (a wall, a door, a chair's back, a person's legs), not an object: at least
     ``min_cut_share`` of its voxels (and ``min_cut_voxels``) lie within ``cut_band_m`` of
-    ``max_height_m`` over its support, or as large a share of its points within
+    ``max_height_m`` over its support (``max_tall_height_m`` for a cluster grown over the band,
+    :func:`_grown_upwards`), or as large a share of its points within
     ``reach.band_m`` of the depth cut, or within ``border_band_px`` of an edge of the image's
     valid window other than the one the camera looks down through, on a line where nothing
     behind it (:func:`_behind_m`) shows between it and that edge
