@@ -794,6 +794,7 @@ def segment(
             depth,
             colours,
             pixels,
+            reach,
             margins[k],
             sigma_1m,
             params,
@@ -868,6 +869,42 @@ def _seen_standing(cluster: Cluster, margin_m: float, params: SegmentationParams
     return lowest < margin_m + params.max_base_height_m
 
 
+def _goes_on_above(cluster: Cluster, reach: _Reach, params: SegmentationParams) -> bool:
+    """Whether a cluster grown over the band goes on past its top in the image: on at least
+    ``min_hidden_share`` of its lines across the image, no pixel within ``floating_probe_px``
+    past its pixel farthest from the open edge holds a depth beyond that pixel's by more than
+    ``cut_band_m`` (or three times its noise). An object that ends shows what lies behind it
+    there; a person's hips under the shirt a plane took, or a thing against something as near,
+    do not. False when the image is unknown."""
+    if (
+        reach.view is None
+        or reach.depth_image is None
+        or reach.world_from_sensor is None
+        or cluster.pixels is None
+    ):
+        return False
+    view, image = reach.view, reach.depth_image
+    rotation, shift = reach.world_from_sensor[:3, :3], reach.world_from_sensor[:3, 3]
+    depth = (cluster.points - shift) @ rotation[:, 2]
+    row, col = np.divmod(np.asarray(cluster.pixels), view.width)
+    vertical = view.open_edge in ("top", "bottom")
+    along, across = (row, col) if vertical else (col, row)
+    limit = image.shape[0] if vertical else view.width
+    sign = -1 if view.open_edge in ("bottom", "right") else 1  # away from the open edge
+    order = np.lexsort((along * sign, across))
+    ends = order[np.r_[across[order][1:] != across[order][:-1], True]]
+    margin = max(params.cut_band_m, 3 * cluster.noise_m)
+    behind = np.zeros(len(ends), dtype=np.bool_)
+    for step in range(1, params.floating_probe_px + 1):
+        beyond = along[ends] + sign * step
+        inside = (beyond >= 0) & (beyond < limit)
+        r, c = (beyond, across[ends]) if vertical else (across[ends], beyond)
+        found = image[r[inside], c[inside]] > depth[ends][inside] + margin
+        behind[np.flatnonzero(inside)[found]] = True
+    on = ~behind
+    return bool(len(ends)) and float(on.mean()) >= params.min_hidden_share
+
+
 def _grown_upwards(
     found: list[Cluster],
     free: npt.NDArray[np.bool_],
@@ -878,6 +915,7 @@ def _grown_upwards(
     depth: FloatArray,
     colours: tuple[FloatArray, npt.NDArray[np.intp]] | None,
     pixels: npt.NDArray[np.intp] | None,
+    reach: _Reach,
     margin_m: float,
     sigma_1m: float,
     params: SegmentationParams,
@@ -889,8 +927,9 @@ def _grown_upwards(
     ``max_tall_height_m - max_height_m``) that link to it within ``cluster_eps_m``
     (:func:`shapes.grow_upwards.grow_upwards`). Clusters that the voxels above join become one,
     in the first one's place. A group that reaches ``max_tall_height_m`` (``min_cut_share`` of
-    its voxels within ``cut_band_m`` of it) does not end, and its clusters are left as they
-    were, cut: a wall, a door, a person. Clusters that hang or stay within the band are left as
+    its voxels within ``cut_band_m`` of it), or goes on past its top in the image
+    (:func:`_goes_on_above`), does not end, and its clusters are left as they were, cut: a
+    wall, a door, a person. Clusters that hang or stay within the band are left as
     they are: only what stands may reach higher, so the voxels above the band never join a
     stray part to anything."""
     seeds = [
@@ -926,7 +965,7 @@ def _grown_upwards(
         idx = np.flatnonzero(marked[voxel_of])
         parts = [found[k] for k in ks]
         first = parts[0]
-        grown[ks[0]] = Cluster(
+        whole = Cluster(
             np.vstack([*(c.points for c in parts), points[idx]]),
             None
             if colours is None or first.colours is None
@@ -940,6 +979,9 @@ def _grown_upwards(
             if pixels is None or first.pixels is None
             else np.concatenate([*(c.pixels for c in parts if c.pixels is not None), pixels[idx]]),
         )
+        if _goes_on_above(whole, reach, params):
+            continue
+        grown[ks[0]] = whole
         dropped.update(ks[1:])
     return [grown.get(k, c) for k, c in enumerate(found) if k not in dropped]
 
