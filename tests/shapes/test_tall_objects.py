@@ -86,7 +86,8 @@ def test_only_the_rack_case_rises_over_the_band_in_the_lab() -> None:
         # A person's legs and hips, 0.04-1.18 m: the shirt above, which a plane took, goes on
         # past the top in the image at the hips' depth.
         ("people_floor_kinect", 3),
-        # A plant on the floor beside the box, 0.02-0.78 m: what shows past its top lies as near.
+        # A thing behind the box, 0.02-0.78 m on this seed: past its top (taken by a plane) the
+        # image shows its own depth, not what lies behind.
         ("chair_boxes_kinect", 0),
     ],
 )
