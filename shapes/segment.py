@@ -44,7 +44,9 @@ Steps (PITT's, with its quirks fixed; see ``shared/reference/pitt-perception.md`
    desk's front edge) and is dropped.
    A cluster cut by the scene's limits (``min_cut_share`` of its voxels within ``cut_band_m``
    of ``max_height_m`` over its support, or of its points near the depth cut) is a part of
-   something larger (a wall, a chair's back) and is dropped too (:func:`_cut_by_limits`), as
+   something larger (a wall, a chair's back) and is dropped too (:func:`_cut_by_limits`),
+   unless it stands on the support and, grown upwards through the free voxels over the band,
+   ends under ``max_tall_height_m`` in view (a rack case: :func:`_grown_upwards`), as
    is one cut by an edge of the image's valid window other than the one the camera looks down
    through (:mod:`shapes.view`), one whose bottom is seen hanging over the support (a chair's
    seat; :func:`_floats`), and one standing under any such part (a chair's base;
