@@ -44,7 +44,9 @@ Steps (PITT's, with its quirks fixed; see ``shared/reference/pitt-perception.md`
    desk's front edge) and is dropped.
    A cluster cut by the scene's limits (``min_cut_share`` of its voxels within ``cut_band_m``
    of ``max_height_m`` over its support, or of its points near the depth cut) is a part of
-   something larger (a wall, a chair's back) and is dropped too (:func:`_cut_by_limits`), as
+   something larger (a wall, a chair's back) and is dropped too (:func:`_cut_by_limits`),
+   unless it stands on the support and, grown upwards through the free voxels over the band,
+   ends under ``max_tall_height_m`` in view (a rack case: :func:`_grown_upwards`), as
    is one cut by an edge of the image's valid window other than the one the camera looks down
    through (:mod:`shapes.view`), one whose bottom is seen hanging over the support (a chair's
    seat; :func:`_floats`), and one standing under any such part (a chair's base;
@@ -83,6 +85,7 @@ from scipy.spatial import cKDTree
 from shapes.arrays import column_max, column_min, column_span, unique_inverse
 from shapes.artefacts import depth_noise_1m, flying_pixels, sparse_points, sparse_voxels
 from shapes.frame import Frame
+from shapes.grow_upwards import grow_upwards
 from shapes.plane_pieces import Ground, faces_standing_on, is_scattered
 from shapes.split import split_each
 from shapes.support_region import SupportRegion, support_region
@@ -122,6 +125,10 @@ class SegmentationParams:
     min_plane_extent_m: float = 0.25
     above_margin_m: float = 0.008
     max_height_m: float = 0.6
+    max_tall_height_m: float = 1.2
+    """How high a cluster that stands on its support and is cut at ``max_height_m`` may grow
+    (:func:`_grown_upwards`): what ends under it is a tall object, what reaches it a part of
+    something larger."""
     edge_margin_m: float = 0.02
     outlier_neighbours: int = 10
     outlier_std_ratio: float = 3.0
@@ -711,7 +718,7 @@ def segment(
     # Each free voxel goes to the nearest horizontal plane below it that covers it.
     best_height = np.full(len(voxels), np.inf)
     owner = np.full(len(voxels), -1)
-    margins, supports, regions = [], [], []
+    margins, supports, regions, boxes = [], [], [], []
     for k, p in enumerate(horizontal):
         table = voxels[p.inliers]
         region = region_of[id(p)]
@@ -732,6 +739,7 @@ def segment(
         height = support.signed_distance(voxels)
         lo = column_min(table[:, :2]) + params.edge_margin_m
         hi = column_max(table[:, :2]) - params.edge_margin_m
+        boxes.append((lo, hi))
         over = (
             free
             & (height > margin)
@@ -778,6 +786,22 @@ def segment(
         )
         too_small += small
         found = [c for c in found if _stands_within(c, regions[k], params)]
+        found = _grown_upwards(
+            found,
+            free & (owner < 0),
+            boxes[k],
+            voxels,
+            voxel_of,
+            points,
+            depth,
+            colours,
+            pixels,
+            reach,
+            margins[k],
+            sigma_1m,
+            params,
+        )
+        found = [c for c in found if _stands_within(c, regions[k], params)]
         parts = [
             c
             for c in found
@@ -813,6 +837,157 @@ def segment(
     return Segmentation(primary, tuple(clusters), tuple(with_objects), sigma_1m, reason)
 
 
+def _cut_at_band_top(cluster: Cluster, params: SegmentationParams) -> bool:
+    """Whether a cluster within the height band reaches its top (``min_cut_share`` of its
+    voxels, and ``min_cut_voxels``, within ``cut_band_m`` of ``max_height_m``)."""
+    assert cluster.support is not None
+    height = cluster.support.signed_distance(cluster.voxels)
+    return _reaching(height >= params.max_height_m - params.cut_band_m, params)
+
+
+def _above_band(
+    voxels: FloatArray,
+    free: npt.NDArray[np.bool_],
+    support: SupportPlane,
+    box: tuple[FloatArray, FloatArray],
+    params: SegmentationParams,
+) -> npt.NDArray[np.intp]:
+    """The ``free`` voxels over the height band of ``support`` and under
+    ``max_tall_height_m``, inside ``box`` (across the support): where a cluster cut at the
+    band's top may go on."""
+    lo, hi = box
+    x, y = voxels[:, 0], voxels[:, 1]
+    idx = np.flatnonzero(free & (x > lo[0]) & (x < hi[0]) & (y > lo[1]) & (y < hi[1]))
+    height = support.signed_distance(voxels[idx])
+    return idx[(height >= params.max_height_m) & (height < params.max_tall_height_m)]
+
+
+def _seen_standing(cluster: Cluster, margin_m: float, params: SegmentationParams) -> bool:
+    """Whether a cluster's lowest voxel lies on its support: less than ``max_base_height_m``
+    over the lowest an object's voxel can lie (``margin_m``). Unlike :func:`_floats`, a bottom
+    hidden behind something nearer does not count: it may be anything's upper part."""
+    assert cluster.support is not None
+    lowest = float(cluster.support.signed_distance(cluster.voxels).min())
+    return lowest < margin_m + params.max_base_height_m
+
+
+def _goes_on_above(cluster: Cluster, reach: _Reach, params: SegmentationParams) -> bool:
+    """Whether a cluster grown over the band goes on past its top in the image: on at least
+    ``min_hidden_share`` of its lines across the image, no pixel within ``floating_probe_px``
+    past its pixel farthest from the open edge holds a depth beyond that pixel's by more than
+    ``cut_band_m`` (or three times its noise). An object that ends shows what lies behind it
+    there; a person's hips under the shirt a plane took, or a thing against something as near,
+    do not. False when the image is unknown."""
+    if (
+        reach.view is None
+        or reach.depth_image is None
+        or reach.world_from_sensor is None
+        or cluster.pixels is None
+    ):
+        return False
+    view, image = reach.view, reach.depth_image
+    rotation, shift = reach.world_from_sensor[:3, :3], reach.world_from_sensor[:3, 3]
+    depth = (cluster.points - shift) @ rotation[:, 2]
+    row, col = np.divmod(np.asarray(cluster.pixels), view.width)
+    vertical = view.open_edge in ("top", "bottom")
+    along, across = (row, col) if vertical else (col, row)
+    limit = image.shape[0] if vertical else view.width
+    sign = -1 if view.open_edge in ("bottom", "right") else 1  # away from the open edge
+    order = np.lexsort((along * sign, across))
+    ends = order[np.r_[across[order][1:] != across[order][:-1], True]]
+    margin = max(params.cut_band_m, 3 * cluster.noise_m)
+    behind = np.zeros(len(ends), dtype=np.bool_)
+    for step in range(1, params.floating_probe_px + 1):
+        beyond = along[ends] + sign * step
+        inside = (beyond >= 0) & (beyond < limit)
+        r, c = (beyond, across[ends]) if vertical else (across[ends], beyond)
+        found = image[r[inside], c[inside]] > depth[ends][inside] + margin
+        behind[np.flatnonzero(inside)[found]] = True
+    on = ~behind
+    return bool(len(ends)) and float(on.mean()) >= params.min_hidden_share
+
+
+def _grown_upwards(
+    found: list[Cluster],
+    free: npt.NDArray[np.bool_],
+    box: tuple[FloatArray, FloatArray],
+    voxels: FloatArray,
+    voxel_of: npt.NDArray[np.intp],
+    points: FloatArray,
+    depth: FloatArray,
+    colours: tuple[FloatArray, npt.NDArray[np.intp]] | None,
+    pixels: npt.NDArray[np.intp] | None,
+    reach: _Reach,
+    margin_m: float,
+    sigma_1m: float,
+    params: SegmentationParams,
+) -> list[Cluster]:
+    """``found`` (clusters on one support) with each cluster seen standing on it
+    (:func:`_seen_standing`) and cut at the band's top (:func:`_cut_at_band_top`) grown
+    upwards: joined with the ``free`` voxels over the band (:func:`_above_band`, inside ``box``
+    and no farther across the support from the clusters that grow than the band's rise,
+    ``max_tall_height_m - max_height_m``) that link to it within ``cluster_eps_m``
+    (:func:`shapes.grow_upwards.grow_upwards`). Clusters that the voxels above join become one,
+    in the first one's place. A group that reaches ``max_tall_height_m`` (``min_cut_share`` of
+    its voxels within ``cut_band_m`` of it), or goes on past its top in the image
+    (:func:`_goes_on_above`), does not end, and its clusters are left as they were, cut: a
+    wall, a door, a person. Clusters that hang or stay within the band are left as
+    they are: only what stands may reach higher, so the voxels above the band never join a
+    stray part to anything."""
+    seeds = [
+        k
+        for k, c in enumerate(found)
+        if _cut_at_band_top(c, params) and _seen_standing(c, margin_m, params)
+    ]
+    if not seeds:
+        return list(found)
+    support = found[seeds[0]].support
+    assert support is not None
+    rise = params.max_tall_height_m - params.max_height_m
+    every = np.vstack([found[k].voxels[:, :2] for k in seeds])
+    lo = np.maximum(box[0], column_min(every) - rise)
+    hi = np.minimum(box[1], column_max(every) + rise)
+    tall = _above_band(voxels, free, support, (lo, hi), params)
+    if len(tall) == 0:
+        return list(found)
+    groups = grow_upwards([found[k].voxels for k in seeds], voxels[tall], params.cluster_eps_m)
+    top = support.signed_distance(voxels[tall]) >= params.max_tall_height_m - params.cut_band_m
+    grown: dict[int, Cluster] = {}
+    dropped: set[int] = set()
+    for members, added in groups:
+        ks = [seeds[m] for m in members]
+        size = len(added) + sum(len(found[k].voxels) for k in ks)
+        if len(added) == 0 or (
+            int(top[added].sum()) >= params.min_cut_voxels
+            and int(top[added].sum()) >= params.min_cut_share * size
+        ):
+            continue
+        marked = np.zeros(len(voxels), dtype=np.bool_)
+        marked[tall[added]] = True
+        idx = np.flatnonzero(marked[voxel_of])
+        parts = [found[k] for k in ks]
+        first = parts[0]
+        whole = Cluster(
+            np.vstack([*(c.points for c in parts), points[idx]]),
+            None
+            if colours is None or first.colours is None
+            else np.vstack(
+                [*(c.colours for c in parts if c.colours is not None), colours[0][colours[1][idx]]]
+            ),
+            np.vstack([*(c.voxels for c in parts), voxels[tall[added]]]),
+            first.support,
+            max([c.noise_m for c in parts] + [sigma_1m * float(np.median(depth[idx])) ** 2]),
+            None
+            if pixels is None or first.pixels is None
+            else np.concatenate([*(c.pixels for c in parts if c.pixels is not None), pixels[idx]]),
+        )
+        if _goes_on_above(whole, reach, params):
+            continue
+        grown[ks[0]] = whole
+        dropped.update(ks[1:])
+    return [grown.get(k, c) for k, c in enumerate(found) if k not in dropped]
+
+
 def _stands_within(cluster: Cluster, region: SupportRegion, params: SegmentationParams) -> bool:
     """Whether a cluster stands within its support's outline (its voxels' centre across the
     support inside the main piece's hull grown by ``extent_margin_m``): the back of a chair
@@ -844,14 +1019,18 @@ def _cut_by_limits(cluster: Cluster, reach: _Reach, params: SegmentationParams) 
     """Whether a cluster is cut by the scene's limits, and so is a part of something larger
     (a wall, a door, a chair's back, a person's legs), not an object: at least
     ``min_cut_share`` of its voxels (and ``min_cut_voxels``) lie within ``cut_band_m`` of
-    ``max_height_m`` over its support, or as large a share of its points within
+    ``max_height_m`` over its support (``max_tall_height_m`` for a cluster grown over the band,
+    :func:`_grown_upwards`), or as large a share of its points within
     ``reach.band_m`` of the depth cut, or within ``border_band_px`` of an edge of the image's
     valid window other than the one the camera looks down through, on a line where nothing
     behind it (:func:`_behind_m`) shows between it and that edge
     (:meth:`shapes.view.ImageView.cut_at_closed_edge`)."""
     assert cluster.support is not None
     height = cluster.support.signed_distance(cluster.voxels)
-    if _reaching(height >= params.max_height_m - params.cut_band_m, params):
+    # Only a cluster grown upwards (:func:`_grown_upwards`) rises over the band: its limit is
+    # the higher one.
+    limit = params.max_tall_height_m if height.max() >= params.max_height_m else params.max_height_m
+    if _reaching(height >= limit - params.cut_band_m, params):
         return True
     if (
         reach.view is not None
