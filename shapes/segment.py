@@ -969,8 +969,11 @@ def _not_under(
     """The clusters of ``found`` (all on ``support``) that are not one of ``parts`` and do not
     stand under one, in their order. A cluster stands under a part of something larger when its
     voxels' centre across the support lies within the part's extent, grown by
-    ``cluster_eps_m``, and its top lies below the part's bottom: a chair's base under its
-    seat, a table's legs under its top. Both are parts of one thing.
+    ``cluster_eps_m``, and its top lies more than a voxel (``voxel_m``) below the part's
+    bottom: a chair's base under its seat, a table's legs under its top. Both are parts of one
+    thing. A cluster whose top comes within a voxel of the part's bottom touches it, and the
+    seam cut that parted them judged them two things (:func:`_taken_cut`: a monitor's screen
+    hanging over the rim of a cup in front of it).
 
     Each cluster's centre and top and each part's extent and bottom are computed once (a
     cluttered frame has hundreds of pairs)."""
@@ -985,7 +988,8 @@ def _not_under(
             continue
         centre = cluster.voxels[:, :2].mean(axis=0)
         over = (centre >= lo).all(axis=1) & (centre <= hi).all(axis=1)
-        if over.any() and float(support.signed_distance(cluster.voxels).max()) < bottom[over].max():
+        top = float(support.signed_distance(cluster.voxels).max())
+        if over.any() and top < bottom[over].max() - params.voxel_m:
             continue
         kept.append(cluster)
     return kept
