@@ -48,7 +48,11 @@ Steps (PITT's, with its quirks fixed; see ``shared/reference/pitt-perception.md`
    is one cut by an edge of the image's valid window other than the one the camera looks down
    through (:mod:`shapes.view`), one whose bottom is seen hanging over the support (a chair's
    seat; :func:`_floats`), and one standing under any such part (a chair's base;
-   :func:`_not_under`).
+   :func:`_not_under`), and one on a lower support that reaches under a higher support's
+   outline and whose top that support's edge hides (a desk's leg seen on the floor under its
+   front edge; :mod:`shapes.support_edge`). A would-be support that crosses a larger
+   horizontal plane, lying partly under it and partly over it, is no support and its voxels
+   stay free (:func:`_crosses`).
    Every horizontal plane that gets clusters is reported (:attr:`Segmentation.supports`); the
    one with the most object voxels is *the* support. The largest plane (often the floor or a
    wall) wins nothing by its size;
@@ -563,13 +567,13 @@ def _crosses(
     params: SegmentationParams,
 ) -> bool:
     """Whether a would-be support (its main piece: ``region``) crosses a larger one of the
-        ``level`` planes: more than ``min_cut_share`` of the main piece's voxels lie under that
-        plane by more than their ``tolerance``, and as many over it. Two supports are two levels
-        (a table over the floor, a shelf over a desk): the one lies wholly over the other. A
-        plane a few degrees off a desk's, which RANSAC finds through the desk's near strip, the
-        things standing on it and the space under its edge, runs from under the desk to over it:
-        it is no surface of its
-    own, and what it holds over the desk belongs to the desk's objects."""
+    ``level`` planes: more than ``min_cut_share`` of the main piece's voxels lie under that
+    plane by more than their ``tolerance``, and as many over it. Two supports are two levels
+    (a table over the floor, a shelf over a desk): the one lies wholly over the other. A
+    plane a few degrees off a desk's, which RANSAC finds through the desk's near strip, the
+    things standing on it and the space under its edge, runs from under the desk to over it:
+    it is no surface of its own, and what it holds over the desk belongs to the desk's
+    objects."""
     mine = np.flatnonzero(plane.inliers)[region.piece]
     for other in level:
         if other is plane or int(other.inliers.sum()) <= int(plane.inliers.sum()):
@@ -969,11 +973,8 @@ def _not_under(
     """The clusters of ``found`` (all on ``support``) that are not one of ``parts`` and do not
     stand under one, in their order. A cluster stands under a part of something larger when its
     voxels' centre across the support lies within the part's extent, grown by
-    ``cluster_eps_m``, and its top lies more than a voxel (``voxel_m``) below the part's
-    bottom: a chair's base under its seat, a table's legs under its top. Both are parts of one
-    thing. A cluster whose top comes within a voxel of the part's bottom touches it, and the
-    seam cut that parted them judged them two things (:func:`_taken_cut`: a monitor's screen
-    hanging over the rim of a cup in front of it).
+    ``cluster_eps_m``, and its top lies below the part's bottom: a chair's base under its
+    seat, a table's legs under its top. Both are parts of one thing.
 
     Each cluster's centre and top and each part's extent and bottom are computed once (a
     cluttered frame has hundreds of pairs)."""
@@ -988,8 +989,7 @@ def _not_under(
             continue
         centre = cluster.voxels[:, :2].mean(axis=0)
         over = (centre >= lo).all(axis=1) & (centre <= hi).all(axis=1)
-        top = float(support.signed_distance(cluster.voxels).max())
-        if over.any() and top < bottom[over].max() - params.voxel_m:
+        if over.any() and float(support.signed_distance(cluster.voxels).max()) < bottom[over].max():
             continue
         kept.append(cluster)
     return kept
