@@ -89,7 +89,7 @@ from shapes.artefacts import depth_noise_1m, flying_pixels, sparse_points, spars
 from shapes.frame import Frame
 from shapes.plane_pieces import Ground, faces_standing_on, is_scattered
 from shapes.split import split_each
-from shapes.support_edge import occluders_above, under_support_edge
+from shapes.support_edge import hidden_by_edge, occluders_above, reaches_under
 from shapes.support_region import SupportRegion, support_region
 from shapes.types import FloatArray, SupportPlane, vec3
 from shapes.view import ImageView, image_view
@@ -1005,8 +1005,8 @@ def _not_under_support_edges(
 ) -> list[list[Cluster]]:
     """The clusters kept on each support (``kept[k]`` on ``supports[k]``, whose main piece
     covers ``regions[k]``) without those that stand under another support's edge: every voxel
-    under that support's plane, and its top hidden by that support's edge
-    (:func:`shapes.support_edge.under_support_edge`): a desk's legs and panel seen on the
+    under that support's plane, its footprint reaching under it and its top hidden by that
+    support's edge (:mod:`shapes.support_edge`): a desk's legs and panel seen on the
     floor through the gap under its front edge are parts of the desk."""
     if (
         len(supports) < 2
@@ -1025,7 +1025,9 @@ def _not_under_support_edges(
             above = [
                 j
                 for j, higher in enumerate(supports)
-                if j != k and float(higher.signed_distance(cluster.voxels).max()) < 0.0
+                if j != k
+                and float(higher.signed_distance(cluster.voxels).max()) < 0.0
+                and reaches_under(cluster.voxels, regions[j], params.extent_margin_m)
             ]
             if not above or cluster.pixels is None:
                 stays.append(cluster)
@@ -1045,12 +1047,9 @@ def _not_under_support_edges(
             at = point_of[hiding]
             hiders = frame.world_points_of(frame.points[at[at >= 0]])
             if any(
-                under_support_edge(
-                    cluster.voxels,
+                hidden_by_edge(
                     supports[j].signed_distance(hiders),
                     lines,
-                    regions[j],
-                    margin_m=params.extent_margin_m,
                     edge_depth_m=params.support_edge_depth_m,
                     nearer_m=nearer_m,
                     min_hidden_share=params.min_hidden_share,

@@ -7,16 +7,18 @@ the floor inside its outline, and its top is not seen hanging. It is not seen at
 desk's edge hides it. Such a cluster goes on up, out of view, towards the desk; it is a part
 of the desk, not an object of the scene.
 
-A cluster on one support stands under a higher support's edge (:func:`under_support_edge`)
-when
+A cluster on one support, wholly under a higher support's plane, stands under that support's
+edge when
 
-- its footprint reaches under the higher support: one of its voxels, across the supports, lies
-  inside the convex hull of the higher support's main piece grown by ``margin_m``;
-- and the higher support hides its top: on at least ``min_hidden_share`` of the lines across
-  the image on which the cluster has points (columns, for a camera looking down at a table),
-  the first pixel past its outermost pixel away from the image's open edge that lies nearer
-  than it by ``nearer_m``, within ``probe_px``, is a point of the higher support's edge: no
-  higher than ``nearer_m`` over its plane and no lower than ``edge_depth_m`` under it (the
+- its footprint reaches under the higher support (:func:`reaches_under`): one of its voxels,
+  across the supports, lies inside the convex hull of the higher support's main piece grown by
+  ``margin_m``;
+- and the higher support hides its top (:func:`hidden_by_edge`): on at least
+  ``min_hidden_share`` of the lines across the image on which the cluster has points (columns,
+  for a camera looking down at a table), the first pixel past its outermost pixel away from
+  the image's open edge that lies nearer than it by ``nearer_m``, within ``probe_px``
+  (:func:`occluders_above`), is a point of the higher support's edge: no higher than
+  ``nearer_m`` over its plane and no lower than ``edge_depth_m`` under it (the
   thickness of a table's top, its front face and its apron).
 
 An object on the floor under a table whose top the camera sees (a bin standing clear of the
@@ -32,12 +34,12 @@ through the gap): the camera does not see its top, and cannot tell it from a leg
 >>> desk = support_region(desk_xy, 0.05)  # its main piece's outline; its plane is z = 0.7
 >>> leg = np.array([[0.02, 0.02, z] for z in np.arange(0.0, 0.2, 0.01)])  # its foot, in view
 >>> hidden = np.array([-0.01, -0.02, -0.03])  # the heights over the desk of what hides its top
->>> under_support_edge(leg, hidden, 3, desk, margin_m=0.05, edge_depth_m=0.08,
-...     nearer_m=0.03, min_hidden_share=0.5)
+>>> reaches_under(leg, desk, margin_m=0.05)
+True
+>>> hidden_by_edge(hidden, 3, edge_depth_m=0.08, nearer_m=0.03, min_hidden_share=0.5)
 True
 >>> chair = np.array([-0.25, -0.26, -0.24])  # a chair's seat hides it instead: an object
->>> under_support_edge(leg, chair, 3, desk, margin_m=0.05, edge_depth_m=0.08,
-...     nearer_m=0.03, min_hidden_share=0.5)
+>>> hidden_by_edge(chair, 3, edge_depth_m=0.08, nearer_m=0.03, min_hidden_share=0.5)
 False
 """
 
@@ -50,7 +52,7 @@ from shapes.support_region import SupportRegion
 from shapes.types import FloatArray
 from shapes.view import ImageView
 
-__all__ = ["occluders_above", "under_support_edge"]
+__all__ = ["hidden_by_edge", "occluders_above", "reaches_under"]
 
 
 def occluders_above(
@@ -86,23 +88,25 @@ def occluders_above(
     return len(ends), found[found >= 0]
 
 
-def under_support_edge(
-    voxels: FloatArray,
+def reaches_under(voxels: FloatArray, region: SupportRegion, margin_m: float) -> bool:
+    """Whether a cluster's footprint reaches under a higher support: one of its ``voxels``
+    (world frame) lies, across the supports, inside the hull of the higher support's main
+    piece (``region``) grown by ``margin_m``."""
+    return bool(region.contains(voxels[:, :2], margin_m).any())
+
+
+def hidden_by_edge(
     occluder_heights: FloatArray,
     lines: int,
-    region: SupportRegion,
     *,
-    margin_m: float,
     edge_depth_m: float,
     nearer_m: float,
     min_hidden_share: float,
 ) -> bool:
-    """Whether a cluster (its ``voxels``, in the world frame, all under a higher support
-    whose main piece covers ``region``) stands under that support's edge, and so is a part of
-    it (see the module doc). ``lines``: how many lines across the image the cluster has
-    points on; ``occluder_heights``: the height over the higher support of each point that
-    hides the cluster's top (:func:`occluders_above`)."""
-    if lines == 0 or not region.contains(voxels[:, :2], margin_m).any():
-        return False
+    """Whether a higher support's edge hides a cluster's top: of the ``lines`` across the
+    image the cluster has points on, at least ``min_hidden_share`` have what hides them
+    (``occluder_heights``: each one's height over the support, :func:`occluders_above`) no
+    lower than ``edge_depth_m`` under the support's plane and no higher than ``nearer_m``
+    over it."""
     edge = (occluder_heights >= -edge_depth_m) & (occluder_heights <= nearer_m)
-    return bool(int(edge.sum()) >= min_hidden_share * lines)
+    return lines > 0 and int(edge.sum()) >= min_hidden_share * lines
