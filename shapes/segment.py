@@ -170,6 +170,10 @@ class SegmentationParams:
     """How far under a support's plane its edge reaches (the top's thickness, its front face,
     an apron): what hides the top of a cluster on a lower support from that high up is the
     support's edge, and the cluster stands under it (:mod:`shapes.support_edge`)."""
+    min_edge_hidden_share: float = 0.5
+    """The share of a cluster's upper outline that a higher support's edge must hide for the
+    cluster to stand under that edge (:mod:`shapes.support_edge`); the same half as
+    ``min_hidden_share`` asks of a lower outline."""
 
 
 @dataclass(frozen=True, eq=False)
@@ -1052,7 +1056,7 @@ def _not_under_support_edges(
                     lines,
                     edge_depth_m=params.support_edge_depth_m,
                     nearer_m=nearer_m,
-                    min_hidden_share=params.min_hidden_share,
+                    min_hidden_share=params.min_edge_hidden_share,
                 )
                 for j in above
             ):
