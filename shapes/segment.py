@@ -50,7 +50,11 @@ Steps (PITT's, with its quirks fixed; see ``shared/reference/pitt-perception.md`
    is one cut by an edge of the image's valid window other than the one the camera looks down
    through (:mod:`shapes.view`), one whose bottom is seen hanging over the support (a chair's
    seat; :func:`_floats`), and one standing under any such part (a chair's base;
-   :func:`_not_under`).
+   :func:`_not_under`), and one on a lower support that reaches under a higher support's
+   outline and whose top that support's edge hides (a desk's leg seen on the floor under its
+   front edge; :mod:`shapes.support_edge`). A would-be support that crosses a larger
+   horizontal plane, lying partly under it and partly over it, is no support and its voxels
+   stay free (:func:`_crosses`).
    Every horizontal plane that gets clusters is reported (:attr:`Segmentation.supports`); the
    one with the most object voxels is *the* support. The largest plane (often the floor or a
    wall) wins nothing by its size;
@@ -88,6 +92,7 @@ from shapes.frame import Frame
 from shapes.grow_upwards import grow_upwards
 from shapes.plane_pieces import Ground, faces_standing_on, is_scattered
 from shapes.split import split_each
+from shapes.support_edge import hidden_by_edge, occluders_above, reaches_under
 from shapes.support_region import SupportRegion, support_region
 from shapes.types import FloatArray, SupportPlane, vec3
 from shapes.view import ImageView, image_view
@@ -168,6 +173,14 @@ class SegmentationParams:
     min_hidden_share: float = 0.5
     """The share of a cluster's lower outline that something nearer must hide for a bottom
     seen above ``max_base_height_m`` to be hidden rather than hanging (:func:`_floats`)."""
+    support_edge_depth_m: float = 0.08
+    """How far under a support's plane its edge reaches (the top's thickness, its front face,
+    an apron): what hides the top of a cluster on a lower support from that high up is the
+    support's edge, and the cluster stands under it (:mod:`shapes.support_edge`)."""
+    min_edge_hidden_share: float = 0.5
+    """The share of a cluster's upper outline that a higher support's edge must hide for the
+    cluster to stand under that edge (:mod:`shapes.support_edge`); the same half as
+    ``min_hidden_share`` asks of a lower outline."""
 
 
 @dataclass(frozen=True, eq=False)
@@ -556,6 +569,34 @@ def _supports_by_pieces(
     return judged, regions, scattered
 
 
+def _crosses(
+    plane: _Plane,
+    region: SupportRegion,
+    level: list[_Plane],
+    voxels: FloatArray,
+    tolerance: FloatArray,
+    params: SegmentationParams,
+) -> bool:
+    """Whether a would-be support (its main piece: ``region``) crosses a larger one of the
+    ``level`` planes: more than ``min_cut_share`` of the main piece's voxels lie under that
+    plane by more than their ``tolerance``, and as many over it. Two supports are two levels
+    (a table over the floor, a shelf over a desk): the one lies wholly over the other. A
+    plane a few degrees off a desk's, which RANSAC finds through the desk's near strip, the
+    things standing on it and the space under its edge, runs from under the desk to over it:
+    it is no surface of its own, and what it holds over the desk belongs to the desk's
+    objects."""
+    mine = np.flatnonzero(plane.inliers)[region.piece]
+    for other in level:
+        if other is plane or int(other.inliers.sum()) <= int(plane.inliers.sum()):
+            continue
+        height = voxels[mine] @ other.normal + other.offset
+        under = float(np.mean(height < -tolerance[mine]))
+        over = float(np.mean(height > tolerance[mine]))
+        if min(under, over) > params.min_cut_share:
+            return True
+    return False
+
+
 def _robust_sigma(values: FloatArray) -> float:
     if len(values) == 0:
         return 0.0
@@ -679,6 +720,13 @@ def segment(
         planes, horizontal, level, faces, voxels, params
     )
     horizontal = [p for p in planes if p.horizontal and id(p) not in faces | steps | scattered]
+    crossing = {
+        id(p)
+        for p in horizontal
+        if _crosses(p, region_of[id(p)], horizontal, voxels, scan.tolerance, params)
+    }
+    faces |= crossing  # a slice through a support and what stands on it: its voxels stay free
+    horizontal = [p for p in horizontal if id(p) not in crossing]
     if not horizontal:
         seen = "; ".join(p.describe() for p in planes) or "none"
         log.info("no horizontal support plane in %d voxels", len(voxels))
@@ -764,10 +812,12 @@ def segment(
     clusters: list[Cluster] = []
     too_small = above = 0
     votes = np.zeros(len(horizontal), dtype=np.int64)
+    kept: list[list[Cluster]] = []
     for k, support in enumerate(supports):
         candidates = np.flatnonzero(owner == k)
         above += len(candidates)
         if len(candidates) < params.min_cluster_voxels:
+            kept.append([])
             continue
         found, small = _clusters(
             candidates,
@@ -807,7 +857,9 @@ def segment(
             for c in found
             if _cut_by_limits(c, reach, params) or _floats(c, reach, margins[k], params)
         ]
-        found = _not_under(found, parts, support, params)
+        kept.append(_not_under(found, parts, support, params))
+    kept = _not_under_support_edges(kept, supports, regions, frame, reach, params)
+    for k, found in enumerate(kept):
         votes[k] = sum(len(c.voxels) for c in found)
         clusters += found
     with_objects = [supports[k] for k in np.argsort(-votes, kind="stable") if votes[k] > 0]
@@ -1124,6 +1176,73 @@ def _not_under(
             continue
         kept.append(cluster)
     return kept
+
+
+def _not_under_support_edges(
+    kept: list[list[Cluster]],
+    supports: list[SupportPlane],
+    regions: list[SupportRegion],
+    frame: Frame,
+    reach: _Reach,
+    params: SegmentationParams,
+) -> list[list[Cluster]]:
+    """The clusters kept on each support (``kept[k]`` on ``supports[k]``, whose main piece
+    covers ``regions[k]``) without those that stand under another support's edge: every voxel
+    under that support's plane, its footprint reaching under it and its top hidden by that
+    support's edge (:mod:`shapes.support_edge`): a desk's legs and panel seen on the
+    floor through the gap under its front edge are parts of the desk."""
+    if (
+        len(supports) < 2
+        or reach.view is None
+        or reach.depth_image is None
+        or reach.world_from_sensor is None
+        or frame.pixels is None
+    ):
+        return kept
+    rotation, shift = reach.world_from_sensor[:3, :3], reach.world_from_sensor[:3, 3]
+    point_of: npt.NDArray[np.intp] | None = None  # the frame's point at each pixel, if needed
+    out = []
+    for k, found in enumerate(kept):
+        stays = []
+        for cluster in found:
+            above = [
+                j
+                for j, higher in enumerate(supports)
+                if j != k
+                and float(higher.signed_distance(cluster.voxels).max()) < 0.0
+                and reaches_under(cluster.voxels, regions[j], params.extent_margin_m)
+            ]
+            if not above or cluster.pixels is None:
+                stays.append(cluster)
+                continue
+            nearer_m = max(params.cut_band_m, 3 * cluster.noise_m)
+            lines, hiding = occluders_above(
+                reach.view,
+                cluster.pixels,
+                (cluster.points - shift) @ rotation[:, 2],
+                reach.depth_image,
+                params.floating_probe_px,
+                nearer_m,
+            )
+            if point_of is None:
+                point_of = np.full(reach.depth_image.size, -1, dtype=np.intp)
+                point_of[frame.pixels] = np.arange(len(frame.pixels))
+            at = point_of[hiding]
+            hiders = frame.world_points_of(frame.points[at[at >= 0]])
+            if any(
+                hidden_by_edge(
+                    supports[j].signed_distance(hiders),
+                    lines,
+                    edge_depth_m=params.support_edge_depth_m,
+                    nearer_m=nearer_m,
+                    min_hidden_share=params.min_edge_hidden_share,
+                )
+                for j in above
+            ):
+                continue
+            stays.append(cluster)
+        out.append(stays)
+    return out
 
 
 def _stacked(voxels: FloatArray, parts: npt.NDArray[np.int64], min_apart_m: float) -> bool:
