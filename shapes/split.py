@@ -169,9 +169,11 @@ def split_each(
     seam = hits >= seam_links
     # Concave links everywhere: the normals are too noisy to show a seam.
     read = np.concatenate([masks[k] if masks[k].any() else ~masks[k] for k in work])
-    noisy = np.bincount(group[read], weights=seam[read], minlength=len(work)) / np.bincount(
-        group[read], minlength=len(work)
-    ) > max_seam_share
+    noisy = (
+        np.bincount(group[read], weights=seam[read], minlength=len(work))
+        / np.bincount(group[read], minlength=len(work))
+        > max_seam_share
+    )
     keep = ~concave & ~seam[i] & ~seam[j]
     graph = coo_matrix((np.ones(int(keep.sum())), (i[keep], j[keep])), shape=(n, n))
     # Components are numbered in the order of their lowest voxel, so each cluster's are a run
