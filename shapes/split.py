@@ -116,7 +116,11 @@ def split_each(
         raise ValueError(
             f"noise_m: expected one noise per cluster ({len(clusters)}), got {len(noise)}"
         )
-    masks = [np.ones(len(v), dtype=bool) for v in clusters] if judged is None else list(judged)
+    masks = (
+        [np.ones(len(v), dtype=bool) for v in clusters]
+        if judged is None
+        else [np.asarray(m, dtype=bool) for m in judged]
+    )
     if len(masks) != len(clusters) or any(
         len(m) != len(v) for m, v in zip(masks, clusters, strict=True)
     ):

@@ -12,6 +12,7 @@ import pytest
 
 from shapes import FrameResult, Perception, PerceptionParams, open_source
 from shapes.nested_parts import joined_where_nested, lies_along
+from shapes.segment import voxel_grid
 from shapes.split import split_each
 
 SCANS = Path(__file__).parents[1] / "data" / "real_scans"
@@ -117,3 +118,27 @@ def test_seam_shares_judged_over_masks_that_do_not_fit_are_refused(
     clusters = [np.random.default_rng(0).normal(size=(30, 3))] * 2
     with pytest.raises(ValueError, match=message):
         split_each(clusters, None, judged=judged)
+
+
+def test_the_seam_share_is_read_over_the_voxels_judged() -> None:
+    """Two domes side by side over a rough band (random voxels, whose normals give concave links
+    everywhere): read over every voxel the seam share says "too noisy" and the cluster stays
+    whole; read over the domes alone, the seam between them cuts it."""
+    rng = np.random.default_rng(0)
+
+    def dome(cx: float) -> np.ndarray:
+        d = rng.normal(size=(3000, 3))
+        d /= np.linalg.norm(d, axis=1)[:, None]
+        d[:, 2] = np.abs(d[:, 2])
+        return d * 0.04 + (cx, 0.0, 0.04)
+
+    band = np.column_stack(
+        (rng.uniform(-0.08, 0.08, 100), rng.uniform(-0.04, 0.04, 100), rng.uniform(0, 0.025, 100))
+    )
+    voxels = voxel_grid(np.vstack((dome(-0.041), dome(0.041), band)), 0.01)[0]
+    up = np.array([0.0, 0.0, 1.0])
+    assert split_each([voxels], up, max_seam_share=1.0)[0].max() >= 1
+    assert split_each([voxels], up)[0].max() == 0
+    assert split_each([voxels], up, judged=[voxels[:, 2] >= 0.03])[0].max() >= 1
+    # No voxel judged: every voxel is, as by default.
+    assert split_each([voxels], up, judged=[np.zeros(len(voxels), dtype=bool)])[0].max() == 0
