@@ -47,18 +47,36 @@ def lies_along(
 ) -> bool:
     """Whether the voxels ``part`` lie along ``other`` across the support (the x-y plane): see
     the module docstring."""
+    slices = _slices_when_long(part, slice_m, min_elongation)
+    if slices is None:
+        return False
+    return bool(_along_share(part, slices, cKDTree(other[:, :2]), near_m) >= min_along_share)
+
+
+def _slices_when_long(
+    part: FloatArray, slice_m: float, min_elongation: float
+) -> npt.NDArray[np.int64] | None:
+    """Each voxel's slice (``slice_m`` long) along the part's long axis across the support, or
+    None when the part is less than ``min_elongation`` times as long as it is wide."""
     across = part[:, :2] - part[:, :2].mean(axis=0)
     if len(across) < 2:
-        return False
-    axes = np.linalg.eigh(np.cov(across.T))[1]  # columns by rising spread: the long axis last
+        return None
+    axes = np.linalg.eigh(across.T @ across)[1]  # columns by rising spread: the long axis last
     along, wide = across @ axes[:, 1], across @ axes[:, 0]
-    length = float(along.max() - along.min())
-    if length < min_elongation * float(wide.max() - wide.min()):
-        return False
-    slices = np.floor((along - along.min()) / slice_m).astype(np.int64)
-    near = np.isfinite(cKDTree(other[:, :2]).query(part[:, :2], distance_upper_bound=near_m)[0])
-    touched = len(np.unique(slices[near]))
-    return touched >= min_along_share * len(np.unique(slices))
+    if float(along.max() - along.min()) < min_elongation * float(wide.max() - wide.min()):
+        return None
+    return np.asarray(np.floor((along - along.min()) / slice_m), dtype=np.int64)
+
+
+def _along_share(
+    part: FloatArray, slices: npt.NDArray[np.int64], other: cKDTree, near_m: float
+) -> float:
+    """The share of the part's slices in which a voxel lies within ``near_m`` of ``other`` (a
+    k-d tree of its voxels across the support)."""
+    near = np.isfinite(other.query(part[:, :2], distance_upper_bound=near_m)[0])
+    # Slices are small counts from 0: a bincount's non-zero bins are the slices present.
+    touched = np.count_nonzero(np.bincount(slices[near], minlength=1))
+    return float(touched / np.count_nonzero(np.bincount(slices)))
 
 
 def joined_where_nested(
@@ -79,6 +97,7 @@ def joined_where_nested(
         raise ValueError(f"parts: expected one label per voxel ({len(voxels)}), got {len(parts)}")
     count = int(parts.max(initial=-1)) + 1
     members = [voxels[parts == k] for k in range(count)]
+    trees: dict[int, cKDTree] = {}
     root = list(range(count))
 
     def find(k: int) -> int:
@@ -87,19 +106,15 @@ def joined_where_nested(
         return k
 
     for a in range(count):
+        slices = _slices_when_long(members[a], slice_m, min_elongation)
+        if slices is None:  # most parts: no longer than twice their width
+            continue
         for b in range(count):
-            if a == b or len(members[a]) > len(members[b]) or len(members[a]) == 0:
-                continue
-            if len(members[a]) == len(members[b]) and a > b:
-                continue
-            if lies_along(
-                members[a],
-                members[b],
-                near_m=near_m,
-                slice_m=slice_m,
-                min_elongation=min_elongation,
-                min_along_share=min_along_share,
-            ):
+            if a == b or (len(members[a]), a) > (len(members[b]), b):
+                continue  # only along a larger part (or, as large, a later one)
+            if b not in trees:
+                trees[b] = cKDTree(members[b][:, :2])
+            if _along_share(members[a], slices, trees[b], near_m) >= min_along_share:
                 ra, rb = find(a), find(b)
                 root[max(ra, rb)] = min(ra, rb)
     roots = np.array([find(k) for k in range(count)], dtype=np.int64)
