@@ -44,8 +44,8 @@ centroids (for round objects the axis centre, a ball's the sphere's, with the ra
 the primitives of objects not in the ground truth (chair wheels, a cardboard box at the back: real
 objects), and the CPU time per frame; then, for each set of scans, the totals against the
 issue's targets (objects found as one primitive within 3 cm, farther, in parts or missed; round
-objects given a curved primitive with the radius within 25 %; strays); then the median CPU time per Kinect frame beside a simulated
-frame's, timed in the same run (their ratio is what survives the machine's load), against the
+objects given a curved primitive with the radius within 25 %; strays); then the median CPU time
+per Kinect frame beside a simulated frame's, timed in the same run (their ratio is what survives the machine's load), against the
 target (< 100 ms per Kinect frame); then the track ids over the three consecutive laptop frames.
 The "set" column says which scans the pipeline's rules may have been chosen on ("tuned on": every
 scan vendored up to stop 36, the six held out until then included, since all were run and diagnosed

@@ -90,6 +90,7 @@ from shapes.arrays import column_max, column_min, column_span, unique_inverse
 from shapes.artefacts import depth_noise_1m, flying_pixels, sparse_points, sparse_voxels
 from shapes.frame import Frame
 from shapes.grow_upwards import grow_upwards
+from shapes.nested_parts import joined_where_nested
 from shapes.plane_pieces import Ground, faces_standing_on, is_scattered
 from shapes.split import split_each
 from shapes.support_edge import hidden_by_edge, occluders_above, reaches_under
@@ -242,7 +243,6 @@ _HYPOTHESES_PER_PASS = 32
 _CONFIDENCE = 1 - 1e-3
 """RANSAC stops once a better plane is this unlikely to be left among the unscored samples
 (the textbook bound: 1 - 1e-3 of drawing at least one all-inlier sample)."""
-
 
 _SCORED_POINTS = 4000
 """Planes are sampled and scored on this many random points (a plane holding 3 % of the voxels
@@ -1317,6 +1317,16 @@ def _connected(voxels: FloatArray, link_m: float) -> bool:
     return int(connected_components(graph, directed=False)[0]) == 1
 
 
+def _clear_of_the_base(heights: FloatArray, params: SegmentationParams) -> npt.NDArray[np.bool_]:
+    """The voxels of a cluster over which the splitter reads how noisy its normals are: those
+    ``max_base_height_m`` or more over the support. Below, every standing object meets the
+    support in a concave corner, a true seam, not noise (on a box beside a telephone, 28 % of
+    the voxels of the lowest 2 cm are seam against 13 % above 4 cm). A flat thing, with less
+    than half of its voxels above that height, is read whole: its seams there are its own."""
+    clear = heights >= params.max_base_height_m
+    return clear if 2 * int(clear.sum()) >= len(heights) else np.ones(len(heights), dtype=bool)
+
+
 def _split(
     labels: npt.NDArray[np.int64],
     voxels: FloatArray,
@@ -1328,7 +1338,8 @@ def _split(
 ) -> npt.NDArray[np.int64]:
     """Labels with every cluster cut along its concave seams (:mod:`shapes.split`), where
     :func:`_taken_cut` takes the cut (``heights``: each voxel's height over the support, when
-    known; ``margin_m``: the support's noise margin)."""
+    known; ``margin_m``: the support's noise margin), and where no part lies along another
+    (:mod:`shapes.nested_parts`: a handset in its cradle is one thing with its base)."""
     out = labels.copy()
     next_label = int(labels.max(initial=-1)) + 1
     order = np.argsort(labels, kind="stable")
@@ -1348,12 +1359,16 @@ def _split(
         viewpoint,
         min_voxels=params.min_cluster_voxels,
         noise_m=noise,
+        judged=None if heights is None else [_clear_of_the_base(heights[m], params) for m in cut],
     )
     for members, parts in zip(cut, found, strict=True):
         if parts.max() == 0 or _stacked(voxels[members], parts, params.cluster_eps_m):
             continue
         if heights is not None:
             parts = _taken_cut(voxels[members], heights[members], parts, margin_m, params)
+        parts = joined_where_nested(
+            voxels[members], parts, near_m=params.cluster_eps_m, slice_m=params.voxel_m
+        )
         for part in range(1, int(parts.max()) + 1):
             out[members[parts == part]] = next_label
             next_label += 1

@@ -13,7 +13,8 @@ other. The rule (after the local convexity criterion of LCCP, Stein et al. 2014)
   a voxel with ``seam_links`` or more concave links is part of the seam and loses all its
   links (normals are smoothed across the seam, so a few links over it look flat); when more
   than ``max_seam_share`` of the voxels are seam, the normals are too noisy to tell and the
-  cluster stays whole;
+  cluster stays whole (the caller may say which voxels that share is read over: those clear
+  of the support, whose corner with every standing object is a true seam);
 - the objects are the connected parts of what is left; parts with fewer than ``min_voxels``
   voxels go back to the part of their nearest voxel. A single convex object has no concave
   seam across it (noise makes only scattered concave links, which cut nothing), so it stays
@@ -96,18 +97,36 @@ def split_each(
     min_voxels: int = 12,
     noise_m: list[float] | None = None,
     max_seam_share: float = 0.15,
+    judged: list[npt.NDArray[np.bool_]] | None = None,
 ) -> list[npt.NDArray[np.int64]]:
     """:func:`split_touching` of each of several clusters (``noise_m``: each one's noise, 0 by
     default), with the same labels: each cluster's neighbours and links are its own, and the
     normals, the concave links, the seams and the connected parts of all of them are found in
     one set of array operations (a frame's clusters cost a few numpy calls, not a few each).
 
-    Raises ValueError when ``noise_m`` does not give one noise per cluster.
+    ``judged``: for each cluster, the voxels over which the share of seam voxels is read
+    against ``max_seam_share`` (every voxel by default; all of them again where none is
+    judged).
+
+    Raises ValueError when ``noise_m`` or ``judged`` does not give one entry per cluster, or
+    a ``judged`` mask is not as long as its cluster.
     """
     noise = [0.0] * len(clusters) if noise_m is None else list(noise_m)
     if len(noise) != len(clusters):
         raise ValueError(
             f"noise_m: expected one noise per cluster ({len(clusters)}), got {len(noise)}"
+        )
+    masks = (
+        [np.ones(len(v), dtype=bool) for v in clusters]
+        if judged is None
+        else [np.asarray(m, dtype=bool) for m in judged]
+    )
+    if len(masks) != len(clusters) or any(
+        len(m) != len(v) for m, v in zip(masks, clusters, strict=True)
+    ):
+        raise ValueError(
+            "judged: expected one mask per cluster, as long as its cluster "
+            f"({[len(v) for v in clusters]}), got {[len(m) for m in masks]}"
         )
     out: list[npt.NDArray[np.int64]] = [np.zeros(len(v), dtype=np.int64) for v in clusters]
     work = [k for k, v in enumerate(clusters) if len(v) >= 2 * min_voxels]
@@ -153,7 +172,12 @@ def split_each(
     hits = np.bincount(i[concave], minlength=n) + np.bincount(j[concave], minlength=n)
     seam = hits >= seam_links
     # Concave links everywhere: the normals are too noisy to show a seam.
-    noisy = np.bincount(group, weights=seam, minlength=len(work)) / sizes > max_seam_share
+    read = np.concatenate([masks[k] if masks[k].any() else ~masks[k] for k in work])
+    noisy = (
+        np.bincount(group[read], weights=seam[read], minlength=len(work))
+        / np.bincount(group[read], minlength=len(work))
+        > max_seam_share
+    )
     keep = ~concave & ~seam[i] & ~seam[j]
     graph = coo_matrix((np.ones(int(keep.sum())), (i[keep], j[keep])), shape=(n, n))
     # Components are numbered in the order of their lowest voxel, so each cluster's are a run
