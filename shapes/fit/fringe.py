@@ -23,6 +23,10 @@ from shapes.types import FloatArray, SupportPlane
 __all__ = ["fringe", "side_wall_circle"]
 
 
+_STEP_POINTS = 200
+"""The points, at most, whose nearest neighbours give the image's step."""
+
+
 def _across(direction: FloatArray) -> tuple[FloatArray, FloatArray]:
     """Two unit vectors square to ``direction`` (a unit vector) and to each other."""
     helper = np.array([1.0, 0.0, 0.0]) if abs(direction[0]) < 0.9 else np.array([0.0, 1.0, 0.0])
@@ -34,13 +38,14 @@ def _across(direction: FloatArray) -> tuple[FloatArray, FloatArray]:
 def fringe(points: FloatArray, eye: FloatArray, *, cells: int = 1, cell_steps: float = 1.5) -> Mask:
     """Which ``points`` lie on the fringe of the cluster's outline as seen from ``eye``.
 
-    Each point's ray is put on the plane one unit in front of the eye, across the mean ray (its
-    place in the image, whatever the sensor's pixel size); the image's step is the median
-    distance from a point to its nearest neighbour there (the pixel stride the points were
-    taken at). On a grid of ``cell_steps`` steps a cell (coarse enough that the points leave no
-    empty cell inside the cluster), the fringe is the cells that an erosion by ``cells`` cells
-    removes: the points within about ``cells * cell_steps`` steps of the outline, the outer one
-    and that of any hole the cluster has. Every point is on the fringe with fewer than 10.
+    Each point's ray is put on the plane one unit in front of the eye, across the mean ray
+    (its place in the image, whatever the sensor's pixel size). The image's step is the median
+    distance from a point to its nearest neighbour there, over at most 200 of them (the pixel
+    stride the points were taken at). On a grid of ``cell_steps`` steps a cell (coarse enough
+    that the points leave no empty cell inside the cluster), the fringe is the cells that an
+    erosion by ``cells`` cells removes: the points within about ``cells * cell_steps`` steps of
+    the outline, the outer one and that of any hole the cluster has. Every point is on the
+    fringe with fewer than 10 points.
 
     >>> u, v = np.meshgrid(np.arange(-20, 21) * 0.002, np.arange(-20, 21) * 0.002)
     >>> square = np.column_stack((u.ravel(), v.ravel(), np.ones(u.size)))  # 41 x 41 steps
@@ -58,7 +63,8 @@ def fringe(points: FloatArray, eye: FloatArray, *, cells: int = 1, cell_steps: f
     depth = rays @ mean
     flat = np.column_stack((rays @ e1, rays @ e2)) / depth[:, None]
     tree = cKDTree(flat, balanced_tree=False, compact_nodes=False)
-    step = float(np.median(tree.query(flat, k=2)[0][:, 1]))
+    some = flat[:: -(-len(flat) // _STEP_POINTS)]  # an even stride: the step is the same
+    step = float(np.median(tree.query(some, k=2)[0][:, 1]))
     if not step > 0:
         return np.ones(len(points), dtype=bool)
     cell = np.floor((flat - flat.min(axis=0)) / (cell_steps * step)).astype(np.intp)

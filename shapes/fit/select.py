@@ -773,19 +773,16 @@ def fit_cluster(
         sample = points
     normals = normals_at(points, sample, min(fp.normal_neighbours, len(points) - 1))
     t_sel = fp.selection_threshold_m
-    # The outline's fringe: its points count in a candidate's cost only where it explains them.
-    on_fringe: Mask | None = None
-    if eye is not None and fp.fringe_cells > 0:
-        on_fringe = fringe(points, eye, cells=fp.fringe_cells, cell_steps=fp.fringe_cell_steps)
-        on_fringe = on_fringe if chosen is None else on_fringe[chosen]
+    # The outline's fringe (of the sample), found when the side wall's cylinder is scored.
+    on_fringe: list[Mask] = []
 
     def cost_of(d: FloatArray, side_wall: FloatArray | None = None) -> float:
         """A candidate's cost from the sample's distances to it; the side wall's cylinder
         (``side_wall``, its parameters) leaves out the points of the outline's fringe that lie
         outside it (module docstring, "Rings and outlines")."""
-        if on_fringe is None or side_wall is None:
+        if not on_fringe or side_wall is None:
             return _cost(d, t_sel)
-        return _cost(d[~(on_fringe & (d >= t_sel) & _outside(side_wall, sample))], t_sel)
+        return _cost(d[~(on_fringe[0] & (d >= t_sel) & _outside(side_wall, sample))], t_sel)
 
     # A sphere or cylinder is seen over a good part of its circumference (a third of it already
     # spans 1.7 radii), so its radius is bounded by the cluster's size: wider ones only imitate
@@ -989,6 +986,9 @@ def fit_cluster(
         # After the refinements: the side wall's circle is a least-squares fit already, and
         # refined on every point the fringe it is scored without would pull it wider again.
         side = _side_wall_cylinder(sample, support, fp, models[ShapeKind.CYLINDER][0])
+        if side is not None and eye is not None and fp.fringe_cells > 0:
+            rim = fringe(points, eye, cells=fp.fringe_cells, cell_steps=fp.fringe_cell_steps)
+            on_fringe.append(rim if chosen is None else rim[chosen])
         if side is not None and cost_of(side[1], side[0]) < costs.get(ShapeKind.CYLINDER, np.inf):
             score(ShapeKind.CYLINDER, *side, side_wall=True)
     cylinder_cost = costs.get(ShapeKind.CYLINDER, np.inf)
