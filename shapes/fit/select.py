@@ -101,6 +101,21 @@ stands on its tip: a cone candidate whose axis lies within ``upright_tolerance_d
 support's normal and which widens upwards (its apex at the bottom) is never kept, from any of
 the searches above; such a thing is the cylinder's, taper taken out or not.
 
+Rings and outlines
+------------------
+A depth camera spreads a nearer surface's depth a few pixels past its edge (the Kinect) or
+returns mixed depths there, so the points on the fringe of a cluster's outline lie off the
+object's surface, outside it; a ring's or an open container's top adds the inside seen through
+it. Both pull every fit towards a wider model. So when the support is known, one more standing
+cylinder is tried after the refinements: the circle of the side wall alone
+(:func:`shapes.fit.fringe.side_wall_circle`: the points more than ``side_wall_cut_m`` under the
+top, the circle fitted again without the side points off it, as the ground truth is measured).
+With a viewpoint, its cost leaves out the sample's points on the outline's fringe
+(:func:`shapes.fit.fringe.fringe`, ``fringe_cells`` cells of ``fringe_cell_steps`` image steps)
+that lie outside it and farther than the selection threshold from it. It takes the cylinder's
+place when that cost is below the cylinder's, and is not refined (on every point, the fringe
+would pull it wider again). No other candidate leaves any point out.
+
 Heights are measured to the support: when a cylinder's or cone's axis is within
 ``upright_tolerance_deg`` of the support normal and its lowest points lie within
 ``snap_distance_m`` of the support, the base is put on the support plane. The segmentation has
@@ -989,7 +1004,9 @@ def fit_cluster(
         if side is not None and eye is not None and fp.fringe_cells > 0:
             rim = fringe(points, eye, cells=fp.fringe_cells, cell_steps=fp.fringe_cell_steps)
             on_fringe.append(rim if chosen is None else rim[chosen])
-        if side is not None and cost_of(side[1], side[0]) < costs.get(ShapeKind.CYLINDER, np.inf):
+        # Within the tie margin the cylinder fitted on every point stays.
+        cylinder_cost = costs.get(ShapeKind.CYLINDER, np.inf)
+        if side is not None and cost_of(side[1], side[0]) < cylinder_cost - fp.tie_margin:
             score(ShapeKind.CYLINDER, *side, side_wall=True)
     cylinder_cost = costs.get(ShapeKind.CYLINDER, np.inf)
     if (
