@@ -113,8 +113,8 @@ top, the circle fitted again without the side points off it, as the ground truth
 With a viewpoint, its cost leaves out the sample's points on the outline's fringe
 (:func:`shapes.fit.fringe.fringe`, ``fringe_cells`` cells of ``fringe_cell_steps`` image steps)
 that lie outside it and farther than the selection threshold from it. It takes the cylinder's
-place when that cost is below the cylinder's, and is not refined (on every point, the fringe
-would pull it wider again). No other candidate leaves any point out.
+place when that cost is below the cylinder's by more than ``tie_margin``, and is not refined (on
+every point, the fringe would pull it wider again). No other candidate leaves any point out.
 
 Heights are measured to the support: when a cylinder's or cone's axis is within
 ``upright_tolerance_deg`` of the support normal and its lowest points lie within
