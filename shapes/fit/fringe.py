@@ -15,7 +15,6 @@ from __future__ import annotations
 
 import numpy as np
 from scipy.ndimage import binary_erosion
-from scipy.spatial import cKDTree
 
 from shapes.fit.models import Mask
 from shapes.types import FloatArray, SupportPlane
@@ -23,16 +22,35 @@ from shapes.types import FloatArray, SupportPlane
 __all__ = ["fringe", "side_wall_circle"]
 
 
-_STEP_POINTS = 200
-"""The points, at most, whose nearest neighbours give the image's step."""
+_STEP_POINTS = 64
+"""The points, at most, whose nearest neighbours give the image's step: those nearest the
+middle of the cluster's image."""
 
 
 def _across(direction: FloatArray) -> tuple[FloatArray, FloatArray]:
-    """Two unit vectors square to ``direction`` (a unit vector) and to each other."""
-    helper = np.array([1.0, 0.0, 0.0]) if abs(direction[0]) < 0.9 else np.array([0.0, 1.0, 0.0])
-    e1 = np.cross(direction, helper)
-    e1 /= np.linalg.norm(e1)
-    return e1, np.cross(direction, e1)
+    """Two unit vectors square to ``direction`` (a unit vector) and to each other.
+
+    >>> [(v + 0.0).tolist() for v in _across(np.array([0.0, 0.0, 1.0]))]
+    [[0.0, 1.0, 0.0], [-1.0, 0.0, 0.0]]
+    """
+    x, y, z = (float(c) for c in direction)
+    # The cross products written out: numpy's cross costs more than the rest on 3-vectors.
+    u = (0.0, z, -y) if abs(x) < 0.9 else (-z, 0.0, x)  # with (1, 0, 0), else (0, 1, 0)
+    norm = (u[0] ** 2 + u[1] ** 2 + u[2] ** 2) ** 0.5
+    e1 = (u[0] / norm, u[1] / norm, u[2] / norm)
+    e2 = (y * e1[2] - z * e1[1], z * e1[0] - x * e1[2], x * e1[1] - y * e1[0])
+    return np.array(e1), np.array(e2)
+
+
+def _quantile(values: FloatArray, share: float) -> float:
+    """The value ``share`` of the way up the sorted ``values`` (the nearest rank below; no
+    interpolation, which costs more than the selection)."""
+    k = int(share * (len(values) - 1))
+    return float(np.partition(values, k)[k])
+
+
+def _median(values: FloatArray) -> float:
+    return _quantile(values, 0.5)
 
 
 def fringe(points: FloatArray, eye: FloatArray, *, cells: int = 1, cell_steps: float = 1.5) -> Mask:
@@ -40,12 +58,12 @@ def fringe(points: FloatArray, eye: FloatArray, *, cells: int = 1, cell_steps: f
 
     Each point's ray is put on the plane one unit in front of the eye, across the mean ray
     (its place in the image, whatever the sensor's pixel size). The image's step is the median
-    distance from a point to its nearest neighbour there, over at most 200 of them (the pixel
-    stride the points were taken at). On a grid of ``cell_steps`` steps a cell (coarse enough
-    that the points leave no empty cell inside the cluster), the fringe is the cells that an
-    erosion by ``cells`` cells removes: the points within about ``cells * cell_steps`` steps of
-    the outline, the outer one and that of any hole the cluster has. Every point is on the
-    fringe with fewer than 10 points.
+    distance from a point to its nearest neighbour there, among the 64 nearest the middle of
+    the image (the pixel stride the points were taken at). On a grid of ``cell_steps`` steps
+    a cell (coarse enough that the points leave no empty cell inside the cluster), the fringe
+    is the cells that an erosion by ``cells`` cells removes: the points within about
+    ``cells * cell_steps`` steps of the outline, the outer one and that of any hole the
+    cluster has. Every point is on the fringe with fewer than 10 points.
 
     >>> u, v = np.meshgrid(np.arange(-20, 21) * 0.002, np.arange(-20, 21) * 0.002)
     >>> square = np.column_stack((u.ravel(), v.ravel(), np.ones(u.size)))  # 41 x 41 steps
@@ -62,9 +80,17 @@ def fringe(points: FloatArray, eye: FloatArray, *, cells: int = 1, cell_steps: f
     e1, e2 = _across(mean)
     depth = rays @ mean
     flat = np.column_stack((rays @ e1, rays @ e2)) / depth[:, None]
-    tree = cKDTree(flat, balanced_tree=False, compact_nodes=False)
-    some = flat[:: -(-len(flat) // _STEP_POINTS)]  # an even stride: the step is the same
-    step = float(np.median(tree.query(some, k=2)[0][:, 1]))
+    # The step from a patch of the image: the points nearest the middle, pairwise (a tree over
+    # them all would cost more than the rest of this function).
+    off = flat - flat.mean(axis=0)
+    near = (off * off).sum(axis=1)
+    if len(flat) > _STEP_POINTS:
+        patch = flat[np.argpartition(near, _STEP_POINTS)[:_STEP_POINTS]]
+    else:
+        patch = flat
+    gaps = ((patch[:, None, :] - patch[None, :, :]) ** 2).sum(axis=2)
+    np.fill_diagonal(gaps, np.inf)
+    step = float(np.sqrt(np.median(gaps.min(axis=1))))
     if not step > 0:
         return np.ones(len(points), dtype=bool)
     cell = np.floor((flat - flat.min(axis=0)) / (cell_steps * step)).astype(np.intp)
@@ -101,12 +127,12 @@ def side_wall_circle(
     >>> stray = np.array([[0.2, -0.07, 0.05]] * 5)  # a fringe 4 cm off the wall
     >>> foot, r, kept = side_wall_circle(np.vstack((can, stray)), table, cut_m=0.015,
     ...                                  min_band_m=0.003)
-    >>> np.round(foot, 4).tolist(), round(r, 4), int((~kept[-5:]).sum())
-    ([0.2, 0.0, 0.0], 0.03, 5)
+    >>> np.round(foot, 4).tolist() == [0.2, 0.0, 0.0], round(r, 4), int((~kept[-5:]).sum())
+    (True, 0.03, 5)
     """
     normal = np.asarray(support.normal, dtype=np.float64)
     height = points @ normal + support.offset
-    side = height < float(np.percentile(height, 99)) - cut_m
+    side = height < _quantile(height, 0.99) - cut_m
     e1, e2 = _across(normal)
     a, b = points @ e1, points @ e2
     kept = side
@@ -115,11 +141,15 @@ def side_wall_circle(
         if kept.sum() < 20:
             return None
         design = np.column_stack((a[kept], b[kept], np.ones(int(kept.sum()))))
-        sol = np.linalg.lstsq(design, a[kept] ** 2 + b[kept] ** 2, rcond=None)[0]
+        try:  # the normal equations: three unknowns, far cheaper than a least-squares solver
+            sol = np.linalg.solve(design.T @ design, design.T @ (a[kept] ** 2 + b[kept] ** 2))
+        except np.linalg.LinAlgError:
+            return None
         centre = sol[:2] / 2
         radius = float(np.sqrt(max(sol[2] + centre @ centre, 0.0)))
         off = np.hypot(a - centre[0], b - centre[1]) - radius
-        spread = 1.4826 * float(np.median(np.abs(off[kept] - np.median(off[kept]))))
+        own = off[kept]
+        spread = 1.4826 * _median(np.abs(own - _median(own)))
         again = side & (np.abs(off) <= max(3.0 * spread, min_band_m))
         if np.array_equal(again, kept):
             break

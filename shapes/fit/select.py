@@ -1001,12 +1001,15 @@ def fit_cluster(
         # After the refinements: the side wall's circle is a least-squares fit already, and
         # refined on every point the fringe it is scored without would pull it wider again.
         side = _side_wall_cylinder(sample, support, fp, models[ShapeKind.CYLINDER][0])
-        if side is not None and eye is not None and fp.fringe_cells > 0:
-            rim = fringe(points, eye, cells=fp.fringe_cells, cell_steps=fp.fringe_cell_steps)
-            on_fringe.append(rim if chosen is None else rim[chosen])
         # Within the tie margin the cylinder fitted on every point stays.
-        cylinder_cost = costs.get(ShapeKind.CYLINDER, np.inf)
-        if side is not None and cost_of(side[1], side[0]) < cylinder_cost - fp.tie_margin:
+        to_beat = costs.get(ShapeKind.CYLINDER, np.inf) - fp.tie_margin
+        if side is not None and eye is not None and fp.fringe_cells > 0:
+            # The fringe only when leaving out every far point outside could be enough.
+            d, out = side[1], _outside(side[0], sample)
+            if _cost(d[~((d >= t_sel) & out)], t_sel) < to_beat:
+                rim = fringe(points, eye, cells=fp.fringe_cells, cell_steps=fp.fringe_cell_steps)
+                on_fringe.append(rim if chosen is None else rim[chosen])
+        if side is not None and cost_of(side[1], side[0]) < to_beat:
             score(ShapeKind.CYLINDER, *side, side_wall=True)
     cylinder_cost = costs.get(ShapeKind.CYLINDER, np.inf)
     if (
