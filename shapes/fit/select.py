@@ -113,8 +113,9 @@ top, the circle fitted again without the side points off it, as the ground truth
 With a viewpoint, its cost leaves out the sample's points on the outline's fringe
 (:func:`shapes.fit.fringe.fringe`, ``fringe_cells`` cells of ``fringe_cell_steps`` image steps)
 that lie outside it and farther than the selection threshold from it. It takes the cylinder's
-place when that cost is below the cylinder's by more than ``tie_margin``, and is not refined (on
-every point, the fringe would pull it wider again). No other candidate leaves any point out.
+place when that cost is below the cylinder's by more than ``tie_margin`` and not above the
+planes' by more (else it changes nothing), and is not refined (on every point, the fringe would
+pull it wider again). No other candidate leaves any point out.
 
 Heights are measured to the support: when a cylinder's or cone's axis is within
 ``upright_tolerance_deg`` of the support normal and its lowest points lie within
@@ -1001,8 +1002,12 @@ def fit_cluster(
         # After the refinements: the side wall's circle is a least-squares fit already, and
         # refined on every point the fringe it is scored without would pull it wider again.
         side = _side_wall_cylinder(sample, support, fp, models[ShapeKind.CYLINDER][0])
-        # Within the tie margin the cylinder fitted on every point stays.
-        to_beat = costs.get(ShapeKind.CYLINDER, np.inf) - fp.tie_margin
+        # Within the tie margin the cylinder fitted on every point stays; and a cylinder the
+        # planes would beat anyway changes nothing.
+        to_beat = min(
+            costs.get(ShapeKind.CYLINDER, np.inf) - fp.tie_margin,
+            costs.get(ShapeKind.PLANE, np.inf) + fp.tie_margin,
+        )
         if side is not None and eye is not None and fp.fringe_cells > 0:
             # The fringe only when leaving out every far point outside could be enough.
             d, out = side[1], _outside(side[0], sample)
