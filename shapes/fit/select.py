@@ -826,7 +826,6 @@ def fit_cluster(
     standing_cylinder: FloatArray | None = None  # the standing search's best, kept or not
     built: dict[ShapeKind, Primitive] = {}  # each kept curved candidate, as scored
     surface: dict[ShapeKind, FloatArray] = {}
-    from_side_wall: set[ShapeKind] = set()  # the kept cylinder is the side wall's
 
     margin = t_sel + fp.snap_distance_m
     box = (column_min(points), column_max(points))
@@ -859,7 +858,6 @@ def fit_cluster(
         cost = cost_of(d, params if side_wall else None)
         fitted[kind], surface[kind], costs[kind] = params, d, cost
         built[kind] = primitive
-        (from_side_wall.add if side_wall else from_side_wall.discard)(kind)
 
     for kind, (model, thr) in models.items():
         res = ransac(
