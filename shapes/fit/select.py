@@ -119,6 +119,22 @@ stands on its tip: a cone candidate whose axis lies within ``upright_tolerance_d
 support's normal and which widens upwards (its apex at the bottom) is never kept, from any of
 the searches above; such a thing is the cylinder's, taper taken out or not.
 
+Rings and outlines
+------------------
+A depth camera spreads a nearer surface's depth a few pixels past its edge (the Kinect) or
+returns mixed depths there, so the points on the fringe of a cluster's outline lie off the
+object's surface, outside it; a ring's or an open container's top adds the inside seen through
+it. Both pull every fit towards a wider model. So when the support is known, one more standing
+cylinder is tried after the refinements: the circle of the side wall alone
+(:func:`shapes.fit.fringe.side_wall_circle`: the points more than ``side_wall_cut_m`` under the
+top, the circle fitted again without the side points off it, as the ground truth is measured).
+With a viewpoint, its cost leaves out the sample's points on the outline's fringe
+(:func:`shapes.fit.fringe.fringe`, ``fringe_cells`` cells of ``fringe_cell_steps`` image steps)
+that lie outside it and farther than the selection threshold from it. It takes the cylinder's
+place when that cost is below the cylinder's by more than ``tie_margin`` and not above the
+planes' by more (else it changes nothing), and is not refined (on every point, the fringe would
+pull it wider again). No other candidate leaves any point out.
+
 Heights are measured to the support: when a cylinder's or cone's axis is within
 ``upright_tolerance_deg`` of the support normal and its lowest points lie within
 ``snap_distance_m`` of the support, the base is put on the support plane. The segmentation has
@@ -137,6 +153,7 @@ from scipy.spatial import ConvexHull, QhullError, cKDTree
 
 from shapes.arrays import column_max, column_min, column_span, norm3
 from shapes.fit._ransac import Model, levenberg_marquardt, ransac, refine_if_better
+from shapes.fit.fringe import fringe, side_wall_circle
 from shapes.fit.models import (
     ConeModel,
     CylinderModel,
@@ -226,6 +243,17 @@ class FitParams:
     below ``outline_pointed_fullness`` (:func:`shapes.fit.outline.top_fullness`), its top's
     rows centred within ``outline_max_lean`` of its width (:func:`shapes.fit.outline.top_lean`)
     and at least ``outline_min_rows`` rows."""
+
+    fringe_cells: int = 3
+    fringe_cell_steps: float = 1.5
+    """The outline's fringe (module docstring, "Rings and outlines"): its width in cells of
+    ``fringe_cell_steps`` of the image's steps between the cluster's points
+    (:func:`shapes.fit.fringe.fringe`); 0 cells scores every point."""
+    side_wall_cut_m: float = 0.015
+    side_wall_band_m: float = 0.003
+    """The side wall's cylinder (module docstring): how far under the top the side wall starts,
+    and the least band about its circle within which a side point is kept
+    (:func:`shapes.fit.fringe.side_wall_circle`); a cut of 0 tries no such cylinder."""
 
     def for_noise(self, sigma_m: float) -> FitParams:
         """These parameters with every distance threshold raised to at least
@@ -518,6 +546,29 @@ def _without_taper(
     return (params, d) if model.within_limits(params) else None
 
 
+def _outside(cylinder: FloatArray, points: FloatArray) -> Mask:
+    """Which ``points`` lie farther from the cylinder's axis than its side."""
+    return np.asarray(_axial(cylinder, points)[1] > cylinder[6])
+
+
+def _side_wall_cylinder(
+    sample: FloatArray, support: SupportPlane, fp: FitParams, model: Model
+) -> tuple[FloatArray, FloatArray] | None:
+    """The standing cylinder through the side wall's circle (module docstring, "Rings and
+    outlines") and the distances of ``sample`` to it; None when the side wall has too few
+    points or the radius is out of the model's limits."""
+    circle = side_wall_circle(
+        sample, support, cut_m=fp.side_wall_cut_m, min_band_m=fp.side_wall_band_m
+    )
+    if circle is None:
+        return None
+    foot, radius, _ = circle
+    params = np.concatenate((foot, np.asarray(support.normal, dtype=np.float64), [radius]))
+    if not model.within_limits(params):
+        return None
+    return params, model.distances(params[None, :], sample)[0]
+
+
 def _choose(
     costs: dict[ShapeKind, float],
     fitted: dict[ShapeKind, FloatArray],
@@ -803,9 +854,21 @@ def fit_cluster(
         chosen = np.sort(rng.choice(len(points), fp.max_fit_points, replace=False))
         sample = points[chosen]
     else:
+        chosen = None
         sample = points
     normals = normals_at(points, sample, min(fp.normal_neighbours, len(points) - 1))
     t_sel = fp.selection_threshold_m
+    # The outline's fringe (of the sample), found when the side wall's cylinder is scored.
+    on_fringe: list[Mask] = []
+
+    def cost_of(d: FloatArray, side_wall: FloatArray | None = None) -> float:
+        """A candidate's cost from the sample's distances to it; the side wall's cylinder
+        (``side_wall``, its parameters) leaves out the points of the outline's fringe that lie
+        outside it (module docstring, "Rings and outlines")."""
+        if not on_fringe or side_wall is None:
+            return _cost(d, t_sel)
+        return _cost(d[~(on_fringe[0] & (d >= t_sel) & _outside(side_wall, sample))], t_sel)
+
     # A sphere or cylinder is seen over a good part of its circumference (a third of it already
     # spans 1.7 radii), so its radius is bounded by the cluster's size: wider ones only imitate
     # a flat face with a slight bend.
@@ -849,9 +912,11 @@ def fit_cluster(
             return cost
         return cost + fp.oblique_penalty
 
-    def score(kind: ShapeKind, params: FloatArray, d: FloatArray | None = None) -> None:
+    def score(
+        kind: ShapeKind, params: FloatArray, d: FloatArray | None = None, side_wall: bool = False
+    ) -> None:
         """Keep a candidate (in place of the model's last one) if it is bounded; ``d``: the
-        sample's distances to it, when known."""
+        sample's distances to it, when known; ``side_wall``: the side wall's cylinder."""
         if kind is ShapeKind.CONE and _stands_on_its_tip(params, support, fp):
             return  # a thing widening upwards: not a cone ("Standing and widening upwards")
         primitive = curved(kind, params)
@@ -859,7 +924,8 @@ def fit_cluster(
             return  # a fit that leaves its own points is never a candidate
         if d is None:
             d = models[kind][0].distances(params[None, :], sample)[0]
-        fitted[kind], surface[kind], costs[kind] = params, d, _cost(d, t_sel)
+        cost = cost_of(d, params if side_wall else None)
+        fitted[kind], surface[kind], costs[kind] = params, d, cost
         built[kind] = primitive
 
     for kind, (model, thr) in models.items():
@@ -910,7 +976,7 @@ def fit_cluster(
                 continue
             if kind is ShapeKind.CYLINDER:
                 standing_cylinder = res.params
-            if _cost(res.distances, t_sel) < costs.get(kind, np.inf):
+            if cost_of(res.distances) < costs.get(kind, np.inf):
                 score(kind, res.params, res.distances)
     # Planes, one after another on what the previous ones left.
     plane_model = PlaneModel()
@@ -954,7 +1020,7 @@ def fit_cluster(
         planes = refitted
         plane_d = plane_model.distances(np.array([p for p, _ in planes]), sample).min(axis=0)
     if planes:
-        surface[ShapeKind.PLANE], costs[ShapeKind.PLANE] = plane_d, _cost(plane_d, t_sel)
+        surface[ShapeKind.PLANE], costs[ShapeKind.PLANE] = plane_d, cost_of(plane_d)
     plane_cost = costs.get(ShapeKind.PLANE, np.inf)
     if planes and costs.get(ShapeKind.CONE, np.inf) > plane_cost - fp.tie_margin:
         # A cone on its side shows its flat base: hypotheses drawn from the whole cluster then
@@ -977,7 +1043,7 @@ def fit_cluster(
             )
             if res is not None:
                 d = model.distances(res.params[None, :], sample)[0]
-                if _cost(d, t_sel) < costs.get(ShapeKind.CONE, np.inf):
+                if cost_of(d) < costs.get(ShapeKind.CONE, np.inf):
                     score(ShapeKind.CONE, res.params, d)
     for plane, inliers in planes[:2]:
         # A cone showing its base: the base plane gives the axis, the rim of the disc its
@@ -989,7 +1055,7 @@ def fit_cluster(
         guess = _cone_on_base(plane, sample, fp.plane_threshold_m)
         if guess is not None and model.within_limits(guess):
             d = model.distances(guess[None, :], sample)[0]
-            if _cost(d, t_sel) < costs.get(ShapeKind.CONE, np.inf):
+            if cost_of(d) < costs.get(ShapeKind.CONE, np.inf):
                 score(ShapeKind.CONE, guess, d)
     if not costs:
         return None
@@ -999,6 +1065,24 @@ def fit_cluster(
         if costs[kind] <= best + fp.refine_margin:
             model, thr = models[kind]
             score(kind, refine_if_better(model, fitted[kind], sample, thr))
+    if support is not None and fp.side_wall_cut_m > 0:
+        # After the refinements: the side wall's circle is a least-squares fit already, and
+        # refined on every point the fringe it is scored without would pull it wider again.
+        side = _side_wall_cylinder(sample, support, fp, models[ShapeKind.CYLINDER][0])
+        # Within the tie margin the cylinder fitted on every point stays; and a cylinder the
+        # planes would beat anyway changes nothing.
+        to_beat = min(
+            costs.get(ShapeKind.CYLINDER, np.inf) - fp.tie_margin,
+            costs.get(ShapeKind.PLANE, np.inf) + fp.tie_margin,
+        )
+        if side is not None and eye is not None and fp.fringe_cells > 0:
+            # The fringe only when leaving out every far point outside could be enough.
+            d, out = side[1], _outside(side[0], sample)
+            if _cost(d[~((d >= t_sel) & out)], t_sel) < to_beat:
+                rim = fringe(points, eye, cells=fp.fringe_cells, cell_steps=fp.fringe_cell_steps)
+                on_fringe.append(rim if chosen is None else rim[chosen])
+        if side is not None and cost_of(side[1], side[0]) < to_beat:
+            score(ShapeKind.CYLINDER, *side, side_wall=True)
     cylinder_cost = costs.get(ShapeKind.CYLINDER, np.inf)
     if (
         cylinder_cost <= best + fp.refine_margin
@@ -1025,7 +1109,7 @@ def fit_cluster(
             d = cone_model.distances(x[None, :], sample)[0]
             # Ranked as the rule ranks the curved models: with the oblique penalty, so that a
             # resting cone is not given up for a slightly cheaper tilted one.
-            if ShapeKind.CONE not in costs or ranked(ShapeKind.CONE, x, _cost(d, t_sel)) < ranked(
+            if ShapeKind.CONE not in costs or ranked(ShapeKind.CONE, x, cost_of(d)) < ranked(
                 ShapeKind.CONE, fitted[ShapeKind.CONE], costs[ShapeKind.CONE]
             ):
                 score(ShapeKind.CONE, x, d)
@@ -1053,9 +1137,7 @@ def fit_cluster(
         cylinder = models[ShapeKind.CYLINDER][0]
         assert isinstance(cylinder, CylinderModel)
         untapered = _without_taper(sample, support, fp, cylinder)
-        if untapered is not None and _cost(untapered[1], t_sel) < costs.get(
-            ShapeKind.CYLINDER, np.inf
-        ):
+        if untapered is not None and cost_of(untapered[1]) < costs.get(ShapeKind.CYLINDER, np.inf):
             score(ShapeKind.CYLINDER, *untapered)
     sphere_on_rays: bool | None = None
     if eye is not None and ShapeKind.SPHERE in costs:

@@ -24,6 +24,7 @@ MAX_FILE_BYTES = 1_000_000
 MIN_OBJECT_POINTS = 200
 SCENE_SHAPE = (480, 640)
 
+
 def _measure_module() -> ModuleType:
     spec = importlib.util.spec_from_file_location("real_scans_measure", SCANS / "measure.py")
     assert spec is not None and spec.loader is not None
@@ -31,7 +32,9 @@ def _measure_module() -> ModuleType:
     spec.loader.exec_module(module)
     return module
 
+
 MEASURE = _measure_module()
+
 
 def _image(name: str) -> np.ndarray:
     """The scan's points as ``open_source`` loads them, on its pixel grid (NaN where none)."""
@@ -41,15 +44,18 @@ def _image(name: str) -> np.ndarray:
     image[frame.pixels] = frame.points
     return image.reshape(*SCENE_SHAPE, 3)
 
+
 def _in_boxes(image: np.ndarray, region: tuple[Any, ...]) -> np.ndarray:
     boxes = region if isinstance(region[0], tuple) else (region,)
     pts = np.concatenate([image[r0:r1, c0:c1].reshape(-1, 3) for r0, r1, c0, c1 in boxes])
     return pts[np.isfinite(pts).all(axis=1)]
 
+
 def test_every_vendored_scan_has_ground_truth() -> None:
     scans = {p.stem for p in SCANS.glob("*.npz")}
     assert scans == set(TRUTH) | set(SHARED_TRUTH)
     assert set(TRUTH) == set(MEASURE.REGIONS)
+
 
 @pytest.mark.parametrize("name", sorted(TRUTH))
 def test_each_scan_is_a_small_organised_depth_image(name: str) -> None:
@@ -71,6 +77,7 @@ def test_each_scan_is_a_small_organised_depth_image(name: str) -> None:
     )
     np.testing.assert_allclose(_image(name), expected, atol=1e-6)
 
+
 @pytest.mark.parametrize("name", sorted(TRUTH))
 def test_the_support_plane_lies_on_the_points_of_its_boxes(name: str) -> None:
     support = TRUTH[name]["support"]
@@ -83,6 +90,7 @@ def test_the_support_plane_lies_on_the_points_of_its_boxes(name: str) -> None:
     # truth.json rounds the normal to 1e-4, which moves points 2 m away by up to 0.3 mm.
     assert abs(rms - support["rms_m"]) < 5e-4, (rms, support["rms_m"])
     assert abs(float(np.median(residual))) < 5e-3 and rms < 0.015
+
 
 @pytest.mark.parametrize(
     ("name", "label"),
@@ -147,10 +155,12 @@ def test_each_object_stands_on_the_support_where_its_box_is(name: str, label: st
     else:  # the centroid of the visible points above the support
         np.testing.assert_allclose(above.mean(axis=0), centre, atol=0.01)
 
+
 POSECNN_FRAMES = ("ycb_desk_xtion", "ycb_chair_tablet_xtion", "ycb_chessboard_table_xtion")
 """PoseCNN's demo frames (an Asus Xtion), reserved at stop 38 (README.md)."""
 POSECNN_CAMERA = {"fx": 1066.778, "fy": 1067.487, "cx": 312.9869, "cy": 241.3109}
 """``tools/demo.py``'s intrinsic matrix, which reads the depth PNGs at 10000 units a metre."""
+
 
 @pytest.mark.parametrize("name", POSECNN_FRAMES)
 def test_the_xtion_frames_keep_their_depths_and_camera(name: str) -> None:
@@ -167,6 +177,7 @@ def test_the_xtion_frames_keep_their_depths_and_camera(name: str) -> None:
         frame.points[:, 2], depth.reshape(-1)[frame.pixels] / 10_000, atol=1e-6
     )
 
+
 SHARED_POINTS = {
     ("laptop_box_kinect_0", "laptop", "box"): 337,
     ("desk_fr1_tum_0", "cup", "keyboard"): 1,
@@ -175,6 +186,7 @@ SHARED_POINTS = {
 }
 """Points that two objects' boxes both hold, in boxes measured before stop 38 (an object's box
 around a skewed neighbour's corner). No other pair may share a point."""
+
 
 @pytest.mark.parametrize("name", sorted(n for n in TRUTH if n not in MEASURE.RESERVED))
 def test_no_point_counts_for_two_objects_but_the_listed_ones(name: str) -> None:
