@@ -48,18 +48,14 @@ strays); then the median CPU time per Kinect frame beside a simulated frame's, t
 (their ratio is what survives the machine's load), against the target (< 100 ms per Kinect frame);
 then the track ids over the three consecutive laptop frames.
 The "set" column says which scans the pipeline's rules may have been chosen on ("tuned on": every
-scan vendored up to stop 36, the six held out until then included, since all were run and diagnosed
-at stop 36) and which were never given to the pipeline before the lead's one run after the merge of
-stop 37 ("held out" in ``truth.json``: two frames of the TUM benchmark's Freiburg 2 desk, with two
-drink cans, a mug and a roll of tape (cylinders), a ball in one frame, a keyboard, a mouse, a book,
-a telephone and a monitor; and a lab seen from a robot 41 cm over the floor, with a rack case and
-two office chairs 3 m away, from RTAB-Map's test data; and two RealSense frames of a cardboard box
-on a floor, 0.55 and 1.17 m away; ``--tuned-only`` leaves them out). Scans reserved for the next
-stop (``"reserved": true`` beside ``"held_out": true``: a RealSense frame of a living room, a cup,
-a bowl, bananas and a laptop on its floor 1.5-2 m away; a RealSense frame of a tissue box and a
-wooden mallet on a carpet 0.45-0.55 m away; a mustard bottle lying on a table 0.9 m away, from a
-camera with a RealSense L515's intrinsics) are skipped unless ``--reserved`` is
-given, and are labelled "reserved"; nobody runs them before the next stop.
+scan vendored up to stop 37, each run and diagnosed at the stop after it was vendored) and which
+were never given to the pipeline before the lead's one run after the merge of stop 38 ("held out"
+in ``truth.json``: a RealSense frame of a living room, with a cup, a bowl, bananas and a laptop on
+its floor 1.5-2 m away; a RealSense frame of a tissue box and a wooden mallet on a carpet
+0.45-0.55 m away; a mustard bottle lying on a table 0.9 m away, from a camera with a RealSense
+L515's intrinsics; ``--tuned-only`` leaves them out). Scans reserved for a later stop
+(``"reserved": true`` beside ``"held_out": true``) are run only with ``--reserved``; the three
+reserved at stop 38 are not even listed here until the next stop adds them.
 
 Run from the repository root::
 
@@ -502,7 +498,7 @@ def real_scans(tuned_only: bool = False, reserved: bool = False) -> None:
     truth = json.loads((REAL_SCANS / "truth.json").read_text())
     print("real scans, no pose (gravity from the scene); ground truth measured by hand:")
     print(
-        f"  {'scan':<26}{'set':<10}{'support; at objects':>28}  "
+        f"  {'scan':<28}{'set':<10}{'support; at objects':>28}  "
         f"{'objects: parts, centroid err, kind':<58}"
         f"{'others':>7}{'CPU ms':>8}"
     )
@@ -588,7 +584,7 @@ def real_scans(tuned_only: bool = False, reserved: bool = False) -> None:
             ids.append({p.tracking_id for p in tracked.primitives + tracked.supports} - {None})
         others = owner.count(None)
         tally["strays"] += others
-        print(f"  {scan:<26}{kind:<10}{support:>28}  {'; '.join(cells):<58}{others:>7}{ms:>8.0f}")
+        print(f"  {scan:<28}{kind:<10}{support:>28}  {'; '.join(cells):<58}{others:>7}{ms:>8.0f}")
     for kind, tally in tallies.items():
         print(
             f"  {kind}: {tally['scans']} scans, {tally['objects']} objects: "
