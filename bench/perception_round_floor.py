@@ -15,7 +15,8 @@ comparison, the round things beside them that come out right), one line with:
   arguments and generator), and the kind and radius chosen;
 - ``standing floor``: the cheapest standing cylinder (its axis the support's normal) over a grid
   of feet (4 mm steps, 10 cm round the centroid) and radii (1.5-8 cm, 2.5 mm steps), scored the
-  same way on every point of the cluster; ``measured``: the ground truth's own cylinder or
+  same way on the points the fit scores its candidates on (its sample of at most
+  ``max_fit_points``); ``measured``: the ground truth's own cylinder or
   sphere, where it has a radius. When both cost more than the planes, no rule on these costs
   makes the thing round;
 - ``centre``: the primitive's centre from the cluster's centroid, along the line of sight and
@@ -162,7 +163,14 @@ def run(name: str, seed: int) -> None:
         elsewhere = (own_kept & clustered).sum() - own_kept[pixels].sum()
         lost = own_kept & ~clustered
         normal = np.asarray(support.normal, dtype=np.float64)
-        floor, floor_r = standing_floor(cluster.points, normal, support.offset, threshold)
+        # The floors are scored on the points the fit scores its candidates on: its sample (the
+        # first draw of its generator), when the cluster is larger.
+        points = cluster.points
+        if len(points) > params.max_fit_points:
+            generator = np.random.default_rng([seed, 0])
+            draw = generator.choice(len(points), params.max_fit_points, replace=False)
+            points = points[np.sort(draw)]
+        floor, floor_r = standing_floor(points, normal, support.offset, threshold)
         line = (
             f"{name:15} {label:13} range {np.median(sensor[:, 2]):.2f} m, step "
             f"{1000 * step:4.1f} mm, T {1000 * threshold:4.1f} mm; cluster {len(pixels):4d} pts, "
@@ -182,11 +190,11 @@ def run(name: str, seed: int) -> None:
         if "radius_m" in item:
             at = world[:3, :3] @ centre + world[:3, 3]
             if label == "ball":
-                d = SphereModel().distances(np.r_[at, item["radius_m"]][None, :], cluster.points)
+                d = SphereModel().distances(np.r_[at, item["radius_m"]][None, :], points)
             else:
                 foot = at - (at @ normal + support.offset) * normal
                 truth_cylinder = np.r_[foot, normal, item["radius_m"]][None, :]
-                d = CylinderModel(with_caps=True).distances(truth_cylinder, cluster.points)
+                d = CylinderModel(with_caps=True).distances(truth_cylinder, points)
             measured = f"; measured {float(_cost(d[0], threshold)):.3f}"
         ray = cluster.centroid - eye
         ray /= np.linalg.norm(ray)
