@@ -19,6 +19,9 @@ comparison, the round things beside them that come out right), one line with:
   ``max_fit_points``); ``measured``: the ground truth's own cylinder or
   sphere, where it has a radius. When both cost more than the planes, no rule on these costs
   makes the thing round;
+- ``relief``: across the object's middle rows, how much nearer its nearest pixel is than the
+  third pixel in from each edge, against what a circle of its measured radius (or of half the
+  row's width) would give there: how much of its roundness the depths keep;
 - ``centre``: the primitive's centre from the cluster's centroid, along the line of sight and
   across it.
 
@@ -102,6 +105,28 @@ def object_mask(name: str, label: str, image: np.ndarray) -> np.ndarray:
     return np.asarray(own.reshape(-1))
 
 
+def relief(name: str, label: str, image: np.ndarray, radius_m: float | None) -> tuple[float, float]:
+    """The depth relief across the object's middle rows (the middle third of its first box's
+    rows): in each row, the range of the third pixel in from each edge of its own pixels (the
+    outline's own two pixels left out) against the nearest in the row; and what a circle would
+    give there, of the measured radius or else of half the row's width. Medians over the rows,
+    in metres."""
+    own = object_mask(name, label, image).reshape(image.shape[:2])
+    region = measure.REGIONS[name][1][label][0]
+    r0, r1, c0, c1 = region[0] if isinstance(region[0], tuple) else region
+    seen, circle = [], []
+    for row in range(r0 + (r1 - r0) // 3, r1 - (r1 - r0) // 3):
+        cols = np.flatnonzero(own[row, c0:c1]) + c0
+        if len(cols) < 8:
+            continue
+        z, x = image[row, cols, 2], image[row, cols, 0]
+        seen.append(float((z[2] + z[-3]) / 2 - z[2:-2].min()))
+        r = radius_m if radius_m is not None else float(x[-1] - x[0]) / 2
+        dx = np.clip(np.abs(x[[2, -3]] - x[np.argmin(z)]), 0.0, r)
+        circle.append(float(np.mean(r - np.sqrt(r**2 - dx**2))))
+    return float(np.median(seen)), float(np.median(circle))
+
+
 def run(name: str, seed: int) -> None:
     truth = json.loads((SCANS / "truth.json").read_text())[name]
     seen: dict[str, Any] = {}
@@ -179,7 +204,8 @@ def run(name: str, seed: int) -> None:
             f"{(lost & taken).sum() / share:.2f} in a plane, {(lost & ~taken).sum() / share:.2f} "
             "in none"
         )
-        print(line)
+        bump, round_bump = relief(name, label, image, item.get("radius_m"))
+        print(f"{line}; relief {100 * bump:.1f} cm, a circle's {100 * round_bump:.1f} cm")
         if fit is None:
             print("    no fit")
             continue
