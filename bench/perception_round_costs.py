@@ -27,7 +27,7 @@ comparison, the round things beside them that come out right), one line with:
 
 All on the scans tuned on; seed 0 unless ``--seed``. Run from the repository root::
 
-    PYTHONPATH=. .venv/bin/python bench/perception_round_floor.py
+    PYTHONPATH=. .venv/bin/python bench/perception_round_costs.py
 """
 
 import argparse
