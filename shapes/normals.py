@@ -29,8 +29,12 @@ def smallest_axes(cov: FloatArray) -> FloatArray:
     >>> np.abs(smallest_axes(np.diag([3.0, 1.0, 2.0])[None])).round(6).tolist()
     [[0.0, 1.0, 0.0]]
     """
-    a00, a11, a22 = cov[:, 0, 0], cov[:, 1, 1], cov[:, 2, 2]
-    a01, a02, a12 = cov[:, 0, 1], cov[:, 0, 2], cov[:, 1, 2]
+    n = len(cov)
+    # The nine entries as contiguous rows (``e[3 * i + j]`` is ``cov[:, i, j]``): the same
+    # arithmetic as on the strided columns of ``cov``, at half the cost.
+    e = np.ascontiguousarray(np.reshape(cov, (n, 9)).T)
+    a00, a11, a22 = e[0], e[4], e[8]
+    a01, a02, a12 = e[1], e[2], e[5]
     q = (a00 + a11 + a22) / 3.0
     off = a01 * a01 + a02 * a02 + a12 * a12
     p = np.sqrt(((a00 - q) ** 2 + (a11 - q) ** 2 + (a22 - q) ** 2 + 2.0 * off) / 6.0)
@@ -44,15 +48,18 @@ def smallest_axes(cov: FloatArray) -> FloatArray:
     ) / 2.0
     phi = np.arccos(np.clip(half_det, -1.0, 1.0)) / 3.0
     smallest = q + 2.0 * p * np.cos(phi + 2.0 * np.pi / 3.0)
-    rows = cov - smallest[:, None, None] * np.eye(3)
-    candidates = np.stack(
-        (
-            np.cross(rows[:, 0], rows[:, 1]),
-            np.cross(rows[:, 0], rows[:, 2]),
-            np.cross(rows[:, 1], rows[:, 2]),
-        ),
-        axis=1,
-    )
+    # The rows of ``C - smallest I`` entry by entry, each as ``cov - smallest * np.eye(3)``
+    # gives it (the off-diagonal ones minus ``smallest * 0.0``, which keeps the sign of a zero).
+    r = [e[k] - smallest * (1.0 if k in (0, 4, 8) else 0.0) for k in range(9)]
+    rows = (r[0:3], r[3:6], r[6:9])
+    # The cross products of two rows (np.cross's products and differences, in its order),
+    # stacked as ``candidates[:, k]``.
+    candidates = np.empty((n, 3, 3))
+    for k, (u, v) in enumerate(((0, 1), (0, 2), (1, 2))):
+        (u0, u1, u2), (v0, v1, v2) = rows[u], rows[v]
+        candidates[:, k, 0] = u1 * v2 - u2 * v1
+        candidates[:, k, 1] = u2 * v0 - u0 * v2
+        candidates[:, k, 2] = u0 * v1 - u1 * v0
     lengths = np.einsum("nki,nki->nk", candidates, candidates)
     best = lengths.argmax(axis=1)
     axis = candidates[np.arange(len(cov)), best]
