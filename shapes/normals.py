@@ -33,6 +33,13 @@ def smallest_axes(cov: FloatArray) -> FloatArray:
     # The nine entries as contiguous rows (``e[3 * i + j]`` is ``cov[:, i, j]``): the same
     # arithmetic as on the strided columns of ``cov``, at half the cost.
     e = np.ascontiguousarray(np.reshape(cov, (n, 9)).T)
+    return _smallest_axes_of_entries(list(e))
+
+
+def _smallest_axes_of_entries(e: list[FloatArray]) -> FloatArray:
+    """:func:`smallest_axes` of the matrices whose entries ``(i, j)`` are the arrays
+    ``e[3 * i + j]`` (nine of length N), to the bit."""
+    n = len(e[0])
     a00, a11, a22 = e[0], e[4], e[8]
     a01, a02, a12 = e[1], e[2], e[5]
     q = (a00 + a11 + a22) / 3.0
@@ -62,11 +69,12 @@ def smallest_axes(cov: FloatArray) -> FloatArray:
         candidates[:, k, 2] = u0 * v1 - u1 * v0
     lengths = np.einsum("nki,nki->nk", candidates, candidates)
     best = lengths.argmax(axis=1)
-    axis = candidates[np.arange(len(cov)), best]
-    norm = np.sqrt(lengths[np.arange(len(cov)), best])
+    axis = candidates[np.arange(n), best]
+    norm = np.sqrt(lengths[np.arange(n), best])
     # Two equal smallest eigenvalues leave no cross product: any axis normal to the largest.
     flat = norm <= 1e-30 * np.maximum(1.0, q * q)
     if flat.any():
+        cov = np.stack(e, axis=1).reshape(n, 3, 3)
         axis[flat] = np.linalg.eigh(cov[flat])[1][:, :, 0]
         norm[flat] = 1.0
     return np.asarray(axis / norm[:, None], dtype=np.float64)
@@ -82,14 +90,18 @@ def patch_normals(points: FloatArray, neighbours: npt.NDArray[np.intp]) -> Float
         raise ValueError(
             f"neighbours: expected an (N, k) array of indices, got shape {np.shape(neighbours)}"
         )
-    # Gathered as (k, N, 3): the sums over the k neighbours then run over whole rows, one
-    # neighbour after another, the order (and so the values) of the sums over the middle axis
-    # of (N, k, 3) and of einsum's, at a fraction of the cost; the covariance's six distinct
-    # entries are summed the same way.
-    patches = np.take(points, np.transpose(neighbours), axis=0)  # points[...]: 3-4 times the cost
-    centred = patches - patches.mean(axis=0)
-    cov = np.empty((centred.shape[1], 3, 3))
+    # Each coordinate gathered as (k, N): the sums over the k neighbours then run over whole
+    # rows, one neighbour after another, the order (and so the values) of the sums over the
+    # middle axis of (N, k, 3) and of einsum's, at a fraction of the cost; the covariance's six
+    # distinct entries are summed the same way, and handed on as rows, not as (N, 3, 3).
+    columns = np.ascontiguousarray(np.transpose(points))
+    rows = np.ascontiguousarray(np.transpose(neighbours))  # taken from three times
+    centred = []
+    for column in columns:
+        patch = np.take(column, rows)  # column[rows]: several times the cost
+        centred.append(patch - patch.mean(axis=0))
+    entries: list[FloatArray | None] = [None] * 9
     for i in range(3):
         for j in range(i, 3):
-            cov[:, i, j] = cov[:, j, i] = (centred[:, :, i] * centred[:, :, j]).sum(axis=0)
-    return smallest_axes(cov)
+            entries[3 * i + j] = entries[3 * j + i] = (centred[i] * centred[j]).sum(axis=0)
+    return _smallest_axes_of_entries([x for x in entries if x is not None])
