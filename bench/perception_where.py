@@ -6,8 +6,9 @@ Kinect scan of ``bench/perception_callgrind.py`` (no pose: gravity from the scen
 ``--seeds`` seeds. Printed per frame, in ms: each function's CPU (its callees included) for
 the laptop and bottle frames (the frames of the median, which ``bench/perception.py``'s
 "CPU per 640x480 frame" reads) and for all nine, and how many calls a frame makes. Nested rows
-(indented) are part of the row above them; a k-d tree's row holds its build and its queries,
-and ``_cloud``'s open3d's outlier removal and DBSCAN on the clouds it builds.
+(indented) are part of the row above them; a k-d tree's row holds its build and its queries
+(the calls counted are both), and ``_cloud``'s the open3d clouds' building, outlier removal
+and DBSCAN. The splitter's ``cKDTree`` row includes the trees of its ``_parts``.
 
 The wrappers add a few microseconds a call, so the figures are for comparing the parts of a
 frame, not for comparing checkouts (``bench/perception_stages.py --against`` and
