@@ -70,8 +70,9 @@ def depth_noise_1m(depth: FloatArray) -> float:
     ok = np.isfinite(second) & (z > 0)
     if ok.sum() < 100:
         return 0.0
-    e = np.abs(second[ok]) / (math.sqrt(6.0) * z[ok] ** 2)
-    step = np.abs(second[ok]) >= _LEAST_STEP_M
+    size = np.abs(second[ok])
+    e = size / (math.sqrt(6.0) * z[ok] ** 2)
+    step = size >= _LEAST_STEP_M
     for percent, normal_quantile in _NOISE_QUANTILES:
         if step.mean() > 1.0 - percent / 100.0:
             return float(np.percentile(e, percent)) / normal_quantile
@@ -131,23 +132,26 @@ def flying_pixels(
     # The 3 x 3 extremes (NaN ignored), a row of three and then a column of three.
     lo, hi = _extremes_3x3(padded, step, (h, w))
     drop = valid & (support < min_support)
-    ys, xs = np.nonzero(valid & ~drop & (hi - lo > jump))
-    if len(ys):
+    edge = np.flatnonzero(valid & ~drop & (hi - lo > jump))
+    if len(edge):
         # At a depth edge, the slope of the surface along the ray from the neighbours on
         # either side (both on the pixel's own surface): the depth change over the pixel's
-        # footprint z / f. A veil runs nearly along the ray.
-        here, tol = d[ys, xs], jump[ys, xs]
+        # footprint z / f. A veil runs nearly along the ray. Pixels are read by their flat
+        # index (np.take), at a fraction of the cost of an index by row and column.
+        ys, xs = np.divmod(edge, w)
+        here, tol = np.take(d, edge), np.take(jump, edge)
         footprint = here / focal_px
-        slope = np.zeros(len(ys), dtype=np.float32)
-        py, px = 1 + step * ys, 1 + step * xs  # the pixels in the padded image
+        slope = np.zeros(len(edge), dtype=np.float32)
+        width = padded.shape[1]
+        centre = (1 + step * ys) * width + (1 + step * xs)  # the pixels in the padded image
         for dy, dx in ((0, 1), (1, 0), (1, 1), (1, -1)):
-            a = padded[py + dy, px + dx]
-            b = padded[py - dy, px - dx]
+            a = np.take(padded, centre + (dy * width + dx))
+            b = np.take(padded, centre - (dy * width + dx))
             slope_here = np.abs(a - b) / (2 * footprint * math.hypot(dy, dx))
             both = (np.abs(a - here) <= tol) & (np.abs(b - here) <= tol)
             slope = np.where(both, np.maximum(slope, slope_here), slope)
         veil = slope > math.tan(math.radians(max_ray_angle_deg))
-        drop[ys[veil], xs[veil]] = True
+        np.put(drop, edge[veil], True)
     return np.asarray(drop, dtype=np.bool_)
 
 

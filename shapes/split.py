@@ -206,7 +206,9 @@ def _parts(
         "cluster of %d voxels split in %d parts (%d seam voxels)", len(voxels), len(big), seam
     )
     labels = labels.copy()
-    in_big = np.isin(labels, big)
+    is_big = np.zeros(len(sizes), dtype=np.bool_)
+    is_big[big] = True
+    in_big = is_big[labels]  # np.isin(labels, big), without its sort
     # Small parts (seam voxels, specks) join the part of their nearest voxel in a big part.
     _, nearest = cKDTree(voxels[in_big]).query(voxels[~in_big])
     labels[~in_big] = labels[in_big][nearest]

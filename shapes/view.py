@@ -157,9 +157,17 @@ def image_view(
     With no row (column) holding that share, the window spans the image's rows (columns).
     """
     height, width = int(shape[0]), int(shape[1])
-    row, col = np.divmod(np.asarray(pixels), width)
-    rows = np.flatnonzero(np.bincount(row, minlength=height) >= min_valid_share * width)
-    cols = np.flatnonzero(np.bincount(col, minlength=width) >= min_valid_share * height)
+    per_pixel = np.bincount(np.asarray(pixels), minlength=height * width)
+    if len(per_pixel) == height * width:
+        # The counts of each row and column from one count per pixel: the same integers as
+        # counting each pixel's row and column, at half the cost of dividing every index.
+        counts = per_pixel.reshape(height, width)
+        per_row, per_column = counts.sum(axis=1), counts.sum(axis=0)
+    else:  # pixels past the image's end (a :class:`Frame` holds none)
+        row, col = np.divmod(np.asarray(pixels), width)
+        per_row, per_column = np.bincount(row, minlength=height), np.bincount(col, minlength=width)
+    rows = np.flatnonzero(per_row >= min_valid_share * width)
+    cols = np.flatnonzero(per_column >= min_valid_share * height)
     rows = rows if len(rows) else np.array([0, height - 1])
     cols = cols if len(cols) else np.array([0, width - 1])
     downward = _OUTWARD @ np.asarray(world_from_sensor_rotation)[2]

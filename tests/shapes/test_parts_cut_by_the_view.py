@@ -118,6 +118,25 @@ def test_an_image_with_too_few_depths_for_a_window_is_seen_whole() -> None:
     assert view.rows == (0, 479) and view.cols == (0, 639)
 
 
+@pytest.mark.parametrize("seed", range(3))
+def test_the_window_is_read_from_each_rows_and_columns_count_of_depths(seed: int) -> None:
+    """The rows and columns kept are those whose count of valid pixels (each pixel's row and
+    column found by division, as before stop 40's speed work) reaches the share, repeated
+    pixels counted each time."""
+    rng = np.random.default_rng(seed)
+    height, width = 48, 64
+    rows = rng.integers(3 + seed, height - 2, 900)
+    cols = rng.integers(1, width - 5 - seed, 900)
+    pixels = np.concatenate((rows * width + cols, rng.integers(0, height * width, 3)))
+    row, col = np.divmod(pixels, width)
+    share = 0.2
+    by_row = np.flatnonzero(np.bincount(row, minlength=height) >= share * width)
+    by_col = np.flatnonzero(np.bincount(col, minlength=width) >= share * height)
+    view = image_view((height, width), pixels, LEVEL, min_valid_share=share, max_margin_share=0.5)
+    assert view.rows == (int(by_row[0]), int(by_row[-1]))
+    assert view.cols == (int(by_col[0]), int(by_col[-1]))
+
+
 def test_a_frame_of_a_few_scattered_depths_gives_no_error() -> None:
     """Three valid pixels of a 640 x 480 image: too few for a window, and every one a flying
     pixel to the artefact filter (the voxel grid of no point raised a ValueError before)."""
