@@ -80,6 +80,7 @@ def hashed(value: Any) -> str:
 def frames() -> list[tuple[str, Any]]:
     """The tuned-on real scans and the simulated scenes, by name."""
     import perception as bench  # bench/perception.py: its scan list and scenes
+
     from shapes import open_source
 
     truth = json.loads((bench.REAL_SCANS / "truth.json").read_text())

@@ -1,0 +1,105 @@
+"""clusters TODO."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+import numpy.typing as npt
+import open3d as o3d
+
+from shapes.artefacts import sparse_points
+from shapes.segment.params import SegmentationParams
+from shapes.segment.splitting import split_clusters
+from shapes.types import FloatArray, SupportPlane
+
+
+@dataclass(frozen=True, eq=False)
+class Cluster:
+    """The full-resolution points of one object, in the world frame, and its support."""
+
+    points: FloatArray
+    colours: FloatArray | None
+    voxels: FloatArray
+    support: SupportPlane | None = None
+    noise_m: float = 0.0
+    """The depth noise (one sigma) expected at the cluster's range, in metres."""
+    pixels: npt.NDArray[np.intp] | None = None
+    """The flat row-major image pixel of each point, on an organised frame."""
+
+    @property
+    def centroid(self) -> FloatArray:
+        """The mean of the points (PITT's visual centroid, without its n+1 bug)."""
+        return np.asarray(self.points.mean(axis=0), dtype=np.float64)
+
+
+def clusters_on(
+    candidates: npt.NDArray[np.intp],
+    voxels: FloatArray,
+    voxel_of: npt.NDArray[np.intp],
+    points: FloatArray,
+    depth: FloatArray,
+    colours: tuple[FloatArray, npt.NDArray[np.intp]] | None,
+    pixels: npt.NDArray[np.intp] | None,
+    support: SupportPlane,
+    margin: float,
+    sigma_1m: float,
+    params: SegmentationParams,
+    organised: bool,
+    viewpoint: FloatArray | None,
+) -> tuple[list[Cluster], int]:
+    """DBSCAN clusters of the candidate voxels above one support, and how many were too small.
+
+    ``colours``: the frame's colours and the index in the frame of each of ``points``;
+    ``pixels``: the image pixel of each of ``points`` on an organised frame."""
+    cloud = _cloud(voxels[candidates])
+    _, kept = cloud.remove_statistical_outlier(params.outlier_neighbours, params.outlier_std_ratio)
+    candidates = candidates[np.asarray(kept, dtype=np.intp)]
+    labels = np.asarray(
+        _cloud(voxels[candidates]).cluster_dbscan(params.cluster_eps_m, params.cluster_min_points),
+        dtype=np.int64,
+    )
+    if params.split_touching:
+        labels = split_clusters(
+            labels,
+            voxels[candidates],
+            viewpoint,
+            params,
+            sigma_1m,
+            support.signed_distance(voxels[candidates]),
+            margin,
+        )
+    voxel_label = np.full(len(voxels), -1, dtype=np.int64)
+    voxel_label[candidates] = labels
+    # Only the points of labelled voxels (a few percent of a frame) from here on.
+    member = np.flatnonzero(voxel_label[voxel_of] >= 0)
+    cut = np.maximum(params.above_margin_m, 2 * sigma_1m * depth[member] ** 2)
+    member = member[support.signed_distance(points[member]) > np.minimum(cut, margin)]
+    point_label = voxel_label[voxel_of[member]]
+    clusters = []
+    small = 0
+    order = member[np.argsort(point_label, kind="stable")]
+    bounds = np.searchsorted(np.sort(point_label), np.arange(labels.max(initial=-1) + 2))
+    for label in range(labels.max(initial=-1) + 1):
+        n_vox = int((labels == label).sum())
+        idx = order[bounds[label] : bounds[label + 1]]
+        if n_vox < params.min_cluster_voxels or len(idx) < params.min_cluster_voxels:
+            small += 1
+            continue
+        if not organised:
+            idx = idx[~sparse_points(points[idx])]
+        clusters.append(
+            Cluster(
+                points[idx],
+                None if colours is None else colours[0][colours[1][idx]],
+                voxels[candidates[labels == label]],
+                support,
+                sigma_1m * float(np.median(depth[idx])) ** 2,
+                None if pixels is None else pixels[idx],
+            )
+        )
+    return clusters, small
+
+
+def _cloud(points: FloatArray) -> o3d.geometry.PointCloud:
+    return o3d.geometry.PointCloud(o3d.utility.Vector3dVector(points))
