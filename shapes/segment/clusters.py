@@ -1,4 +1,8 @@
-"""clusters TODO."""
+"""The clusters over one support (steps 6 and 7 of :mod:`shapes.segment`): the free voxels it
+owns, without statistical outliers, grouped by DBSCAN (open3d), cut where objects touch
+(:mod:`shapes.segment.splitting`), and each given back its full-resolution points, colours and
+pixels. Whether a cluster is an object of the scene is :mod:`shapes.segment.objects`'s.
+"""
 
 from __future__ import annotations
 

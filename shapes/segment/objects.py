@@ -1,4 +1,16 @@
-"""objects TODO."""
+"""What is an object of the scene: the rules that keep a cluster over a support or drop it, in
+the order :func:`shapes.segment.segment` applies them (docs/perception.md, "What is an object of
+the scene"):
+
+1. it stands within its support's outline (:func:`stands_within`), before and after a cluster
+   cut at the height band's top grows upwards (:mod:`shapes.segment.tall`);
+2. it is not cut by the scene's limits: the band's top, the depth cut, an edge of the image's
+   valid window with nothing behind it (:func:`cut_by_limits`);
+3. its bottom does not hang over the support (:func:`floats`; :func:`seen_standing`);
+4. it stands under no part dropped by 2 or 3 (:func:`not_under`);
+5. it does not stand under a higher support's edge, which hides its top
+   (:func:`not_under_support_edges`, :mod:`shapes.support_edge`).
+"""
 
 from __future__ import annotations
 
@@ -60,8 +72,7 @@ def cut_by_limits(cluster: Cluster, reach: Reach, params: SegmentationParams) ->
         return True
     if reach.world_from_sensor is None:
         return False
-    rotation, shift = reach.world_from_sensor[:3, :3], reach.world_from_sensor[:3, 3]
-    depth = (cluster.points - shift) @ rotation[:, 2]
+    depth = reach.depth_of(cluster.points)
     return reaching(depth >= reach.depth_cut_m - reach.band_m, params)
 
 
@@ -72,7 +83,7 @@ def _behind_m(cluster: Cluster, depth_image: FloatArray, params: SegmentationPar
     round a wheel) does not pass for a background behind the cluster."""
     assert cluster.pixels is not None
     extent_m = float(np.ptp(depth_image.ravel()[cluster.pixels]))
-    return max(params.cut_band_m, 3 * cluster.noise_m, extent_m)
+    return max(nearer_m(cluster, params), extent_m)
 
 
 def seen_standing(cluster: Cluster, margin_m: float, params: SegmentationParams) -> bool:
@@ -100,17 +111,15 @@ def floats(cluster: Cluster, reach: Reach, margin_m: float, params: Segmentation
         or cluster.pixels is None
     ):
         return False
-    lowest = float(cluster.support.signed_distance(cluster.voxels).min())
-    if lowest < margin_m + params.max_base_height_m:
+    if seen_standing(cluster, margin_m, params):
         return False
-    rotation, shift = reach.world_from_sensor[:3, :3], reach.world_from_sensor[:3, 3]
-    depth = (cluster.points - shift) @ rotation[:, 2]
+    depth = reach.depth_of(cluster.points)
     hidden = reach.view.hidden_below(
         cluster.pixels,
         depth,
         reach.depth_image,
         params.floating_probe_px,
-        max(params.cut_band_m, 3 * cluster.noise_m),
+        nearer_m(cluster, params),
     )
     return hidden < params.min_hidden_share
 
@@ -164,7 +173,6 @@ def not_under_support_edges(
         or frame.pixels is None
     ):
         return kept
-    rotation, shift = reach.world_from_sensor[:3, :3], reach.world_from_sensor[:3, 3]
     point_of: npt.NDArray[np.intp] | None = None  # the frame's point at each pixel, if needed
     out = []
     for k, found in enumerate(kept):
@@ -180,14 +188,14 @@ def not_under_support_edges(
             if not above or cluster.pixels is None:
                 stays.append(cluster)
                 continue
-            nearer_m = max(params.cut_band_m, 3 * cluster.noise_m)
+            nearer = nearer_m(cluster, params)
             lines, hiding = occluders_above(
                 reach.view,
                 cluster.pixels,
-                (cluster.points - shift) @ rotation[:, 2],
+                reach.depth_of(cluster.points),
                 reach.depth_image,
                 params.floating_probe_px,
-                nearer_m,
+                nearer,
             )
             if point_of is None:
                 point_of = np.full(reach.depth_image.size, -1, dtype=np.intp)
@@ -199,7 +207,7 @@ def not_under_support_edges(
                     supports[j].signed_distance(hiders),
                     lines,
                     edge_depth_m=params.support_edge_depth_m,
-                    nearer_m=nearer_m,
+                    nearer_m=nearer,
                     min_hidden_share=params.min_edge_hidden_share,
                 )
                 for j in above
@@ -208,3 +216,9 @@ def not_under_support_edges(
             stays.append(cluster)
         out.append(stays)
     return out
+
+
+def nearer_m(cluster: Cluster, params: SegmentationParams) -> float:
+    """How much nearer (or farther) than a cluster's points a depth must lie to be something
+    else in front of (or behind) it: ``cut_band_m``, or three times the cluster's noise."""
+    return max(params.cut_band_m, 3 * cluster.noise_m)

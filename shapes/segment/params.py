@@ -1,4 +1,4 @@
-"""params TODO."""
+"""The parameters of segmentation, one frozen value; lengths in metres."""
 
 from __future__ import annotations
 

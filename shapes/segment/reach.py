@@ -1,4 +1,7 @@
-"""reach TODO."""
+"""How far the scene reaches: the depth cut and its band, the image's valid window and depth
+image, the pose that gives a world point's depth (:class:`Reach`), and when enough of a
+cluster reaches a limit to be cut by it (:func:`reaching`).
+"""
 
 from __future__ import annotations
 
@@ -23,9 +26,19 @@ class Reach:
     view: ImageView | None = None
     """The image's valid window (None for a cloud that is not a camera's image)."""
     depth_image: FloatArray | None = None
-    """The survey's depth image (:attr:`Survey.depth_image`)."""
+    """The survey's depth image (:attr:`shapes.segment.survey.Survey.depth_image`)."""
+
+    def depth_of(self, points: FloatArray) -> FloatArray:
+        """Each of ``points`` (world frame) at its depth in the sensor's frame (its z there).
+        Raises AssertionError when the pose is unknown (``world_from_sensor`` is None)."""
+        assert self.world_from_sensor is not None
+        rotation, shift = self.world_from_sensor[:3, :3], self.world_from_sensor[:3, 3]
+        depth: FloatArray = (points - shift) @ rotation[:, 2]
+        return depth
 
 
 def reaching(near: npt.NDArray[np.bool_], params: SegmentationParams) -> bool:
+    """Whether the ``near`` ones (of a cluster's voxels or points, those near a limit of the
+    scene) are enough to cut it: ``min_cut_voxels`` of them and ``min_cut_share`` of all."""
     count = int(near.sum())
     return count >= params.min_cut_voxels and count >= params.min_cut_share * len(near)

@@ -1,4 +1,6 @@
-"""segmentation TODO."""
+""":func:`segment`: the steps of :mod:`shapes.segment` in order, from a surveyed frame to the
+object clusters on their supports, and the :class:`Segmentation` it returns.
+"""
 
 from __future__ import annotations
 

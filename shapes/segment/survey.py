@@ -1,4 +1,9 @@
-"""survey TODO."""
+"""What segmentation finds before it needs a pose (steps 1 to 3 of :mod:`shapes.segment`, all
+in the sensor frame): the points kept within the depth cut (:func:`depth_cut_m`), artefacts
+dropped and strided (:func:`pixel_stride`), their voxel grid (:func:`voxel_grid`) and the
+planes among the voxels (:mod:`shapes.segment.planes`). Shared by gravity
+(:func:`shapes.gravity.gravity_from_survey`) and :func:`shapes.segment.segment`.
+"""
 
 from __future__ import annotations
 

@@ -1,14 +1,19 @@
-"""tall TODO."""
+"""Objects taller than the height band (step 4 of :mod:`shapes.segment`): a cluster that stands
+on its support and is cut at the band's top grows upwards through the free voxels over the band
+(:func:`grown_upwards`, :mod:`shapes.grow_upwards`); what then ends under ``max_tall_height_m``
+in view is a tall object, what goes on is a part of something larger.
+"""
 
 from __future__ import annotations
 
 import numpy as np
 import numpy.typing as npt
 
-from shapes.arrays import column_max, column_min
+from shapes.arrays import column_max, column_min, inside_box
 from shapes.grow_upwards import grow_upwards
 from shapes.segment.clusters import Cluster
 from shapes.segment.objects import (
+    nearer_m,
     seen_standing,
 )
 from shapes.segment.params import SegmentationParams
@@ -116,8 +121,7 @@ def _above_band(
     ``max_tall_height_m``, inside ``box`` (across the support): where a cluster cut at the
     band's top may go on."""
     lo, hi = box
-    x, y = voxels[:, 0], voxels[:, 1]
-    idx = np.flatnonzero(free & (x > lo[0]) & (x < hi[0]) & (y > lo[1]) & (y < hi[1]))
+    idx = np.flatnonzero(free & inside_box(voxels, lo, hi))
     height = support.signed_distance(voxels[idx])
     return idx[(height >= params.max_height_m) & (height < params.max_tall_height_m)]
 
@@ -137,8 +141,7 @@ def _goes_on_above(cluster: Cluster, reach: Reach, params: SegmentationParams) -
     ):
         return False
     view, image = reach.view, reach.depth_image
-    rotation, shift = reach.world_from_sensor[:3, :3], reach.world_from_sensor[:3, 3]
-    depth = (cluster.points - shift) @ rotation[:, 2]
+    depth = reach.depth_of(cluster.points)
     row, col = np.divmod(np.asarray(cluster.pixels), view.width)
     vertical = view.open_edge in ("top", "bottom")
     along, across = (row, col) if vertical else (col, row)
@@ -146,7 +149,7 @@ def _goes_on_above(cluster: Cluster, reach: Reach, params: SegmentationParams) -
     sign = -1 if view.open_edge in ("bottom", "right") else 1  # away from the open edge
     order = np.lexsort((along * sign, across))
     ends = order[np.r_[across[order][1:] != across[order][:-1], True]]
-    margin = max(params.cut_band_m, 3 * cluster.noise_m)
+    margin = nearer_m(cluster, params)
     behind = np.zeros(len(ends), dtype=np.bool_)
     for step in range(1, params.floating_probe_px + 1):
         beyond = along[ends] + sign * step
