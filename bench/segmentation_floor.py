@@ -95,9 +95,9 @@ def measure(scan: str, repeats: int) -> list[float]:
         planes.append((points, threshold, iterations, copy.deepcopy(rng)))
         return originals["ransac_plane"](points, threshold, iterations, rng)
 
-    def candidates(found: Any, voxels: Any, *args: Any) -> Any:
-        above.append(voxels[found])
-        return originals["clusters_on"](found, voxels, *args)
+    def candidates(found: Any, kept: Any, *args: Any) -> Any:
+        above.append(kept.voxels[found])
+        return originals["clusters_on"](found, kept, *args)
 
     def split(each: Any, *args: Any, **kwargs: Any) -> Any:
         clusters.extend(each)

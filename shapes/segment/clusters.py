@@ -37,28 +37,45 @@ class Cluster:
         return np.asarray(self.points.mean(axis=0), dtype=np.float64)
 
 
+@dataclass(frozen=True, eq=False)
+class KeptPoints:
+    """A frame's kept points and their voxels, in the world frame: what clusters are made of."""
+
+    voxels: FloatArray
+    voxel_of: npt.NDArray[np.intp]
+    """The voxel of each point."""
+    points: FloatArray
+    depth: FloatArray
+    """Each point's range (1 for every point of a cloud not in a camera's frame)."""
+    colours: tuple[FloatArray, npt.NDArray[np.intp]] | None
+    """The frame's colours and the index in the frame of each point (None: no colours)."""
+    pixels: npt.NDArray[np.intp] | None
+    """The image pixel of each point, on an organised frame."""
+    sigma_1m: float
+    """The depth noise at 1 m."""
+
+    def noise_m(self, idx: npt.NDArray[np.intp]) -> float:
+        """The depth noise (one sigma) at the median range of the points ``idx``."""
+        return self.sigma_1m * float(np.median(self.depth[idx])) ** 2
+
+
 def clusters_on(
     candidates: npt.NDArray[np.intp],
-    voxels: FloatArray,
-    voxel_of: npt.NDArray[np.intp],
-    points: FloatArray,
-    depth: FloatArray,
-    colours: tuple[FloatArray, npt.NDArray[np.intp]] | None,
-    pixels: npt.NDArray[np.intp] | None,
+    kept: KeptPoints,
     support: SupportPlane,
     margin: float,
-    sigma_1m: float,
     params: SegmentationParams,
     organised: bool,
     viewpoint: FloatArray | None,
 ) -> tuple[list[Cluster], int]:
-    """DBSCAN clusters of the candidate voxels above one support, and how many were too small.
-
-    ``colours``: the frame's colours and the index in the frame of each of ``points``;
-    ``pixels``: the image pixel of each of ``points`` on an organised frame."""
+    """DBSCAN clusters of the candidate voxels (of ``kept.voxels``) above one support, and how
+    many were too small."""
+    voxels, voxel_of, points, sigma_1m = kept.voxels, kept.voxel_of, kept.points, kept.sigma_1m
     cloud = _cloud(voxels[candidates])
-    _, kept = cloud.remove_statistical_outlier(params.outlier_neighbours, params.outlier_std_ratio)
-    candidates = candidates[np.asarray(kept, dtype=np.intp)]
+    _, inliers = cloud.remove_statistical_outlier(
+        params.outlier_neighbours, params.outlier_std_ratio
+    )
+    candidates = candidates[np.asarray(inliers, dtype=np.intp)]
     labels = np.asarray(
         _cloud(voxels[candidates]).cluster_dbscan(params.cluster_eps_m, params.cluster_min_points),
         dtype=np.int64,
@@ -77,7 +94,7 @@ def clusters_on(
     voxel_label[candidates] = labels
     # Only the points of labelled voxels (a few percent of a frame) from here on.
     member = np.flatnonzero(voxel_label[voxel_of] >= 0)
-    cut = np.maximum(params.above_margin_m, 2 * sigma_1m * depth[member] ** 2)
+    cut = np.maximum(params.above_margin_m, 2 * sigma_1m * kept.depth[member] ** 2)
     member = member[support.signed_distance(points[member]) > np.minimum(cut, margin)]
     point_label = voxel_label[voxel_of[member]]
     clusters = []
@@ -95,11 +112,11 @@ def clusters_on(
         clusters.append(
             Cluster(
                 points[idx],
-                None if colours is None else colours[0][colours[1][idx]],
+                None if kept.colours is None else kept.colours[0][kept.colours[1][idx]],
                 voxels[candidates[labels == label]],
                 support,
-                sigma_1m * float(np.median(depth[idx])) ** 2,
-                None if pixels is None else pixels[idx],
+                kept.noise_m(idx),
+                None if kept.pixels is None else kept.pixels[idx],
             )
         )
     return clusters, small

@@ -104,20 +104,17 @@ def floats(cluster: Cluster, reach: Reach, margin_m: float, params: Segmentation
     it has something nearer just past it, towards the image's open edge). An object whose
     base is hidden behind another stands on the support unseen, and is kept."""
     assert cluster.support is not None
-    if (
-        reach.view is None
-        or reach.depth_image is None
-        or reach.world_from_sensor is None
-        or cluster.pixels is None
-    ):
+    seen = reach.image()
+    if seen is None or cluster.pixels is None:
         return False
     if seen_standing(cluster, margin_m, params):
         return False
+    view, image = seen
     depth = reach.depth_of(cluster.points)
-    hidden = reach.view.hidden_below(
+    hidden = view.hidden_below(
         cluster.pixels,
         depth,
-        reach.depth_image,
+        image,
         params.floating_probe_px,
         nearer_m(cluster, params),
     )
@@ -165,14 +162,10 @@ def not_under_support_edges(
     under that support's plane, its footprint reaching under it and its top hidden by that
     support's edge (:mod:`shapes.support_edge`): a desk's legs and panel seen on the
     floor through the gap under its front edge are parts of the desk."""
-    if (
-        len(supports) < 2
-        or reach.view is None
-        or reach.depth_image is None
-        or reach.world_from_sensor is None
-        or frame.pixels is None
-    ):
+    seen = reach.image()
+    if len(supports) < 2 or seen is None or frame.pixels is None:
         return kept
+    view, image = seen
     point_of: npt.NDArray[np.intp] | None = None  # the frame's point at each pixel, if needed
     out = []
     for k, found in enumerate(kept):
@@ -190,15 +183,15 @@ def not_under_support_edges(
                 continue
             nearer = nearer_m(cluster, params)
             lines, hiding = occluders_above(
-                reach.view,
+                view,
                 cluster.pixels,
                 reach.depth_of(cluster.points),
-                reach.depth_image,
+                image,
                 params.floating_probe_px,
                 nearer,
             )
             if point_of is None:
-                point_of = np.full(reach.depth_image.size, -1, dtype=np.intp)
+                point_of = np.full(image.size, -1, dtype=np.intp)
                 point_of[frame.pixels] = np.arange(len(frame.pixels))
             at = point_of[hiding]
             hiders = frame.world_points_of(frame.points[at[at >= 0]])

@@ -28,6 +28,13 @@ class Reach:
     depth_image: FloatArray | None = None
     """The survey's depth image (:attr:`shapes.segment.survey.Survey.depth_image`)."""
 
+    def image(self) -> tuple[ImageView, FloatArray] | None:
+        """The image's valid window and its depth image, when both and the pose are known (a
+        camera's organised frame), else None."""
+        if self.view is None or self.depth_image is None or self.world_from_sensor is None:
+            return None
+        return self.view, self.depth_image
+
     def depth_of(self, points: FloatArray) -> FloatArray:
         """Each of ``points`` (world frame) at its depth in the sensor's frame (its z there).
         Raises AssertionError when the pose is unknown (``world_from_sensor`` is None)."""

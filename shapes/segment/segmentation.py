@@ -10,7 +10,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from shapes.frame import Frame
-from shapes.segment.clusters import Cluster, clusters_on
+from shapes.segment.clusters import Cluster, KeptPoints, clusters_on
 from shapes.segment.free_voxels import free_voxels, over_supports, robust_sigma
 from shapes.segment.objects import (
     cut_by_limits,
@@ -105,6 +105,7 @@ def segment(
         if sel.sum() > 100:
             resid = supports[largest].signed_distance(points[sel])
             sigma_1m = robust_sigma(resid) / float(np.median(depth[sel] ** 2))
+    kept_points = KeptPoints(voxels, voxel_of, points, depth, colours, pixels, sigma_1m)
     clusters: list[Cluster] = []
     too_small = above = 0
     votes = np.zeros(len(horizontal), dtype=np.int64)
@@ -117,15 +118,9 @@ def segment(
             continue
         found, small = clusters_on(
             candidates,
-            voxels,
-            voxel_of,
-            points,
-            depth,
-            colours,
-            pixels,
+            kept_points,
             support,
             margins[k],
-            sigma_1m,
             params,
             frame.pixels is not None and params.filter_artefacts,
             viewpoint,
@@ -136,15 +131,9 @@ def segment(
             found,
             free & (owner < 0),
             over.boxes[k],
-            voxels,
-            voxel_of,
-            points,
-            depth,
-            colours,
-            pixels,
+            kept_points,
             reach,
             margins[k],
-            sigma_1m,
             params,
         )
         found = [c for c in found if stands_within(c, regions[k], params)]

@@ -11,7 +11,7 @@ import numpy.typing as npt
 
 from shapes.arrays import column_max, column_min, inside_box
 from shapes.grow_upwards import grow_upwards
-from shapes.segment.clusters import Cluster
+from shapes.segment.clusters import Cluster, KeptPoints
 from shapes.segment.objects import (
     nearer_m,
     seen_standing,
@@ -25,15 +25,9 @@ def grown_upwards(
     found: list[Cluster],
     free: npt.NDArray[np.bool_],
     box: tuple[FloatArray, FloatArray],
-    voxels: FloatArray,
-    voxel_of: npt.NDArray[np.intp],
-    points: FloatArray,
-    depth: FloatArray,
-    colours: tuple[FloatArray, npt.NDArray[np.intp]] | None,
-    pixels: npt.NDArray[np.intp] | None,
+    kept: KeptPoints,
     reach: Reach,
     margin_m: float,
-    sigma_1m: float,
     params: SegmentationParams,
 ) -> list[Cluster]:
     """``found`` (clusters on one support) with each cluster seen standing on it
@@ -61,6 +55,7 @@ def grown_upwards(
     every = np.vstack([found[k].voxels[:, :2] for k in seeds])
     lo = np.maximum(box[0], column_min(every) - rise)
     hi = np.minimum(box[1], column_max(every) + rise)
+    voxels = kept.voxels
     tall = _above_band(voxels, free, support, (lo, hi), params)
     if len(tall) == 0:
         return list(found)
@@ -78,22 +73,27 @@ def grown_upwards(
             continue
         marked = np.zeros(len(voxels), dtype=np.bool_)
         marked[tall[added]] = True
-        idx = np.flatnonzero(marked[voxel_of])
+        idx = np.flatnonzero(marked[kept.voxel_of])
         parts = [found[k] for k in ks]
         first = parts[0]
         whole = Cluster(
-            np.vstack([*(c.points for c in parts), points[idx]]),
+            np.vstack([*(c.points for c in parts), kept.points[idx]]),
             None
-            if colours is None or first.colours is None
+            if kept.colours is None or first.colours is None
             else np.vstack(
-                [*(c.colours for c in parts if c.colours is not None), colours[0][colours[1][idx]]]
+                [
+                    *(c.colours for c in parts if c.colours is not None),
+                    kept.colours[0][kept.colours[1][idx]],
+                ]
             ),
             np.vstack([*(c.voxels for c in parts), voxels[tall[added]]]),
             first.support,
-            max([c.noise_m for c in parts] + [sigma_1m * float(np.median(depth[idx])) ** 2]),
+            max([c.noise_m for c in parts] + [kept.noise_m(idx)]),
             None
-            if pixels is None or first.pixels is None
-            else np.concatenate([*(c.pixels for c in parts if c.pixels is not None), pixels[idx]]),
+            if kept.pixels is None or first.pixels is None
+            else np.concatenate(
+                [*(c.pixels for c in parts if c.pixels is not None), kept.pixels[idx]]
+            ),
         )
         if _goes_on_above(whole, reach, params):
             continue
@@ -133,14 +133,10 @@ def _goes_on_above(cluster: Cluster, reach: Reach, params: SegmentationParams) -
     ``cut_band_m`` (or three times its noise). An object that ends shows what lies behind it
     there; a person's hips under the shirt a plane took, or a thing against something as near,
     do not. False when the image is unknown."""
-    if (
-        reach.view is None
-        or reach.depth_image is None
-        or reach.world_from_sensor is None
-        or cluster.pixels is None
-    ):
+    seen = reach.image()
+    if seen is None or cluster.pixels is None:
         return False
-    view, image = reach.view, reach.depth_image
+    view, image = seen
     depth = reach.depth_of(cluster.points)
     row, col = np.divmod(np.asarray(cluster.pixels), view.width)
     vertical = view.open_edge in ("top", "bottom")
