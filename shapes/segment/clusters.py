@@ -1,7 +1,9 @@
-"""The clusters over one support (steps 6 and 7 of :mod:`shapes.segment`): the free voxels it
-owns, without statistical outliers, grouped by DBSCAN (open3d), cut where objects touch
-(:mod:`shapes.segment.splitting`), and each given back its full-resolution points, colours and
-pixels. Whether a cluster is an object of the scene is :mod:`shapes.segment.objects`'s.
+"""The clusters over one support, with their full-resolution points.
+
+Steps 6 and 7 of :mod:`shapes.segment`: the free voxels a support owns, without statistical
+outliers, grouped by DBSCAN (open3d), cut where objects touch (:mod:`shapes.segment.splitting`),
+and each given back its points, colours and pixels (:class:`KeptPoints`). Whether a cluster is
+an object of the scene is :mod:`shapes.segment.objects`'s to say.
 """
 
 from __future__ import annotations

@@ -1,6 +1,7 @@
-"""What is an object of the scene: the rules that keep a cluster over a support or drop it, in
-the order :func:`shapes.segment.segment` applies them (docs/perception.md, "What is an object of
-the scene"):
+"""What is an object of the scene: the rules that keep or drop a cluster over a support.
+
+A cluster is kept when, in the order :func:`shapes.segment.segment` asks (docs/perception.md,
+"What is an object of the scene"):
 
 1. it stands within its support's outline (:func:`stands_within`), before and after a cluster
    cut at the height band's top grows upwards (:mod:`shapes.segment.tall`);

@@ -1,7 +1,8 @@
-"""The planes among a frame's voxels (step 3 of :mod:`shapes.segment`): RANSAC in numpy, one
-plane after another on what the previous ones left, each refitted by least squares
-(:func:`find_planes`), and a plane turned into the world frame, where it is horizontal or not
-(:func:`in_world`).
+"""The plane search among a frame's voxels (step 3 of :mod:`shapes.segment`).
+
+RANSAC in numpy, one plane after another on what the previous ones left, each refitted by least
+squares (:func:`find_planes`), and a plane turned into the world frame, where it is horizontal
+or not (:func:`in_world`).
 """
 
 from __future__ import annotations

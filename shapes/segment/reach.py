@@ -1,6 +1,8 @@
-"""How far the scene reaches: the depth cut and its band, the image's valid window and depth
-image, the pose that gives a world point's depth (:class:`Reach`), and when enough of a
-cluster reaches a limit to be cut by it (:func:`reaching`).
+"""How far the scene reaches: the depth cut, the image's window, a point's depth.
+
+:class:`Reach` holds the depth cut and its band, the image's valid window and depth image, and
+the pose that gives a world point's depth; :func:`reaching` says when enough of a cluster
+reaches a limit to be cut by it.
 """
 
 from __future__ import annotations

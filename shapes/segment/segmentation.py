@@ -1,5 +1,7 @@
-""":func:`segment`: the steps of :mod:`shapes.segment` in order, from a surveyed frame to the
-object clusters on their supports, and the :class:`Segmentation` it returns.
+""":func:`segment`, the steps of :mod:`shapes.segment` in order.
+
+From a surveyed frame to the object clusters on their supports, and the :class:`Segmentation` it
+returns.
 """
 
 from __future__ import annotations
@@ -51,7 +53,7 @@ def segment(
     *,
     surveyed: Survey | None = None,
 ) -> Segmentation:
-    """Find the supports and the object clusters on them in one frame (see the module doc).
+    """Find the supports and the object clusters on them in one frame (:mod:`shapes.segment`).
 
     ``surveyed``: the frame's :func:`survey` with the same ``params`` and ``seed``, when the
     caller has it already (the pipeline takes up from it first).

@@ -1,10 +1,10 @@
-"""The splitter's glue (step 6 of :mod:`shapes.segment`): which of the seam cuts that
-:mod:`shapes.split` finds in a cluster are taken. A cut is not taken when its parts stand on top
-of each other (:func:`_stacked`); it is taken whole when every part stands on the support
-(:func:`_each_stands`), else only for what hangs over nothing that stands
-(:func:`_taken_cut`); parts that lie along each other stay one (:mod:`shapes.nested_parts`).
-The splitter reads the noise of a cluster's normals clear of the support's corner
-(:func:`_clear_of_the_base`).
+"""The splitter's glue: which of the seam cuts of :mod:`shapes.split` are taken.
+
+Step 6 of :mod:`shapes.segment`. A cut is not taken when its parts stand on top of each other
+(:func:`_stacked`); it is taken whole when every part stands on the support
+(:func:`_each_stands`), else only for what hangs over nothing that stands (:func:`_taken_cut`);
+parts that lie along each other stay one (:mod:`shapes.nested_parts`). The splitter reads the
+noise of a cluster's normals clear of the support's corner (:func:`_clear_of_the_base`).
 """
 
 from __future__ import annotations

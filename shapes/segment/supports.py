@@ -1,9 +1,10 @@
-"""Which of a frame's planes are supports (step 3's judging and step 4's rule of
-:mod:`shapes.segment`), in the order :func:`judge_planes` asks: the fronts or tops of objects
-in a row (:func:`_faces_on`), a plane standing on a larger horizontal one, an object's face
-unless it is a step of the floor (:func:`_standing_on`), a would-be support scattered in pieces
-(:func:`_supports_by_pieces`, :mod:`shapes.plane_pieces`), and one crossing a larger one
-(:func:`_crosses`). What is left and horizontal is a support.
+"""Which of a frame's planes are supports, and which are faces of objects.
+
+Step 3's judging and step 4's rule of :mod:`shapes.segment`, in the order :func:`judge_planes`
+asks: the fronts or tops of objects in a row (:func:`_faces_on`), a plane standing on a larger
+horizontal one, an object's face unless it is a step of the floor (:func:`_standing_on`), a
+would-be support scattered in pieces (:func:`_supports_by_pieces`, :mod:`shapes.plane_pieces`),
+and one crossing a larger one (:func:`_crosses`). What is left and horizontal is a support.
 """
 
 from __future__ import annotations

@@ -1,8 +1,9 @@
-"""What segmentation finds before it needs a pose (steps 1 to 3 of :mod:`shapes.segment`, all
-in the sensor frame): the points kept within the depth cut (:func:`depth_cut_m`), artefacts
-dropped and strided (:func:`pixel_stride`), their voxel grid (:func:`voxel_grid`) and the
-planes among the voxels (:mod:`shapes.segment.planes`). Shared by gravity
-(:func:`shapes.gravity.gravity_from_survey`) and :func:`shapes.segment.segment`.
+"""What segmentation finds before it needs a pose, in the sensor frame.
+
+Steps 1 to 3 of :mod:`shapes.segment`: the points kept within the depth cut
+(:func:`depth_cut_m`), artefacts dropped and strided (:func:`pixel_stride`), their voxel grid
+(:func:`voxel_grid`) and the planes among the voxels (:mod:`shapes.segment.planes`). Shared by
+gravity (:func:`shapes.gravity.gravity_from_survey`) and :func:`shapes.segment.segment`.
 """
 
 from __future__ import annotations
@@ -49,7 +50,7 @@ class Survey:
 
 
 def survey(frame: Frame, params: SegmentationParams, seed: int) -> Survey:
-    """Steps 1 to 3 of the module doc in the sensor frame: the kept points, their voxel grid
+    """Steps 1 to 3 of :mod:`shapes.segment`, in the sensor frame: the kept points, their voxel grid
     and the planes. Deterministic for a given ``seed``; the frame's pose plays no part."""
     sigma_1m = 0.0
     image = None if frame.pixels is None else _depth_image(frame)

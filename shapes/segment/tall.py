@@ -1,7 +1,9 @@
-"""Objects taller than the height band (step 4 of :mod:`shapes.segment`): a cluster that stands
-on its support and is cut at the band's top grows upwards through the free voxels over the band
-(:func:`grown_upwards`, :mod:`shapes.grow_upwards`); what then ends under ``max_tall_height_m``
-in view is a tall object, what goes on is a part of something larger.
+"""Objects taller than the height band: clusters cut at its top, grown upwards.
+
+Step 4 of :mod:`shapes.segment`: a cluster that stands on its support and is cut at the band's
+top grows upwards through the free voxels over the band (:func:`grown_upwards`,
+:mod:`shapes.grow_upwards`); what then ends under ``max_tall_height_m`` in view is a tall
+object, what goes on is a part of something larger.
 """
 
 from __future__ import annotations
