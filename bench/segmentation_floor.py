@@ -60,12 +60,22 @@ def cpu_ms(run: Callable[[], Any], repeats: int) -> float:
 
 def measure(scan: str, repeats: int) -> list[float]:
     """The row of one scan: before fits, then each floor item and their sum (CPU ms)."""
-    import shapes.segment  # noqa: F401  (the module object, not the package's re-exports)
+    import shapes.segment.planes
+    import shapes.segment.segmentation
+    import shapes.segment.splitting
+    import shapes.segment.survey  # noqa: F401  (the module objects, not the package's names)
     from shapes import open_source
     from shapes.artefacts import depth_noise_1m, flying_pixels
     from shapes.gravity import gravity_from_survey
 
     seg = sys.modules["shapes.segment"]
+    # Where each call recorded below is looked up.
+    where = {
+        "ransac_plane": sys.modules["shapes.segment.planes"],
+        "clusters_on": sys.modules["shapes.segment.segmentation"],
+        "split_each": sys.modules["shapes.segment.splitting"],
+    }
+    in_survey = sys.modules["shapes.segment.survey"]
     params = seg.SegmentationParams()
     frame = next(open_source(Path("tests/data/real_scans") / f"{scan}.npz"))
 
@@ -79,36 +89,37 @@ def measure(scan: str, repeats: int) -> list[float]:
     planes: list[tuple[Any, ...]] = []
     above: list[Any] = []
     clusters: list[Any] = []
-    originals = {name: getattr(seg, name) for name in ("ransac_plane", "_clusters", "split_each")}
+    originals = {name: getattr(module, name) for name, module in where.items()}
 
     def ransac(points: Any, threshold: float, iterations: int, rng: Any) -> Any:
         planes.append((points, threshold, iterations, copy.deepcopy(rng)))
         return originals["ransac_plane"](points, threshold, iterations, rng)
 
-    def candidates(found: Any, voxels: Any, *args: Any) -> Any:
-        above.append(voxels[found])
-        return originals["_clusters"](found, voxels, *args)
+    def candidates(found: Any, kept: Any, *args: Any) -> Any:
+        above.append(kept.voxels[found])
+        return originals["clusters_on"](found, kept, *args)
 
     def split(each: Any, *args: Any, **kwargs: Any) -> Any:
         clusters.extend(each)
         return originals["split_each"](each, *args, **kwargs)
 
-    seg.ransac_plane, seg._clusters, seg.split_each = ransac, candidates, split
+    for name, fn in (("ransac_plane", ransac), ("clusters_on", candidates), ("split_each", split)):
+        setattr(where[name], name, fn)
     try:
         before_fits()
     finally:
         for name, fn in originals.items():
-            setattr(seg, name, fn)
+            setattr(where[name], name, fn)
     surveyed = seg.survey(frame, params, 0)
     stride = seg.pixel_stride(
         int((frame.points[:, 2] <= seg.depth_cut_m(surveyed.sigma_1m, params)).sum()), params
     )
 
     def image() -> None:
-        depth = seg._depth_image(frame)
+        depth = in_survey._depth_image(frame)
         sigma = depth_noise_1m(depth)
         depth[depth > seg.depth_cut_m(sigma, params)] = np.nan
-        flying_pixels(depth, sigma, focal_px=seg._focal_px(frame), step=stride)
+        flying_pixels(depth, sigma, focal_px=in_survey._focal_px(frame), step=stride)
 
     def ransacs() -> None:
         for points, threshold, iterations, rng in planes:

@@ -32,6 +32,7 @@ __all__ = [
     "column_span",
     "cross3",
     "dot3",
+    "inside_box",
     "norm3",
     "unique_inverse",
     "unique_sorted",
@@ -94,3 +95,17 @@ def cross3(a: npt.NDArray[np.float64], b: npt.NDArray[np.float64]) -> npt.NDArra
     a0, a1, a2 = a[..., 0], a[..., 1], a[..., 2]
     b0, b1, b2 = b[..., 0], b[..., 1], b[..., 2]
     return np.stack((a1 * b2 - a2 * b1, a2 * b0 - a0 * b2, a0 * b1 - a1 * b0), axis=-1)
+
+
+def inside_box(
+    points: npt.NDArray[np.float64], lo: npt.NDArray[np.float64], hi: npt.NDArray[np.float64]
+) -> npt.NDArray[np.bool_]:
+    """Which of ``points`` lie strictly inside the box from ``lo`` to ``hi`` across their first
+    two coordinates (the third, if any, plays no part).
+
+    >>> inside_box(np.array([[0.5, 0.5, 9.0], [1.0, 0.5, 0.0]]), np.zeros(2), np.ones(2)).tolist()
+    [True, False]
+    """
+    x, y = points[:, 0], points[:, 1]
+    inside: npt.NDArray[np.bool_] = (x > lo[0]) & (x < hi[0]) & (y > lo[1]) & (y < hi[1])
+    return inside

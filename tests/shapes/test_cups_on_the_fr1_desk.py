@@ -12,7 +12,8 @@ import pytest
 from shapes import FrameResult, Perception, PerceptionParams, ShapeKind, open_source
 from shapes.fit.models import CylinderModel
 from shapes.fit.profile import cylinder_without_taper, side_profile
-from shapes.segment import SegmentationParams, _taken_cut
+from shapes.segment import SegmentationParams
+from shapes.segment.splitting import _taken_cut
 from shapes.types import SupportPlane
 
 SCANS = Path(__file__).parents[1] / "data" / "real_scans"

@@ -1,6 +1,6 @@
 """A cluster whose bottom is seen hanging over its support is a part of something standing
 elsewhere (a chair's seat on its post), not an object; one whose bottom is hidden behind
-something nearer stands on the support unseen (shapes.segment._floats). Simulated scenes, and
+something nearer stands on the support unseen (shapes.segment.objects.floats). Simulated scenes, and
 the real scan tuned on for it (desk_tum; tests/data/real_scans/README.md)."""
 
 import json

@@ -1,5 +1,5 @@
 """Objects taller than the 60 cm height band: a cluster that stands on its support and is cut
-at the band's top grows upwards before it is judged (shapes.segment._grown_upwards), on the
+at the band's top grows upwards before it is judged (shapes.segment.tall.grown_upwards), on the
 real scan tuned on for it (lab_floor_rtabmap; tests/data/real_scans/README.md). Compared in
 the sensor's optical frame."""
 

@@ -1,0 +1,78 @@
+"""The parameters of segmentation, one frozen value; lengths in metres."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+
+@dataclass(frozen=True)
+class SegmentationParams:
+    """Parameters of :func:`segment`; lengths in metres."""
+
+    voxel_m: float = 0.01
+    max_depth_m: float | None = None
+    """A fixed depth cut; None: the cut follows the sensor's noise (``max_range_noise_m``)."""
+    max_range_noise_m: float = 0.02
+    default_depth_m: float = 3.0
+    """The cut when the noise is not known (an unorganised cloud, or a noiseless image)."""
+    target_points: int = 60_000
+    filter_artefacts: bool = True
+    support_threshold_m: float = 0.01
+    support_iterations: int = 500
+    max_support_tilt_deg: float = 10.0
+    min_support_fraction: float = 0.03
+    max_planes: int = 5
+    min_plane_extent_m: float = 0.25
+    above_margin_m: float = 0.008
+    max_height_m: float = 0.6
+    max_tall_height_m: float = 1.2
+    """How high a cluster that stands on its support and is cut at ``max_height_m`` may grow
+    (:func:`grown_upwards`): what ends under it is a tall object, what reaches it a part of
+    something larger."""
+    edge_margin_m: float = 0.02
+    outlier_neighbours: int = 10
+    outlier_std_ratio: float = 3.0
+    cluster_eps_m: float = 0.03
+    cluster_min_points: int = 3
+    min_cluster_voxels: int = 12
+    split_touching: bool = True
+    min_split_extent_m: float = 0.07
+    min_support_rise_m: float = 0.25
+    max_base_height_m: float = 0.04
+    floor_step_m: float = 0.03
+    support_cell_m: float = 0.05
+    """The grid on which a plane's voxels are joined into pieces (a support's main piece, a
+    tilted plane's pieces: :mod:`shapes.plane_pieces`)."""
+    min_main_piece_share: float = 0.5
+    """The share of a horizontal plane's voxels its main piece must hold for the plane to be a
+    surface of its own; a plane scattered in smaller pieces is reduced to its main piece
+    (:func:`shapes.plane_pieces.is_scattered`)."""
+    extent_margin_m: float = 0.05
+    """How far past the hull of its support's main piece an object's centre may lie."""
+    cut_band_m: float = 0.03
+    """How near the scene's limits (``max_height_m`` over the support, the depth cut) a voxel
+    or point counts as reaching them (the depth cut's band grows to 3 sigma of the noise)."""
+    min_cut_share: float = 0.01
+    """The share of a cluster's voxels (or points) reaching a limit that makes it cut by it,
+    and so a part of something larger than the scene, not an object."""
+    min_cut_voxels: int = 3
+    """As ``min_cut_share``, a count: one stray voxel at the limit cuts nothing."""
+    border_band_px: int = 8
+    """How near an edge of the image's valid window (other than the edge the camera looks
+    down through) a point counts as cut by it (:mod:`shapes.view`): four sampled pixels at a
+    640 x 480 frame's stride of 2; the window's edge itself wanders by a few pixels where
+    flying pixels were dropped."""
+    floating_probe_px: int = 8
+    """How far past a cluster's lower outline in the image something nearer is looked for,
+    which hides its bottom (:func:`floats`)."""
+    min_hidden_share: float = 0.5
+    """The share of a cluster's lower outline that something nearer must hide for a bottom
+    seen above ``max_base_height_m`` to be hidden rather than hanging (:func:`floats`)."""
+    support_edge_depth_m: float = 0.08
+    """How far under a support's plane its edge reaches (the top's thickness, its front face,
+    an apron): what hides the top of a cluster on a lower support from that high up is the
+    support's edge, and the cluster stands under it (:mod:`shapes.support_edge`)."""
+    min_edge_hidden_share: float = 0.5
+    """The share of a cluster's upper outline that a higher support's edge must hide for the
+    cluster to stand under that edge (:mod:`shapes.support_edge`); the same half as
+    ``min_hidden_share`` asks of a lower outline."""
