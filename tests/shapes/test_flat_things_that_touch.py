@@ -3,26 +3,19 @@ stop 37): two flat things that touch, and a telephone whose handset lies in its 
 base, are one primitive each (shapes.split, shapes.nested_parts; docs/perception.md, "The book
 and the telephone"). In the sensor's frame, against the hand-measured ground truth."""
 
-import functools
 import json
 from pathlib import Path
 
 import numpy as np
 import pytest
 
-from shapes import FrameResult, Perception, PerceptionParams, open_source
 from shapes.nested_parts import joined_where_nested, lies_along
 from shapes.segment import voxel_grid
 from shapes.split import split_each
+from tests.shapes.real_scans import perceived
 
 SCANS = Path(__file__).parents[1] / "data" / "real_scans"
 TRUTH = json.loads((SCANS / "truth.json").read_text())
-
-
-@functools.cache
-def _result(name: str, seed: int) -> FrameResult:
-    frame = next(open_source(SCANS / f"{name}.npz"))
-    return Perception(PerceptionParams(gravity_from_scene=True), seed=seed).process(frame)
 
 
 @pytest.mark.parametrize(
@@ -35,7 +28,7 @@ def test_the_book_and_the_telephone_are_one_primitive_each(
     """Frame 0: both were missed (one cluster, which the splitter left whole: 16.5 % of its
     voxels were seam, over the 15 % that reads as noisy normals, most of them where the objects
     meet the desk). Frame 1: the telephone came out in 2 parts, its handset cut from its base."""
-    result = _result(name, seed)
+    result = perceived(name, seed)
     back = np.linalg.inv(result.world_from_sensor)
     seen = [back[:3, :3] @ c + back[:3, 3] for c in result.centroids]
     centre = np.asarray(TRUTH[name][label]["centre"])

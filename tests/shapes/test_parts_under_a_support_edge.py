@@ -7,24 +7,18 @@ gap under the desk's front edge, give no primitive; the orange box on the floor 
 ``desk_tum``'s desk, which stands clear of the desk's outline, still does. With the plane
 search's seed 2 the paper cup of ``desk_fr1_tum_0`` is found, as on the other seeds."""
 
-import functools
 import json
 from pathlib import Path
 
 import numpy as np
 
-from shapes import FrameResult, Perception, PerceptionParams, ShapeKind, open_source
+from shapes import FrameResult, ShapeKind
 from shapes.support_edge import occluders_above
 from shapes.view import ImageView
+from tests.shapes.real_scans import perceived
 
 SCANS = Path(__file__).parents[1] / "data" / "real_scans"
 TRUTH = json.loads((SCANS / "truth.json").read_text())
-
-
-@functools.cache
-def _result(name: str, seed: int = 0) -> FrameResult:
-    frame = next(open_source(SCANS / f"{name}.npz"))
-    return Perception(PerceptionParams(gravity_from_scene=True), seed=seed).process(frame)
 
 
 def _seen(result: FrameResult) -> list[np.ndarray]:
@@ -67,7 +61,7 @@ def test_the_desks_leg_under_the_front_of_desk_fr2_tum_0_gives_no_primitive() ->
     under the desk's outline, and a 17-voxel piece 16 cm left of where the seen desk ends
     (the image's edge cuts the desk there). The leg is gone; nothing lies under the desk's
     rectangle on the floor."""
-    result = _result("desk_fr2_tum_0")
+    result = perceived("desk_fr2_tum_0")
     assert result.support is not None
     desk = result.support
     assert desk.centre is not None and desk.extent is not None
@@ -90,7 +84,7 @@ def test_the_panel_under_desk_tums_top_gives_no_primitive() -> None:
     fx, fy, cx, cy = (float(data[k]) for k in ("fx", "fy", "cx", "cy"))
     there = [
         c
-        for c in _seen(_result("desk_tum"))
+        for c in _seen(perceived("desk_tum"))
         if c[2] > 2.9
         and 120 <= fx * c[0] / c[2] + cx <= 284
         and 256 <= fy * c[1] / c[2] + cy <= 284
@@ -103,7 +97,7 @@ def test_the_orange_box_beside_desk_tums_desk_is_still_a_primitive() -> None:
     hidden by the desk's edge, stands 26 cm or more clear of the desk's outline: an object,
     kept (no ground truth: a stray primitive of the bench)."""
     box = _centre_of_pixels("desk_tum", slice(258, 268), slice(52, 69), 2.5)
-    seen = _seen(_result("desk_tum"))
+    seen = _seen(perceived("desk_tum"))
     assert min(float(np.linalg.norm(c - box)) for c in seen) < 0.08
 
 
@@ -112,7 +106,7 @@ def test_the_paper_cup_of_desk_fr1_tum_0_is_found_on_the_plane_searchs_seed_2() 
     desk to 14 cm over it, was a second support, and the cup stood on it under the monitor's
     screen. (Frame 1's cup is still lost on seed 2, by another rule: docs/perception.md.)"""
     name = "desk_fr1_tum_0"
-    result = _result(name, 2)
+    result = perceived(name, 2)
     cup = TRUTH[name]["cup"]
     seen = _seen(result)
     near = [k for k, c in enumerate(seen) if np.linalg.norm(c - cup["centre"]) < 0.08]

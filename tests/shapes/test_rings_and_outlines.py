@@ -4,29 +4,23 @@ radius whatever the seed; the desk's closed and open round things keep theirs, a
 things stay planes. In the sensor's frame, against the hand-measured ground truth
 (docs/perception.md, "Rings and outlines: the side wall's cylinder")."""
 
-import functools
 import json
 from pathlib import Path
 
 import numpy as np
 import pytest
 
-from shapes import FrameResult, Perception, PerceptionParams, Primitive, ShapeKind, open_source
+from shapes import Primitive, ShapeKind
+from tests.shapes.real_scans import perceived
 
 SCANS = Path(__file__).parents[1] / "data" / "real_scans"
 TRUTH = json.loads((SCANS / "truth.json").read_text())
 
 
-@functools.cache
-def _result(name: str, seed: int) -> FrameResult:
-    frame = next(open_source(SCANS / f"{name}.npz"))
-    return Perception(PerceptionParams(gravity_from_scene=True), seed=seed).process(frame)
-
-
 def _primitive_of(name: str, label: str, seed: int) -> tuple[Primitive, np.ndarray]:
     """The one primitive whose cluster lies within 8 cm of the measured object, and its centre
     in the sensor's frame."""
-    result = _result(name, seed)
+    result = perceived(name, seed)
     measured = TRUTH[name][label]
     back = np.linalg.inv(result.world_from_sensor)
     seen = [back[:3, :3] @ c + back[:3, 3] for c in result.centroids]
