@@ -2,18 +2,15 @@
 gives for it: the support plane lies on the points of its pixel boxes, and each object has points
 above that plane in its box, where its centre is. Data integrity only: no perception is run."""
 
-import importlib.util
 import json
-from pathlib import Path
-from types import ModuleType
 from typing import Any
 
 import numpy as np
 import pytest
 
 from shapes import open_source
+from tests.shapes.real_scans import SCANS, measure_module
 
-SCANS = Path(__file__).parents[1] / "data" / "real_scans"
 TRUTH: dict[str, dict[str, Any]] = json.loads((SCANS / "truth.json").read_text())
 SHARED_TRUTH = {
     "laptop_box_kinect_1": "laptop_box_kinect_0",
@@ -25,15 +22,7 @@ MIN_OBJECT_POINTS = 200
 SCENE_SHAPE = (480, 640)
 
 
-def _measure_module() -> ModuleType:
-    spec = importlib.util.spec_from_file_location("real_scans_measure", SCANS / "measure.py")
-    assert spec is not None and spec.loader is not None
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
-
-
-MEASURE = _measure_module()
+MEASURE = measure_module()
 
 
 def _image(name: str) -> np.ndarray:

@@ -2,15 +2,12 @@
 stop 37) keep to their rule's letter where it can be checked without eyes: several boxes, each
 on valid depth and 5 pixels clear of every pixel with no depth."""
 
-import importlib.util
-from pathlib import Path
-from types import ModuleType
-
 import numpy as np
 import pytest
 from scipy.ndimage import binary_dilation
 
-SCANS = Path(__file__).parents[1] / "data" / "real_scans"
+from tests.shapes.real_scans import SCANS, measure_module
+
 SPREAD_OVER_THE_SUPPORT = (
     "desk_tum",
     "office_kinect",
@@ -27,15 +24,7 @@ CLEAR_PX = 5
 MIN_BOX_PX = (8, 20)
 
 
-def _measure_module() -> ModuleType:
-    spec = importlib.util.spec_from_file_location("real_scans_measure", SCANS / "measure.py")
-    assert spec is not None and spec.loader is not None
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
-
-
-MEASURE = _measure_module()
+MEASURE = measure_module()
 
 
 @pytest.mark.parametrize("name", SPREAD_OVER_THE_SUPPORT)

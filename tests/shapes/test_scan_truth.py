@@ -1,24 +1,12 @@
 """The real scans' ground truth is what measure.py computes from the scans, held-out ones marked."""
 
-import importlib.util
 import json
-from pathlib import Path
 
 import numpy as np
 import pytest
 
 from shapes import open_source
-
-SCANS = Path(__file__).parents[1] / "data" / "real_scans"
-
-
-def _measure_module():
-    spec = importlib.util.spec_from_file_location("real_scans_measure", SCANS / "measure.py")
-    assert spec is not None and spec.loader is not None
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
-
+from tests.shapes.real_scans import SCANS, measure_module
 
 TRUTH = json.loads((SCANS / "truth.json").read_text())
 HELD_OUT_AT_STOP_38 = {
@@ -34,7 +22,7 @@ RESERVED_AT_STOP_38 = {"ycb_desk_xtion", "ycb_chair_tablet_xtion", "ycb_chessboa
 @pytest.mark.parametrize("name", sorted(TRUTH))
 def test_truth_json_is_what_measure_py_computes(name: str) -> None:
     # The JSON round trip turns the measured floats and tuples into what truth.json holds.
-    assert json.loads(json.dumps(_measure_module().measure(name))) == TRUTH[name]
+    assert json.loads(json.dumps(measure_module().measure(name))) == TRUTH[name]
 
 
 def test_the_held_out_scans_are_marked() -> None:
@@ -49,7 +37,7 @@ def test_the_reserved_scans_are_held_out_and_marked() -> None:
     assert reserved == RESERVED_AT_STOP_38
     assert all(TRUTH[name]["held_out"] for name in reserved)
     assert all(scan.get("reserved", True) is True for scan in TRUTH.values())
-    measure = _measure_module()
+    measure = measure_module()
     assert measure.HELD_OUT == HELD_OUT_AT_STOP_38 | RESERVED_AT_STOP_38
     assert measure.RESERVED_AT_STOP_38 == RESERVED_AT_STOP_38
 
