@@ -49,14 +49,11 @@ Kinect frame beside a simulated frame's, timed in the same run (their ratio is w
 machine's load), against the target (< 100 ms per Kinect frame); then the track ids over the three
 consecutive laptop frames.
 The "set" column says which scans the pipeline's rules may have been chosen on ("tuned on": every
-scan vendored up to stop 37, each run and diagnosed at the stop after it was vendored) and which
-were never given to the pipeline before the lead's one run after the merge of stop 38 ("held out"
-in ``truth.json``: a RealSense frame of a living room, with a cup, a bowl, bananas and a laptop on
-its floor 1.5-2 m away; a RealSense frame of a tissue box and a wooden mallet on a carpet
-0.45-0.55 m away; a mustard bottle lying on a table 0.9 m away, from a camera with a RealSense
-L515's intrinsics; ``--tuned-only`` leaves them out). Scans reserved for a later stop
-(``"reserved": true`` beside ``"held_out": true``) are run only with ``--reserved``; the three
-reserved at stop 38 are not even listed here until the next stop adds them.
+scan vendored up to stop 38, each run and diagnosed at the stop after it was vendored) and which
+were never given to the pipeline before the lead's one run after the merge of stop 39 ("held out"
+in ``truth.json``: three Asus Xtion frames of YCB objects, on a wooden desk, on a lecture chair's
+writing tablet and on a chessboard table; ``--tuned-only`` leaves them out). Scans reserved for a
+later stop (``"reserved": true`` beside ``"held_out": true``) are run only with ``--reserved``.
 
 Run from the repository root::
 
@@ -464,6 +461,9 @@ REAL_TRUTH = {  # scan: the scan its ground truth was measured on (the laptop sc
     "living_room_floor_realsense": "living_room_floor_realsense",
     "mallet_box_carpet_realsense": "mallet_box_carpet_realsense",
     "mustard_table_l515": "mustard_table_l515",
+    "ycb_desk_xtion": "ycb_desk_xtion",
+    "ycb_chair_tablet_xtion": "ycb_chair_tablet_xtion",
+    "ycb_chessboard_table_xtion": "ycb_chessboard_table_xtion",
 }
 
 

@@ -9,14 +9,8 @@ from shapes import open_source
 from tests.shapes.real_scans import SCANS, measure_module
 
 TRUTH = json.loads((SCANS / "truth.json").read_text())
-HELD_OUT_AT_STOP_38 = {
-    "living_room_floor_realsense",
-    "mallet_box_carpet_realsense",
-    "mustard_table_l515",
-}
-"""Reserved at stop 37, run once at stop 38 by the lead after the merge (README.md)."""
-RESERVED_AT_STOP_38 = {"ycb_desk_xtion", "ycb_chair_tablet_xtion", "ycb_chessboard_table_xtion"}
-"""Found and measured at stop 38, kept for the next stop (README.md): nobody runs them before."""
+HELD_OUT_AT_STOP_39 = {"ycb_desk_xtion", "ycb_chair_tablet_xtion", "ycb_chessboard_table_xtion"}
+"""Reserved at stop 38, run once at stop 39 by the lead after the merge (README.md)."""
 
 
 @pytest.mark.parametrize("name", sorted(TRUTH))
@@ -26,20 +20,18 @@ def test_truth_json_is_what_measure_py_computes(name: str) -> None:
 
 
 def test_the_held_out_scans_are_marked() -> None:
-    assert {name for name, scan in TRUTH.items() if scan["held_out"]} == (
-        HELD_OUT_AT_STOP_38 | RESERVED_AT_STOP_38
-    )
+    held_out = {name for name, scan in TRUTH.items() if scan["held_out"]}
+    assert held_out == HELD_OUT_AT_STOP_39 | measure_module().RESERVED
 
 
 def test_the_reserved_scans_are_held_out_and_marked() -> None:
     """Reserved scans are kept for a later stop: held out, and marked so the bench skips them."""
     reserved = {name for name, scan in TRUTH.items() if scan.get("reserved")}
-    assert reserved == RESERVED_AT_STOP_38
+    measure = measure_module()
+    assert reserved == measure.RESERVED
     assert all(TRUTH[name]["held_out"] for name in reserved)
     assert all(scan.get("reserved", True) is True for scan in TRUTH.values())
-    measure = measure_module()
-    assert measure.HELD_OUT == HELD_OUT_AT_STOP_38 | RESERVED_AT_STOP_38
-    assert measure.RESERVED_AT_STOP_38 == RESERVED_AT_STOP_38
+    assert measure.HELD_OUT == HELD_OUT_AT_STOP_39 | measure.RESERVED
 
 
 def test_the_tum_frame_loads_with_its_depths_unchanged() -> None:
