@@ -330,14 +330,19 @@ REGIONS = {
         # The largest bare rectangle in each quarter of the visible desk (README.md, stop 37).
         ((182, 315, 5, 90), (280, 315, 485, 635), (325, 426, 5, 150), (315, 475, 489, 635)),
         {
-            # Above the bottle, left of it, right of it (the drill's body from column 262).
+            # Above the bottle, left of it, right of it; its right edge, which slants back to
+            # 0.95-1.09 m, as far as the drill's outline (stop 41: the drill's boxes had held it).
             "cracker box": (
                 (
                     (32, 50, 100, 262),
                     (50, 245, 100, 116),
                     (50, 100, 203, 260),
-                    (100, 160, 219, 260),
+                    (100, 146, 219, 260),
+                    (146, 160, 219, 259),
                     (160, 245, 231, 260),
+                    (50, 128, 260, 280),
+                    (128, 140, 260, 265),
+                    (174, 236, 260, 272),
                 ),
                 False,
             ),
@@ -355,13 +360,22 @@ REGIONS = {
                 ),
                 False,
             ),
-            # Body and chuck, handle, the battery's two ends (the clamp touches its right end).
+            # Body and chuck (from the cracker box's edge), handle, the battery's two ends (the
+            # clamp touches its right end); the boxes stop where the sugar box's far edge begins,
+            # column band by column band (stop 41: they had held 827 of its points).
             "drill": (
                 (
-                    (122, 205, 264, 435),
-                    (205, 342, 284, 345),
-                    (300, 342, 345, 378),
-                    (280, 342, 272, 284),
+                    (128, 140, 265, 435),
+                    (140, 174, 264, 435),
+                    (174, 186, 272, 435),
+                    (186, 205, 279, 435),
+                    (205, 236, 292, 298),
+                    (236, 328, 284, 298),
+                    (205, 330, 298, 320),
+                    (205, 332, 320, 332),
+                    (205, 335, 332, 345),
+                    (300, 339, 345, 378),
+                    (280, 326, 272, 284),
                 ),
                 False,
             ),
@@ -393,17 +407,38 @@ REGIONS = {
         {
             # Everything over the table's back edge between the monitor and the cracker box.
             "boxes at the back": ((0, 240, 75, 285), False),
-            # Its top above the mustard's cap, left and right of the cap, left of the bottle.
+            # Its top above the mustard's cap; left and right of the cap and shoulder, row band by
+            # row band along the bottle's depth outline; left of the bottle (stop 41: the old
+            # boxes held 187 points of the mustard's shoulder and shared 20 with its box).
             "cracker box": (
                 (
-                    (125, 205, 298, 478),
-                    (205, 240, 298, 355),
-                    (205, 245, 395, 478),
+                    (125, 204, 298, 478),
+                    (204, 209, 298, 361),
+                    (209, 222, 298, 358),
+                    (222, 228, 298, 353),
+                    (228, 233, 298, 344),
+                    (233, 240, 298, 341),
+                    (204, 209, 384, 478),
+                    (209, 222, 389, 478),
+                    (222, 228, 390, 478),
+                    (228, 233, 395, 478),
+                    (233, 245, 400, 478),
                     (240, 330, 298, 322),
                 ),
                 False,
             ),
-            "mustard bottle": (((205, 240, 358, 392), (240, 445, 327, 399)), False),
+            # Its cap and shoulder band by band (they widen downwards), then its body.
+            "mustard bottle": (
+                (
+                    (204, 209, 361, 384),
+                    (209, 222, 358, 389),
+                    (222, 228, 353, 390),
+                    (228, 233, 344, 395),
+                    (233, 240, 341, 399),
+                    (240, 445, 327, 399),
+                ),
+                False,
+            ),
             # Its left third is hidden behind the mustard bottle: through the arc seen, the side
             # wall's circle is 2.75 cm (2.4-2.8 cm as the cut varies), against 3.26 cm for the
             # same kind of can on the chair's tablet, so only its visible centroid is given. The
