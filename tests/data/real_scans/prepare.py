@@ -56,12 +56,21 @@ MIT, commit 9f3dd7b7bce21dcafc05e8f18ccc90da3caabd04,
 registered to its colour image, in units of 0.1 mm (its ``tools/demo.py`` gives
 ``factor_depth`` 10000), with the intrinsic matrix that file gives.
 
+Frames of a mug, a cracker box and a bowl on a table come from 6-DoF GraspNet's demo data
+(``NVlabs/6dof-graspnet``, MIT, commit d65ed693dcd66bac2bd98968675b452c588fcac6,
+``demo/data/{blue_mug,cheezit,green_bowl}.npy``): each a pickled dict holding a float32 depth image
+in metres (whole multiples of 0.1 mm, stored here in 0.1 mm units), the colour image and the
+intrinsic matrix. They are read with an unpickler that builds numpy arrays and nothing else.
+
     python tests/data/real_scans/prepare.py PCL_CHECKOUT/test OPEN3D_CHECKOUT/examples/test_data \
         PCL_DATA_CHECKOUT DENSE_RGBD_VO_CHECKOUT/examples SLAMBOOK2_CHECKOUT RTABMAP_CHECKOUT \
         PLANES_CHECKOUT POINTING_CHECKOUT ANNOTATOR_CHECKOUT PARTICLE_FILTER_CHECKOUT \
-        POSECNN_CHECKOUT
+        POSECNN_CHECKOUT GRASPNET_6DOF_CHECKOUT
 """
 
+import importlib
+import io
+import pickle
 import sys
 from pathlib import Path
 
@@ -147,6 +156,12 @@ POSECNN = {
 }
 POSECNN_CALIB = {"fx": 1066.778, "fy": 1067.487, "cx": 312.9869, "cy": 241.3109}
 """``tools/demo.py``'s intrinsic matrix (the eleventh argument); 10000 depth units a metre."""
+GRASPNET_6DOF = {
+    "demo/data/blue_mug.npy": "blue_mug_table_realsense.npz",
+    "demo/data/cheezit.npy": "cracker_box_table_realsense.npz",
+    "demo/data/green_bowl.npy": "green_bowl_table_realsense.npz",
+}
+"""6-DoF GraspNet's demo frames (the twelfth argument); each carries its own intrinsic matrix."""
 ROS_DEFAULT = {"fx": 525.0, "fy": 525.0, "cx": 319.5, "cy": 239.5}
 """The intrinsics the TUM benchmark recommends for its registered Freiburg 1 and 2 depth images."""
 WIDTH, HEIGHT = 640, 480
@@ -194,6 +209,43 @@ def convert_tum(
     assert depth.dtype == np.uint16 and depth.shape == (HEIGHT, WIDTH), depth_png
     rgb = np.asarray(Image.open(colour_png).convert("RGB"))
     np.savez_compressed(target, depth=depth, rgb=rgb, depth_scale=depth_scale, **intrinsics)
+
+
+class _ArraysOnly(pickle.Unpickler):
+    """Unpickles numpy arrays, their dtypes and plain containers, and refuses any other class (a
+    pickle can otherwise run arbitrary code)."""
+
+    ALLOWED = frozenset({"_reconstruct", "ndarray", "dtype", "scalar"})
+
+    def find_class(self, module: str, name: str) -> object:
+        if module.split(".")[0] != "numpy" or name not in self.ALLOWED:
+            raise pickle.UnpicklingError(f"refused to unpickle {module}.{name}")
+        try:
+            return getattr(importlib.import_module(module), name)
+        except ImportError:  # numpy 2 moved numpy.core to numpy._core
+            return getattr(importlib.import_module(module.replace(".core", "._core")), name)
+
+
+def convert_graspnet_npy(source: Path, target: Path, depth_scale: float = 1e-4) -> None:
+    raw = source.read_bytes()
+    header = int.from_bytes(raw[8:10], "little")  # a version 1 .npy file of one object
+    assert raw[:8] == b"\x93NUMPY\x01\x00", source
+    frame = _ArraysOnly(io.BytesIO(raw[10 + header :]), encoding="latin1").load().item()
+    metres = frame["depth"].astype(np.float64)
+    metres[~np.isfinite(metres)] = 0.0
+    depth = np.round(metres / depth_scale)
+    assert np.abs(depth * depth_scale - metres).max() < 1e-6 and depth.max() < 2**16, source
+    k = frame["intrinsics_matrix"]
+    np.savez_compressed(
+        target,
+        depth=depth.astype(np.uint16),
+        rgb=np.ascontiguousarray(frame["image"][..., :3], dtype=np.uint8),
+        depth_scale=depth_scale,
+        fx=float(k[0, 0]),
+        fy=float(k[1, 1]),
+        cx=float(k[0, 2]),
+        cy=float(k[1, 2]),
+    )
 
 
 if __name__ == "__main__":
@@ -249,3 +301,7 @@ if __name__ == "__main__":
         for depth_png, (colour_png, out) in POSECNN.items():
             target = Path(__file__).with_name(out)
             convert_tum(posecnn / depth_png, posecnn / colour_png, target, POSECNN_CALIB, 1e-4)
+    if len(sys.argv) > 12:
+        graspnet = Path(sys.argv[12])
+        for source, out in GRASPNET_6DOF.items():
+            convert_graspnet_npy(graspnet / source, Path(__file__).with_name(out))
