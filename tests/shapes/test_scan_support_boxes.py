@@ -19,7 +19,7 @@ SPREAD_OVER_THE_SUPPORT = (
     "ycb_chessboard_table_xtion",
     "blue_mug_table_realsense",
     "cracker_box_table_realsense",
-    "green_bowl_table_realsense",
+    "tin_table_realsense",
 )
 """The scans whose support the stop-37 rule concerns (one box's halves disagree by more than
 1 degree or 1 cm, by bench/support_truth.py), and every scan measured since (stop 38 on)."""

@@ -56,9 +56,9 @@ MIT, commit 9f3dd7b7bce21dcafc05e8f18ccc90da3caabd04,
 registered to its colour image, in units of 0.1 mm (its ``tools/demo.py`` gives
 ``factor_depth`` 10000), with the intrinsic matrix that file gives.
 
-Frames of a mug, a cracker box and a bowl on a table come from 6-DoF GraspNet's demo data
+Frames of a mug, a cracker box and a tin on a table come from 6-DoF GraspNet's demo data
 (``NVlabs/6dof-graspnet``, MIT, commit d65ed693dcd66bac2bd98968675b452c588fcac6,
-``demo/data/{blue_mug,cheezit,green_bowl}.npy``): each a pickled dict holding a float32 depth image
+``demo/data/{blue_mug,cheezit,cylinder}.npy``): each a pickled dict holding a float32 depth image
 in metres (whole multiples of 0.1 mm, stored here in 0.1 mm units), the colour image and the
 intrinsic matrix. They are read with an unpickler that builds numpy arrays and nothing else.
 
@@ -159,7 +159,7 @@ POSECNN_CALIB = {"fx": 1066.778, "fy": 1067.487, "cx": 312.9869, "cy": 241.3109}
 GRASPNET_6DOF = {
     "demo/data/blue_mug.npy": "blue_mug_table_realsense.npz",
     "demo/data/cheezit.npy": "cracker_box_table_realsense.npz",
-    "demo/data/green_bowl.npy": "green_bowl_table_realsense.npz",
+    "demo/data/cylinder.npy": "tin_table_realsense.npz",
 }
 """6-DoF GraspNet's demo frames (the twelfth argument); each carries its own intrinsic matrix."""
 ROS_DEFAULT = {"fx": 525.0, "fy": 525.0, "cx": 319.5, "cy": 239.5}
