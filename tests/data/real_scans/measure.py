@@ -453,8 +453,8 @@ REGIONS = {
     # RealSense-like camera (616 px; depth in 0.1 mm steps, aligned to colour) over a long
     # wooden table, one object on it in each; the depth past 0.8 or 0.9 m was removed before the
     # frames were published. The mug and the box: the camera 30 cm over the table, looking down
-    # 28 degrees, the object 0.4-0.6 m away. Each support: the largest
-    # bare rectangle in each quarter of the visible table (README.md, stop 37).
+    # 28 degrees, the object 0.4-0.6 m away. Each support: the largest bare rectangle in each
+    # quarter of the visible table (README.md, stop 37).
     "blue_mug_table_realsense": (
         ((146, 304, 83, 226), (155, 308, 433, 635), (337, 475, 138, 343), (337, 475, 343, 635)),
         # Its rim, then its body short of the handle (columns 380-420, left out).
@@ -465,7 +465,7 @@ REGIONS = {
         {"cracker box": ((42, 333, 342, 518), False)},
     ),
     # The same table from another place, 34 cm over it, looking down 34 degrees, everything past
-    # 0.8 m removed: a tin of wafer rolls standing 0.6-0.7 m away, its lid seen.
+    # 0.8 m removed: a tin of wafer rolls standing 0.53-0.61 m away, its lid seen.
     "tin_table_realsense": (
         ((156, 296, 78, 263), (135, 296, 375, 635), (296, 474, 110, 345), (296, 475, 345, 635)),
         {"tin": ((52, 232, 280, 370), True)},
@@ -486,9 +486,10 @@ RESERVED_AT_STOP_39: set[str] = {
 }
 """Found and measured at stop 39 (the next stop's fresh scans); not listed in
 ``bench/perception.py``'s ``REAL_TRUTH`` until that stop (README.md)."""
-RESERVED: set[str] = set() | RESERVED_AT_STOP_39
-"""Held-out scans kept for a later stop: ``bench/perception.py`` runs them only with
-``--reserved``, so that nobody gives them to the pipeline before then (README.md)."""
+RESERVED: set[str] = set().union(RESERVED_AT_STOP_39)
+"""Held-out scans kept for a later stop, the union of every stop's reserved set:
+``bench/perception.py`` runs them only with ``--reserved`` (and lists none of stop 39's), so that
+nobody gives them to the pipeline before then (README.md)."""
 HELD_OUT |= RESERVED
 MAX_HEIGHT_M = {
     "desk_tum": 0.6,
