@@ -78,6 +78,7 @@ FOUND_WITHIN_M = 0.03
 """The issue's centre target, as the bench counts "one primitive within 3 cm"."""
 FEW_POINTS = 100
 """Below this many kept points an object's failure is put down to too few points."""
+PRIMITIVE_NEAR = "primitive's centre within 3 cm"
 CLASSES = ("found", "segmentation", "oracle fails", "found, oracle fails")
 
 
@@ -118,15 +119,25 @@ def score_object(result: FrameResult, gt: dict[str, Any], label: str) -> Score:
     return Score(outcome, bool(tally["round right"]), cells[list(objects).index(label)])
 
 
+def measured_support(scan: str, measured: str) -> tuple[npt.NDArray[np.float64], float]:
+    """The support plane (unit normal towards the camera, offset) that ``measure.py`` fits
+    through ``measured``'s bare-support boxes, on ``scan``'s image (the same scan but for the
+    laptop's frames 1 and 2, measured on frame 0's boxes): truth.json's plane before rounding."""
+    floor = measure.points_in(measure.points_of(scan), measure.REGIONS[measured][0])
+    centre = floor.mean(axis=0)
+    normal = np.linalg.svd(floor - centre, full_matrices=False)[2][2]
+    if normal @ -centre < 0:  # towards the camera, as measure.py turns it
+        normal = -normal
+    return normal, float(-normal @ centre)
+
+
 def object_pixels(scan: str, measured: str) -> dict[str, npt.NDArray[np.intp]]:
-    """Each measured object's pixels (flat, row-major) in ``scan``'s image, taken as
+    """Each measured object's pixels (flat, row-major, sorted) in ``scan``'s image, taken as
     ``measure.py`` takes its points: its boxes (``REGIONS`` of the scan measured), finite depth,
-    1.5 cm to ``MAX_HEIGHT_M`` over the support measured, nearer than ``NEARER_THAN_M``. The
-    support is truth.json's (``measure.py``'s plane, rounded to 0.1 mm). A pixel in two of an
-    object's boxes counts once."""
-    truth = json.loads((SCANS / "truth.json").read_text())[measured]
-    normal = np.asarray(truth["support"]["normal"], dtype=np.float64)
-    offset = float(truth["support"]["distance_m"])
+    1.5 cm to ``MAX_HEIGHT_M`` over the support (:func:`measured_support`), nearer than
+    ``NEARER_THAN_M``. A pixel in two of an object's boxes counts once (``measure.py`` counts
+    it twice)."""
+    normal, offset = measured_support(scan, measured)
     image = measure.points_of(scan)
     # The pixel index in the x channel: measure's own box functions then return pixels.
     index = np.dstack(
@@ -158,11 +169,15 @@ class Oracle:
 
 
 def oracle_fits(
-    frame: Frame, pixels: dict[str, npt.NDArray[np.intp]], gt: dict[str, Any], seed: int = 0
+    frame: Frame,
+    pixels: dict[str, npt.NDArray[np.intp]],
+    support_plane: tuple[npt.NDArray[np.float64], float],
+    seed: int = 0,
 ) -> dict[str, Oracle]:
     """Each object's pixels (``object_pixels``) that the chain's survey keeps, fitted as
     :meth:`shapes.Perception.process` fits one cluster in frame 0 with ``seed``; gravity and the
-    support are the measured support's (``gt["support"]``)."""
+    support are the measured support's (``support_plane``: normal and offset in the sensor
+    frame, :func:`measured_support`)."""
     params = PerceptionParams(gravity_from_scene=True)
     surveyed = survey(frame, params.segmentation, seed)
     sigma_1m = surveyed.sigma_1m
@@ -171,10 +186,10 @@ def oracle_fits(
     assert frame.pixels is not None and frame.image_shape is not None
     point_of = np.full(frame.image_shape[0] * frame.image_shape[1], -1, dtype=np.intp)
     point_of[frame.pixels] = np.arange(len(frame.pixels))
-    normal = np.asarray(gt["support"]["normal"], dtype=np.float64)
+    normal, offset = support_plane
     pose = np.eye(4)
     pose[:3, :3] = rotation_to_z(normal)
-    support = SupportPlane((0.0, 0.0, 1.0), float(gt["support"]["distance_m"]))
+    support = SupportPlane((0.0, 0.0, 1.0), offset)
     out: dict[str, Oracle] = {}
     for label, pix in pixels.items():
         idx = point_of[pix]
@@ -221,14 +236,28 @@ def why_oracle_fails(oracle: Oracle, score: Score, item: dict[str, Any]) -> str:
         return "the kept points' centroid off the measured one (attribution)"
     prim = oracle.result.primitives[0]
     if prim.kind is ShapeKind.PLANE:
-        return "a plane: its centroid, not an axis, against the measured axis centre"
+        return "a plane for a round object (its centroid against the measured axis centre)"
     return f"the fitted {prim.kind.value.lower()}'s axis centre off the measured one"
 
 
-def run(scans: list[str] | None = None) -> dict[str, Counter[str]]:
-    """Print a row per object and the totals; return the counts per scan."""
+def primitive_centre_error_m(oracle: Oracle, item: dict[str, Any]) -> float | None:
+    """How far the oracle's primitive's own centre (a plane's inliers' mean, a cylinder's axis
+    middle, ...) lies from the measured centre: what the bench would count if it scored the
+    primitive rather than its cluster's centroid on an object that is not round. None without a
+    primitive."""
+    result = oracle.result
+    if not result.primitives:
+        return None
+    back = np.linalg.inv(result.world_from_sensor)
+    centre = back[:3, :3] @ np.asarray(result.primitives[0].centre) + back[:3, 3]
+    return float(np.linalg.norm(centre - np.asarray(item["centre"])))
+
+
+def run(scans: list[str] | None = None, seeds: int = 1) -> list[dict[str, Counter[str]]]:
+    """Print a row per object (seed 0) and the totals (per seed); return, per seed, the counts
+    per scan."""
     truth = json.loads((SCANS / "truth.json").read_text())
-    per_scan: dict[str, Counter[str]] = {}
+    per_seed: list[dict[str, Counter[str]]] = [{} for _ in range(seeds)]
     print(
         f"  {'scan / object':<36}{'points':>7}{'kept':>6}{'fit':>5}  {'oracle':<40}"
         f"{'chain (seed 0)':<40}class"
@@ -240,52 +269,69 @@ def run(scans: list[str] | None = None) -> dict[str, Counter[str]]:
         if scans and scan not in scans:
             continue
         frame = next(open_source(SCANS / f"{scan}.npz"))
-        chain = Perception(PerceptionParams(gravity_from_scene=True), seed=0).process(frame)
-        oracles = oracle_fits(frame, object_pixels(scan, measured), gt)
-        counts = per_scan.setdefault(scan, Counter())
+        pixels = object_pixels(scan, measured)
+        support_plane = measured_support(scan, measured)
         print(f"  {scan}")
-        for label, oracle in oracles.items():
-            item = gt[label]
-            own = score_object(oracle.result, gt, label)
-            theirs = score_object(chain, gt, label)
-            cls = oracle_class(theirs, own)
-            counts[cls] += 1
-            counts["objects"] += 1
-            counts["round"] += "radius_m" in item
-            counts["oracle round right"] += own.round_right
-            counts["chain round right"] += theirs.round_right
-            why = ""
-            if own.outcome != "one within 3 cm":
-                reason = why_oracle_fails(oracle, own, item)
-                counts[f"why: {reason}"] += 1
-                why = f": {reason}"
-            print(
-                f"    {label:<34}{oracle.truth_points:>7}{oracle.kept_points:>6}"
-                f"{oracle.fit_points:>5}  {_short(own.cell, label):<40}"
-                f"{_short(theirs.cell, label):<40}{cls}{why}"
-            )
-    total: Counter[str] = sum(per_scan.values(), Counter())
-    print("  per scan (objects: found / segmentation / oracle fails / found, oracle fails):")
-    for scan, counts in per_scan.items():
+        for seed, per_scan in enumerate(per_seed):
+            params = PerceptionParams(gravity_from_scene=True)
+            chain = Perception(params, seed=seed).process(frame)
+            oracles = oracle_fits(frame, pixels, support_plane, seed)
+            counts = per_scan.setdefault(scan, Counter())
+            for label, oracle in oracles.items():
+                item = gt[label]
+                own = score_object(oracle.result, gt, label)
+                theirs = score_object(chain, gt, label)
+                cls = oracle_class(theirs, own)
+                counts[cls] += 1
+                counts["objects"] += 1
+                counts["round"] += "radius_m" in item
+                counts["oracle round right"] += own.round_right
+                counts["chain round right"] += theirs.round_right
+                own_centre = primitive_centre_error_m(oracle, item)
+                if "radius_m" not in item:
+                    counts["not round"] += 1
+                    near = own_centre is not None and own_centre < FOUND_WITHIN_M
+                    counts[PRIMITIVE_NEAR] += near
+                why = ""
+                if own.outcome != "one within 3 cm":
+                    reason = why_oracle_fails(oracle, own, item)
+                    counts[f"why: {reason}"] += 1
+                    why = f": {reason}"
+                if seed == 0:
+                    centre = "-" if own_centre is None else f"{100 * own_centre:.1f}"
+                    print(
+                        f"    {label:<34}{oracle.truth_points:>7}{oracle.kept_points:>6}"
+                        f"{oracle.fit_points:>5}  "
+                        f"{_short(own.cell, label) + f' [{centre}]':<40}"
+                        f"{_short(theirs.cell, label):<40}{cls}{why}"
+                    )
+    print(
+        "  per scan, seed 0 (objects: found / segmentation / oracle fails / found, oracle fails):"
+    )
+    for scan, counts in per_seed[0].items():
         print(
             f"    {scan:<30}{counts['objects']:>3}: " + " / ".join(str(counts[c]) for c in CLASSES)
         )
-    print(
-        f"  total: {len(per_scan)} scans, {total['objects']} objects: {total['found']} found by "
-        f"the chain; {total['segmentation']} the oracle finds and the chain does not "
-        f"(segmentation's share); {total['oracle fails']} even the oracle fails; "
-        f"{total['found, oracle fails']} found by the chain, not by the oracle"
-    )
-    print(
-        f"  within 3 cm: oracle {total['found'] + total['segmentation']}, chain "
-        f"{total['found'] + total['found, oracle fails']} of {total['objects']}; round ones a "
-        f"curved primitive with the radius within 25 %: oracle {total['oracle round right']}, "
-        f"chain {total['chain round right']} of {total['round']}"
-    )
-    for key, n in sorted(total.items()):
-        if key.startswith("why: "):
-            print(f"  the oracle fails, {key[5:]}: {n}")
-    return per_scan
+    for seed, per_scan in enumerate(per_seed):
+        total: Counter[str] = sum(per_scan.values(), Counter())
+        print(
+            f"  seed {seed}: {len(per_scan)} scans, {total['objects']} objects: {total['found']} "
+            f"found by the chain; {total['segmentation']} the oracle finds and the chain does not "
+            f"(segmentation's share); {total['oracle fails']} even the oracle fails; "
+            f"{total['found, oracle fails']} found by the chain, not by the oracle"
+        )
+        print(
+            f"    within 3 cm: oracle {total['found'] + total['segmentation']}, chain "
+            f"{total['found'] + total['found, oracle fails']} of {total['objects']}; round ones a "
+            f"curved primitive with the radius within 25 %: oracle {total['oracle round right']}, "
+            f"chain {total['chain round right']} of {total['round']}; objects not round whose "
+            f"oracle primitive's own centre (in brackets) lies within 3 cm: "
+            f"{total[PRIMITIVE_NEAR]} of {total['not round']}"
+        )
+        for key, n in sorted(total.items()):
+            if key.startswith("why: "):
+                print(f"    the oracle fails, {key[5:]}: {n}")
+    return per_seed
 
 
 def _short(cell: str, label: str) -> str:
@@ -296,6 +342,7 @@ def _short(cell: str, label: str) -> str:
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("--scan", action="append", help="only this tuned-on scan (repeatable)")
+    parser.add_argument("--seeds", type=int, default=3, help="seeds of chain and fit (3)")
     args = parser.parse_args()
     if hasattr(os, "sched_setaffinity"):
         os.sched_setaffinity(0, {min(os.sched_getaffinity(0))})
@@ -304,7 +351,7 @@ def main() -> None:
         f"machine: {platform.machine()}, load average {os.getloadavg()[0]:.2f}; "
         f"python {platform.python_version()}"
     )
-    run(args.scan)
+    run(args.scan, args.seeds)
 
 
 if __name__ == "__main__":
