@@ -47,6 +47,7 @@ import importlib.util  # noqa: E402
 import json  # noqa: E402
 import platform  # noqa: E402
 from collections import Counter  # noqa: E402
+from collections.abc import Sequence  # noqa: E402
 from dataclasses import dataclass, replace  # noqa: E402
 from pathlib import Path  # noqa: E402
 from types import ModuleType  # noqa: E402
@@ -172,17 +173,20 @@ def oracle_fits(
     frame: Frame,
     pixels: dict[str, npt.NDArray[np.intp]],
     support_plane: tuple[npt.NDArray[np.float64], float],
-    seed: int = 0,
-) -> dict[str, Oracle]:
+    seeds: Sequence[int] = (0,),
+) -> dict[str, list[Oracle]]:
     """Each object's pixels (``object_pixels``) that the chain's survey keeps, fitted as
-    :meth:`shapes.Perception.process` fits one cluster in frame 0 with ``seed``; gravity and the
-    support are the measured support's (``support_plane``: normal and offset in the sensor
-    frame, :func:`measured_support`)."""
+    :meth:`shapes.Perception.process` with each of ``seeds`` fits one cluster in frame 0 (one
+    :class:`Oracle` per seed, in order); gravity and the support are the measured support's
+    (``support_plane``: normal and offset in the sensor frame, :func:`measured_support`).
+
+    Raises ValueError when the survey measures no depth noise on the frame's image."""
     params = PerceptionParams(gravity_from_scene=True)
-    surveyed = survey(frame, params.segmentation, seed)
+    # Which points the survey keeps (depth cut, artefacts, stride) does not depend on its seed.
+    surveyed = survey(frame, params.segmentation, seeds[0] if seeds else 0)
     sigma_1m = surveyed.sigma_1m
     if sigma_1m <= 0.0:
-        raise ValueError(f"{frame.source}: no depth noise measured on the image")
+        raise ValueError(f"{frame.frame_id}: no depth noise measured on the image")
     assert frame.pixels is not None and frame.image_shape is not None
     point_of = np.full(frame.image_shape[0] * frame.image_shape[1], -1, dtype=np.intp)
     point_of[frame.pixels] = np.arange(len(frame.pixels))
@@ -190,17 +194,18 @@ def oracle_fits(
     pose = np.eye(4)
     pose[:3, :3] = rotation_to_z(normal)
     support = SupportPlane((0.0, 0.0, 1.0), offset)
-    out: dict[str, Oracle] = {}
+    out: dict[str, list[Oracle]] = {}
     for label, pix in pixels.items():
         idx = point_of[pix]
         idx = idx[idx >= 0]
         idx = idx[surveyed.keep[idx]]
         sensor = frame.points[idx]
         world = sensor @ pose[:3, :3].T
-        primitives: tuple[Any, ...] = ()
-        centroids: tuple[Any, ...] = ()
-        if len(world):
-            noise_m = sigma_1m * float(np.median(sensor[:, 2])) ** 2
+        noise_m = sigma_1m * float(np.median(sensor[:, 2])) ** 2 if len(idx) else 0.0
+        out[label] = []
+        for seed in seeds:
+            primitives: tuple[Any, ...] = ()
+            centroids: tuple[Any, ...] = ()
             fit = fit_cluster(
                 world,
                 support=support,
@@ -210,8 +215,11 @@ def oracle_fits(
             )
             if fit is not None:
                 primitives, centroids = (fit.primitive,), (world.mean(axis=0),)
-        result = FrameResult(0, None, support, primitives, (), centroids, world_from_sensor=pose)
-        out[label] = Oracle(len(pix), len(idx), min(len(idx), params.fit.max_fit_points), result)
+            result = FrameResult(
+                0, None, support, primitives, (), centroids, world_from_sensor=pose
+            )
+            kept = len(idx)
+            out[label].append(Oracle(len(pix), kept, min(kept, params.fit.max_fit_points), result))
     return out
 
 
@@ -253,14 +261,19 @@ def primitive_centre_error_m(oracle: Oracle, item: dict[str, Any]) -> float | No
     return float(np.linalg.norm(centre - np.asarray(item["centre"])))
 
 
-def run(scans: list[str] | None = None, seeds: int = 1) -> list[dict[str, Counter[str]]]:
-    """Print a row per object (seed 0) and the totals (per seed); return, per seed, the counts
-    per scan."""
+def run(
+    scans: list[str] | None = None, seeds: int = 3, draws: int = 10
+) -> list[dict[str, Counter[str]]]:
+    """Print a row per object (the chain's seed 0 beside the oracle's fit with seed 0's
+    generator, and how many of the chain's ``seeds`` and of the oracle's ``draws`` generators
+    give one primitive within 3 cm) and the totals; return, per seed, the counts per scan (the
+    chain's seed k against the oracle's draw k)."""
     truth = json.loads((SCANS / "truth.json").read_text())
-    per_seed: list[dict[str, Counter[str]]] = [{} for _ in range(seeds)]
+    per_seed: list[dict[str, Counter[str]]] = [{} for _ in range(min(seeds, draws))]
+    draws_total: Counter[str] = Counter()
     print(
-        f"  {'scan / object':<36}{'points':>7}{'kept':>6}{'fit':>5}  {'oracle':<40}"
-        f"{'chain (seed 0)':<40}class"
+        f"  {'scan / object':<36}{'points':>7}{'kept':>6}{'fit':>5}  {'oracle':<44}"
+        f"{'chain (seed 0)':<40}{'oracle, chain within 3 cm':<27}class (seed 0)"
     )
     for scan, measured in bench.REAL_TRUTH.items():
         gt = truth[measured]
@@ -269,49 +282,50 @@ def run(scans: list[str] | None = None, seeds: int = 1) -> list[dict[str, Counte
         if scans and scan not in scans:
             continue
         frame = next(open_source(SCANS / f"{scan}.npz"))
-        pixels = object_pixels(scan, measured)
+        params = PerceptionParams(gravity_from_scene=True)
+        chains = [Perception(params, seed=k).process(frame) for k in range(seeds)]
         support_plane = measured_support(scan, measured)
+        fits = oracle_fits(frame, object_pixels(scan, measured), support_plane, range(draws))
         print(f"  {scan}")
-        for seed, per_scan in enumerate(per_seed):
-            params = PerceptionParams(gravity_from_scene=True)
-            chain = Perception(params, seed=seed).process(frame)
-            oracles = oracle_fits(frame, pixels, support_plane, seed)
-            counts = per_scan.setdefault(scan, Counter())
-            for label, oracle in oracles.items():
-                item = gt[label]
-                own = score_object(oracle.result, gt, label)
-                theirs = score_object(chain, gt, label)
-                cls = oracle_class(theirs, own)
-                counts[cls] += 1
-                counts["objects"] += 1
-                counts["round"] += "radius_m" in item
-                counts["oracle round right"] += own.round_right
-                counts["chain round right"] += theirs.round_right
-                own_centre = primitive_centre_error_m(oracle, item)
-                if "radius_m" not in item:
-                    counts["not round"] += 1
-                    near = own_centre is not None and own_centre < FOUND_WITHIN_M
-                    counts[PRIMITIVE_NEAR] += near
-                why = ""
-                if own.outcome != "one within 3 cm":
-                    reason = why_oracle_fails(oracle, own, item)
-                    counts[f"why: {reason}"] += 1
-                    why = f": {reason}"
-                if seed == 0:
-                    centre = "-" if own_centre is None else f"{100 * own_centre:.1f}"
-                    print(
-                        f"    {label:<34}{oracle.truth_points:>7}{oracle.kept_points:>6}"
-                        f"{oracle.fit_points:>5}  "
-                        f"{_short(own.cell, label) + f' [{centre}]':<40}"
-                        f"{_short(theirs.cell, label):<40}{cls}{why}"
-                    )
-    print(
-        "  per scan, seed 0 (objects: found / segmentation / oracle fails / found, oracle fails):"
-    )
-    for scan, counts in per_seed[0].items():
+        for label, oracles in fits.items():
+            item = gt[label]
+            own = [score_object(o.result, gt, label) for o in oracles]
+            theirs = [score_object(chain, gt, label) for chain in chains]
+            for seed, per_scan in enumerate(per_seed):
+                counts = per_scan.setdefault(scan, Counter())
+                count(counts, oracles[seed], own[seed], theirs[seed], item)
+            within = sum(o.outcome == WITHIN for o in own)
+            right = sum(o.round_right for o in own)
+            draws_total["objects"] += 1
+            draws_total[f"oracle within 3 cm in {_share(within, draws)} draws"] += 1
+            if "radius_m" in item:
+                draws_total[f"oracle round right in {_share(right, draws)} draws"] += 1
+            cls = oracle_class(theirs[0], own[0]) if theirs and own else "-"
+            why = ""
+            if own and own[0].outcome != WITHIN:
+                why = f": {why_oracle_fails(oracles[0], own[0], item)}"
+            centre = primitive_centre_error_m(oracles[0], item) if oracles else None
+            bracket = "-" if centre is None else f"{100 * centre:.1f}"
+            oracle_cell = _short(own[0].cell, label) + f" [{bracket}]" if own else "-"
+            chain_cell = _short(theirs[0].cell, label) if theirs else "-"
+            tally = f"{within}/{draws}, {sum(t.outcome == WITHIN for t in theirs)}/{seeds}"
+            if "radius_m" in item:
+                tally += f"; r {right}/{draws}"
+            print(
+                f"    {label:<34}{oracles[0].truth_points:>7}{oracles[0].kept_points:>6}"
+                f"{oracles[0].fit_points:>5}  {oracle_cell:<44}{chain_cell:<40}{tally:<27}"
+                f"{cls}{why}"
+            )
+    if per_seed:
         print(
-            f"    {scan:<30}{counts['objects']:>3}: " + " / ".join(str(counts[c]) for c in CLASSES)
+            "  per scan, seed 0 (objects: found / segmentation / oracle fails / found, "
+            "oracle fails):"
         )
+        for scan, counts in per_seed[0].items():
+            print(
+                f"    {scan:<30}{counts['objects']:>3}: "
+                + " / ".join(str(counts[c]) for c in CLASSES)
+            )
     for seed, per_scan in enumerate(per_seed):
         total: Counter[str] = sum(per_scan.values(), Counter())
         print(
@@ -331,7 +345,39 @@ def run(scans: list[str] | None = None, seeds: int = 1) -> list[dict[str, Counte
         for key, n in sorted(total.items()):
             if key.startswith("why: "):
                 print(f"    the oracle fails, {key[5:]}: {n}")
+    print(
+        f"  over the oracle's {draws} draws of the fit's generator "
+        f"({draws_total['objects']} objects):"
+    )
+    for key, n in sorted(draws_total.items()):
+        if key != "objects":
+            print(f"    {key}: {n}")
     return per_seed
+
+
+WITHIN = "one within 3 cm"
+
+
+def count(
+    counts: Counter[str], oracle: Oracle, own: Score, theirs: Score, item: dict[str, Any]
+) -> None:
+    """Add one object's class, round results, primitive centre and failure reason to
+    ``counts``."""
+    counts[oracle_class(theirs, own)] += 1
+    counts["objects"] += 1
+    counts["round"] += "radius_m" in item
+    counts["oracle round right"] += own.round_right
+    counts["chain round right"] += theirs.round_right
+    if "radius_m" not in item:
+        counts["not round"] += 1
+        centre = primitive_centre_error_m(oracle, item)
+        counts[PRIMITIVE_NEAR] += centre is not None and centre < FOUND_WITHIN_M
+    if own.outcome != WITHIN:
+        counts[f"why: {why_oracle_fails(oracle, own, item)}"] += 1
+
+
+def _share(n: int, of: int) -> str:
+    return "all" if n == of else "none of the" if n == 0 else "some"
 
 
 def _short(cell: str, label: str) -> str:
@@ -342,7 +388,10 @@ def _short(cell: str, label: str) -> str:
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("--scan", action="append", help="only this tuned-on scan (repeatable)")
-    parser.add_argument("--seeds", type=int, default=3, help="seeds of chain and fit (3)")
+    parser.add_argument("--seeds", type=int, default=3, help="the chain's seeds (3)")
+    parser.add_argument(
+        "--draws", type=int, default=10, help="the fit's generators on each object's points (10)"
+    )
     args = parser.parse_args()
     if hasattr(os, "sched_setaffinity"):
         os.sched_setaffinity(0, {min(os.sched_getaffinity(0))})
@@ -351,7 +400,7 @@ def main() -> None:
         f"machine: {platform.machine()}, load average {os.getloadavg()[0]:.2f}; "
         f"python {platform.python_version()}"
     )
-    run(args.scan, args.seeds)
+    run(args.scan, args.seeds, args.draws)
 
 
 if __name__ == "__main__":

@@ -47,7 +47,7 @@ def test_each_object_s_points_are_the_ground_truth_s(oracle: ModuleType, scan: s
 def _oracle_score(oracle: ModuleType, pixels: dict[str, np.ndarray]) -> object:
     frame = next(open_source(SCANS / "mug_stereo.npz"))
     fits = oracle.oracle_fits(frame, pixels, oracle.measured_support("mug_stereo", "mug_stereo"))
-    return oracle.score_object(fits["mug"].result, TRUTH["mug_stereo"], "mug")
+    return oracle.score_object(fits["mug"][0].result, TRUTH["mug_stereo"], "mug")
 
 
 def test_the_mug_s_own_points_score_as_the_bench_scores_the_chain(oracle: ModuleType) -> None:
