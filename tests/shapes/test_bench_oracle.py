@@ -90,3 +90,13 @@ def test_no_held_out_scan_is_loaded(oracle: ModuleType, monkeypatch: pytest.Monk
     monkeypatch.setattr(oracle.bench, "REAL_TRUTH", {"mug_stereo": "mug_stereo"})
     with pytest.raises(Loaded, match="mug_stereo"):  # the refusal works
         oracle.run()
+
+
+def test_points_seen_far_behind_an_object_are_counted(oracle: ModuleType) -> None:
+    """Three points at 1 m and one 2 m behind them: one point behind, and without it the
+    centroid moves by a quarter of the way to it, in depth and sideways."""
+    image = np.array([[[0.0, 0.0, 1.0], [0.0, 0.0, 1.0], [0.0, 0.0, 1.0], [0.4, 0.0, 3.0]]])
+    behind, moved = oracle.seen_behind(image, np.arange(4))
+    assert behind == 1
+    assert moved == pytest.approx(np.hypot(0.1, 0.5))
+    assert oracle.seen_behind(image, np.arange(3)) == (0, 0.0)
