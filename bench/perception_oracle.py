@@ -10,14 +10,15 @@ loads it). Of those points the fit gets the ones the chain's own survey keeps
 stride), turned to the world frame by gravity from the *measured* support, and they go through
 :func:`shapes.fit.fit_cluster` exactly as :class:`shapes.Perception` fits one cluster: the default
 parameters raised to the noise at the points' median range, the measured support, the camera at
-the origin as the viewpoint, the generator of seed 0's first frame. The one primitive is scored
+the origin as the viewpoint, the generator the chain with seed k uses in its first frame, for
+each k below ``--draws`` (a near tie between two kinds shows as a split). The primitive is scored
 by ``bench/perception.py``'s own ``_objects_row`` (the primitive's cluster centroid, or a round
 object's axis centre and radius, against the measured centre; a primitive is an object's part
 only within 8 cm and nearer to it than to any other measured object).
 
 Beside it, the chain's actual result for the object (``Perception(PerceptionParams(
-gravity_from_scene=True), seed=0)``, the bench's seed-0 row), so that each object falls in one
-class:
+gravity_from_scene=True), seed=k)`` for each k below ``--seeds``; the rows show seed 0's, the
+bench's row), so that each object falls in one class (seed k's chain against draw k's fit):
 
 - ``found``: the chain finds it as one primitive within 3 cm;
 - ``segmentation``: the oracle's primitive lies within 3 cm, the chain's does not (farther, in
@@ -29,9 +30,15 @@ class:
   not the ground truth's points).
 
 Round objects are also scored as the bench scores them: a curved primitive with the radius
-within 25 % of the measured one ("round right"). Totals per class and per scan follow the rows.
+within 25 % of the measured one ("round right"). Each row also gives the object's point count
+in the ground truth, after the survey, and in the fit's sample; the oracle primitive's own centre
+error in brackets (what the bench would count if it scored the primitive, not its cluster's
+centroid, on an object not measured round); how many draws and seeds put it within 3 cm; and a
+flag where over 2 % of the ground truth's points lie more than ``BEHIND_M`` behind the object
+(a wall seen past it). Totals per class and per scan, per seed, and over the draws follow the
+rows.
 
-Run from the repository root (about a minute of CPU)::
+Run from the repository root (under a minute of CPU)::
 
     PYTHONPATH=. .venv/bin/python bench/perception_oracle.py
     PYTHONPATH=. .venv/bin/python bench/perception_oracle.py --scan mug_stereo --scan desk_tum
