@@ -62,6 +62,26 @@ def test_the_mug_s_own_points_score_as_the_bench_scores_the_chain(oracle: Module
     assert own.outcome == "one within 3 cm"
 
 
+def test_the_bottles_own_points_score_as_the_bench_scores_the_chain(oracle: ModuleType) -> None:
+    """Per object the bench's tally, object by object, and the oracle agree on bottles_kinect,
+    where the chain finds all three; the bottles' points swapped between two labels are found
+    for neither."""
+    truth, chain = TRUTH["bottles_kinect"], perceived("bottles_kinect")
+    _, tally = oracle.bench._objects_row(chain, truth)
+    frame = next(open_source(SCANS / "bottles_kinect.npz"))
+    support = oracle.measured_support("bottles_kinect", "bottles_kinect")
+    pixels = oracle.object_pixels("bottles_kinect", "bottles_kinect")
+    fits = oracle.oracle_fits(frame, pixels, support)
+    theirs = [oracle.score_object(chain, truth, label) for label in pixels]
+    own = [oracle.score_object(fits[label][0].result, truth, label) for label in pixels]
+    assert tally["one within 3 cm"] == len(pixels) == 3
+    assert [s.outcome for s in theirs] == [s.outcome for s in own] == ["one within 3 cm"] * 3
+    swapped = dict(pixels, detergent=pixels["milk carton"], **{"milk carton": pixels["detergent"]})
+    fits = oracle.oracle_fits(frame, swapped, support)
+    for label in ("detergent", "milk carton"):
+        assert oracle.score_object(fits[label][0].result, truth, label).outcome == "missed"
+
+
 @pytest.mark.parametrize(
     "rows_cols",
     [
