@@ -87,7 +87,7 @@ def main() -> None:
             feet.append(centre - (centre @ normal + distance) * normal)
         angle = at_camera = at_objects = 0.0
         for part in _parts(support):
-            n, d = _plane(np.concatenate([measure.box(image, b) for b in part]))
+            n, d = _plane(measure.points_in(image, tuple(part)))
             angle = max(angle, math.degrees(math.acos(min(1.0, float(n @ normal)))))
             at_camera = max(at_camera, abs(d - distance))
             at_objects = max([at_objects] + [abs(float(n @ f + d)) for f in feet])

@@ -35,8 +35,12 @@ def _image(name: str) -> np.ndarray:
 
 
 def _in_boxes(image: np.ndarray, region: tuple[Any, ...]) -> np.ndarray:
+    """The finite points of the union of the boxes: a pixel in two boxes counts once."""
     boxes = region if isinstance(region[0], tuple) else (region,)
-    pts = np.concatenate([image[r0:r1, c0:c1].reshape(-1, 3) for r0, r1, c0, c1 in boxes])
+    inside = np.zeros(image.shape[:2], dtype=bool)
+    for r0, r1, c0, c1 in boxes:
+        inside[r0:r1, c0:c1] = True
+    pts = image[inside]
     return pts[np.isfinite(pts).all(axis=1)]
 
 
