@@ -18,11 +18,12 @@ from pyoxigraph import Literal, NamedNode
 from episodes import _rdf
 from episodes.cue_index import drop_keys, write_keys
 from episodes.errors import InvalidInputError, NotFoundError
-from episodes.lifecycle import participant, require_episode
+from episodes.lifecycle import participant, read_argument, require_episode
 from episodes.model import Argument
 from episodes.terms import (
     ArgumentKind,
     argument_kind,
+    check_confidence,
     check_name,
     new_id,
     part_iri,
@@ -68,14 +69,7 @@ class Assertion:
 
     def checked(self) -> "Assertion":
         author = check_name(self.author, "author") if self.author is not None else None
-        confidence = self.confidence
-        if confidence is not None and (
-            isinstance(confidence, bool)
-            or not isinstance(confidence, int | float)
-            or not 0.0 <= confidence <= 1.0
-        ):
-            raise InvalidInputError("confidence", confidence, "a number from 0 to 1")
-        return Assertion(self.time, author, None if confidence is None else float(confidence))
+        return Assertion(self.time, author, check_confidence(self.confidence))
 
 
 @dataclass(frozen=True)
@@ -91,19 +85,7 @@ def current_arguments(store: Store, episode: NamedNode) -> list[Argument]:
 
 def _current(store: Store, episode: NamedNode) -> list[_Current]:
     return [
-        _Current(
-            link=_rdf.iri(r, "link"),
-            argument=Argument(
-                role=_rdf.text(r, "role"),
-                value=_rdf.opt_text(r, "label") or _rdf.text(r, "participant"),
-                kind="agent" if _rdf.text(r, "kind") == "agent" else "entity",
-                iri=_rdf.text(r, "participant"),
-                id=_rdf.text(r, "link").rsplit("/", 1)[-1],
-                author=_rdf.opt_text(r, "author"),
-                asserted=_rdf.opt_time(r, "asserted"),
-                confidence=_rdf.opt_number(r, "confidence"),
-            ),
-        )
+        _Current(link=_rdf.iri(r, "link"), argument=read_argument(r))
         for r in store.select("episodes_arguments", episode=episode)
     ]
 

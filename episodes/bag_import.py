@@ -46,6 +46,7 @@ from episodes.streams.errors import (
     StreamError,
 )
 from episodes.terms import check_id, episode_iri, new_id
+from episodes.times import from_ns
 from kg import Store
 
 __all__ = [
@@ -141,7 +142,7 @@ def import_report(
         for topic, info in sorted(result.skipped.items())
     )
     try:
-        start = _from_ns(result.start_ns) or now
+        start = from_ns(result.start_ns) or now
         lifecycle.begin_episode(
             store,
             activity=what.activity,
@@ -149,7 +150,7 @@ def import_report(
             arguments=what.arguments,
             begin=start,
             episode_id=episode_id,
-            end=_from_ns(result.end_ns) or start,
+            end=from_ns(result.end_ns) or start,
             streams=descriptors_from_stats(result.channels, paths.dir("streams")),
             snapshots=False,
         )
@@ -299,7 +300,3 @@ def _untar_bag(upload: Path, scratch: Path, expected: str, *, limit_bytes: int) 
             "body", f"a tar with {len(found)} metadata.yaml files", f"{expected} (exactly one)"
         )
     return found[0]
-
-
-def _from_ns(ns: int | None) -> dt.datetime | None:
-    return None if ns is None else dt.datetime.fromtimestamp(ns / 1e9, dt.UTC)

@@ -20,6 +20,7 @@ from episodes.streamlink import read_descriptors, write_descriptors
 from episodes.terms import (
     ArgumentKind,
     argument_kind,
+    check_confidence,
     check_name,
     episode_iri,
     new_id,
@@ -77,6 +78,7 @@ __all__ = [
     "get_episode",
     "link_scene",
     "participant",
+    "read_argument",
     "require_episode",
 ]
 
@@ -283,12 +285,7 @@ def add_annotation(
     key = check_name(key, "key")
     value = check_name(value, "value")
     author = check_name(author, "author") if author is not None else None
-    if confidence is not None and (
-        isinstance(confidence, bool)
-        or not isinstance(confidence, int | float)
-        or not 0.0 <= confidence <= 1.0
-    ):
-        raise InvalidInputError("confidence", confidence, "a number from 0 to 1")
+    confidence = check_confidence(confidence)
     range_start = parse_time(start, "start") if start is not None else None
     range_end = parse_time(end, "end") if end is not None else None
     if range_start and range_end and range_end < range_start:
@@ -318,7 +315,7 @@ def add_annotation(
                 EPISODES,
             )
         if confidence is not None:
-            tx.insert(node, CONFIDENCE, Literal(float(confidence)), EPISODES)
+            tx.insert(node, CONFIDENCE, Literal(confidence), EPISODES)
         if range_start is not None:
             tx.insert(node, RANGE_START, to_literal(range_start), EPISODES)
         if range_end is not None:
@@ -329,7 +326,7 @@ def add_annotation(
         value=value,
         created=created,
         author=author,
-        confidence=None if confidence is None else float(confidence),
+        confidence=confidence,
         start=range_start,
         end=range_end,
     )
@@ -357,6 +354,20 @@ def link_scene(store: Store, episode_id: str, scene: str) -> None:
         tx.insert(scene_node, HAPPENED_DURING, episode, EPISODIC)
 
 
+def read_argument(row: _rdf.Row) -> Argument:
+    """The argument a row of the ``episodes_arguments`` query describes."""
+    return Argument(
+        role=_rdf.text(row, "role"),
+        value=_rdf.opt_text(row, "label") or _rdf.text(row, "participant"),
+        kind="agent" if _rdf.text(row, "kind") == "agent" else "entity",
+        iri=_rdf.text(row, "participant"),
+        id=_rdf.text(row, "link").rsplit("/", 1)[-1],
+        author=_rdf.opt_text(row, "author"),
+        asserted=_rdf.opt_time(row, "asserted"),
+        confidence=_rdf.opt_number(row, "confidence"),
+    )
+
+
 def get_episode(store: Store, episode_id: str) -> Episode:
     """Everything the graph holds about an episode; raises :class:`EpisodeNotFoundError`."""
 
@@ -365,19 +376,7 @@ def get_episode(store: Store, episode_id: str) -> Episode:
     if not rows:
         raise EpisodeNotFoundError(episode_id)
     row = rows[0]
-    arguments = tuple(
-        Argument(
-            role=_rdf.text(r, "role"),
-            value=_rdf.opt_text(r, "label") or _rdf.text(r, "participant"),
-            kind="agent" if _rdf.text(r, "kind") == "agent" else "entity",
-            iri=_rdf.text(r, "participant"),
-            id=_rdf.text(r, "link").rsplit("/", 1)[-1],
-            author=_rdf.opt_text(r, "author"),
-            asserted=_rdf.opt_time(r, "asserted"),
-            confidence=_rdf.opt_number(r, "confidence"),
-        )
-        for r in store.select("episodes_arguments", episode=episode)
-    )
+    arguments = tuple(read_argument(r) for r in store.select("episodes_arguments", episode=episode))
     annotations = tuple(
         Annotation(
             id=_rdf.text(r, "annotation").rsplit("/", 1)[-1],

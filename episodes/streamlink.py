@@ -6,7 +6,6 @@ per channel; :func:`descriptors_from_stats` turns them into :class:`StreamDescri
 episode). This module reads the stats by attribute and does not import the recorder.
 """
 
-import datetime as dt
 from collections.abc import Iterable
 from pathlib import Path
 from typing import Any
@@ -16,7 +15,7 @@ from pyoxigraph import Literal, NamedNode
 from episodes import _rdf
 from episodes.model import StreamDescriptor
 from episodes.terms import part_iri
-from episodes.times import to_literal
+from episodes.times import from_ns, to_literal
 from kg import Store, Transaction
 from ontologies.vocab import (
     DROPPED_COUNT,
@@ -41,10 +40,6 @@ __all__ = [
 ]
 
 
-def _time(ns: int | None) -> dt.datetime | None:
-    return None if ns is None else dt.datetime.fromtimestamp(ns / 1e9, dt.UTC)
-
-
 def descriptors_from_stats(stats: Iterable[Any], root: Path) -> list[StreamDescriptor]:
     """Descriptors from the recorder's ``ChannelStats``; files are stored relative to ``root``."""
     descriptors = []
@@ -62,8 +57,8 @@ def descriptors_from_stats(stats: Iterable[Any], root: Path) -> list[StreamDescr
                 count=int(channel.count_stored),
                 dropped=int(channel.count_dropped),
                 file=file,
-                first_time=_time(channel.first_time_ns),
-                last_time=_time(channel.last_time_ns),
+                first_time=from_ns(channel.first_time_ns),
+                last_time=from_ns(channel.last_time_ns),
             )
         )
     return descriptors
@@ -93,8 +88,8 @@ def descriptors_from_recording(replayer: Any, root: Path) -> list[StreamDescript
             count=int(counts.get(name, 0)),
             dropped=None,
             file=file,
-            first_time=_time(first.get(name)),
-            last_time=_time(last.get(name)),
+            first_time=from_ns(first.get(name)),
+            last_time=from_ns(last.get(name)),
         )
         for name, spec in replayer.providers.items()
     ]

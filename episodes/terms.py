@@ -25,6 +25,7 @@ __all__ = [
     "AGENT_ROLES",
     "ArgumentKind",
     "argument_kind",
+    "check_confidence",
     "check_name",
     "episode_id_of",
     "episode_iri",
@@ -73,6 +74,16 @@ def check_name(value: object, field: str) -> str:
             field, value, f"a non-empty string of at most {MAX_NAME} characters"
         )
     return value.strip()
+
+
+def check_confidence(value: object) -> float | None:
+    """``value`` as a float, if it is None or a number from 0 to 1 (an annotation's or an
+    argument's confidence)."""
+    if value is None:
+        return None
+    if isinstance(value, bool) or not isinstance(value, int | float) or not 0.0 <= value <= 1.0:
+        raise InvalidInputError("confidence", value, "a number from 0 to 1")
+    return float(value)
 
 
 def episode_iri(episode_id: str, field: str = "episode") -> NamedNode:

@@ -23,6 +23,7 @@ from ontologies.vocab import XSD_DATETIME
 __all__ = [
     "Clock",
     "from_literal",
+    "from_ns",
     "now",
     "parse_time",
     "say_when",
@@ -98,6 +99,16 @@ def from_literal(literal: object) -> dt.datetime:
     if not isinstance(literal, Literal) or literal.datatype != XSD_DATETIME:
         raise ValueError(f"expected an xsd:dateTime literal, got {literal!r}")
     return dt.datetime.fromisoformat(literal.value)
+
+
+def from_ns(ns: int | None) -> dt.datetime | None:
+    """The UTC time of a timestamp in nanoseconds since the epoch (a recording's or a bag's
+    clock); None for None.
+
+    >>> from_ns(1_767_225_600_500_000_000)
+    datetime.datetime(2026, 1, 1, 0, 0, 0, 500000, tzinfo=datetime.timezone.utc)
+    """
+    return None if ns is None else dt.datetime.fromtimestamp(ns / 1e9, dt.UTC)
 
 
 def _count(n: int, unit: str) -> str:

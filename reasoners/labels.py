@@ -13,11 +13,13 @@ short name stays as the class's ``skos:notation``.
 
 import re
 
+from pyoxigraph import NamedNode
+
 from reasoners.signature import Signature
 
-__all__ = ["label"]
+__all__ = ["RELATION_WORDS", "label", "local"]
 
-_RELATIONS = {
+RELATION_WORDS = {
     "isRightOf": "right of",
     "isLeftOf": "left of",
     "isBehindOf": "behind",
@@ -31,21 +33,29 @@ _RELATIONS = {
     "isAlongYWith": "aligned along y with",
     "isAlongZWith": "aligned along z with",
 }
+"""Each spatial relation (a scene property's local name without its subject's kind) in words,
+as the labels and the explanations (:mod:`reasoners.explain`) say it."""
 _SPLIT = re.compile(r"^([a-z]+)(Is[A-Z]\w*)$")
 
 
-def _local(iri: str) -> str:
-    return iri.rsplit("#", 1)[-1].rsplit("/", 1)[-1]
+def local(iri: NamedNode | str) -> str:
+    """The local name of an IRI (after ``#`` or the last ``/``).
+
+    >>> local("https://example.org/engram#Scene-3"), local(NamedNode("https://example.org/a/b"))
+    ('Scene-3', 'b')
+    """
+    text = iri.value if isinstance(iri, NamedNode) else iri
+    return text.rsplit("#", 1)[-1].rsplit("/", 1)[-1]
 
 
 def _phrase(prop: str, leaf: str, n: int) -> str:
-    match = _SPLIT.match(_local(prop))
-    noun = _local(leaf).lower()
+    match = _SPLIT.match(local(prop))
+    noun = local(leaf).lower()
     objects = f"a {noun}" if n == 1 else f"{n} {noun}s"
     if match is None:  # a property this module does not know: say it as it is
-        return f"{_local(prop)} {objects}"
+        return f"{local(prop)} {objects}"
     subject, relation = match.group(1), match.group(2)
-    words = _RELATIONS.get(relation[0].lower() + relation[1:], relation)
+    words = RELATION_WORDS.get(relation[0].lower() + relation[1:], relation)
     return f"{subject} {words} {objects}"
 
 

@@ -14,9 +14,10 @@ Stages, each usable on its own:
 - :mod:`shapes.artefacts`: depth noise measured per frame, flying pixels, veils, sparse points;
 - :mod:`shapes.gravity`: up from the scene's dominant support when the sensor's pose is not
   known (``PerceptionParams(gravity_from_scene=True)``);
-- :func:`segment`: depth cut, voxel grid, planes, the support rule (the horizontal plane with
-  objects on it; a plane standing on it is part of an object), points above it, clusters,
-  touching objects split (:mod:`shapes.split`);
+- :mod:`shapes.segment` (a package; its function is :func:`shapes.segment.segment`): depth cut,
+  voxel grid, planes, the support rule (the horizontal plane with objects on it; a plane standing
+  on it is part of an object), points above it, clusters, touching objects split
+  (:mod:`shapes.split`);
 - :func:`fit_cluster`: sphere / cylinder / cone / plane RANSAC and the shape choice, every
   primitive within its own points;
 - :class:`Tracker`: stable ids; :mod:`shapes.colour`: colour per object;
@@ -43,7 +44,7 @@ from shapes.fit import ClusterFit, FitParams, fit_cluster, pitt_choice
 from shapes.frame import Frame, frame_from_depth_image
 from shapes.io import open_source, read_cloud_file, source_length
 from shapes.pipeline import FrameResult, Perception, PerceptionParams
-from shapes.segment import Cluster, Segmentation, SegmentationParams, segment
+from shapes.segment import Cluster, Segmentation, SegmentationParams
 from shapes.track import Tracker
 from shapes.types import Primitive, ShapeKind, SupportPlane
 
@@ -77,7 +78,6 @@ __all__ = [
     "pitt_choice",
     "read_bag",
     "read_cloud_file",
-    "segment",
     "source_length",
     "write_bag",
 ]

@@ -7,8 +7,7 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import Any
 
-from pyoxigraph import NamedNode
-
+from reasoners.labels import RELATION_WORDS, local
 from reasoners.scoring import WEAK
 from reasoners.signature import Signature
 
@@ -29,27 +28,7 @@ __all__ = [
     "to_jsonable",
 ]
 
-_RELATION_WORDS = {
-    "isAboveOf": "above",
-    "isBelowOf": "below",
-    "isRightOf": "right of",
-    "isLeftOf": "left of",
-    "isBehindOf": "behind",
-    "isInFrontOf": "in front of",
-    "isParallelWith": "parallel with",
-    "isPerpendicularWith": "perpendicular to",
-    "isCoaxialWith": "coaxial with",
-    "isAlongXWith": "aligned along x with",
-    "isAlongYWith": "aligned along y with",
-    "isAlongZWith": "aligned along z with",
-}
 _KINDS = ("sphere", "cylinder", "cone", "plane")
-
-
-def local(iri: NamedNode | str) -> str:
-    """The local name of an IRI (after ``#`` or the last ``/``)."""
-    text = iri.value if isinstance(iri, NamedNode) else iri
-    return text.rsplit("#", 1)[-1].rsplit("/", 1)[-1]
 
 
 def _times(n: int) -> str:
@@ -77,7 +56,7 @@ class RestrictionCheck:
         name = self.prop
         kind = next((k for k in _KINDS if name.lower().startswith(k)), "")
         rest = name[len(kind) :]
-        relation = _RELATION_WORDS.get(rest[:1].lower() + rest[1:], rest)
+        relation = RELATION_WORDS.get(rest[:1].lower() + rest[1:], rest)
         return f"a {kind} {relation}" if kind else relation
 
     @property

@@ -598,14 +598,10 @@ def _report(
     )
 
 
-def _incremental(
-    store: Store,
-    inferred: NamedNode,
-    state: _State,
-    new_facts: list[Fact],
-    generation: int,
-    start: float,
-) -> ReasonReport:
+def _advance(state: _State, new_facts: list[Fact]) -> tuple[list[Fact], list[Fact]]:
+    """Run ``state``'s engine on ``new_facts`` and count them asserted: (the facts the inferred
+    graph gains, the facts it loses: those newly asserted that it held). Shared by the
+    incremental REASON here and its prepared form (:mod:`reasoners.owl_rl.pending`)."""
     engine = state.engine
     # a newly asserted triple that was inferred leaves the inferred graph
     to_remove = [f for f in new_facts if f in engine and f not in state.asserted]
@@ -614,10 +610,22 @@ def _incremental(
     derived = engine.take_log()
     state.asserted.update(new_facts)
     to_add = [f for f in derived if f[0][0] != '"' and f not in state.asserted]
+    return to_add, to_remove
+
+
+def _incremental(
+    store: Store,
+    inferred: NamedNode,
+    state: _State,
+    new_facts: list[Fact],
+    generation: int,
+    start: float,
+) -> ReasonReport:
+    to_add, to_remove = _advance(state, new_facts)
     added, committed = _write(store, inferred, to_add, to_remove, state.terms)
     state.inferred_count += added - len(to_remove)
     state.generation = _generation_after(store, generation, committed)
-    state.consistency = _report_consistency(engine)
+    state.consistency = _report_consistency(state.engine)
     report = _report(state, added, len(to_remove), start, incremental=True)
     log.info(
         "REASON: incremental, +%d -%d in %.4f s", report.added, report.removed, report.duration_s

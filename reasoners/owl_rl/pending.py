@@ -62,6 +62,7 @@ from reasoners.owl_rl.materialise import (
     AddedTriple,
     AssertedChanges,
     _added_facts,
+    _advance,
     _check_graph,
     _check_reasoner,
     _closure,
@@ -313,17 +314,10 @@ def _view_difference(
 def _incremental(
     slot: _Slot, state: _State, inferred: NamedNode, new_facts: list[Fact], start: float
 ) -> Prepared:
-    engine = state.engine
     state.pending, state.generation, state.asserted_dump = True, -1, None
-    # a newly asserted triple that was inferred leaves the inferred graph
-    to_remove = [f for f in new_facts if f in engine and f not in state.asserted]
-    engine.add_all(new_facts)
-    engine.run()
-    derived = engine.take_log()
-    state.asserted.update(new_facts)
-    to_add = [f for f in derived if f[0][0] != '"' and f not in state.asserted]
+    to_add, to_remove = _advance(state, new_facts)
     state.inferred_count += len(to_add) - len(to_remove)
-    state.consistency = _report_consistency(engine)
+    state.consistency = _report_consistency(state.engine)
     added, removed = _quads(to_add, inferred, state.terms), _quads(to_remove, inferred, state.terms)
     prepared = Prepared(
         slot,

@@ -15,9 +15,9 @@ from shapes import (
     StableScene,
     colour_name,
     pipeline,
-    segment,
 )
 from shapes.fit import fit_cluster
+from shapes.segment import segment
 from shapes.synthetic import PALETTE, TabletopScene, TruthObject
 
 SCENE = TabletopScene(

@@ -6,7 +6,6 @@ import importlib
 import re
 from pathlib import Path
 
-# The package, not the function ``shapes.segment`` that shapes/__init__.py puts in its place.
 SEGMENT = importlib.import_module("shapes.segment")
 PACKAGE = Path(SEGMENT.__file__ or "").parent
 ORDER = re.findall(r"^- :mod:`shapes\.segment\.(\w+)`", SEGMENT.__doc__ or "", re.M)
@@ -33,3 +32,9 @@ def test_each_module_imports_only_the_modules_listed_before_it():
         module: sorted(imported_siblings(module) - set(ORDER[:k])) for k, module in enumerate(ORDER)
     }
     assert later == {module: [] for module in ORDER}
+
+
+def test_the_name_segment_in_shapes_is_the_package_not_its_function():
+    import shapes
+
+    assert shapes.segment is SEGMENT

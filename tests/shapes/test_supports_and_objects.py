@@ -5,8 +5,8 @@ import math
 import numpy as np
 import pytest
 
-from shapes import Perception, PerceptionParams, ShapeKind, segment
-from shapes.segment import SegmentationParams
+from shapes import Perception, PerceptionParams, ShapeKind
+from shapes.segment import SegmentationParams, segment
 from shapes.sensor import CLEAN, DepthCamera, Room, SensorModel, resting
 from shapes.synthetic import TabletopScene, TruthObject
 
