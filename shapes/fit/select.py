@@ -127,8 +127,11 @@ in its cluster: no part of it lies under the support. The bend of a broad face s
 in the table. So a cylinder candidate whose axis lies farther than ``upright_tolerance_deg``
 from the support's normal, and whose finite body (its axis between the points' ends, as the
 primitive is built) reaches under the support deeper than ``max_sink_thresholds`` times the
-selection threshold (three times the depth noise, at least 8 mm), is never kept, from any of the
-searches; the next cheapest model takes its place, as for a cone on its tip.
+selection threshold (three times the depth noise, at least 8 mm), is never output: when the
+shape-choice rule chooses it, the choice is made again without it, and the next cheapest model
+takes its place. It is judged on the choice, not on every candidate of the searches as a cone on
+its tip is: the searches build on their candidates (a refinement, the cones around a cylinder),
+and refusing the sunk ones there cost two simulated leaning or lying objects.
 
 Rings and outlines
 ------------------
@@ -965,8 +968,6 @@ def fit_cluster(
         if kind is ShapeKind.CONE and _stands_on_its_tip(params, support, fp):
             return  # a thing widening upwards: not a cone ("Standing and widening upwards")
         primitive = curved(kind, params)
-        if kind is ShapeKind.CYLINDER and _sunk_in_support(primitive, support, fp):
-            return  # the bend of a face: no body lies in the table ("A lying cylinder rests")
         if not bounded(primitive, points, margin_m=margin, box=box):
             return  # a fit that leaves its own points is never a candidate
         if d is None:
@@ -1234,9 +1235,13 @@ def fit_cluster(
             prim = _build_plane(plane, sample, inl)
         else:
             prim = built[kind]
-        if bounded(prim, points, margin_m=margin, box=box):
+        if bounded(prim, points, margin_m=margin, box=box) and not (
+            kind is ShapeKind.CYLINDER and _sunk_in_support(prim, support, fp)
+        ):
             break
-        del costs[kind]  # a fit that leaves its own points is never output
+        # A fit that leaves its own points is never output, nor the bend of a face taken for
+        # a cylinder lying in the table ("A lying cylinder rests on something").
+        del costs[kind]
         if not costs:
             return None
         kind = _choose(costs, fitted, support, fp, points, sphere_on_rays)
