@@ -260,7 +260,7 @@ class FitParams:
 
     max_sink_thresholds: float = 1.0
     """A lying cylinder rests on something (module docstring): how deep under the support, in
-    selection thresholds, a cylinder that does not stand may reach and still be kept."""
+    selection thresholds, a cylinder that does not stand may reach and still be output."""
     fringe_cells: int = 3
     fringe_cell_steps: float = 1.5
     """The outline's fringe (module docstring, "Rings and outlines"): its width in cells of
