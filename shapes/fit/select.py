@@ -119,6 +119,20 @@ stands on its tip: a cone candidate whose axis lies within ``upright_tolerance_d
 support's normal and which widens upwards (its apex at the bottom) is never kept, from any of
 the searches above; such a thing is the cylinder's, taper taken out or not.
 
+A lying cylinder rests on something
+-----------------------------------
+A cylinder that does not stand is a body lying or leaning on the support, or on something else
+in its cluster: no part of it lies under the support. The bend of a broad face seen from above
+(a bottle flat on its broad side) is fitted best by the top of a wide cylinder whose axis lies
+in the table. So a cylinder candidate whose axis lies farther than ``upright_tolerance_deg``
+from the support's normal, and whose finite body (its axis between the points' ends, as the
+primitive is built) reaches under the support deeper than ``max_sink_thresholds`` times the
+selection threshold (three times the depth noise, at least 8 mm), is never output: when the
+shape-choice rule chooses it, the choice is made again without it, and the next cheapest model
+takes its place. It is judged on the choice, not on every candidate of the searches as a cone on
+its tip is: the searches build on their candidates (a refinement, the cones around a cylinder),
+and refusing the sunk ones there cost two simulated leaning or lying objects.
+
 Rings and outlines
 ------------------
 A depth camera spreads a nearer surface's depth a few pixels past its edge (the Kinect) or
@@ -244,6 +258,9 @@ class FitParams:
     rows centred within ``outline_max_lean`` of its width (:func:`shapes.fit.outline.top_lean`)
     and at least ``outline_min_rows`` rows."""
 
+    max_sink_thresholds: float = 1.0
+    """A lying cylinder rests on something (module docstring): how deep under the support, in
+    selection thresholds, a cylinder that does not stand may reach and still be output."""
     fringe_cells: int = 3
     fringe_cell_steps: float = 1.5
     """The outline's fringe (module docstring, "Rings and outlines"): its width in cells of
@@ -417,6 +434,37 @@ def _stands_on_its_tip(params: FloatArray, support: SupportPlane | None, fp: Fit
     if support is None or not _orient_up(params[3:6], support, fp.upright_tolerance_deg):
         return False
     return float(params[3:6] @ np.asarray(support.normal)) > 0
+
+
+def _sunk_in_support(cylinder: Primitive, support: SupportPlane | None, fp: FitParams) -> bool:
+    """Whether a cylinder that does not stand (its axis farther than ``upright_tolerance_deg``
+    from the support's normal) reaches under the support deeper than ``max_sink_thresholds``
+    selection thresholds: the lowest point of its body (the lower end of its axis segment, less
+    the radius times the sine of its tilt) lies that far under the support. False with no
+    support or for a standing cylinder.
+
+    >>> table = SupportPlane((0.0, 0.0, 1.0), 0.0)
+    >>> def lying(axis_height_m: float) -> Primitive:
+    ...     return Primitive(ShapeKind.CYLINDER, centre=(0.0, 0.0, axis_height_m),
+    ...                      axis=(1.0, 0.0, 0.0), radius=0.05, height=0.2)
+    >>> _sunk_in_support(lying(0.048), table, FitParams())  # resting, 2 mm in: within the noise
+    False
+    >>> _sunk_in_support(lying(0.003), table, FitParams())  # its axis in the table
+    True
+    """
+    assert cylinder.axis is not None and cylinder.radius is not None
+    if support is None or _orient_up(np.asarray(cylinder.axis), support, fp.upright_tolerance_deg):
+        return False
+    n, axis, centre = (
+        np.asarray(support.normal),
+        np.asarray(cylinder.axis),
+        np.asarray(cylinder.centre),
+    )
+    half = 0.5 * (cylinder.height or 0.0) * axis
+    ends = support.signed_distance(np.array((centre - half, centre + half)))
+    sine = math.sqrt(max(0.0, 1.0 - float(axis @ n) ** 2))
+    lowest = float(ends.min()) - cylinder.radius * sine
+    return lowest < -fp.max_sink_thresholds * fp.selection_threshold_m
 
 
 def _build_plane(params: FloatArray, points: FloatArray, inliers: FloatArray) -> Primitive:
@@ -1187,9 +1235,13 @@ def fit_cluster(
             prim = _build_plane(plane, sample, inl)
         else:
             prim = built[kind]
-        if bounded(prim, points, margin_m=margin, box=box):
+        if bounded(prim, points, margin_m=margin, box=box) and not (
+            kind is ShapeKind.CYLINDER and _sunk_in_support(prim, support, fp)
+        ):
             break
-        del costs[kind]  # a fit that leaves its own points is never output
+        # A fit that leaves its own points is never output, nor the bend of a face taken for
+        # a cylinder lying in the table ("A lying cylinder rests on something").
+        del costs[kind]
         if not costs:
             return None
         kind = _choose(costs, fitted, support, fp, points, sphere_on_rays)
