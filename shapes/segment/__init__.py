@@ -76,6 +76,7 @@ The modules, in the order of the steps (imports go one way, each only from those
 - :mod:`shapes.segment.params`: :class:`SegmentationParams`;
 - :mod:`shapes.segment.planes`: step 3's search, RANSAC, one plane after another;
 - :mod:`shapes.segment.survey`: steps 1 to 3 in the sensor frame, :func:`survey`;
+- :mod:`shapes.segment.bands`: a support seen as a band of parallel planes is one plane;
 - :mod:`shapes.segment.supports`: which planes are supports and which are faces of objects;
 - :mod:`shapes.segment.free_voxels`: the voxels free of the planes, and the support each
   stands over;

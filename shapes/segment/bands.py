@@ -1,0 +1,103 @@
+"""A support seen as a band of parallel planes is one support.
+
+A floor or a desk whose depth undulates (smoothed depth, a warped far desk) is a band of voxels
+thicker than one plane's tolerance. The plane search covers the rest of that band with more
+planes parallel to the first, lying just under or over it and among its voxels. Judged on
+their own, one under the support becomes a second support whose margin starts inside the
+first's band, and one over it a step that keeps the objects' bottoms. :func:`one_plane_per_band`
+folds them into the support before any plane is judged (:mod:`shapes.segment.supports`).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from shapes.segment.params import SegmentationParams
+from shapes.segment.planes import Plane
+from shapes.types import FloatArray
+
+
+def one_plane_per_band(
+    planes: list[Plane], voxels: FloatArray, tolerance: FloatArray, params: SegmentationParams
+) -> list[Plane]:
+    """``planes`` (in the world frame, their inliers indexing ``voxels``) with each horizontal
+    plane that lies in a larger horizontal plane's band folded into it (:func:`in_band_of`),
+    largest first: the larger one is refitted by least squares through the union of their
+    voxels and takes the place of the first of them in the list; the smaller one is dropped.
+    Planes that are not horizontal are returned as they are. ``tolerance``: per voxel, how far
+    from a plane it may lie and still belong to it.
+
+    >>> import numpy as np
+    >>> from shapes.segment.planes import Plane
+    >>> xy = np.c_[np.divmod(np.arange(400), 20)] * 0.025  # a 0.5 m square, 2.5 cm apart
+    >>> z = np.r_[np.zeros(200), np.full(200, -0.012)]  # a floor and a plane just under it
+    >>> voxels = np.c_[np.r_[xy[::2], xy[1::2]], z]  # the two interleaved
+    >>> up = np.array([0.0, 0.0, 1.0])
+    >>> floor = Plane(up, 0.0, np.arange(400) < 200, True)
+    >>> under = Plane(up, 0.012, np.arange(400) >= 200, True)
+    >>> [int(p.inliers.sum()) for p in one_plane_per_band([floor, under], voxels,
+    ...     np.full(400, 0.01), SegmentationParams())]
+    [400]
+    """
+    order = sorted(
+        (k for k, p in enumerate(planes) if p.horizontal), key=lambda k: -int(planes[k].inliers.sum())
+    )
+    merged: dict[int, Plane] = {}
+    folded: set[int] = set()
+    for k in order:
+        plane = planes[k]
+        into = next(
+            (h for h in merged if in_band_of(plane, merged[h], voxels, tolerance, params)), None
+        )
+        if into is None:
+            merged[k] = plane
+            continue
+        merged[into] = _refitted(merged[into], merged[into].inliers | plane.inliers, voxels)
+        folded.add(k)
+    return [merged.get(k, p) for k, p in enumerate(planes) if k not in folded]
+
+
+def in_band_of(
+    plane: Plane,
+    support: Plane,
+    voxels: FloatArray,
+    tolerance: FloatArray,
+    params: SegmentationParams,
+) -> bool:
+    """Whether ``plane`` lies in the band of the larger horizontal ``support``: parallel to it
+    within ``max_band_tilt_deg``; its voxels' heights over it (5th to 95th percentile) reach to
+    within their tolerance and half a voxel of it, so that the two planes' voxels make one
+    band with no gap; and ``min_shared_ground`` of its voxels lie in the cells
+    (``support_cell_m`` across) where the support has voxels too, so that it lies among the
+    support's voxels rather than beside them (a rug hides the floor under it, a box's top the
+    floor under the box)."""
+    cos = min(1.0, abs(float(plane.normal @ support.normal)))
+    if math.degrees(math.acos(cos)) > params.max_band_tilt_deg:
+        return False
+    mine = voxels[plane.inliers]
+    heights = mine @ support.normal + support.offset
+    low, high = np.percentile(heights, [5.0, 95.0])
+    gap = max(float(low), -float(high), 0.0)
+    if gap > float(np.median(tolerance[plane.inliers])) + params.voxel_m / 2:
+        return False
+    cell = params.support_cell_m
+    theirs = np.floor(voxels[support.inliers][:, :2] / cell).astype(np.int64)
+    cells = np.floor(mine[:, :2] / cell).astype(np.int64)
+    lo = np.minimum(theirs.min(axis=0), cells.min(axis=0))
+    span = np.maximum(theirs.max(axis=0), cells.max(axis=0)) - lo + 1
+    occupied = np.zeros(int(span[0]) * int(span[1]), dtype=bool)
+    occupied[(theirs[:, 0] - lo[0]) * span[1] + theirs[:, 1] - lo[1]] = True
+    shared = occupied[(cells[:, 0] - lo[0]) * span[1] + cells[:, 1] - lo[1]]
+    return bool(shared.mean() >= params.min_shared_ground)
+
+
+def _refitted(plane: Plane, inliers: np.typing.NDArray[np.bool_], voxels: FloatArray) -> Plane:
+    """The least-squares plane through ``voxels[inliers]``, its normal turned as ``plane``'s."""
+    points = voxels[inliers]
+    centre = points.mean(axis=0)
+    normal = np.linalg.svd(points - centre, full_matrices=False)[2][2]
+    if normal @ plane.normal < 0:
+        normal = -normal
+    return Plane(np.asarray(normal), float(-normal @ centre), inliers, plane.horizontal)
