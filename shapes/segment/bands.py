@@ -11,11 +11,14 @@ folds them into the support before any plane is judged (:mod:`shapes.segment.sup
 from __future__ import annotations
 
 import math
+from dataclasses import replace
 
 import numpy as np
 
+from shapes.plane_pieces import is_scattered
 from shapes.segment.params import SegmentationParams
 from shapes.segment.planes import Plane
+from shapes.support_region import support_region
 from shapes.types import FloatArray
 
 
@@ -54,7 +57,7 @@ def one_plane_per_band(
         if into is None:
             merged[k] = plane
             continue
-        merged[into] = _refitted(merged[into], merged[into].inliers | plane.inliers, voxels)
+        merged[into] = replace(merged[into], inliers=merged[into].inliers | plane.inliers)
         folded.add(k)
     return [merged.get(k, p) for k, p in enumerate(planes) if k not in folded]
 
@@ -72,7 +75,9 @@ def in_band_of(
     band with no gap; and ``min_shared_ground`` of its voxels lie in the cells
     (``support_cell_m`` across) where the support has voxels too, so that it lies among the
     support's voxels rather than beside them (a rug hides the floor under it, a box's top the
-    floor under the box)."""
+    floor under the box); and it is one solid surface, not scattered in pieces
+    (:func:`shapes.plane_pieces.is_scattered` with ``min_main_piece_share``): a slice through
+    the bottoms of flat things on a desk falls apart around them."""
     cos = min(1.0, abs(float(plane.normal @ support.normal)))
     if math.degrees(math.acos(cos)) > params.max_band_tilt_deg:
         return False
@@ -90,7 +95,9 @@ def in_band_of(
     occupied = np.zeros(int(span[0]) * int(span[1]), dtype=bool)
     occupied[(theirs[:, 0] - lo[0]) * span[1] + theirs[:, 1] - lo[1]] = True
     shared = occupied[(cells[:, 0] - lo[0]) * span[1] + cells[:, 1] - lo[1]]
-    return bool(shared.mean() >= params.min_shared_ground)
+    if shared.mean() < params.min_shared_ground:
+        return False
+    return not is_scattered(support_region(mine[:, :2], cell), params.min_main_piece_share)
 
 
 def _refitted(plane: Plane, inliers: np.typing.NDArray[np.bool_], voxels: FloatArray) -> Plane:
