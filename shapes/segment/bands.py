@@ -27,8 +27,10 @@ def one_plane_per_band(
 ) -> list[Plane]:
     """``planes`` (in the world frame, their inliers indexing ``voxels``) with each horizontal
     plane that lies in a larger horizontal plane's band folded into it (:func:`in_band_of`),
-    largest first: the larger one is refitted by least squares through the union of their
-    voxels and takes the place of the first of them in the list; the smaller one is dropped.
+    largest first: the larger one keeps its plane and takes the smaller one's voxels; the
+    smaller one is dropped. The larger one's plane is kept, not refitted through the union: the
+    band's far voxels are the surface's undulation or the slice through objects' bottoms, and
+    would tilt or lift it.
     Planes that are not horizontal are returned as they are. ``tolerance``: per voxel, how far
     from a plane it may lie and still belong to it.
 
@@ -45,7 +47,8 @@ def one_plane_per_band(
     [400]
     """
     order = sorted(
-        (k for k, p in enumerate(planes) if p.horizontal), key=lambda k: -int(planes[k].inliers.sum())
+        (k for k, p in enumerate(planes) if p.horizontal),
+        key=lambda k: -int(planes[k].inliers.sum()),
     )
     merged: dict[int, Plane] = {}
     folded: set[int] = set()
@@ -98,13 +101,3 @@ def in_band_of(
     if shared.mean() < params.min_shared_ground:
         return False
     return not is_scattered(support_region(mine[:, :2], cell), params.min_main_piece_share)
-
-
-def _refitted(plane: Plane, inliers: np.typing.NDArray[np.bool_], voxels: FloatArray) -> Plane:
-    """The least-squares plane through ``voxels[inliers]``, its normal turned as ``plane``'s."""
-    points = voxels[inliers]
-    centre = points.mean(axis=0)
-    normal = np.linalg.svd(points - centre, full_matrices=False)[2][2]
-    if normal @ plane.normal < 0:
-        normal = -normal
-    return Plane(np.asarray(normal), float(-normal @ centre), inliers, plane.horizontal)
