@@ -73,9 +73,10 @@ def in_band_of(
     params: SegmentationParams,
 ) -> bool:
     """Whether ``plane`` lies in the band of the larger horizontal ``support``: parallel to it
-    within ``max_band_tilt_deg``; its voxels' heights over it (5th to 95th percentile) reach to
-    within their tolerance and half a voxel of it, so that the two planes' voxels make one
-    band with no gap; and ``min_shared_ground`` of its voxels lie in the cells
+    within ``max_band_tilt_deg``; its voxels' heights over it (5th to 95th percentile) lie on
+    one side of it (a plane running from under it to over it is tilted across it, as
+    :func:`shapes.segment.supports._crosses` says) and reach to within their tolerance and half
+    a voxel of it, so that the two planes' voxels make one band with no gap; and ``min_shared_ground`` of its voxels lie in the cells
     (``support_cell_m`` across) where the support has voxels too, so that it lies among the
     support's voxels rather than beside them (a rug hides the floor under it, a box's top the
     floor under the box); and it is one solid surface, not scattered in pieces
@@ -87,7 +88,9 @@ def in_band_of(
     mine = voxels[plane.inliers]
     heights = mine @ support.normal + support.offset
     low, high = np.percentile(heights, [5.0, 95.0])
-    gap = max(float(low), -float(high), 0.0)
+    if low < 0.0 < high:
+        return False  # from under it to over it: a plane across the support, not beside it
+    gap = max(float(low), -float(high))
     if gap > float(np.median(tolerance[plane.inliers])) + params.voxel_m / 2:
         return False
     cell = params.support_cell_m

@@ -57,9 +57,10 @@ RUG = GRID[(GRID[:, 0] > 0.3) & (GRID[:, 0] < 0.7) & (GRID[:, 1] > 0.3) & (GRID[
         (_tilted(INTERLEAVED, 2.0, 0.015), False, True),  # 2 deg off: within max_band_tilt_deg
         (_tilted(INTERLEAVED, 6.0, 0.015), False, False),  # 6 deg off: across the floor
         (_tilted(INTERLEAVED, 0.0, 0.04), False, False),  # a gap of 3 cm: a level of its own
+        (_tilted(INTERLEAVED, 2.0, 0.0), False, False),  # from under it to over it: across it
         (_tilted(RUG, 0.0, 0.012), True, False),  # a rug: the floor under it is hidden
     ],
-    ids=["under", "over", "2 deg", "6 deg", "gap", "rug"],
+    ids=["under", "over", "2 deg", "6 deg", "gap", "across", "rug"],
 )
 def test_a_parallel_plane_is_in_the_floor_band_only_among_its_voxels_and_with_no_gap(
     other, hides, folded
