@@ -72,16 +72,20 @@ def in_band_of(
     tolerance: FloatArray,
     params: SegmentationParams,
 ) -> bool:
-    """Whether ``plane`` lies in the band of the larger horizontal ``support``: parallel to it
-    within ``max_band_tilt_deg``; its voxels' heights over it (5th to 95th percentile) lie on
-    one side of it (a plane running from under it to over it is tilted across it, as
-    :func:`shapes.segment.supports._crosses` says) and reach to within their tolerance and half
-    a voxel of it, so that the two planes' voxels make one band with no gap; and ``min_shared_ground`` of its voxels lie in the cells
-    (``support_cell_m`` across) where the support has voxels too, so that it lies among the
-    support's voxels rather than beside them (a rug hides the floor under it, a box's top the
-    floor under the box); and it is one solid surface, not scattered in pieces
-    (:func:`shapes.plane_pieces.is_scattered` with ``min_main_piece_share``): a slice through
-    the bottoms of flat things on a desk falls apart around them."""
+    """Whether ``plane`` lies in the band of the larger horizontal ``support``:
+
+    - parallel to it within ``max_band_tilt_deg``;
+    - beside it: its voxels' heights over it (5th to 95th percentile) lie on one side of it
+      (a plane that runs from under it to over it is tilted across it, as
+      :func:`shapes.segment.supports._crosses` says) and reach to within their tolerance and
+      half a voxel of it, so that the two planes' voxels make one band with no gap;
+    - among its voxels: ``min_shared_ground`` of its voxels lie in the cells
+      (``support_cell_m`` across) where the support has voxels too (a rug hides the floor
+      under it, a box's top the floor under the box);
+    - one solid surface, not scattered in pieces (:func:`shapes.plane_pieces.is_scattered`
+      with ``min_main_piece_share``): a slice through the bottoms of flat things on a desk
+      falls apart around them.
+    """
     cos = min(1.0, abs(float(plane.normal @ support.normal)))
     if math.degrees(math.acos(cos)) > params.max_band_tilt_deg:
         return False
