@@ -54,7 +54,7 @@ RUG = GRID[(GRID[:, 0] > 0.3) & (GRID[:, 0] < 0.7) & (GRID[:, 1] > 0.3) & (GRID[
     [
         (_tilted(INTERLEAVED, 0.0, -0.015), False, True),  # under the floor, among its voxels
         (_tilted(INTERLEAVED, 0.0, 0.015), False, True),  # over it
-        (_tilted(INTERLEAVED, 2.0, 0.015), False, True),  # 2 deg off: within max_band_tilt_deg
+        (_tilted(INTERLEAVED, 2.0, 0.025), False, True),  # 2 deg off: within max_band_tilt_deg
         (_tilted(INTERLEAVED, 6.0, 0.015), False, False),  # 6 deg off: across the floor
         (_tilted(INTERLEAVED, 0.0, 0.04), False, False),  # a gap of 3 cm: a level of its own
         (_tilted(INTERLEAVED, 2.0, 0.0), False, False),  # from under it to over it: across it
