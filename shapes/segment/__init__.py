@@ -19,7 +19,10 @@ Steps (PITT's, with its quirks fixed; see ``shared/reference/pitt-perception.md`
 3. planes: RANSAC (numpy, seeded) finds up to ``max_planes`` planes one after another, each
    holding at least ``min_support_fraction`` of the voxels and spanning at least
    ``min_plane_extent_m`` (a smaller one is the face of an object, and the search stops).
-   Threshold 1 cm, not PITT's 2 cm, which ate the bottom of every object. A plane whose voxels
+   Threshold 1 cm, not PITT's 2 cm, which ate the bottom of every object. A horizontal plane
+   in the band of a larger one (parallel, beside it with no gap, among its voxels, solid) is
+   folded into it first: an undulating floor's band is one support, whose noise margin is its
+   largest plane's (:mod:`shapes.segment.bands`). A plane whose voxels
    all lie above a horizontal one, less than ``max_height_m`` over it, in pieces none of which
    spans ``min_plane_extent_m``, is the fronts of objects standing in a row or the tops of
    objects of one height (seen on clean scans), not a wall or a shelf: its voxels stay free
@@ -76,6 +79,7 @@ The modules, in the order of the steps (imports go one way, each only from those
 - :mod:`shapes.segment.params`: :class:`SegmentationParams`;
 - :mod:`shapes.segment.planes`: step 3's search, RANSAC, one plane after another;
 - :mod:`shapes.segment.survey`: steps 1 to 3 in the sensor frame, :func:`survey`;
+- :mod:`shapes.segment.bands`: a support seen as a band of parallel planes is one plane;
 - :mod:`shapes.segment.supports`: which planes are supports and which are faces of objects;
 - :mod:`shapes.segment.free_voxels`: the voxels free of the planes, and the support each
   stands over;

@@ -74,7 +74,9 @@ class OverSupports:
     """Each support's main piece."""
     margins: list[float]
     """Each support's noise margin: ``max(above_margin_m, 3 sigma)`` of its main piece's
-    voxels about the plane; what lies lower is the support's."""
+    voxels within their tolerance of the plane; what lies lower is the support's. The voxels
+    of parallel planes folded into it (:mod:`shapes.segment.bands`) lie farther: they are the
+    surface's shape, not its noise, and belong to the support whatever their height."""
     boxes: list[tuple[FloatArray, FloatArray]]
     """Each support's main piece's bounding box across it, shrunk by ``edge_margin_m``."""
     owner: npt.NDArray[np.int_]
@@ -85,6 +87,7 @@ def over_supports(
     judged: JudgedPlanes,
     voxels: FloatArray,
     free: npt.NDArray[np.bool_],
+    tolerance: FloatArray,
     params: SegmentationParams,
 ) -> OverSupports:
     """Each ``free`` voxel over the nearest support below it that covers it: between the
@@ -93,10 +96,9 @@ def over_supports(
     owner = np.full(len(voxels), -1)
     margins, supports, regions, boxes = [], [], [], []
     for k, p in enumerate(judged.supports):
-        table = voxels[p.inliers]
-        region = judged.region_of[id(p)]
-        regions.append(region)
-        table = table[region.piece]
+        inliers = np.flatnonzero(p.inliers)[judged.region_of[id(p)].piece]
+        table = voxels[inliers]
+        regions.append(judged.region_of[id(p)])
         span = column_span(table[:, :2])
         centre = table.mean(axis=0)
         support = SupportPlane(
@@ -106,7 +108,8 @@ def over_supports(
             (float(span[0]), float(span[1])),
         )
         supports.append(support)
-        sigma_vox = robust_sigma(support.signed_distance(table))
+        residuals = support.signed_distance(table)
+        sigma_vox = robust_sigma(residuals[np.abs(residuals) <= tolerance[inliers]])
         margin = max(params.above_margin_m, 3 * sigma_vox)
         margins.append(margin)
         height = support.signed_distance(voxels)

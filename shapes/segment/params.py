@@ -43,6 +43,14 @@ class SegmentationParams:
     support_cell_m: float = 0.05
     """The grid on which a plane's voxels are joined into pieces (a support's main piece, a
     tilted plane's pieces: :mod:`shapes.plane_pieces`)."""
+    max_band_tilt_deg: float = 3.0
+    """How far (degrees) a horizontal plane may tilt from a larger one and still be part of its
+    band (:mod:`shapes.segment.bands`): 0.1-2.5 deg for the parallel planes in a support's band
+    on the tuned-on scans, 6.4-6.7 deg for the scattered planes across the fr2 desk."""
+    min_shared_ground: float = 0.5
+    """The share of a horizontal plane's voxels that must lie in cells (``support_cell_m``)
+    where a larger parallel plane has voxels for it to be part of that plane's band
+    (:mod:`shapes.segment.bands`): 0.55-0.77 for the living room's floor planes."""
     min_main_piece_share: float = 0.5
     """The share of a horizontal plane's voxels its main piece must hold for the plane to be a
     surface of its own; a plane scattered in smaller pieces is reduced to its main piece

@@ -96,7 +96,7 @@ def segment(
             reason=f"no support found: no horizontal plane among the planes seen ({seen})",
         )
     free = free_voxels(judged, voxels, scan.voxels, scan.tolerance, params)
-    over = over_supports(judged, voxels, free, params)
+    over = over_supports(judged, voxels, free, scan.tolerance, params)
     supports, regions, margins, owner = over.supports, over.regions, over.margins, over.owner
     largest = max(range(len(horizontal)), key=lambda k: int(horizontal[k].inliers.sum()))
     if sigma_1m == 0.0:

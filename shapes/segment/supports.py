@@ -18,6 +18,7 @@ from scipy.spatial import cKDTree
 
 from shapes.arrays import column_max, column_min, inside_box
 from shapes.plane_pieces import is_scattered
+from shapes.segment.bands import one_plane_per_band
 from shapes.segment.params import SegmentationParams
 from shapes.segment.planes import Plane
 from shapes.support_region import SupportRegion, support_region
@@ -48,7 +49,12 @@ def judge_planes(
     (:func:`_faces_on`); a plane standing on a larger horizontal one (:func:`_standing_on`),
     a face unless it is a step of the floor (a rug, a seam), which is neither; a scattered
     would-be support (:func:`_supports_by_pieces`); one that crosses a larger one
-    (:func:`_crosses`). ``tolerance``: per voxel, how far from a plane it may lie."""
+    (:func:`_crosses`). ``tolerance``: per voxel, how far from a plane it may lie.
+
+    First, horizontal planes in the band of a larger one are folded into it
+    (:func:`shapes.segment.bands.one_plane_per_band`): one support, not a second support or a
+    step."""
+    planes = one_plane_per_band(planes, voxels, tolerance, params)
     level = [p for p in planes if p.horizontal]
     faces = {
         id(p)
