@@ -84,7 +84,6 @@ The modules, in the order of the steps (imports go one way, each only from those
 - :mod:`shapes.segment.reach`: how far the scene reaches (the depth cut, the image's window);
 - :mod:`shapes.segment.objects`: the rules of what is an object of the scene, in their order;
 - :mod:`shapes.segment.tall`: clusters cut at the band's top, grown upwards;
-- :mod:`shapes.segment.bottoms`: the kept clusters grown down into their support's margin band;
 - :mod:`shapes.segment.segmentation`: :func:`segment`, the steps in order, and
   :class:`Segmentation`.
 """

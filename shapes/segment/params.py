@@ -29,14 +29,6 @@ class SegmentationParams:
     """How high a cluster that stands on its support and is cut at ``max_height_m`` may grow
     (:func:`grown_upwards`): what ends under it is a tall object, what reaches it a part of
     something larger."""
-    grow_bottoms: bool = True
-    """Whether each kept cluster is grown down into its support's margin band
-    (:mod:`shapes.segment.bottoms`)."""
-    bottom_link_m: float = 0.02
-    """How near a voxel of a support's margin band under a kept cluster must lie to the cluster,
-    or to a band voxel so linked, to be its bottom (:mod:`shapes.segment.bottoms`): a voxel's
-    diagonal neighbour on the 1 cm grid, whose voxels are their points' means, not the cells'
-    centres."""
     edge_margin_m: float = 0.02
     outlier_neighbours: int = 10
     outlier_std_ratio: float = 3.0

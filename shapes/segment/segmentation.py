@@ -12,7 +12,6 @@ from dataclasses import dataclass
 import numpy as np
 
 from shapes.frame import Frame
-from shapes.segment.bottoms import grown_downwards
 from shapes.segment.clusters import Cluster, KeptPoints, clusters_on
 from shapes.segment.free_voxels import free_voxels, over_supports, robust_sigma
 from shapes.segment.objects import (
@@ -147,8 +146,6 @@ def segment(
         ]
         kept.append(not_under(found, parts, support, params))
     kept = not_under_support_edges(kept, supports, regions, frame, reach, params)
-    if params.grow_bottoms:
-        kept = grown_downwards(kept, supports, margins, over.boxes, kept_points, params)
     for k, found in enumerate(kept):
         votes[k] = sum(len(c.voxels) for c in found)
         clusters += found
