@@ -20,8 +20,8 @@ def _near(result: FrameResult, centre: np.ndarray, within_m: float) -> list[floa
     """How far the primitives' cluster centroids within ``within_m`` of ``centre`` (in the
     sensor's frame) lie from it, nearest first."""
     back = np.linalg.inv(result.world_from_sensor)
-    gaps = [float(np.linalg.norm(back[:3, :3] @ c + back[:3, 3] - centre)) for c in result.centroids]
-    return sorted(g for g in gaps if g < within_m)
+    seen = [back[:3, :3] @ c + back[:3, 3] for c in result.centroids]
+    return sorted(g for g in (float(np.linalg.norm(c - centre)) for c in seen) if g < within_m)
 
 
 def test_the_living_rooms_bowl_is_one_primitive_not_a_ring_of_pieces() -> None:

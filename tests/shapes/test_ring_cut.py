@@ -38,5 +38,6 @@ def test_a_single_part_is_no_ring() -> None:
 @pytest.mark.parametrize("gap", [0.0, 180.0, -5.0])
 def test_a_gap_outside_zero_to_half_a_turn_is_refused(gap: float) -> None:
     voxels, parts = _ring(4)
-    with pytest.raises(ValueError, match=f"max_gap_deg must lie between 0 and 180 degrees, got {gap}"):
+    expected = f"max_gap_deg must lie between 0 and 180 degrees, got {gap}"
+    with pytest.raises(ValueError, match=expected):
         closes_a_ring(voxels, parts, gap)
