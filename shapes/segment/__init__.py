@@ -67,7 +67,8 @@ Steps (PITT's, with its quirks fixed; see ``shared/reference/pitt-perception.md`
    camera frame, with points at z <= 0.1 m, gets one sigma for every range);
 6. statistical outlier removal and DBSCAN (open3d) on those voxels; each cluster is cut along
    its concave seams, which separates objects that touch (:mod:`shapes.split`) when every part
-   reaches down to the support (a handle or a shoulder hangs above it); clusters with fewer than
+   reaches down to the support (a handle or a shoulder hangs above it), unless the parts close a
+   ring around a common centre (a bowl's inside, :mod:`shapes.ring_cut`); clusters with fewer than
    ``min_cluster_voxels`` voxels are dropped;
 7. each cluster gets its full-resolution points (and colours) back through the voxel index.
 

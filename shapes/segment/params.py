@@ -37,6 +37,11 @@ class SegmentationParams:
     min_cluster_voxels: int = 12
     split_touching: bool = True
     min_split_extent_m: float = 0.07
+    max_ring_gap_deg: float = 125.0
+    """The widest angle between neighbouring parts of a cut, seen from their common centre
+    across the support, for the parts to close a ring (:mod:`shapes.ring_cut`) and the cut to be
+    refused: a bowl's inside. Over the tuned-on scans' taken cuts of three parts or more (seeds
+    0-2), the rings' widest gaps are 89-112 degrees, the other cuts' 142-179."""
     min_support_rise_m: float = 0.25
     max_base_height_m: float = 0.04
     floor_step_m: float = 0.03

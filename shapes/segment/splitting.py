@@ -3,7 +3,8 @@
 Step 6 of :mod:`shapes.segment`. A cut is not taken when its parts stand on top of each other
 (:func:`_stacked`); it is taken whole when every part stands on the support
 (:func:`_each_stands`), else only for what hangs over nothing that stands (:func:`_taken_cut`);
-parts that lie along each other stay one (:mod:`shapes.nested_parts`). The splitter reads the
+parts that lie along each other stay one (:mod:`shapes.nested_parts`), and so do parts that close
+a ring around a common centre (:mod:`shapes.ring_cut`). The splitter reads the
 noise of a cluster's normals clear of the support's corner (:func:`_clear_of_the_base`).
 """
 
@@ -17,6 +18,7 @@ from scipy.spatial import cKDTree
 
 from shapes.arrays import column_max, column_min, column_span
 from shapes.nested_parts import joined_where_nested
+from shapes.ring_cut import closes_a_ring
 from shapes.segment.params import SegmentationParams
 from shapes.split import split_each
 from shapes.types import FloatArray
@@ -34,7 +36,10 @@ def split_clusters(
     """Labels with every cluster cut along its concave seams (:mod:`shapes.split`), where
     :func:`_taken_cut` takes the cut (``heights``: each voxel's height over the support, when
     known; ``margin_m``: the support's noise margin), and where no part lies along another
-    (:mod:`shapes.nested_parts`: a handset in its cradle is one thing with its base)."""
+    (:mod:`shapes.nested_parts`: a handset in its cradle is one thing with its base). A cut whose
+    parts, so joined, close a ring around their common centre (no gap between neighbouring parts
+    wider than ``max_ring_gap_deg``, :mod:`shapes.ring_cut`) is not taken: a bowl seen from
+    above."""
     out = labels.copy()
     next_label = int(labels.max(initial=-1)) + 1
     order = np.argsort(labels, kind="stable")
@@ -64,6 +69,8 @@ def split_clusters(
         parts = joined_where_nested(
             voxels[members], parts, near_m=params.cluster_eps_m, slice_m=params.voxel_m
         )
+        if closes_a_ring(voxels[members], parts, params.max_ring_gap_deg):
+            continue  # one thing cut along its own inside: a bowl seen from above
         for part in range(1, int(parts.max()) + 1):
             out[members[parts == part]] = next_label
             next_label += 1
