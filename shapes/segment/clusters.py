@@ -15,6 +15,7 @@ import numpy.typing as npt
 import open3d as o3d
 
 from shapes.artefacts import sparse_points
+from shapes.segment.occlusion import parts_in_front, surfaces
 from shapes.segment.params import SegmentationParams
 from shapes.segment.splitting import split_clusters
 from shapes.types import FloatArray, SupportPlane
@@ -55,6 +56,8 @@ class KeptPoints:
     """The image pixel of each point, on an organised frame."""
     sigma_1m: float
     """The depth noise at 1 m."""
+    image_width: int | None = None
+    """The width in pixels of the image ``pixels`` index (None: not an organised frame)."""
 
     def noise_m(self, idx: npt.NDArray[np.intp]) -> float:
         """The depth noise (one sigma) at the median range of the points ``idx``."""
@@ -92,6 +95,10 @@ def clusters_on(
             support.signed_distance(voxels[candidates]),
             margin,
         )
+    if organised and params.occlusion_slope > 0:
+        labels = _parted_at_occlusions(
+            labels, candidates, kept, support.signed_distance(voxels[candidates]), params
+        )
     voxel_label = np.full(len(voxels), -1, dtype=np.int64)
     voxel_label[candidates] = labels
     # Only the points of labelled voxels (a few percent of a frame) from here on.
@@ -122,6 +129,54 @@ def clusters_on(
             )
         )
     return clusters, small
+
+
+def _parted_at_occlusions(
+    labels: npt.NDArray[np.int64],
+    candidates: npt.NDArray[np.intp],
+    kept: KeptPoints,
+    heights: FloatArray,
+    params: SegmentationParams,
+) -> npt.NDArray[np.int64]:
+    """``labels`` (of the ``candidates`` voxels) with every cluster of ``2 * min_cluster_voxels``
+    voxels or more parted where a surface stands in front of the rest
+    (:mod:`shapes.segment.occlusion`); ``heights``: each candidate's height over the support."""
+    if kept.pixels is None or kept.image_width is None:
+        return labels
+    out = labels.copy()
+    next_label = int(labels.max(initial=-1)) + 1
+    position = np.full(len(kept.voxels), -1, dtype=np.intp)
+    position[candidates] = np.arange(len(candidates))
+    at = position[kept.voxel_of]
+    member = np.flatnonzero(at >= 0)
+    member = member[labels[at[member]] >= 0]
+    member = member[np.argsort(labels[at[member]], kind="stable")]
+    bounds = np.searchsorted(labels[at[member]], np.arange(next_label + 1))
+    for label in range(next_label):
+        idx = member[bounds[label] : bounds[label + 1]]
+        voxels_of_cluster = np.flatnonzero(labels == label)
+        if len(voxels_of_cluster) < 2 * params.min_cluster_voxels:
+            continue
+        surface, front = surfaces(
+            kept.points[idx], kept.depth[idx], kept.pixels[idx], kept.image_width,
+            params.occlusion_slope,
+        )
+        if len(front) == 0:
+            continue
+        local = np.full(len(candidates), -1, dtype=np.intp)
+        local[voxels_of_cluster] = np.arange(len(voxels_of_cluster))
+        parts = parts_in_front(
+            surface,
+            front,
+            local[at[idx]],
+            heights[voxels_of_cluster],
+            min_voxels=params.min_cluster_voxels,
+            max_base_height_m=params.max_base_height_m,
+        )
+        for part in range(1, int(parts.max()) + 1):
+            out[voxels_of_cluster[parts == part]] = next_label
+            next_label += 1
+    return out
 
 
 def _cloud(points: FloatArray) -> o3d.geometry.PointCloud:

@@ -37,6 +37,11 @@ class SegmentationParams:
     min_cluster_voxels: int = 12
     split_touching: bool = True
     min_split_extent_m: float = 0.07
+    occlusion_slope: float = 1.5
+    """How steeply (depth step over distance across the ray) neighbouring pixels of one
+    surface may differ in depth; a steeper step is an occlusion edge or a face seen edge-on,
+    across which a surface in front is parted from what it hides
+    (:mod:`shapes.segment.occlusion`; 0: never)."""
     min_support_rise_m: float = 0.25
     max_base_height_m: float = 0.04
     floor_step_m: float = 0.03

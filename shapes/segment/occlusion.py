@@ -1,0 +1,140 @@
+"""Clusters parted at occlusion edges: what stands in front of another thing is not that thing.
+
+Step 6 of :mod:`shapes.segment`, after the splitter (:mod:`shapes.segment.splitting`), which
+cuts only at concave seams. A thing lying in front of another (a mallet's handle 3 cm in front
+of a box, 0.45 m from the camera) meets it in the image at an occlusion edge: the depth steps
+from the near surface to the far one between neighbouring pixels, or along a short ramp of mixed
+depths where the sensor smooths. DBSCAN joins the two across the step when it is shorter than
+``cluster_eps_m``.
+
+In the image, a cluster's points are joined into *surfaces*: neighbouring pixels whose depths
+differ by less than ``occlusion_slope`` times their distance across the ray (a surface turned
+less than about 56° from the camera). The points of a steeper step (the ramp of an occlusion
+edge, and a face seen nearly edge-on) join nothing. A surface that lies nearer than its
+neighbour across most of the steps they share is in front of it. A surface that is in front of
+others and behind none, and that stands on the support, is cut off as a part of its own; the
+rest stays one part, even where the thing in front hides a band of it from top to bottom (the
+box's two halves left and right of the handle).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import numpy.typing as npt
+from scipy import ndimage
+from scipy.sparse import coo_matrix
+from scipy.sparse.csgraph import connected_components
+
+from shapes.types import FloatArray
+
+# The four forward neighbours on the pixel grid: right, down, down-right, down-left.
+_STEPS = ((0, 1), (1, 0), (1, 1), (1, -1))
+
+
+def surfaces(
+    points: FloatArray,
+    depth: FloatArray,
+    pixels: npt.NDArray[np.intp],
+    image_width: int,
+    max_slope: float,
+) -> tuple[npt.NDArray[np.int64], npt.NDArray[np.int64]]:
+    """The surface of each point (labels 0, 1, ...) and which surface is in front of which.
+
+    ``points`` (any metric frame), their ``depth`` along the camera's axis and their flat
+    row-major ``pixels`` in an image ``image_width`` wide, on one pixel grid (every k-th row and
+    column). Neighbouring points (8-neighbours on the grid) lie on one surface when their depths
+    differ by at most ``max_slope`` times their distance across the ray; a point with a steeper
+    step to any neighbour joins no surface itself and takes the label of the nearest point in
+    the image that does. The second array holds, per pair of surfaces ``(a, b)`` across which
+    steps were seen, ``a`` in front of ``b`` (rows of two labels): ``a`` is nearer than ``b``
+    on more of their steps than the reverse.
+
+    >>> depth = np.r_[np.full(4, 1.0), np.full(4, 1.1)]
+    >>> pixels = np.arange(8) * 2  # one row, every other pixel
+    >>> points = np.column_stack([np.arange(8) * 0.002, np.zeros(8), depth])
+    >>> labels, front = surfaces(points, depth, pixels, 16, 2.0)
+    >>> labels.tolist(), front.tolist()
+    ([0, 0, 0, 0, 1, 1, 1, 1], [[0, 1]])
+    """
+    rows, cols = pixels // image_width, pixels % image_width
+    stride = int(np.gcd.reduce(np.r_[rows - rows.min(), cols - cols.min()])) or 1
+    r, c = (rows - rows.min()) // stride, (cols - cols.min()) // stride + 1
+    grid = np.full((int(r.max()) + 2, int(c.max()) + 2), -1, dtype=np.int64)
+    grid[r, c] = np.arange(len(points))
+    h, w = grid.shape
+    first, second = [], []
+    for dr, dc in _STEPS:
+        a = grid[: h - dr, 1 : w - 1]
+        b = grid[dr:h, 1 + dc : w - 1 + dc]
+        both = (a >= 0) & (b >= 0)
+        first.append(a[both])
+        second.append(b[both])
+    a, b = np.concatenate(first), np.concatenate(second)
+    step = np.abs(depth[a] - depth[b])
+    apart = np.linalg.norm(points[a] - points[b], axis=1)
+    across = np.sqrt(np.maximum(apart**2 - step**2, 0.0))
+    steep = step > max_slope * across
+    smooth = np.ones(len(points), dtype=bool)
+    smooth[a[steep]] = False
+    smooth[b[steep]] = False
+    joined = ~steep & smooth[a] & smooth[b]
+    n = len(points)
+    graph = coo_matrix((np.ones(int(joined.sum())), (a[joined], b[joined])), shape=(n, n))
+    _, labels = connected_components(graph, directed=False)
+    if not smooth.any():
+        return np.zeros(n, dtype=np.int64), np.zeros((0, 2), dtype=np.int64)
+    # A steep point takes the surface of the nearest smooth point in the image.
+    on_surface = np.full(grid.shape, -1, dtype=np.int64)
+    on_surface[r[smooth], c[smooth]] = labels[smooth]
+    _, (near_r, near_c) = ndimage.distance_transform_edt(on_surface < 0, return_indices=True)
+    labels = on_surface[near_r[r, c], near_c[r, c]]
+    _, labels = np.unique(labels, return_inverse=True)
+    labels = labels.astype(np.int64)
+    la, lb = labels[a[steep]], labels[b[steep]]
+    cross = la != lb
+    nearer = np.where(depth[a[steep]] < depth[b[steep]], la, lb)[cross]
+    farther = np.where(depth[a[steep]] < depth[b[steep]], lb, la)[cross]
+    count = int(labels.max()) + 1
+    votes = np.zeros((count, count), dtype=np.int64)
+    np.add.at(votes, (nearer, farther), 1)
+    front = np.argwhere(votes > votes.T)
+    return labels, front.astype(np.int64)
+
+
+def parts_in_front(
+    labels: npt.NDArray[np.int64],
+    front: npt.NDArray[np.int64],
+    voxel_of: npt.NDArray[np.intp],
+    heights: FloatArray,
+    *,
+    min_voxels: int,
+    max_base_height_m: float,
+) -> npt.NDArray[np.int64]:
+    """The parts of one cluster's voxels (labels 0, 1, ...; all 0: no cut), from its points'
+    ``labels`` and ``front`` (:func:`surfaces`).
+
+    ``voxel_of``: each point's voxel among the cluster's (0 to len(``heights``) - 1);
+    ``heights``: each voxel's height over the support. A voxel belongs to the surface most of
+    its points lie on. A surface of ``min_voxels`` voxels or more in front of another as large
+    and behind none becomes a part of its own
+    when it holds ``min_voxels`` voxels or more and stands on the support (its lowest voxel under
+    ``max_base_height_m``), and when the voxels left hold ``min_voxels`` too; all else stays
+    part 0.
+    """
+    count = int(labels.max()) + 1
+    votes = np.zeros((len(heights), count), dtype=np.int64)
+    np.add.at(votes, (voxel_of, labels), 1)
+    surface = votes.argmax(axis=1)
+    # Only surfaces of an object's size count: a few mixed pixels at an edge hide nothing.
+    large = np.bincount(surface, minlength=count) >= min_voxels
+    front = front[large[front[:, 0]] & large[front[:, 1]]]
+    behind = set(front[:, 1].tolist())
+    parts = np.zeros(len(heights), dtype=np.int64)
+    for label in sorted(set(front[:, 0].tolist()) - behind):
+        mine = surface == label
+        if int(mine.sum()) < min_voxels or float(heights[mine].min()) >= max_base_height_m:
+            continue
+        if int((parts == 0).sum()) - int(mine.sum()) < min_voxels:
+            continue
+        parts[mine] = int(parts.max()) + 1
+    return parts
