@@ -19,6 +19,7 @@ from shapes.segment.occlusion import parts_in_front, surfaces
 from shapes.segment.params import SegmentationParams
 from shapes.segment.splitting import split_clusters
 from shapes.types import FloatArray, SupportPlane
+from shapes.view import ImageView
 
 
 @dataclass(frozen=True, eq=False)
@@ -72,9 +73,11 @@ def clusters_on(
     params: SegmentationParams,
     organised: bool,
     viewpoint: FloatArray | None,
+    view: ImageView | None = None,
 ) -> tuple[list[Cluster], int]:
     """DBSCAN clusters of the candidate voxels (of ``kept.voxels``) above one support, and how
-    many were too small."""
+    many were too small. ``view``: the image's valid window, whose closed edges cut what crosses
+    them (:mod:`shapes.view`)."""
     voxels, voxel_of, points, sigma_1m = kept.voxels, kept.voxel_of, kept.points, kept.sigma_1m
     cloud = _cloud(voxels[candidates])
     _, inliers = cloud.remove_statistical_outlier(
@@ -97,7 +100,7 @@ def clusters_on(
         )
     if organised and params.occlusion_slope > 0:
         labels = _parted_at_occlusions(
-            labels, candidates, kept, support.signed_distance(voxels[candidates]), params
+            labels, candidates, kept, support.signed_distance(voxels[candidates]), params, view
         )
     voxel_label = np.full(len(voxels), -1, dtype=np.int64)
     voxel_label[candidates] = labels
@@ -137,10 +140,12 @@ def _parted_at_occlusions(
     kept: KeptPoints,
     heights: FloatArray,
     params: SegmentationParams,
+    view: ImageView | None,
 ) -> npt.NDArray[np.int64]:
     """``labels`` (of the ``candidates`` voxels) with every cluster of ``2 * min_cluster_voxels``
     voxels or more parted where a surface stands in front of the rest
-    (:mod:`shapes.segment.occlusion`); ``heights``: each candidate's height over the support."""
+    (:mod:`shapes.segment.occlusion`), and without what hangs in from an edge of the image's
+    window (``view``); ``heights``: each candidate's height over the support."""
     if kept.pixels is None or kept.image_width is None:
         return labels
     out = labels.copy()
@@ -160,8 +165,14 @@ def _parted_at_occlusions(
         surface, front = surfaces(
             kept.points[idx], kept.depth[idx], kept.pixels[idx], kept.image_width,
             params.occlusion_slope,
+            params.occlusion_noise_multiple * kept.sigma_1m * kept.depth[idx] ** 2,
         )
-        if len(front) == 0:
+        at_edge = (
+            None
+            if view is None
+            else view.at_closed_edge(kept.pixels[idx], params.border_band_px)
+        )
+        if len(front) == 0 and (at_edge is None or not at_edge.any()):
             continue
         local = np.full(len(candidates), -1, dtype=np.intp)
         local[voxels_of_cluster] = np.arange(len(voxels_of_cluster))
@@ -170,8 +181,11 @@ def _parted_at_occlusions(
             front,
             local[at[idx]],
             heights[voxels_of_cluster],
+            np.column_stack(np.divmod(kept.pixels[idx], kept.image_width)).astype(np.float64),
+            at_edge,
             min_voxels=params.min_cluster_voxels,
             max_base_height_m=params.max_base_height_m,
+            min_edge_points=params.min_cut_voxels,
         )
         for part in range(1, int(parts.max()) + 1):
             out[voxels_of_cluster[parts == part]] = next_label

@@ -37,13 +37,15 @@ def surfaces(
     pixels: npt.NDArray[np.intp],
     image_width: int,
     max_slope: float,
+    min_step_m: FloatArray | float = 0.0,
 ) -> tuple[npt.NDArray[np.int64], npt.NDArray[np.int64]]:
     """The surface of each point (labels 0, 1, ...) and which surface is in front of which.
 
     ``points`` (any metric frame), their ``depth`` along the camera's axis and their flat
     row-major ``pixels`` in an image ``image_width`` wide, on one pixel grid (every k-th row and
     column). Neighbouring points (8-neighbours on the grid) lie on one surface when their depths
-    differ by at most ``max_slope`` times their distance across the ray; a point with a steeper
+    differ by at most ``max_slope`` times their distance across the ray, or by at most
+    ``min_step_m`` (per point: many times the depth noise at its range); a point with a steeper
     step to any neighbour joins no surface itself and takes the label of the nearest point in
     the image that does. The second array holds, per pair of surfaces ``(a, b)`` across which
     steps were seen, ``a`` in front of ``b`` (rows of two labels): ``a`` is nearer than ``b``
@@ -73,7 +75,8 @@ def surfaces(
     step = np.abs(depth[a] - depth[b])
     apart = np.linalg.norm(points[a] - points[b], axis=1)
     across = np.sqrt(np.maximum(apart**2 - step**2, 0.0))
-    steep = step > max_slope * across
+    least = np.broadcast_to(np.asarray(min_step_m, dtype=np.float64), depth.shape)
+    steep = (step > max_slope * across) & (step > np.maximum(least[a], least[b]))
     smooth = np.ones(len(points), dtype=bool)
     smooth[a[steep]] = False
     smooth[b[steep]] = False
@@ -106,35 +109,69 @@ def parts_in_front(
     front: npt.NDArray[np.int64],
     voxel_of: npt.NDArray[np.intp],
     heights: FloatArray,
+    image_at: FloatArray,
+    at_edge: npt.NDArray[np.bool_] | None = None,
     *,
     min_voxels: int,
     max_base_height_m: float,
+    min_edge_points: int = 3,
 ) -> npt.NDArray[np.int64]:
     """The parts of one cluster's voxels (labels 0, 1, ...; all 0: no cut), from its points'
-    ``labels`` and ``front`` (:func:`surfaces`).
+    surface ``labels`` and ``front`` (:func:`surfaces`).
 
     ``voxel_of``: each point's voxel among the cluster's (0 to len(``heights``) - 1);
-    ``heights``: each voxel's height over the support. A voxel belongs to the surface most of
-    its points lie on. A surface of ``min_voxels`` voxels or more in front of another as large
-    and behind none becomes a part of its own
-    when it holds ``min_voxels`` voxels or more and stands on the support (its lowest voxel under
-    ``max_base_height_m``), and when the voxels left hold ``min_voxels`` too; all else stays
-    part 0.
+    ``heights``: each voxel's height over the support; ``image_at``: each point's row and
+    column in the image; ``at_edge``: which points lie at an
+    edge of the image's window that cuts what crosses it (None: none). A voxel belongs to the
+    surface most of its points lie on. Parts are cut off, in this order, only while the voxels
+    left hold ``min_voxels`` or more and stand on the support (lowest under
+    ``max_base_height_m``):
+
+    - the surfaces that hold ``min_edge_points`` points or more at the image's edge and hang
+      over the support (their lowest voxel at ``max_base_height_m`` or more), together: a hand
+      or an arm reaching into the scene, whatever it holds;
+    - each surface of ``min_voxels`` voxels or more that stands on the support, behind no other
+      as large, and lies across one: in front of two such surfaces that show on opposite sides
+      of it in the image (their centres on either side of its own). A thing lying across
+      another, as a handle in front of a box; a cup's front wall hides its inside on one side
+      only, and a box's front face the slivers of a side seen edge-on on one side only.
     """
     count = int(labels.max()) + 1
     votes = np.zeros((len(heights), count), dtype=np.int64)
     np.add.at(votes, (voxel_of, labels), 1)
     surface = votes.argmax(axis=1)
+    size = np.bincount(surface, minlength=count)
+    stands = np.full(count, False)
+    lowest = np.full(count, np.inf)
+    np.minimum.at(lowest, surface, heights)
+    stands = lowest < max_base_height_m
+    parts = np.zeros(len(heights), dtype=np.int64)
+
+    def cut_off(mine: npt.NDArray[np.bool_]) -> None:
+        rest = (parts == 0) & ~mine
+        if mine.any() and int(rest.sum()) >= min_voxels and float(heights[rest].min()) < max_base_height_m:
+            parts[mine & (parts == 0)] = int(parts.max()) + 1
+
+    if at_edge is not None:
+        edge_points = np.bincount(labels[at_edge], minlength=count)
+        reaching = (edge_points >= min_edge_points) & (size > 0) & ~stands
+        cut_off(reaching[surface])
     # Only surfaces of an object's size count: a few mixed pixels at an edge hide nothing.
-    large = np.bincount(surface, minlength=count) >= min_voxels
+    large = size >= min_voxels
     front = front[large[front[:, 0]] & large[front[:, 1]]]
     behind = set(front[:, 1].tolist())
-    parts = np.zeros(len(heights), dtype=np.int64)
+    centre = np.zeros((count, 2))
+    for axis in range(2):
+        centre[:, axis] = np.bincount(labels, weights=image_at[:, axis], minlength=count)
+    centre /= np.maximum(np.bincount(labels, minlength=count), 1)[:, None]
     for label in sorted(set(front[:, 0].tolist()) - behind):
-        mine = surface == label
-        if int(mine.sum()) < min_voxels or float(heights[mine].min()) >= max_base_height_m:
-            continue
-        if int((parts == 0).sum()) - int(mine.sum()) < min_voxels:
-            continue
-        parts[mine] = int(parts.max()) + 1
+        if stands[label] and _lies_across(centre, label, front[front[:, 0] == label, 1]):
+            cut_off(surface == label)
     return parts
+
+
+def _lies_across(centre: FloatArray, label: int, hidden: npt.NDArray[np.int64]) -> bool:
+    """Whether two of the ``hidden`` surfaces have their image centres (``centre``, per
+    surface) on opposite sides of surface ``label``'s centre."""
+    towards = centre[hidden] - centre[label]
+    return bool(((towards @ towards.T) < 0).any())

@@ -135,6 +135,7 @@ def segment(
             params,
             frame.pixels is not None and params.filter_artefacts,
             viewpoint,
+            reach.view,
         )
         too_small += small
         found = [c for c in found if stands_within(c, regions[k], params)]
