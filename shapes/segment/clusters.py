@@ -163,14 +163,15 @@ def _parted_at_occlusions(
         if len(voxels_of_cluster) < 2 * params.min_cluster_voxels:
             continue
         surface, front = surfaces(
-            kept.points[idx], kept.depth[idx], kept.pixels[idx], kept.image_width,
+            kept.points[idx],
+            kept.depth[idx],
+            kept.pixels[idx],
+            kept.image_width,
             params.occlusion_slope,
             params.occlusion_noise_multiple * kept.sigma_1m * kept.depth[idx] ** 2,
         )
         at_edge = (
-            None
-            if view is None
-            else view.at_closed_edge(kept.pixels[idx], params.border_band_px)
+            None if view is None else view.at_closed_edge(kept.pixels[idx], params.border_band_px)
         )
         if len(front) == 0 and (at_edge is None or not at_edge.any()):
             continue

@@ -141,7 +141,6 @@ def parts_in_front(
     np.add.at(votes, (voxel_of, labels), 1)
     surface = votes.argmax(axis=1)
     size = np.bincount(surface, minlength=count)
-    stands = np.full(count, False)
     lowest = np.full(count, np.inf)
     np.minimum.at(lowest, surface, heights)
     stands = lowest < max_base_height_m
@@ -149,7 +148,11 @@ def parts_in_front(
 
     def cut_off(mine: npt.NDArray[np.bool_]) -> None:
         rest = (parts == 0) & ~mine
-        if mine.any() and int(rest.sum()) >= min_voxels and float(heights[rest].min()) < max_base_height_m:
+        if (
+            mine.any()
+            and int(rest.sum()) >= min_voxels
+            and float(heights[rest].min()) < max_base_height_m
+        ):
             parts[mine & (parts == 0)] = int(parts.max()) + 1
 
     if at_edge is not None:
