@@ -184,8 +184,10 @@ def _parted_at_occlusions(
             heights[voxels_of_cluster],
             np.column_stack(np.divmod(kept.pixels[idx], kept.image_width)).astype(np.float64),
             at_edge,
+            points=kept.points[idx],
             min_voxels=params.min_cluster_voxels,
             max_base_height_m=params.max_base_height_m,
+            min_reach_m=params.cluster_eps_m,
             min_edge_points=params.min_cut_voxels,
         )
         for part in range(1, int(parts.max()) + 1):

@@ -24,6 +24,7 @@ import numpy.typing as npt
 from scipy import ndimage
 from scipy.sparse import coo_matrix
 from scipy.sparse.csgraph import connected_components
+from scipy.spatial import cKDTree
 
 from shapes.types import FloatArray
 
@@ -112,8 +113,10 @@ def parts_in_front(
     image_at: FloatArray,
     at_edge: npt.NDArray[np.bool_] | None = None,
     *,
+    points: FloatArray,
     min_voxels: int,
     max_base_height_m: float,
+    min_reach_m: float,
     min_edge_points: int = 3,
 ) -> npt.NDArray[np.int64]:
     """The parts of one cluster's voxels (labels 0, 1, ...; all 0: no cut), from its points'
@@ -121,7 +124,7 @@ def parts_in_front(
 
     ``voxel_of``: each point's voxel among the cluster's (0 to len(``heights``) - 1);
     ``heights``: each voxel's height over the support; ``image_at``: each point's row and
-    column in the image; ``at_edge``: which points lie at an
+    column in the image, ``points`` its position (metres); ``at_edge``: which points lie at an
     edge of the image's window that cuts what crosses it (None: none). A voxel belongs to the
     surface most of its points lie on. Parts are cut off, in this order, only while the voxels
     left hold ``min_voxels`` or more and stand on the support (lowest under
@@ -132,9 +135,11 @@ def parts_in_front(
       or an arm reaching into the scene, whatever it holds;
     - each surface of ``min_voxels`` voxels or more that stands on the support, behind no other
       as large, and lies across one: in front of two such surfaces that show on opposite sides
-      of it in the image (their centres on either side of its own). A thing lying across
-      another, as a handle in front of a box; a cup's front wall hides its inside on one side
-      only, and a box's front face the slivers of a side seen edge-on on one side only.
+      of it in the image (their centres on either side of its own), each reaching away from it
+      (the median distance of its points to the surface's nearest one) ``min_reach_m`` or
+      more. A thing lying across another, as a handle in front of a box. A cup's front wall
+      hides its inside on one side only, and the bands of a round thing's or a box's sides,
+      seen edge-on on both sides of its front, hug its outline.
     """
     count = int(labels.max()) + 1
     votes = np.zeros((len(heights), count), dtype=np.int64)
@@ -168,13 +173,18 @@ def parts_in_front(
         centre[:, axis] = np.bincount(labels, weights=image_at[:, axis], minlength=count)
     centre /= np.maximum(np.bincount(labels, minlength=count), 1)[:, None]
     for label in sorted(set(front[:, 0].tolist()) - behind):
-        if stands[label] and _lies_across(centre, label, front[front[:, 0] == label, 1]):
+        if not stands[label]:
+            continue
+        hidden = front[front[:, 0] == label, 1]
+        towards = centre[hidden] - centre[label]
+        opposite = np.argwhere(np.triu(towards @ towards.T < 0))
+        if len(opposite) == 0:
+            continue
+        tree = cKDTree(points[labels == label])
+        away = {
+            int(k): float(np.median(tree.query(points[labels == k])[0]))
+            for k in np.unique(hidden[opposite])
+        }
+        if any(min(away[hidden[i]], away[hidden[j]]) >= min_reach_m for i, j in opposite):
             cut_off(surface == label)
     return parts
-
-
-def _lies_across(centre: FloatArray, label: int, hidden: npt.NDArray[np.int64]) -> bool:
-    """Whether two of the ``hidden`` surfaces have their image centres (``centre``, per
-    surface) on opposite sides of surface ``label``'s centre."""
-    towards = centre[hidden] - centre[label]
-    return bool(((towards @ towards.T) < 0).any())
