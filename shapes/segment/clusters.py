@@ -142,8 +142,8 @@ def _parted_at_occlusions(
     params: SegmentationParams,
     view: ImageView | None,
 ) -> npt.NDArray[np.int64]:
-    """``labels`` (of the ``candidates`` voxels) with every cluster of ``2 * min_cluster_voxels``
-    voxels or more parted where a surface stands in front of the rest
+    """``labels`` (of the ``candidates`` voxels) with every cluster of ``3 * min_cluster_voxels``
+    voxels or more, or reaching the image's edge, parted where a surface stands in front of the rest
     (:mod:`shapes.segment.occlusion`), and without what hangs in from an edge of the image's
     window (``view``); ``heights``: each candidate's height over the support."""
     if kept.pixels is None or kept.image_width is None:
@@ -160,7 +160,13 @@ def _parted_at_occlusions(
     for label in range(next_label):
         idx = member[bounds[label] : bounds[label + 1]]
         voxels_of_cluster = np.flatnonzero(labels == label)
-        if len(voxels_of_cluster) < 2 * params.min_cluster_voxels:
+        at_edge = (
+            None if view is None else view.at_closed_edge(kept.pixels[idx], params.border_band_px)
+        )
+        # A thing lying across another needs three surfaces of an object's size; what hangs in
+        # from the image's edge, a cluster that reaches it.
+        reaches_edge = at_edge is not None and int(at_edge.sum()) >= params.min_cut_voxels
+        if len(voxels_of_cluster) < 3 * params.min_cluster_voxels and not reaches_edge:
             continue
         surface, front = surfaces(
             kept.points[idx],
@@ -170,10 +176,7 @@ def _parted_at_occlusions(
             params.occlusion_slope,
             params.occlusion_noise_multiple * kept.sigma_1m * kept.depth[idx] ** 2,
         )
-        at_edge = (
-            None if view is None else view.at_closed_edge(kept.pixels[idx], params.border_band_px)
-        )
-        if len(front) == 0 and (at_edge is None or not at_edge.any()):
+        if len(front) == 0 and not reaches_edge:
             continue
         local = np.full(len(candidates), -1, dtype=np.intp)
         local[voxels_of_cluster] = np.arange(len(voxels_of_cluster))

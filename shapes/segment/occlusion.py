@@ -74,19 +74,24 @@ def surfaces(
         second.append(b[both])
     a, b = np.concatenate(first), np.concatenate(second)
     step = np.abs(depth[a] - depth[b])
-    apart = np.linalg.norm(points[a] - points[b], axis=1)
-    across = np.sqrt(np.maximum(apart**2 - step**2, 0.0))
     least = np.broadcast_to(np.asarray(min_step_m, dtype=np.float64), depth.shape)
-    steep = (step > max_slope * across) & (step > np.maximum(least[a], least[b]))
+    steep = step > np.maximum(least[a], least[b])
+    # Only the steps over the noise need their distance across the ray (most pairs are not).
+    over = np.flatnonzero(steep)
+    apart = np.linalg.norm(points[a[over]] - points[b[over]], axis=1)
+    across = np.sqrt(np.maximum(apart**2 - step[over] ** 2, 0.0))
+    steep[over] = step[over] > max_slope * across
+    n = len(points)
+    if not steep.any():
+        return np.zeros(n, dtype=np.int64), np.zeros((0, 2), dtype=np.int64)
     smooth = np.ones(len(points), dtype=bool)
     smooth[a[steep]] = False
     smooth[b[steep]] = False
     joined = ~steep & smooth[a] & smooth[b]
-    n = len(points)
     graph = coo_matrix((np.ones(int(joined.sum())), (a[joined], b[joined])), shape=(n, n))
-    _, labels = connected_components(graph, directed=False)
     if not smooth.any():
         return np.zeros(n, dtype=np.int64), np.zeros((0, 2), dtype=np.int64)
+    _, labels = connected_components(graph, directed=False)
     # A steep point takes the surface of the nearest smooth point in the image.
     on_surface = np.full(grid.shape, -1, dtype=np.int64)
     on_surface[r[smooth], c[smooth]] = labels[smooth]

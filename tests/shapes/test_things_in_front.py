@@ -80,7 +80,7 @@ def test_a_step_of_a_few_noise_levels_is_one_surface() -> None:
 def test_only_a_surface_lying_across_another_is_parted(
     hidden_columns: tuple[range, ...], parted: bool
 ) -> None:
-    """One voxel per point; every voxel on the support (height 0)."""
+    """One voxel per point, 1 cm apart in a row; every voxel on the support (height 0)."""
     labels = np.full(24, 1)
     for k, columns in enumerate(hidden_columns):
         labels[list(columns)] = 2 * k
@@ -92,12 +92,35 @@ def test_only_a_surface_lying_across_another_is_parted(
         np.arange(24),
         np.zeros(24),
         image_at,
+        points=np.column_stack([np.arange(24) * 0.01, np.zeros(24), np.ones(24)]),
         min_voxels=2,
         max_base_height_m=0.04,
+        min_reach_m=0.03,
     )
     assert bool(parts.max() > 0) == parted
     if parted:
         assert (parts[labels == 1] == 1).all() and (parts[labels != 1] == 0).all()
+
+
+def test_the_edge_on_sides_of_a_round_thing_are_not_parted_from_its_front() -> None:
+    """The front (points 2-17) hides a band 2 cm wide on either side: its own sides seen
+    edge-on, which hug its outline (their points 1-2 cm from its nearest), not a thing
+    behind it."""
+    labels = np.r_[np.zeros(2), np.ones(16), np.full(2, 2)].astype(np.int64)
+    points = np.column_stack([np.arange(20) * 0.01, np.zeros(20), np.ones(20)])
+    image_at = np.column_stack([np.zeros(20), np.arange(20)]).astype(np.float64)
+    parts = parts_in_front(
+        labels,
+        np.array([[1, 0], [1, 2]]),
+        np.arange(20),
+        np.zeros(20),
+        image_at,
+        points=points,
+        min_voxels=2,
+        max_base_height_m=0.04,
+        min_reach_m=0.03,
+    )
+    assert parts.tolist() == [0] * 20
 
 
 def test_a_hand_hanging_in_from_the_image_edge_is_parted_off() -> None:
@@ -111,7 +134,16 @@ def test_a_hand_hanging_in_from_the_image_edge_is_parted_off() -> None:
 
     def parts(at: np.ndarray, high: np.ndarray) -> list[int]:
         cut = parts_in_front(
-            labels, empty, np.arange(12), high, image_at, at, min_voxels=4, max_base_height_m=0.04
+            labels,
+            empty,
+            np.arange(12),
+            high,
+            image_at,
+            at,
+            points=np.zeros((12, 3)),
+            min_voxels=4,
+            max_base_height_m=0.04,
+            min_reach_m=0.03,
         )
         return cut.tolist()
 
