@@ -28,13 +28,19 @@ def _errors(seen: list[np.ndarray], label: str) -> list[float]:
     return sorted(float(np.linalg.norm(c - centre)) for c in seen)
 
 
+def _nearest(seen: list[np.ndarray], label: str) -> int:
+    centre = np.asarray(TRUTH[MALLET][label]["centre"])
+    return int(np.argmin([np.linalg.norm(c - centre) for c in seen]))
+
+
 @pytest.mark.parametrize("seed", [0, 1, 2])
 def test_the_mallet_in_front_of_the_box_is_a_primitive_of_its_own(seed: int) -> None:
     """Before: one cluster held the box, the mallet and the hand (the handle 2.8-3.1 cm in front
     of the box, within ``cluster_eps_m``), its primitive 2.7 cm from the box and 3.1 cm from
     the mallet, and the mallet was missed."""
     seen = _seen(seed)
-    assert _errors(seen, "mallet")[0] < 0.03
+    assert _nearest(seen, "mallet") != _nearest(seen, "box")
+    assert _errors(seen, "mallet")[0] < 0.02
     assert _errors(seen, "box")[0] < 0.03
 
 
