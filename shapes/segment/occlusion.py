@@ -95,7 +95,9 @@ def surfaces(
     # A steep point takes the surface of the nearest smooth point in the image.
     on_surface = np.full(grid.shape, -1, dtype=np.int64)
     on_surface[r[smooth], c[smooth]] = labels[smooth]
-    _, (near_r, near_c) = ndimage.distance_transform_edt(on_surface < 0, return_indices=True)
+    near_r, near_c = ndimage.distance_transform_edt(
+        on_surface < 0, return_distances=False, return_indices=True
+    )
     labels = on_surface[near_r[r, c], near_c[r, c]]
     _, labels = np.unique(labels, return_inverse=True)
     labels = labels.astype(np.int64)
@@ -104,8 +106,7 @@ def surfaces(
     nearer = np.where(depth[a[steep]] < depth[b[steep]], la, lb)[cross]
     farther = np.where(depth[a[steep]] < depth[b[steep]], lb, la)[cross]
     count = int(labels.max()) + 1
-    votes = np.zeros((count, count), dtype=np.int64)
-    np.add.at(votes, (nearer, farther), 1)
+    votes = np.bincount(nearer * count + farther, minlength=count * count).reshape(count, count)
     front = np.argwhere(votes > votes.T)
     return labels, front.astype(np.int64)
 
@@ -147,9 +148,8 @@ def parts_in_front(
       seen edge-on on both sides of its front, hug its outline.
     """
     count = int(labels.max()) + 1
-    votes = np.zeros((len(heights), count), dtype=np.int64)
-    np.add.at(votes, (voxel_of, labels), 1)
-    surface = votes.argmax(axis=1)
+    votes = np.bincount(voxel_of * count + labels, minlength=len(heights) * count)
+    surface = votes.reshape(len(heights), count).argmax(axis=1)
     size = np.bincount(surface, minlength=count)
     lowest = np.full(count, np.inf)
     np.minimum.at(lowest, surface, heights)
