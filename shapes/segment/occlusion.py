@@ -22,8 +22,6 @@ from __future__ import annotations
 import numpy as np
 import numpy.typing as npt
 from scipy import ndimage
-from scipy.sparse import coo_matrix
-from scipy.sparse.csgraph import connected_components
 from scipy.spatial import cKDTree
 
 from shapes.types import FloatArray
@@ -87,14 +85,20 @@ def surfaces(
     smooth = np.ones(len(points), dtype=bool)
     smooth[a[steep]] = False
     smooth[b[steep]] = False
-    joined = ~steep & smooth[a] & smooth[b]
-    graph = coo_matrix((np.ones(int(joined.sum())), (a[joined], b[joined])), shape=(n, n))
     if not smooth.any():
         return np.zeros(n, dtype=np.int64), np.zeros((0, 2), dtype=np.int64)
-    _, labels = connected_components(graph, directed=False)
+    # Two smooth neighbours never step steeply (a steep step makes both ends steep): the
+    # surfaces are the 8-connected pieces of the smooth points on the grid, numbered in the
+    # order of their first point.
+    on_grid = np.zeros(grid.shape, dtype=bool)
+    on_grid[r[smooth], c[smooth]] = True
+    pieces, count = ndimage.label(on_grid, structure=np.ones((3, 3), dtype=bool))
+    first = np.full(count + 1, n)
+    np.minimum.at(first, pieces[r[smooth], c[smooth]], np.flatnonzero(smooth))
+    rank = np.full(count + 1, -1, dtype=np.int64)
+    rank[1:] = np.argsort(np.argsort(first[1:], kind="stable"), kind="stable")
     # A steep point takes the surface of the nearest smooth point in the image.
-    on_surface = np.full(grid.shape, -1, dtype=np.int64)
-    on_surface[r[smooth], c[smooth]] = labels[smooth]
+    on_surface = rank[pieces]
     near_r, near_c = ndimage.distance_transform_edt(
         on_surface < 0, return_distances=False, return_indices=True
     )
