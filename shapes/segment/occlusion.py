@@ -63,28 +63,31 @@ def surfaces(
     grid = np.full((int(r.max()) + 2, int(c.max()) + 2), -1, dtype=np.int64)
     grid[r, c] = np.arange(len(points))
     h, w = grid.shape
+    # Depths and noise bounds on the grid (NaN where no point: no step there).
+    near = np.full(grid.shape, np.nan)
+    near[r, c] = depth
+    least = np.zeros(grid.shape)
+    least[r, c] = np.broadcast_to(np.asarray(min_step_m, dtype=np.float64), depth.shape)
     first, second = [], []
     for dr, dc in _STEPS:
-        a = grid[: h - dr, 1 : w - 1]
-        b = grid[dr:h, 1 + dc : w - 1 + dc]
-        both = (a >= 0) & (b >= 0)
-        first.append(a[both])
-        second.append(b[both])
+        ra, ca = slice(0, h - dr), slice(1, w - 1)
+        rb, cb = slice(dr, h), slice(1 + dc, w - 1 + dc)
+        # Only the steps over the noise need their distance across the ray (most pairs are not).
+        over = np.abs(near[ra, ca] - near[rb, cb]) > np.maximum(least[ra, ca], least[rb, cb])
+        first.append(grid[ra, ca][over])
+        second.append(grid[rb, cb][over])
     a, b = np.concatenate(first), np.concatenate(second)
     step = np.abs(depth[a] - depth[b])
-    least = np.broadcast_to(np.asarray(min_step_m, dtype=np.float64), depth.shape)
-    steep = step > np.maximum(least[a], least[b])
-    # Only the steps over the noise need their distance across the ray (most pairs are not).
-    over = np.flatnonzero(steep)
-    apart = np.linalg.norm(points[a[over]] - points[b[over]], axis=1)
-    across = np.sqrt(np.maximum(apart**2 - step[over] ** 2, 0.0))
-    steep[over] = step[over] > max_slope * across
+    apart = np.linalg.norm(points[a] - points[b], axis=1)
+    across = np.sqrt(np.maximum(apart**2 - step**2, 0.0))
+    steep = step > max_slope * across
+    a, b = a[steep], b[steep]
     n = len(points)
-    if not steep.any():
+    if len(a) == 0:
         return np.zeros(n, dtype=np.int64), np.zeros((0, 2), dtype=np.int64)
     smooth = np.ones(len(points), dtype=bool)
-    smooth[a[steep]] = False
-    smooth[b[steep]] = False
+    smooth[a] = False
+    smooth[b] = False
     if not smooth.any():
         return np.zeros(n, dtype=np.int64), np.zeros((0, 2), dtype=np.int64)
     # Two smooth neighbours never step steeply (a steep step makes both ends steep): the
@@ -105,10 +108,10 @@ def surfaces(
     labels = on_surface[near_r[r, c], near_c[r, c]]
     _, labels = np.unique(labels, return_inverse=True)
     labels = labels.astype(np.int64)
-    la, lb = labels[a[steep]], labels[b[steep]]
+    la, lb = labels[a], labels[b]
     cross = la != lb
-    nearer = np.where(depth[a[steep]] < depth[b[steep]], la, lb)[cross]
-    farther = np.where(depth[a[steep]] < depth[b[steep]], lb, la)[cross]
+    nearer = np.where(depth[a] < depth[b], la, lb)[cross]
+    farther = np.where(depth[a] < depth[b], lb, la)[cross]
     count = int(labels.max()) + 1
     votes = np.bincount(nearer * count + farther, minlength=count * count).reshape(count, count)
     front = np.argwhere(votes > votes.T)
