@@ -96,10 +96,10 @@ def surfaces(
     on_grid = np.zeros(grid.shape, dtype=bool)
     on_grid[r[smooth], c[smooth]] = True
     pieces, count = ndimage.label(on_grid, structure=np.ones((3, 3), dtype=bool))
-    first = np.full(count + 1, n)
-    np.minimum.at(first, pieces[r[smooth], c[smooth]], np.flatnonzero(smooth))
+    earliest = np.full(count + 1, n)
+    np.minimum.at(earliest, pieces[r[smooth], c[smooth]], np.flatnonzero(smooth))
     rank = np.full(count + 1, -1, dtype=np.int64)
-    rank[1:] = np.argsort(np.argsort(first[1:], kind="stable"), kind="stable")
+    rank[1:] = np.argsort(np.argsort(earliest[1:], kind="stable"), kind="stable")
     # A steep point takes the surface of the nearest smooth point in the image.
     on_surface = rank[pieces]
     near_r, near_c = ndimage.distance_transform_edt(
