@@ -9,12 +9,15 @@ depths where the sensor smooths. DBSCAN joins the two across the step when it is
 
 In the image, a cluster's points are joined into *surfaces*: neighbouring pixels whose depths
 differ by less than ``occlusion_slope`` times their distance across the ray (a surface turned
-less than about 56° from the camera). The points of a steeper step (the ramp of an occlusion
-edge, and a face seen nearly edge-on) join nothing. A surface that lies nearer than its
-neighbour across most of the steps they share is in front of it. A surface that is in front of
-others and behind none, and that stands on the support, is cut off as a part of its own; the
-rest stays one part, even where the thing in front hides a band of it from top to bottom (the
-box's two halves left and right of the handle).
+less than about 56° from the camera), or by less than ``occlusion_noise_multiple`` times the
+depth noise. The points of a steeper step (the ramp of an occlusion edge, and a face seen nearly
+edge-on) join nothing. A surface that lies nearer than its neighbour across most of the steps
+they share is in front of it. A surface that stands on the support and lies across others (in
+front of two that show on either side of it and reach away from it) is cut off as a part of its
+own; the rest stays one part, even where the thing in front hides a band of it from top to
+bottom (the box's two halves left and right of the handle). What hangs in from an edge of the
+image's window (a hand holding the box) is cut off too, so that the edge judges it alone
+(:func:`parts_in_front`).
 """
 
 from __future__ import annotations
