@@ -70,6 +70,10 @@ Steps (PITT's, with its quirks fixed; see ``shared/reference/pitt-perception.md`
    reaches down to the support (a handle or a shoulder hangs above it), unless the parts close a
    ring around a common centre (a bowl's inside, :mod:`shapes.ring_cut`); clusters with fewer than
    ``min_cluster_voxels`` voxels are dropped;
+   reaches down to the support (a handle or a shoulder hangs above it), and parted at occlusion
+   edges where a thing lies across another in front of it, or a hand hangs in from the image's
+   edge (:mod:`shapes.segment.occlusion`); clusters with fewer than ``min_cluster_voxels``
+   voxels are dropped;
 7. each cluster gets its full-resolution points (and colours) back through the voxel index.
 
 When there is no cluster, :attr:`Segmentation.reason` says why in one line: no support found
@@ -85,6 +89,7 @@ The modules, in the order of the steps (imports go one way, each only from those
 - :mod:`shapes.segment.free_voxels`: the voxels free of the planes, and the support each
   stands over;
 - :mod:`shapes.segment.splitting`: which of the splitter's cuts are taken;
+- :mod:`shapes.segment.occlusion`: clusters parted at occlusion edges;
 - :mod:`shapes.segment.clusters`: :class:`Cluster`, the clusters over one support;
 - :mod:`shapes.segment.reach`: how far the scene reaches (the depth cut, the image's window);
 - :mod:`shapes.segment.objects`: the rules of what is an object of the scene, in their order;

@@ -15,9 +15,11 @@ import numpy.typing as npt
 import open3d as o3d
 
 from shapes.artefacts import sparse_points
+from shapes.segment.occlusion import parts_in_front, surfaces
 from shapes.segment.params import SegmentationParams
 from shapes.segment.splitting import split_clusters
 from shapes.types import FloatArray, SupportPlane
+from shapes.view import ImageView
 
 
 @dataclass(frozen=True, eq=False)
@@ -55,6 +57,8 @@ class KeptPoints:
     """The image pixel of each point, on an organised frame."""
     sigma_1m: float
     """The depth noise at 1 m."""
+    image_width: int | None = None
+    """The width in pixels of the image ``pixels`` index (None: not an organised frame)."""
 
     def noise_m(self, idx: npt.NDArray[np.intp]) -> float:
         """The depth noise (one sigma) at the median range of the points ``idx``."""
@@ -69,9 +73,11 @@ def clusters_on(
     params: SegmentationParams,
     organised: bool,
     viewpoint: FloatArray | None,
+    view: ImageView | None = None,
 ) -> tuple[list[Cluster], int]:
     """DBSCAN clusters of the candidate voxels (of ``kept.voxels``) above one support, and how
-    many were too small."""
+    many were too small. ``view``: the image's valid window, whose closed edges cut what crosses
+    them (:mod:`shapes.view`)."""
     voxels, voxel_of, points, sigma_1m = kept.voxels, kept.voxel_of, kept.points, kept.sigma_1m
     cloud = _cloud(voxels[candidates])
     _, inliers = cloud.remove_statistical_outlier(
@@ -91,6 +97,10 @@ def clusters_on(
             sigma_1m,
             support.signed_distance(voxels[candidates]),
             margin,
+        )
+    if organised and params.occlusion_slope > 0:
+        labels = _parted_at_occlusions(
+            labels, candidates, kept, support.signed_distance(voxels[candidates]), params, view
         )
     voxel_label = np.full(len(voxels), -1, dtype=np.int64)
     voxel_label[candidates] = labels
@@ -122,6 +132,71 @@ def clusters_on(
             )
         )
     return clusters, small
+
+
+def _parted_at_occlusions(
+    labels: npt.NDArray[np.int64],
+    candidates: npt.NDArray[np.intp],
+    kept: KeptPoints,
+    heights: FloatArray,
+    params: SegmentationParams,
+    view: ImageView | None,
+) -> npt.NDArray[np.int64]:
+    """``labels`` (of the ``candidates`` voxels) with every cluster of ``3 * min_cluster_voxels``
+    voxels or more, or reaching the image's edge, parted where a surface stands in front of the rest
+    (:mod:`shapes.segment.occlusion`), and without what hangs in from an edge of the image's
+    window (``view``); ``heights``: each candidate's height over the support."""
+    if kept.pixels is None or kept.image_width is None:
+        return labels
+    out = labels.copy()
+    next_label = int(labels.max(initial=-1)) + 1
+    position = np.full(len(kept.voxels), -1, dtype=np.intp)
+    position[candidates] = np.arange(len(candidates))
+    at = position[kept.voxel_of]
+    member = np.flatnonzero(at >= 0)
+    member = member[labels[at[member]] >= 0]
+    member = member[np.argsort(labels[at[member]], kind="stable")]
+    bounds = np.searchsorted(labels[at[member]], np.arange(next_label + 1))
+    for label in range(next_label):
+        idx = member[bounds[label] : bounds[label + 1]]
+        voxels_of_cluster = np.flatnonzero(labels == label)
+        at_edge = (
+            None if view is None else view.at_closed_edge(kept.pixels[idx], params.border_band_px)
+        )
+        # A thing lying across another needs three surfaces of an object's size; what hangs in
+        # from the image's edge, a cluster that reaches it.
+        reaches_edge = at_edge is not None and int(at_edge.sum()) >= params.min_cut_voxels
+        if len(voxels_of_cluster) < 3 * params.min_cluster_voxels and not reaches_edge:
+            continue
+        surface, front = surfaces(
+            kept.points[idx],
+            kept.depth[idx],
+            kept.pixels[idx],
+            kept.image_width,
+            params.occlusion_slope,
+            params.occlusion_noise_multiple * kept.sigma_1m * kept.depth[idx] ** 2,
+        )
+        if len(front) == 0 and not reaches_edge:
+            continue
+        local = np.full(len(candidates), -1, dtype=np.intp)
+        local[voxels_of_cluster] = np.arange(len(voxels_of_cluster))
+        parts = parts_in_front(
+            surface,
+            front,
+            local[at[idx]],
+            heights[voxels_of_cluster],
+            np.column_stack(np.divmod(kept.pixels[idx], kept.image_width)).astype(np.float64),
+            at_edge,
+            points=kept.points[idx],
+            min_voxels=params.min_cluster_voxels,
+            max_base_height_m=params.max_base_height_m,
+            min_reach_m=params.cluster_eps_m,
+            min_edge_points=params.min_cut_voxels,
+        )
+        for part in range(1, int(parts.max()) + 1):
+            out[voxels_of_cluster[parts == part]] = next_label
+            next_label += 1
+    return out
 
 
 def _cloud(points: FloatArray) -> o3d.geometry.PointCloud:

@@ -42,6 +42,14 @@ class SegmentationParams:
     across the support, for the parts to close a ring (:mod:`shapes.ring_cut`) and the cut to be
     refused: a bowl's inside. Over the tuned-on scans' taken cuts of three parts or more (seeds
     0-2), the rings' widest gaps are 89-112 degrees, the other cuts' 142-179."""
+    occlusion_slope: float = 1.5
+    """How steeply (depth step over distance across the ray) neighbouring pixels of one
+    surface may differ in depth; a steeper step is an occlusion edge or a face seen edge-on,
+    across which a surface in front is parted from what it hides
+    (:mod:`shapes.segment.occlusion`; 0: never)."""
+    occlusion_noise_multiple: float = 10.0
+    """How many times the depth noise at its range a step must also exceed to part surfaces:
+    a step of a few noise levels (a Kinect's depth quantisation) is one surface's."""
     min_support_rise_m: float = 0.25
     max_base_height_m: float = 0.04
     floor_step_m: float = 0.03

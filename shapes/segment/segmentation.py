@@ -107,7 +107,16 @@ def segment(
         if sel.sum() > 100:
             resid = supports[largest].signed_distance(points[sel])
             sigma_1m = robust_sigma(resid) / float(np.median(depth[sel] ** 2))
-    kept_points = KeptPoints(voxels, voxel_of, points, depth, colours, pixels, sigma_1m)
+    kept_points = KeptPoints(
+        voxels,
+        voxel_of,
+        points,
+        depth,
+        colours,
+        pixels,
+        sigma_1m,
+        None if frame.image_shape is None else frame.image_shape[1],
+    )
     clusters: list[Cluster] = []
     too_small = above = 0
     votes = np.zeros(len(horizontal), dtype=np.int64)
@@ -126,6 +135,7 @@ def segment(
             params,
             frame.pixels is not None and params.filter_artefacts,
             viewpoint,
+            reach.view,
         )
         too_small += small
         found = [c for c in found if stands_within(c, regions[k], params)]
