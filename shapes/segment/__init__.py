@@ -68,12 +68,10 @@ Steps (PITT's, with its quirks fixed; see ``shared/reference/pitt-perception.md`
 6. statistical outlier removal and DBSCAN (open3d) on those voxels; each cluster is cut along
    its concave seams, which separates objects that touch (:mod:`shapes.split`) when every part
    reaches down to the support (a handle or a shoulder hangs above it), unless the parts close a
-   ring around a common centre (a bowl's inside, :mod:`shapes.ring_cut`); clusters with fewer than
+   ring around a common centre (a bowl's inside, :mod:`shapes.ring_cut`), and parted at
+   occlusion edges where a thing lies across another in front of it, or a hand hangs in from the
+   image's edge (:mod:`shapes.segment.occlusion`); clusters with fewer than
    ``min_cluster_voxels`` voxels are dropped;
-   reaches down to the support (a handle or a shoulder hangs above it), and parted at occlusion
-   edges where a thing lies across another in front of it, or a hand hangs in from the image's
-   edge (:mod:`shapes.segment.occlusion`); clusters with fewer than ``min_cluster_voxels``
-   voxels are dropped;
 7. each cluster gets its full-resolution points (and colours) back through the voxel index.
 
 When there is no cluster, :attr:`Segmentation.reason` says why in one line: no support found
