@@ -153,9 +153,10 @@ def parts_in_front(
       as large, and lies across one: in front of two such surfaces that show on opposite sides
       of it in the image (their centres on either side of its own), each reaching away from it
       (the median distance of its points to the surface's nearest one) ``min_reach_m`` or
-      more. A thing lying across another, as a handle in front of a box. A cup's front wall
-      hides its inside on one side only, and the bands of a round thing's or a box's sides,
-      seen edge-on on both sides of its front, hug its outline.
+      more, and holding together more voxels than it. A thing lying across another, as a handle
+      in front of a box. A cup's front wall hides its inside on one side only, the bands of a
+      round thing's or a box's sides, seen edge-on on both sides of its front, hug its outline,
+      and the slivers of a bowl's inside and rim beside its near wall are smaller than the wall.
     """
     count = int(labels.max()) + 1
     votes = np.bincount(voxel_of * count + labels, minlength=len(heights) * count)
@@ -200,6 +201,12 @@ def parts_in_front(
             int(k): float(np.median(tree.query(points[labels == k])[0]))
             for k in np.unique(hidden[opposite])
         }
-        if any(min(away[hidden[i]], away[hidden[j]]) >= min_reach_m for i, j in opposite):
+        # What shows of the thing behind, on its two sides, outweighs the band in front of it;
+        # a container's near wall outweighs the slivers of its own inside and rim beside it.
+        if any(
+            min(away[hidden[i]], away[hidden[j]]) >= min_reach_m
+            and size[hidden[i]] + size[hidden[j]] > size[label]
+            for i, j in opposite
+        ):
             cut_off(surface == label)
     return parts
