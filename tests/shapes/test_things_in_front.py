@@ -156,3 +156,29 @@ def test_a_hand_hanging_in_from_the_image_edge_is_parted_off() -> None:
     assert parts(at_edge, heights) == [0] * 8 + [1] * 4
     assert parts(np.zeros(12, dtype=bool), heights) == [0] * 12
     assert parts(at_edge, np.r_[heights[:8], np.zeros(4)]) == [0] * 12
+
+
+@pytest.mark.parametrize(("front_voxels", "parted"), [(6, True), (16, False)])
+def test_a_front_larger_than_what_it_hides_on_both_sides_is_not_parted(
+    front_voxels: int, parted: bool
+) -> None:
+    """Four voxels show on each side of the front, 4-7 cm from it (as the slivers of a bowl's
+    inside and rim beside its near wall, 3 cm and more away, in ``living_room_floor_realsense``):
+    parted only when the two sides together outweigh the front (a handle across a box)."""
+    n = front_voxels + 8
+    labels = np.r_[np.zeros(4), np.ones(front_voxels), np.full(4, 2)].astype(np.int64)
+    x = np.r_[np.arange(4) * 0.01 - 0.07, np.arange(front_voxels) * 0.01]
+    x = np.r_[x, (front_voxels - 1) * 0.01 + 0.04 + np.arange(4) * 0.01]
+    image_at = np.column_stack([np.zeros(n), np.arange(n)]).astype(np.float64)
+    parts = parts_in_front(
+        labels,
+        np.array([[1, 0], [1, 2]]),
+        np.arange(n),
+        np.zeros(n),
+        image_at,
+        points=np.column_stack([x, np.zeros(n), np.ones(n)]),
+        min_voxels=2,
+        max_base_height_m=0.04,
+        min_reach_m=0.03,
+    )
+    assert bool(parts.max() > 0) == parted
