@@ -1,7 +1,6 @@
 """``bench/perception_oracle.py`` takes each measured object's points as the ground truth takes
 them and scores the fit on them as ``bench/perception.py`` scores the chain's primitives."""
 
-import importlib.util
 import json
 from pathlib import Path
 from types import ModuleType
@@ -10,7 +9,7 @@ import numpy as np
 import pytest
 
 from shapes import open_source
-from tests.shapes.real_scans import SCANS, measure_module, perceived
+from tests.shapes.real_scans import SCANS, bench_module, measure_module, perceived
 
 ROOT = Path(__file__).parents[2]
 TRUTH = json.loads((SCANS / "truth.json").read_text())
@@ -23,13 +22,7 @@ class Loaded(Exception):
 @pytest.fixture(scope="module")
 def oracle() -> ModuleType:
     """bench/perception_oracle.py as a module."""
-    spec = importlib.util.spec_from_file_location(
-        "bench_perception_oracle", ROOT / "bench" / "perception_oracle.py"
-    )
-    assert spec is not None and spec.loader is not None
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
+    return bench_module("perception_oracle")
 
 
 @pytest.mark.parametrize("scan", ["mug_stereo", "bottles_kinect", "desk_tum"])

@@ -2,12 +2,13 @@
 given: those scans are kept for the next stop (tests/data/real_scans/README.md). No perception
 is run here: loading any scan fails the test's way."""
 
-import importlib.util
 import json
 from pathlib import Path
 from types import ModuleType
 
 import pytest
+
+from tests.shapes.real_scans import bench_module
 
 ROOT = Path(__file__).parents[2]
 TRUTH = json.loads((ROOT / "tests" / "data" / "real_scans" / "truth.json").read_text())
@@ -21,21 +22,10 @@ class Loaded(Exception):
     """Raised instead of loading a scan."""
 
 
-def _bench_module() -> ModuleType:
-    """bench/perception.py, loaded from its path (not a package); loading runs no perception."""
-    spec = importlib.util.spec_from_file_location(
-        "bench_perception", ROOT / "bench" / "perception.py"
-    )
-    assert spec is not None and spec.loader is not None
-    bench = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(bench)
-    return bench
-
-
 def _bench(monkeypatch: pytest.MonkeyPatch, truth: Path) -> ModuleType:
     """bench/perception.py reading ``truth`` (a truth.json), with every scan it lists failing to
     load."""
-    bench = _bench_module()
+    bench = bench_module("perception")
 
     def refuse(path: Path) -> None:
         raise Loaded(Path(path).stem)
@@ -79,6 +69,6 @@ def test_the_held_out_scans_are_listed_and_left_out_when_tuning(
 def test_the_reserved_scans_are_not_in_the_bench(name: str) -> None:
     """Scans reserved for the next stop are not even listed, so that no run of this stop, the
     lead's ``--reserved`` one included, can give them to the pipeline."""
-    bench = _bench_module()
+    bench = bench_module("perception")
     assert name not in set(bench.REAL_TRUTH) | set(bench.REAL_TRUTH.values())
     assert name not in ROOT.joinpath("bench", "perception.py").read_text()
