@@ -11,7 +11,6 @@ import pytest
 from shapes import open_source
 from tests.shapes.real_scans import SCANS, bench_module, measure_module, perceived
 
-ROOT = Path(__file__).parents[2]
 TRUTH = json.loads((SCANS / "truth.json").read_text())
 
 
