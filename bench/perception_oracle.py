@@ -131,37 +131,21 @@ def measured_support(scan: str, measured: str) -> tuple[npt.NDArray[np.float64],
     """The support plane (unit normal towards the camera, offset) that ``measure.py`` fits
     through ``measured``'s bare-support boxes, on ``scan``'s image (the same scan but for the
     laptop's frames 1 and 2, measured on frame 0's boxes): truth.json's plane before rounding."""
-    floor = measure.points_in(measure.points_of(scan), measure.REGIONS[measured][0])
-    centre = floor.mean(axis=0)
-    normal = np.linalg.svd(floor - centre, full_matrices=False)[2][2]
-    if normal @ -centre < 0:  # towards the camera, as measure.py turns it
-        normal = -normal
-    return normal, float(-normal @ centre)
+    normal, offset, _rms = measure.plane(
+        measure.points_in(measure.points_of(scan), measure.REGIONS[measured][0])
+    )
+    return normal, offset
 
 
 def object_pixels(scan: str, measured: str) -> dict[str, npt.NDArray[np.intp]]:
-    """Each measured object's pixels (flat, row-major, sorted) in ``scan``'s image, taken as
-    ``measure.py`` takes its points: its boxes (``REGIONS`` of the scan measured), finite depth,
-    1.5 cm to ``MAX_HEIGHT_M`` over the support (:func:`measured_support`), nearer than
-    ``NEARER_THAN_M``. A pixel in two of an object's boxes counts once (``measure.py`` counts
-    it twice)."""
+    """Each measured object's pixels (flat, row-major, sorted) in ``scan``'s image, as
+    ``measure.object_mask`` takes them on the support of :func:`measured_support`."""
     normal, offset = measured_support(scan, measured)
     image = measure.points_of(scan)
-    # The pixel index in the x channel: measure's own box functions then return pixels.
-    index = np.dstack(
-        (np.arange(image[..., 0].size, dtype=np.float64).reshape(image.shape[:2]),)
-        + (np.zeros(image.shape[:2]),) * 2
-    )
-    index[~np.isfinite(image).all(axis=2)] = np.nan
-    out: dict[str, npt.NDArray[np.intp]] = {}
-    for label, (region, _round) in measure.REGIONS[measured][1].items():
-        pts = measure.points_in(image, region)
-        pix = measure.points_in(index, region)[:, 0].astype(np.intp)
-        h = pts @ normal + offset
-        keep = (h > 0.015) & (h < measure.MAX_HEIGHT_M.get(measured, 0.40))
-        keep &= pts[:, 2] < measure.NEARER_THAN_M.get((measured, label), np.inf)
-        out[label] = np.unique(pix[keep])
-    return out
+    return {
+        label: np.flatnonzero(measure.object_mask(measured, label, image, normal, offset))
+        for label in measure.REGIONS[measured][1]
+    }
 
 
 BEHIND_M = 0.5

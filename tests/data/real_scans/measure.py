@@ -723,7 +723,7 @@ def measure(name: str) -> dict[str, object]:
     e1 = np.cross(normal, [1.0, 0.0, 0.0])
     e1 /= np.linalg.norm(e1)
     e2 = np.cross(normal, e1)
-    for label, (rows_cols, round_) in objects.items():
+    for label, (_boxes, round_) in objects.items():
         pts = image[object_mask(name, label, image, normal, offset)]
         h = pts @ normal + offset
         top = float(np.percentile(h, 99))
