@@ -3,11 +3,13 @@
 Each region is a pixel box chosen by looking at the scan's colour image; the points are
 un-projected with the file's own intrinsics, the support is a least-squares plane (SVD) through
 the points of a box of bare table or floor (or of several boxes spread over it, where one box
-is too small to fix its tilt), an object is the points of its box between 1.5 cm
-and 40 cm above that plane (60 or 80 cm where said), and a round object's axis and radius come
-from an algebraic least-squares circle (Kasa) through its points in the plane's coordinates
-(through its side wall alone where its lid or rim shows: ``SIDE_WALL_CIRCLE``); a ball's centre
-and radius come from a least-squares sphere through its points (``SPHERES``).
+is too small to fix its tilt), an object is the points of its box between 1.5 cm and 40 cm
+above that plane (60 or 80 cm where said), nearer than a stated depth where something is seen
+behind it, and more than a stated distance in front of a wall's plane where a wall stands
+behind it (``object_mask``, the one attribution the benches use too); a round object's axis
+and radius come from an algebraic least-squares circle (Kasa) through its points in the plane's
+coordinates (through its side wall alone where its lid or rim shows: ``SIDE_WALL_CIRCLE``); a
+ball's centre and radius come from a least-squares sphere through its points (``SPHERES``).
 Everything is in the sensor's optical frame (x right, y down, z forward), in metres.
 
     python tests/data/real_scans/measure.py > tests/data/real_scans/truth.json
