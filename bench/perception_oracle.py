@@ -1,20 +1,20 @@
 """The floor under the real-scan targets: each measured object's own points fitted alone.
 
-For every real scan tuned on (the held-out and reserved ones, ``"held_out": true`` in
-truth.json, are never loaded) and every measured object, the object's points are taken as the
-ground truth takes them: its pixel boxes, heights from 1.5 cm to ``MAX_HEIGHT_M`` over the
-measured support and nearer than ``NEARER_THAN_M``, all read from
-``tests/data/real_scans/measure.py`` itself (loaded as ``tests/shapes/real_scans.measure_module``
+For every real scan tuned on (the held-out and reserved ones, ``"held_out": true`` in truth.json,
+are never loaded) and every measured object, the object's points are taken as the ground truth
+takes them: ``object_mask`` of ``tests/data/real_scans/measure.py`` itself (its pixel boxes,
+heights from 1.5 cm to ``MAX_HEIGHT_M`` over the measured support, nearer than ``NEARER_THAN_M``,
+in front of a wall's plane by ``IN_FRONT_OF``; loaded as ``tests/shapes/real_scans.measure_module``
 loads it). Of those points the fit gets the ones the chain's own survey keeps
-(:func:`shapes.segment.survey`: the depth cut, flying pixels and veils dropped, the pixel
-stride), turned to the world frame by gravity from the *measured* support, and they go through
+(:func:`shapes.segment.survey`: the depth cut, flying pixels and veils dropped, the pixel stride),
+turned to the world frame by gravity from the *measured* support, and they go through
 :func:`shapes.fit.fit_cluster` exactly as :class:`shapes.Perception` fits one cluster: the default
-parameters raised to the noise at the points' median range, the measured support, the camera at
-the origin as the viewpoint, the generator the chain with seed k uses in its first frame, for
-each k below ``--draws`` (a near tie between two kinds shows as a split). The primitive is scored
-by ``bench/perception.py``'s own ``_objects_row`` (the primitive's cluster centroid, or a round
-object's axis centre and radius, against the measured centre; a primitive is an object's part
-only within 8 cm and nearer to it than to any other measured object).
+parameters raised to the noise at the points' median range, the measured support, the camera at the
+origin as the viewpoint, the generator the chain with seed k uses in its first frame, for each k
+below ``--draws`` (a near tie between two kinds shows as a split). The primitive is scored by
+``bench/perception.py``'s own ``_objects_row`` (the primitive's cluster centroid, or a round
+object's axis centre and radius, against the measured centre; a primitive is an object's part only
+within 8 cm and nearer to it than to any other measured object).
 
 Beside it, the chain's actual result for the object (``Perception(PerceptionParams(
 gravity_from_scene=True), seed=k)`` for each k below ``--seeds``; the rows show seed 0's, the

@@ -7,10 +7,10 @@ comparison, the round things beside them that come out right), one line with:
 - ``range``, ``step``: the median range of the cluster's points and the median gap between
   their distinct depths (the sensor's depth step there); ``T``: the selection threshold;
 - ``cluster``: its points, the share of them inside the object's pixel boxes
-  (``tests/data/real_scans/measure.py``); and of the object's own points (its boxes, its height
-  band and depth cut, as the ground truth is measured, among the points segmentation keeps), the
-  shares in this cluster, in other clusters, in a plane of the survey (a wall or the desk) and in
-  none;
+  (``tests/data/real_scans/measure.py``); and of the object's own points
+  (``measure.object_mask``: its boxes, height band, depth cut and wall cut, as the ground truth
+  is measured), among the points segmentation keeps, the shares in this cluster, in other
+  clusters, in a plane of the survey (a wall or the desk) and in none;
 - ``costs``: every model's cost as ``shapes.fit.fit_cluster`` gives it (the pipeline's
   arguments and generator), and the kind and radius chosen;
 - ``standing floor``: the cheapest standing cylinder (its axis the support's normal) over a grid
