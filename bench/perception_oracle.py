@@ -1,20 +1,20 @@
 """The floor under the real-scan targets: each measured object's own points fitted alone.
 
-For every real scan tuned on (the held-out and reserved ones, ``"held_out": true`` in
-truth.json, are never loaded) and every measured object, the object's points are taken as the
-ground truth takes them: its pixel boxes, heights from 1.5 cm to ``MAX_HEIGHT_M`` over the
-measured support and nearer than ``NEARER_THAN_M``, all read from
-``tests/data/real_scans/measure.py`` itself (loaded as ``tests/shapes/real_scans.measure_module``
+For every real scan tuned on (the held-out and reserved ones, ``"held_out": true`` in truth.json,
+are never loaded) and every measured object, the object's points are taken as the ground truth
+takes them: ``object_mask`` of ``tests/data/real_scans/measure.py`` itself (its pixel boxes,
+heights from 1.5 cm to ``MAX_HEIGHT_M`` over the measured support, nearer than ``NEARER_THAN_M``,
+in front of a wall's plane by ``IN_FRONT_OF``; loaded as ``tests/shapes/real_scans.measure_module``
 loads it). Of those points the fit gets the ones the chain's own survey keeps
-(:func:`shapes.segment.survey`: the depth cut, flying pixels and veils dropped, the pixel
-stride), turned to the world frame by gravity from the *measured* support, and they go through
+(:func:`shapes.segment.survey`: the depth cut, flying pixels and veils dropped, the pixel stride),
+turned to the world frame by gravity from the *measured* support, and they go through
 :func:`shapes.fit.fit_cluster` exactly as :class:`shapes.Perception` fits one cluster: the default
-parameters raised to the noise at the points' median range, the measured support, the camera at
-the origin as the viewpoint, the generator the chain with seed k uses in its first frame, for
-each k below ``--draws`` (a near tie between two kinds shows as a split). The primitive is scored
-by ``bench/perception.py``'s own ``_objects_row`` (the primitive's cluster centroid, or a round
-object's axis centre and radius, against the measured centre; a primitive is an object's part
-only within 8 cm and nearer to it than to any other measured object).
+parameters raised to the noise at the points' median range, the measured support, the camera at the
+origin as the viewpoint, the generator the chain with seed k uses in its first frame, for each k
+below ``--draws`` (a near tie between two kinds shows as a split). The primitive is scored by
+``bench/perception.py``'s own ``_objects_row`` (the primitive's cluster centroid, or a round
+object's axis centre and radius, against the measured centre; a primitive is an object's part only
+within 8 cm and nearer to it than to any other measured object).
 
 Beside it, the chain's actual result for the object (``Perception(PerceptionParams(
 gravity_from_scene=True), seed=k)`` for each k below ``--seeds``; the rows show seed 0's, the
@@ -131,37 +131,21 @@ def measured_support(scan: str, measured: str) -> tuple[npt.NDArray[np.float64],
     """The support plane (unit normal towards the camera, offset) that ``measure.py`` fits
     through ``measured``'s bare-support boxes, on ``scan``'s image (the same scan but for the
     laptop's frames 1 and 2, measured on frame 0's boxes): truth.json's plane before rounding."""
-    floor = measure.points_in(measure.points_of(scan), measure.REGIONS[measured][0])
-    centre = floor.mean(axis=0)
-    normal = np.linalg.svd(floor - centre, full_matrices=False)[2][2]
-    if normal @ -centre < 0:  # towards the camera, as measure.py turns it
-        normal = -normal
-    return normal, float(-normal @ centre)
+    normal, offset, _rms = measure.plane(
+        measure.points_in(measure.points_of(scan), measure.REGIONS[measured][0])
+    )
+    return normal, offset
 
 
 def object_pixels(scan: str, measured: str) -> dict[str, npt.NDArray[np.intp]]:
-    """Each measured object's pixels (flat, row-major, sorted) in ``scan``'s image, taken as
-    ``measure.py`` takes its points: its boxes (``REGIONS`` of the scan measured), finite depth,
-    1.5 cm to ``MAX_HEIGHT_M`` over the support (:func:`measured_support`), nearer than
-    ``NEARER_THAN_M``. A pixel in two of an object's boxes counts once (``measure.py`` counts
-    it twice)."""
+    """Each measured object's pixels (flat, row-major, sorted) in ``scan``'s image, as
+    ``measure.object_mask`` takes them on the support of :func:`measured_support`."""
     normal, offset = measured_support(scan, measured)
     image = measure.points_of(scan)
-    # The pixel index in the x channel: measure's own box functions then return pixels.
-    index = np.dstack(
-        (np.arange(image[..., 0].size, dtype=np.float64).reshape(image.shape[:2]),)
-        + (np.zeros(image.shape[:2]),) * 2
-    )
-    index[~np.isfinite(image).all(axis=2)] = np.nan
-    out: dict[str, npt.NDArray[np.intp]] = {}
-    for label, (region, _round) in measure.REGIONS[measured][1].items():
-        pts = measure.points_in(image, region)
-        pix = measure.points_in(index, region)[:, 0].astype(np.intp)
-        h = pts @ normal + offset
-        keep = (h > 0.015) & (h < measure.MAX_HEIGHT_M.get(measured, 0.40))
-        keep &= pts[:, 2] < measure.NEARER_THAN_M.get((measured, label), np.inf)
-        out[label] = np.unique(pix[keep])
-    return out
+    return {
+        label: np.flatnonzero(measure.object_mask(measured, label, image, normal, offset))
+        for label in measure.REGIONS[measured][1]
+    }
 
 
 BEHIND_M = 0.5

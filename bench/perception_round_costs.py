@@ -7,10 +7,10 @@ comparison, the round things beside them that come out right), one line with:
 - ``range``, ``step``: the median range of the cluster's points and the median gap between
   their distinct depths (the sensor's depth step there); ``T``: the selection threshold;
 - ``cluster``: its points, the share of them inside the object's pixel boxes
-  (``tests/data/real_scans/measure.py``); and of the object's own points (its boxes, its height
-  band and depth cut, as the ground truth is measured, among the points segmentation keeps), the
-  shares in this cluster, in other clusters, in a plane of the survey (a wall or the desk) and in
-  none;
+  (``tests/data/real_scans/measure.py``); and of the object's own points
+  (``measure.object_mask``: its boxes, height band, depth cut and wall cut, as the ground truth
+  is measured), among the points segmentation keeps, the shares in this cluster, in other
+  clusters, in a plane of the survey (a wall or the desk) and in none;
 - ``costs``: every model's cost as ``shapes.fit.fit_cluster`` gives it (the pipeline's
   arguments and generator), and the kind and radius chosen;
 - ``standing floor``: the cheapest standing cylinder (its axis the support's normal) over a grid
@@ -89,20 +89,11 @@ def standing_floor(
 
 
 def object_mask(name: str, label: str, image: np.ndarray) -> np.ndarray:
-    """The object's own pixels, flat, as ``measure.py`` takes them (boxes, height band over the
-    measured support, depth cut)."""
+    """The object's own pixels, flat, as ``measure.object_mask`` takes them on truth.json's
+    support."""
     truth = json.loads((SCANS / "truth.json").read_text())[name]["support"]
     normal, offset = np.asarray(truth["normal"]), float(truth["distance_m"])
-    region = measure.REGIONS[name][1][label][0]
-    boxes = region if isinstance(region[0], tuple) else (region,)
-    inside = np.zeros(image.shape[:2], dtype=bool)
-    for r0, r1, c0, c1 in boxes:
-        inside[r0:r1, c0:c1] = True
-    height = image @ normal + offset
-    own = np.isfinite(image).all(axis=-1) & inside
-    own &= (height > 0.015) & (height < measure.MAX_HEIGHT_M.get(name, 0.40))
-    own &= image[..., 2] < measure.NEARER_THAN_M.get((name, label), np.inf)
-    return np.asarray(own.reshape(-1))
+    return np.asarray(measure.object_mask(name, label, image, normal, offset).reshape(-1))
 
 
 def relief(name: str, label: str, image: np.ndarray, radius_m: float | None) -> tuple[float, float]:

@@ -3,11 +3,13 @@
 Each region is a pixel box chosen by looking at the scan's colour image; the points are
 un-projected with the file's own intrinsics, the support is a least-squares plane (SVD) through
 the points of a box of bare table or floor (or of several boxes spread over it, where one box
-is too small to fix its tilt), an object is the points of its box between 1.5 cm
-and 40 cm above that plane (60 or 80 cm where said), and a round object's axis and radius come
-from an algebraic least-squares circle (Kasa) through its points in the plane's coordinates
-(through its side wall alone where its lid or rim shows: ``SIDE_WALL_CIRCLE``); a ball's centre
-and radius come from a least-squares sphere through its points (``SPHERES``).
+is too small to fix its tilt), an object is the points of its box between 1.5 cm and 40 cm
+above that plane (60 or 80 cm where said), nearer than a stated depth where something is seen
+behind it, and more than a stated distance in front of a wall's plane where a wall stands
+behind it (``object_mask``, the one attribution the benches use too); a round object's axis
+and radius come from an algebraic least-squares circle (Kasa) through its points in the plane's
+coordinates (through its side wall alone where its lid or rim shows: ``SIDE_WALL_CIRCLE``); a
+ball's centre and radius come from a least-squares sphere through its points (``SPHERES``).
 Everything is in the sensor's optical frame (x right, y down, z forward), in metres.
 
     python tests/data/real_scans/measure.py > tests/data/real_scans/truth.json
@@ -573,6 +575,30 @@ NEARER_THAN_M = {
 """Objects whose boxes also hold what is seen behind them (between the chair's back and seat and
 its legs): their points are those nearer to the camera than this. The chair's depths stop at
 1.85 m and the wall and stairs behind it start at 1.90 m."""
+BACKDROPS = {
+    # Bare wood of the partition above the bottles and the jar, left of the bag, and right of
+    # the bag above the right bottle (the two spread along it fix its tilt: it leans, its depth
+    # runs 2.64-2.84 m down the rows). The plane's rms is 1.4 cm, the depths there come in
+    # 1.9-2.2 cm steps (the Kinect's disparity step 2.65-2.85 m away).
+    "desk_tum": {"partition": ((70, 115, 355, 455), (68, 108, 550, 572))},
+}
+"""Planes seen behind objects, each fitted (:func:`plane`) through boxes of its bare surface."""
+IN_FRONT_OF = {
+    # One depth step (2 cm) at the partition: its points spread 1.4 cm (rms) about the plane,
+    # and the objects' own surfaces stand 5 cm and more in front of it (README.md, stop 42).
+    ("desk_tum", label): ("partition", 0.02)
+    for label in (
+        "green bottle",
+        "clear bottle",
+        "brown bottle",
+        "jar",
+        "beige cup",
+        "bag",
+        "right bottle",
+    )
+}
+"""Objects whose boxes reach a backdrop's plane (``BACKDROPS``): their points are those more
+than this distance (metres) in front of it; what lies on the plane or behind it is the wall."""
 SIDE_WALL_CIRCLE = {
     (scan, label)
     for scan in ("desk_fr2_tum_0", "desk_fr2_tum_1")
@@ -598,15 +624,54 @@ def points_of(name: str) -> np.ndarray:
     return np.dstack((x, y, np.where(z > 0, z, np.nan)))
 
 
+def box_mask(shape: tuple[int, ...], region: tuple) -> np.ndarray:
+    """The pixels of a box, or of the union of a tuple of boxes, as a mask of ``shape[:2]``."""
+    boxes = region if isinstance(region[0], tuple) else (region,)
+    inside = np.zeros(shape[:2], dtype=bool)
+    for r0, r1, c0, c1 in boxes:
+        inside[r0:r1, c0:c1] = True
+    return inside
+
+
 def points_in(image: np.ndarray, region: tuple) -> np.ndarray:
     """The finite points of a box, or of the union of a tuple of boxes (a pixel in two of them
     counts once)."""
-    boxes = region if isinstance(region[0], tuple) else (region,)
-    inside = np.zeros(image.shape[:2], dtype=bool)
-    for r0, r1, c0, c1 in boxes:
-        inside[r0:r1, c0:c1] = True
-    pts = image[inside]
+    pts = image[box_mask(image.shape, region)]
     return pts[np.isfinite(pts).all(axis=1)]
+
+
+def plane(pts: np.ndarray) -> tuple[np.ndarray, float, float]:
+    """The least-squares plane (SVD) through the points: its unit normal turned towards the
+    camera, its offset (``pts @ normal + offset`` is a point's distance in front of it) and the
+    points' rms distance from it."""
+    centre = pts.mean(axis=0)
+    normal = np.linalg.svd(pts - centre, full_matrices=False)[2][2]
+    if normal @ -centre < 0:  # towards the camera
+        normal = -normal
+    offset = float(-normal @ centre)
+    return normal, offset, float(np.sqrt(np.mean((pts @ normal + offset) ** 2)))
+
+
+def object_mask(
+    name: str, label: str, image: np.ndarray, normal: np.ndarray, offset: float
+) -> np.ndarray:
+    """The object's own pixels, a mask of ``image.shape[:2]``: those of its boxes (a pixel in
+    two of them once) with a finite point 1.5 cm to ``MAX_HEIGHT_M`` over the support (``normal``
+    and ``offset``, as :func:`plane` gives them), nearer than ``NEARER_THAN_M`` and more than
+    ``IN_FRONT_OF``'s distance in front of its backdrop's plane. The one attribution of an
+    object's points: the benches read it from here.
+
+    Raises KeyError when ``label`` is not one of the scan's measured objects."""
+    own = box_mask(image.shape, REGIONS[name][1][label][0]) & np.isfinite(image).all(axis=2)
+    with np.errstate(invalid="ignore"):
+        height = image @ normal + offset
+        own &= (height > 0.015) & (height < MAX_HEIGHT_M.get(name, 0.40))
+        own &= image[..., 2] < NEARER_THAN_M.get((name, label), np.inf)
+        if (name, label) in IN_FRONT_OF:
+            backdrop, distance_m = IN_FRONT_OF[name, label]
+            wall, wall_offset, _ = plane(points_in(image, BACKDROPS[name][backdrop]))
+            own &= image @ wall + wall_offset > distance_m
+    return np.asarray(own)
 
 
 SPHERES = {("desk_fr2_tum_1", "ball")}
@@ -646,12 +711,7 @@ def measure(name: str) -> dict[str, object]:
     image = points_of(name)
     support_box, objects = REGIONS[name]
     floor = points_in(image, support_box)
-    centre = floor.mean(axis=0)
-    normal = np.linalg.svd(floor - centre, full_matrices=False)[2][2]
-    if normal @ -centre < 0:  # towards the camera
-        normal = -normal
-    offset = float(-normal @ centre)
-    rms = float(np.sqrt(np.mean((floor @ normal + offset) ** 2)))
+    normal, offset, rms = plane(floor)
     out: dict[str, object] = {
         "held_out": name in HELD_OUT,
         **({"reserved": True} if name in RESERVED else {}),
@@ -665,12 +725,9 @@ def measure(name: str) -> dict[str, object]:
     e1 = np.cross(normal, [1.0, 0.0, 0.0])
     e1 /= np.linalg.norm(e1)
     e2 = np.cross(normal, e1)
-    for label, (rows_cols, round_) in objects.items():
-        pts = points_in(image, rows_cols)
+    for label, (_boxes, round_) in objects.items():
+        pts = image[object_mask(name, label, image, normal, offset)]
         h = pts @ normal + offset
-        keep = (h > 0.015) & (h < MAX_HEIGHT_M.get(name, 0.40))
-        keep &= pts[:, 2] < NEARER_THAN_M.get((name, label), np.inf)
-        pts, h = pts[keep], h[keep]
         top = float(np.percentile(h, 99))
         item: dict[str, object] = {"points": len(pts), "height_m": round(top, 4)}
         if (name, label) in SPHERES:
