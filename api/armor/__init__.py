@@ -31,7 +31,7 @@ Exit codes: see :mod:`api.armor.errors`.
 """
 
 from api.armor.engine import COMMANDS, ArmorEngine, directive_key
-from api.armor.models import (
+from api.protocol import (
     ArmorDirectiveListReq,
     ArmorDirectiveListRes,
     ArmorDirectiveReq,
