@@ -38,14 +38,14 @@ from starlette.concurrency import run_in_threadpool
 from starlette.datastructures import QueryParams
 
 from api.armor import ArmorEngine
-from api.armor.models import (
+from api.armor.names import ValueStyle
+from api.protocol import (
     ArmorDirectiveListReq,
     ArmorDirectiveListRes,
     ArmorDirectiveReq,
     ArmorRequest,
     ArmorResponse,
 )
-from api.armor.names import ValueStyle
 
 __all__ = [
     "LIST",

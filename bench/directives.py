@@ -69,7 +69,8 @@ from typing import Any
 import httpx
 import owlrl
 
-from api.armor import ArmorDirectiveReq, ArmorEngine
+from api.armor import ArmorEngine
+from api.protocol import ArmorDirectiveReq
 from kg import Store
 from ontologies.vocab import reference_graph
 from reasoners.owl_rl import materialise

@@ -23,8 +23,8 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
 
-from api.armor.models import ArmorDirectiveReq
 from api.config import Settings
+from api.protocol import ArmorDirectiveReq
 from api.ros._ros import rospy, sensor_msgs
 from api.ros.convert import ros_request
 from api.ros.messages import armor_msgs

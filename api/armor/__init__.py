@@ -27,25 +27,14 @@ consistency when its list ended.
 reference hold that reference's lock (taken in name order, so lists never deadlock) from their
 first directive to their commit; queries take no lock and see committed states only.
 
-Exit codes: see :mod:`api.armor.errors`.
+Exit codes: see :mod:`api.armor.errors`. The request and response models are
+:mod:`api.protocol`'s, shared with the robot-side client.
 """
 
 from api.armor.engine import COMMANDS, ArmorEngine, directive_key
-from api.armor.models import (
-    ArmorDirectiveListReq,
-    ArmorDirectiveListRes,
-    ArmorDirectiveReq,
-    ArmorDirectiveRes,
-    QueryItem,
-)
 
 __all__ = [
     "COMMANDS",
-    "ArmorDirectiveListReq",
-    "ArmorDirectiveListRes",
-    "ArmorDirectiveReq",
-    "ArmorDirectiveRes",
     "ArmorEngine",
-    "QueryItem",
     "directive_key",
 ]

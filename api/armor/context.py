@@ -7,10 +7,10 @@ from pyoxigraph import Literal, NamedNode, Quad
 
 from api.armor.errors import InvalidArgumentsError, MemoryDirectiveError
 from api.armor.files import ANYWHERE, FileAccess
-from api.armor.models import ArmorDirectiveReq, ArmorDirectiveRes, QueryItem
 from api.armor.names import ValueStyle, resolve
 from api.armor.references import Reference
 from api.armor.session import Session
+from api.protocol import ArmorDirectiveReq, ArmorDirectiveRes, QueryItem
 from kg.sandbox import QueryRunner
 from reasoners.memory import SceneMemory
 from reasoners.operations import Operation, OperationResult

@@ -19,10 +19,10 @@ from api.armor.errors import (
 )
 from api.armor.files import ANYWHERE, FileAccess
 from api.armor.memory import MEMORY_COMMANDS, SCENE_ADDS, MemoryDirectives
-from api.armor.models import ArmorDirectiveListRes, ArmorDirectiveReq, ArmorDirectiveRes
 from api.armor.names import ValueStyle
 from api.armor.references import Registry
 from api.armor.session import MemoryWorkFailed, Session
+from api.protocol import ArmorDirectiveListRes, ArmorDirectiveReq, ArmorDirectiveRes
 from kg import Store
 from kg.sandbox import QueryRunner
 from reasoners.memory import SceneMemory

@@ -30,8 +30,8 @@ from pyoxigraph import NamedNode
 from api.armor.context import Context, Outcome
 from api.armor.errors import MemoryDirectiveError
 from api.armor.memory_explain import query_memory_explain
-from api.armor.models import ArmorDirectiveRes, QueryItem
 from api.armor.names import is_value_type, resolve, styled, to_literal
+from api.protocol import ArmorDirectiveRes, QueryItem
 from kg import Store
 from kg.errors import InvalidPrimitiveError
 from kg.primitive import ATTRIBUTES, KINDS, Kind, Primitive

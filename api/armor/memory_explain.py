@@ -10,8 +10,8 @@ import json
 
 from api.armor.context import Context, Outcome
 from api.armor.errors import MemoryDirectiveError
-from api.armor.models import QueryItem
 from api.armor.names import resolve
+from api.protocol import QueryItem
 from ontologies.vocab import ENGRAM_NS
 from reasoners.errors import MemoryReasonerError
 from reasoners.explain import explain, to_jsonable

@@ -12,9 +12,9 @@ from pyoxigraph import Literal, NamedNode, QueryResultsFormat, QuerySolutions, p
 
 from api.armor.context import Context, Outcome
 from api.armor.errors import InvalidArgumentsError, SparqlError
-from api.armor.models import QueryItem
 from api.armor.names import is_true, jena_string, local_name, styled
 from api.armor.references import Reference
+from api.protocol import QueryItem
 from kg.errors import QueryError, QueryTimeoutError
 from kg.literals import from_store
 from kg.sandbox import QueryForm

@@ -24,7 +24,7 @@ from urllib.parse import quote
 from pyoxigraph import Literal, NamedNode, Quad
 
 from api.armor.errors import InvalidArgumentsError, UnknownReferenceError
-from api.armor.models import ArmorDirectiveReq
+from api.protocol import ArmorDirectiveReq
 from kg import Store
 from ontologies.vocab import (
     ARMOR_BUFFERED_MANIPULATION,

@@ -29,8 +29,8 @@ from pyoxigraph import BlankNode, Literal, NamedNode, Quad, QuerySolutions
 import sparql
 from api.armor import reasoning
 from api.armor.errors import MEMORY_ERROR, SparqlError
-from api.armor.models import ArmorDirectiveRes
 from api.armor.references import Reference, Registry
+from api.protocol import ArmorDirectiveRes
 from kg import QueryError, Store
 from kg.literals import from_store
 from kg.transaction import Transaction

@@ -7,7 +7,7 @@ the ROS classes to build are passed in.
 from collections.abc import Sequence
 from typing import Any
 
-from api.armor.models import ArmorDirectiveReq, ArmorDirectiveRes, QueryItem
+from api.protocol import ArmorDirectiveReq, ArmorDirectiveRes, QueryItem
 
 __all__ = ["request_of", "response_of", "response_to_ros", "ros_request"]
 

@@ -24,9 +24,9 @@ from typing import Any
 import numpy as np
 
 from api.armor import ArmorEngine
-from api.armor.models import ArmorDirectiveReq, ArmorDirectiveRes
 from api.client import scene_directives
 from api.perceive import scene_primitives
+from api.protocol import ArmorDirectiveReq, ArmorDirectiveRes
 from api.ros._ros import rospy, sensor_msgs
 from api.ros.convert import response_to_ros
 from api.ros.latest import Latest

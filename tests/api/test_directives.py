@@ -13,10 +13,10 @@ from hypothesis import strategies as st
 from pydantic import ValidationError
 
 from api.armor import ArmorEngine
-from api.armor.models import ArmorDirectiveListRes, ArmorRequest, ArmorResponse
 from api.client import ArmorClient
 from api.client._local import LocalTransport
 from api.directives import LIST, SINGLE, answer_blocking, read_request
+from api.protocol import ArmorDirectiveListRes, ArmorRequest, ArmorResponse
 from kg import Store
 
 

@@ -12,7 +12,7 @@ from typing import Any
 import numpy as np
 import pytest
 
-from api.armor.models import (
+from api.protocol import (
     ArmorDirectiveReq,
     ArmorDirectiveRes,
 )

@@ -3,7 +3,7 @@ test script (``scripts/armor_api/client_test.py``) as the directives it sends.""
 
 from pathlib import Path
 
-from api.armor.models import ArmorDirectiveReq
+from api.protocol import ArmorDirectiveReq
 
 DATA = Path(__file__).resolve().parents[1] / "api" / "armor" / "data"
 TEST_IRI = "http://www.semanticweb.org/emarolab/ontologies/armor-test"

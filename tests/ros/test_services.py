@@ -9,7 +9,7 @@ from pathlib import Path
 
 import pytest
 
-from api.armor.models import ArmorDirectiveListRes
+from api.protocol import ArmorDirectiveListRes
 from api.ros._ros import rosgraph, rospy
 from api.ros.convert import response_of
 from tests.conftest import LiveServer

@@ -1,7 +1,7 @@
 """One real Engram server per test module (loopback, on-disk store), and directive helpers.
 
-``tests/api/conftest.py`` starts a server per test; the ARMOR tests share one per module to stay
-fast, and isolate themselves by using a fresh reference name per test.
+``tests/conftest.py``'s ``live_server`` starts a server per test; the ARMOR tests share one per
+module to stay fast, and isolate themselves by using a fresh reference name per test.
 """
 
 import os

@@ -11,7 +11,8 @@ from typing import Any
 
 import pytest
 
-from api.armor import ArmorDirectiveReq, ArmorDirectiveRes, ArmorEngine, reasoning
+from api.armor import ArmorEngine, reasoning
+from api.protocol import ArmorDirectiveReq, ArmorDirectiveRes
 from kg import Store
 from ontologies.vocab import ARMOR_REGISTRY, reference_graph
 from reasoners.owl_rl import Prepared, ReasonReport

@@ -14,8 +14,8 @@ import pytest
 from pyoxigraph import NamedNode
 
 from api.armor import ArmorEngine
-from api.armor.models import ArmorDirectiveReq
 from api.client import ArmorClient, ArmorServiceInternalError, Primitive, primitive_directives
+from api.protocol import ArmorDirectiveReq
 from kg import Store
 from kg.transaction import Transaction
 from ontologies.vocab import ENGRAM_NS, EPISODIC, MEMORY, TRASH
@@ -233,7 +233,7 @@ KILLED_WRITER = textwrap.dedent(
     """
     import sys
     from api.armor import ArmorEngine
-    from api.armor.models import ArmorDirectiveReq
+    from api.protocol import ArmorDirectiveReq
     from api.client import Primitive, primitive_directives
     from kg import Store
 

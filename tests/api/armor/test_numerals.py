@@ -8,7 +8,7 @@ measurement must be finite. Runs the engine in this process over an in-memory st
 import pytest
 
 from api.armor import ArmorEngine
-from api.armor.models import ArmorDirectiveReq, ArmorDirectiveRes
+from api.protocol import ArmorDirectiveReq, ArmorDirectiveRes
 from kg import Store, ensure_ontology
 from reasoners.memory import SceneMemory
 

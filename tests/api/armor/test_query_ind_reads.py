@@ -14,10 +14,10 @@ from hypothesis import strategies as st
 from pyoxigraph import BlankNode, Literal, NamedNode, Quad
 
 from api.armor.context import Context
-from api.armor.models import ArmorDirectiveReq
 from api.armor.queries import _classes_of, query_ind, query_ind_class
 from api.armor.references import Reference, Registry
 from api.armor.session import Session
+from api.protocol import ArmorDirectiveReq
 from kg import Store
 from ontologies.vocab import (
     OWL_NAMED_INDIVIDUAL,

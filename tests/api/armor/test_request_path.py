@@ -11,10 +11,10 @@ import httpx
 import pytest
 from starlette._utils import get_route_path
 
-from api.armor import ArmorDirectiveReq, ArmorEngine
-from api.armor.models import ArmorDirectiveListRes, ArmorRequest, ArmorResponse
+from api.armor import ArmorEngine
 from api.config import Settings
 from api.main import create_app
+from api.protocol import ArmorDirectiveListRes, ArmorDirectiveReq, ArmorRequest, ArmorResponse
 from api.routes.armor import _route_path
 from kg import Store
 from kg.errors import StoreError

@@ -6,9 +6,9 @@ import pytest
 from api.armor.context import Context
 from api.armor.errors import MEMORY_ERROR, MemoryDirectiveError
 from api.armor.memory import MEMORY_COMMANDS
-from api.armor.models import ArmorDirectiveReq
 from api.armor.references import Registry
 from api.armor.session import Session
+from api.protocol import ArmorDirectiveReq
 from kg import Store
 
 NEEDS_MEMORY = [

@@ -6,9 +6,9 @@ from pathlib import Path
 import pytest
 
 from api.armor import ArmorEngine
-from api.armor.models import ArmorDirectiveReq
 from api.client import primitive_directives
 from api.perceive import scene_primitives
+from api.protocol import ArmorDirectiveReq
 from kg import Store
 from kg.primitive import Primitive
 from kg.scene_triples import read_primitive
