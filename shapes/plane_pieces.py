@@ -43,7 +43,7 @@ import numpy.typing as npt
 from shapes.support_region import SupportRegion, pieces
 from shapes.types import FloatArray
 
-__all__ = ["Ground", "faces_standing_on", "is_scattered"]
+__all__ = ["Ground", "faces_standing_on", "is_scattered", "main_piece"]
 
 
 @dataclass(frozen=True, eq=False)
@@ -79,6 +79,22 @@ def _in_plane_axes(points: FloatArray, normal: FloatArray) -> FloatArray:
     e1 /= math.sqrt(float(e1 @ e1))
     e2 = np.array([b * e1[2] - c * e1[1], c * e1[0] - a * e1[2], a * e1[1] - b * e1[0]])
     return np.asarray(points @ np.column_stack((e1, e2)), dtype=np.float64)
+
+
+def main_piece(points: FloatArray, normal: FloatArray, cell_m: float) -> npt.NDArray[np.bool_]:
+    """Which of a plane's voxels (``points``, its unit ``normal``) make its main piece: the
+    largest of its pieces when they are joined on a ``cell_m`` grid in the plane (side by side
+    or corner to corner), whatever the plane's tilt.
+
+    >>> wall = np.array([[0.0, y, z] for y in (0.0, 0.02, 0.04) for z in (0.0, 0.02)])
+    >>> stray = np.array([[0.0, 1.0, -0.3]])
+    >>> main_piece(np.vstack((wall, stray)), np.array([1.0, 0.0, 0.0]), 0.05).tolist()
+    [True, True, True, True, True, True, False]
+    """
+    if len(points) == 0:
+        return np.zeros(0, dtype=np.bool_)
+    label = pieces(_in_plane_axes(points, normal), cell_m)
+    return np.asarray(label == np.argmax(np.bincount(label)), dtype=np.bool_)
 
 
 def faces_standing_on(

@@ -17,7 +17,7 @@ from scipy.sparse.csgraph import connected_components
 from scipy.spatial import cKDTree
 
 from shapes.arrays import column_max, column_min, inside_box
-from shapes.plane_pieces import is_scattered
+from shapes.plane_pieces import is_scattered, main_piece
 from shapes.segment.bands import one_plane_per_band
 from shapes.segment.params import SegmentationParams
 from shapes.segment.planes import Plane
@@ -56,16 +56,17 @@ def judge_planes(
     step."""
     planes = one_plane_per_band(planes, voxels, tolerance, params)
     level = [p for p in planes if p.horizontal]
+    judged = {id(p): _judged_voxels(p, voxels, params) for p in planes}
     faces = {
         id(p)
         for p in planes
-        if _faces_on(voxels[p.inliers], [q for q in level if q is not p], params)
+        if _faces_on(judged[id(p)], [q for q in level if q is not p], params)
     }
     steps: set[int] = set()
     for p in planes:
         if id(p) in faces:
             continue
-        below = _standing_on(voxels, p, level, params)
+        below = _standing_on(voxels, judged[id(p)], p, level, params)
         if below is None:
             continue
         if p.horizontal and below < params.floor_step_m:
@@ -85,6 +86,24 @@ def judge_planes(
     faces |= crossing  # a slice through a support and what stands on it: its voxels stay free
     horizontal = [p for p in horizontal if id(p) not in crossing]
     return JudgedPlanes(planes, horizontal, faces, region_of)
+
+
+def _judged_voxels(plane: Plane, voxels: FloatArray, params: SegmentationParams) -> FloatArray:
+    """The voxels by which ``plane`` is judged a face of objects or not (:func:`_faces_on`,
+    :func:`_standing_on`): its main piece (:func:`shapes.plane_pieces.main_piece`) when
+    ``params.faces_by_main_piece`` and that piece holds at least ``min_main_piece_share`` of
+    its voxels, else all its inliers. A plane through objects' fronts or tops also takes,
+    within its tolerance, a few voxels that line up with it elsewhere (a strip at the
+    support's far edge, the wall under a table's back edge): they are other things. A plane
+    scattered in smaller pieces is no surface of its own and is judged whole here (its main
+    piece is judged by :func:`_supports_by_pieces`)."""
+    mine = voxels[plane.inliers]
+    if not params.faces_by_main_piece:
+        return mine
+    main = main_piece(mine, plane.normal, params.support_cell_m)
+    if float(main.mean()) < params.min_main_piece_share:
+        return mine
+    return mine[main]
 
 
 _FACES_LINK_M = 0.025
@@ -117,19 +136,23 @@ def _faces_on(inliers: FloatArray, below: list[Plane], params: SegmentationParam
 
 
 def _standing_on(
-    points: FloatArray, plane: Plane, level: list[Plane], params: SegmentationParams
+    points: FloatArray,
+    mine: FloatArray,
+    plane: Plane,
+    level: list[Plane],
+    params: SegmentationParams,
 ) -> float | None:
     """How high (median, metres) a plane stands over a larger horizontal plane that carries it
     as part of an object, or None when it is a support, a wall or a shelf of its own.
 
-    ``points`` are the voxels the planes' inlier masks index. A plane is part of what stands on
+    ``points`` are the voxels the planes' inlier masks index; ``mine`` are the plane's voxels
+    it is judged by (:func:`_judged_voxels`, or a reduced plane's own). A plane is part of what stands on
     a larger horizontal plane when all its voxels but 2 % lie above it, over it (inside its
     bounding box shrunk by ``edge_margin_m``) and lower than ``min_support_rise_m`` (a
     horizontal plane) or ``max_height_m`` (a tilted one) over it: the top of a box, the open
     lid of a laptop, a book lying flat. A table stands higher than ``min_support_rise_m`` over
     the floor; a wall rises at the edge of the floor or table it meets, not inside it.
     """
-    mine = points[plane.inliers]
     for other in level:
         if other is plane or int(other.inliers.sum()) <= int(plane.inliers.sum()):
             continue
@@ -176,7 +199,7 @@ def _supports_by_pieces(
                 kept[inliers[region.piece]] = True
                 main = replace(plane, inliers=kept)
                 others = [main if q is plane else q for q in level]
-                below = _standing_on(voxels, main, others, params)
+                below = _standing_on(voxels, voxels[kept], main, others, params)
                 if below is not None and below >= params.floor_step_m:
                     faces.add(id(main))
                 scattered.add(id(main))
