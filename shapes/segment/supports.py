@@ -146,10 +146,10 @@ def _standing_on(
     as part of an object, or None when it is a support, a wall or a shelf of its own.
 
     ``points`` are the voxels the planes' inlier masks index; ``mine`` are the plane's voxels
-    it is judged by (:func:`_judged_voxels`, or a reduced plane's own). A plane is part of what stands on
-    a larger horizontal plane when all its voxels but 2 % lie above it, over it (inside its
-    bounding box shrunk by ``edge_margin_m``) and lower than ``min_support_rise_m`` (a
-    horizontal plane) or ``max_height_m`` (a tilted one) over it: the top of a box, the open
+    it is judged by (:func:`_judged_voxels`, or a reduced plane's own). A plane is part of what
+    stands on a larger horizontal plane when all of ``mine`` but 2 % lie above it, over it
+    (inside its bounding box shrunk by ``edge_margin_m``) and lower than ``min_support_rise_m``
+    (a horizontal plane) or ``max_height_m`` (a tilted one) over it: the top of a box, the open
     lid of a laptop, a book lying flat. A table stands higher than ``min_support_rise_m`` over
     the floor; a wall rises at the edge of the floor or table it meets, not inside it.
     """
