@@ -58,9 +58,7 @@ def judge_planes(
     level = [p for p in planes if p.horizontal]
     judged = {id(p): _judged_voxels(p, voxels, params) for p in planes}
     faces = {
-        id(p)
-        for p in planes
-        if _faces_on(judged[id(p)], [q for q in level if q is not p], params)
+        id(p) for p in planes if _faces_on(judged[id(p)], [q for q in level if q is not p], params)
     }
     steps: set[int] = set()
     for p in planes:
