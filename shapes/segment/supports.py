@@ -56,7 +56,7 @@ def judge_planes(
     step."""
     planes = one_plane_per_band(planes, voxels, tolerance, params)
     level = [p for p in planes if p.horizontal]
-    judged = {id(p): _judged_voxels(p, voxels, params) for p in planes}
+    judged = {id(p): _judged_voxels(p, voxels, level, params) for p in planes}
     faces = {
         id(p) for p in planes if _faces_on(judged[id(p)], [q for q in level if q is not p], params)
     }
@@ -86,21 +86,34 @@ def judge_planes(
     return JudgedPlanes(planes, horizontal, faces, region_of)
 
 
-def _judged_voxels(plane: Plane, voxels: FloatArray, params: SegmentationParams) -> FloatArray:
+def _judged_voxels(
+    plane: Plane, voxels: FloatArray, level: list[Plane], params: SegmentationParams
+) -> FloatArray:
     """The voxels by which ``plane`` is judged a face of objects or not (:func:`_faces_on`,
     :func:`_standing_on`): its main piece (:func:`shapes.plane_pieces.main_piece`) when
-    ``params.faces_by_main_piece`` and that piece holds at least ``min_main_piece_share`` of
-    its voxels, else all its inliers. A plane through objects' fronts or tops also takes,
-    within its tolerance, a few voxels that line up with it elsewhere (a strip at the
-    support's far edge, the wall under a table's back edge): they are other things. A plane
-    scattered in smaller pieces is no surface of its own and is judged whole here (its main
-    piece is judged by :func:`_supports_by_pieces`)."""
+    ``params.faces_by_main_piece``, that piece holds at least ``min_main_piece_share`` of its
+    voxels and fewer than ``min_cut_voxels`` of its other voxels lie ``max_height_m`` or more
+    over the largest of the ``level`` planes; else all its inliers.
+
+    A plane through objects' fronts or tops also takes, within its tolerance, a few voxels
+    that line up with it elsewhere (a strip at the support's far edge, the wall under a table's
+    back edge): they are other things. A plane scattered in smaller pieces is no surface of its
+    own and is judged whole here (its main piece is judged by :func:`_supports_by_pieces`). A
+    plane that rises past the height band elsewhere is a wall or a piece of furniture whose
+    lower part is cut from its upper part (something hides its middle): judged whole, as a
+    wall."""
     mine = voxels[plane.inliers]
     if not params.faces_by_main_piece:
         return mine
     main = main_piece(mine, plane.normal, params.support_cell_m)
     if float(main.mean()) < params.min_main_piece_share:
         return mine
+    others = [q for q in level if q is not plane]
+    if others:
+        ground = max(others, key=lambda q: int(q.inliers.sum()))
+        rest = mine[~main] @ ground.normal + ground.offset
+        if int(np.count_nonzero(rest >= params.max_height_m)) >= params.min_cut_voxels:
+            return mine
     return mine[main]
 
 
