@@ -71,8 +71,9 @@ class SegmentationParams:
     faces_by_main_piece: bool = True
     """Whether a plane is judged a face of objects (or a part of what stands on a support) by
     its main piece (:func:`shapes.plane_pieces.main_piece`, on the ``support_cell_m`` grid)
-    rather than by all its inliers (docs/perception.md, "Would-be faces judged by their main
-    piece (stop 39, late)")."""
+    rather than by all its inliers, unless it is scattered (``min_main_piece_share``) or rises
+    past ``max_height_m`` elsewhere (:func:`shapes.segment.supports._judged_voxels`;
+    docs/perception.md, "Would-be faces judged by their main piece (stop 39, late)")."""
     extent_margin_m: float = 0.05
     """How far past the hull of its support's main piece an object's centre may lie."""
     cut_band_m: float = 0.03
