@@ -1,7 +1,8 @@
 """A plane through objects' tops or fronts is judged a face by its main piece, not by the few
 voxels that line up with it elsewhere (shapes/segment/supports.py, ``_judged_voxels``;
-docs/perception.md, "Would-be faces judged by their main piece (stop 39, late)"). On the
-Asus Xtion scans, against the hand-measured ground truth, as bench/perception.py scores them."""
+docs/perception.md, "Would-be faces judged by their main piece (stop 39, late)"): on the
+Asus Xtion scans, against the hand-measured ground truth, as bench/perception.py scores them;
+and on planes built by hand, a wall whose middle is hidden among them."""
 
 import json
 from pathlib import Path
