@@ -49,11 +49,12 @@ Kinect frame beside a simulated frame's, timed in the same run (their ratio is w
 machine's load), against the target (< 100 ms per Kinect frame); then the track ids over the three
 consecutive laptop frames.
 The "set" column says which scans the pipeline's rules may have been chosen on ("tuned on": every
-scan vendored up to stop 38, each run and diagnosed at the stop after it was vendored) and which
-were never given to the pipeline before the lead's one run after the merge of stop 39 ("held out"
-in ``truth.json``: three Asus Xtion frames of YCB objects, on a wooden desk, on a lecture chair's
-writing tablet and on a chessboard table; ``--tuned-only`` leaves them out). Scans reserved for a
-later stop (``"reserved": true`` beside ``"held_out": true``) are run only with ``--reserved``.
+scan vendored up to stop 38, each run and diagnosed at the stop after it was vendored: the
+three Asus Xtion frames were run once by the lead at stop 39, after the merge of its first rules,
+then diagnosed and tuned on) and which were never given to the pipeline before the lead's one run
+("held out" in ``truth.json``; none between stops 39 and 40; ``--tuned-only`` leaves them out).
+Scans reserved for a later stop (``"reserved": true`` beside ``"held_out": true``) are run only
+with ``--reserved``; those reserved at stop 39 are not even listed here.
 
 Run from the repository root::
 
