@@ -4,7 +4,8 @@ Step 6 of :mod:`shapes.segment`. A cut is not taken when its parts stand on top 
 (:func:`_stacked`); it is taken whole when every part stands on the support
 (:func:`_each_stands`), else only for what hangs over nothing that stands (:func:`_taken_cut`);
 parts that lie along each other stay one (:mod:`shapes.nested_parts`), and so do parts that close
-a ring around a common centre (:mod:`shapes.ring_cut`). The splitter reads the
+a ring around a common centre (:mod:`shapes.ring_cut`), and so do parts that all lie low
+(:mod:`shapes.lying_cut`). The splitter reads the
 noise of a cluster's normals clear of the support's corner (:func:`_clear_of_the_base`).
 """
 
@@ -17,6 +18,7 @@ from scipy.sparse.csgraph import connected_components
 from scipy.spatial import cKDTree
 
 from shapes.arrays import column_max, column_min, column_span
+from shapes.lying_cut import lies_low
 from shapes.nested_parts import joined_where_nested
 from shapes.ring_cut import closes_a_ring
 from shapes.segment.params import SegmentationParams
@@ -39,7 +41,8 @@ def split_clusters(
     (:mod:`shapes.nested_parts`: a handset in its cradle is one thing with its base). A cut whose
     parts, so joined, close a ring around their common centre (no gap between neighbouring parts
     wider than ``max_ring_gap_deg``, :mod:`shapes.ring_cut`) is not taken: a bowl seen from
-    above."""
+    above. Nor is a cut whose parts all stay lower than ``max_lying_height_m`` over the support
+    (:mod:`shapes.lying_cut`): one thing lying on it, a drill on its side."""
     out = labels.copy()
     next_label = int(labels.max(initial=-1)) + 1
     order = np.argsort(labels, kind="stable")
@@ -71,6 +74,8 @@ def split_clusters(
         )
         if closes_a_ring(voxels[members], parts, params.max_ring_gap_deg):
             continue  # one thing cut along its own inside: a bowl seen from above
+        if heights is not None and lies_low(heights[members], parts, params.max_lying_height_m):
+            continue  # one thing lying on the support, cut along its own shape: a drill
         for part in range(1, int(parts.max()) + 1):
             out[members[parts == part]] = next_label
             next_label += 1
