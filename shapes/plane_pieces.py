@@ -40,7 +40,7 @@ from dataclasses import dataclass
 import numpy as np
 import numpy.typing as npt
 
-from shapes.support_region import SupportRegion, pieces
+from shapes.support_region import SupportRegion, largest_piece, pieces
 from shapes.types import FloatArray
 
 __all__ = ["Ground", "faces_standing_on", "is_scattered", "main_piece"]
@@ -93,8 +93,7 @@ def main_piece(points: FloatArray, normal: FloatArray, cell_m: float) -> npt.NDA
     """
     if len(points) == 0:
         return np.zeros(0, dtype=np.bool_)
-    label = pieces(_in_plane_axes(points, normal), cell_m)
-    return np.asarray(label == np.argmax(np.bincount(label)), dtype=np.bool_)
+    return largest_piece(_in_plane_axes(points, normal), cell_m)
 
 
 def faces_standing_on(

@@ -78,7 +78,7 @@ def pieces(xy: FloatArray, cell_m: float) -> npt.NDArray[np.intp]:
     return np.asarray(label[of_point.ravel()], dtype=np.intp)
 
 
-def _main_piece(xy: FloatArray, cell_m: float) -> npt.NDArray[np.bool_]:
+def largest_piece(xy: FloatArray, cell_m: float) -> npt.NDArray[np.bool_]:
     """Which points belong to the largest piece (:func:`pieces`)."""
     label = pieces(xy, cell_m)
     return np.asarray(label == np.argmax(np.bincount(label)), dtype=np.bool_)
@@ -105,7 +105,7 @@ def _hull_candidates(xy: FloatArray) -> npt.NDArray[np.bool_]:
 def support_region(xy: FloatArray, cell_m: float) -> SupportRegion:
     """The main piece of a support's voxels (``xy``: their coordinates across the support) and
     its convex hull; the piece's bounding box when its points span no area."""
-    piece = _main_piece(xy, cell_m)
+    piece = largest_piece(xy, cell_m)
     try:
         outline = xy[piece]
         hull = ConvexHull(outline[_hull_candidates(outline)])

@@ -15,10 +15,9 @@ from dataclasses import replace
 
 import numpy as np
 
-from shapes.plane_pieces import is_scattered
 from shapes.segment.params import SegmentationParams
 from shapes.segment.planes import Plane
-from shapes.support_region import support_region
+from shapes.support_region import largest_piece
 from shapes.types import FloatArray
 
 
@@ -82,9 +81,10 @@ def in_band_of(
     - among its voxels: ``min_shared_ground`` of its voxels lie in the cells
       (``support_cell_m`` across) where the support has voxels too (a rug hides the floor
       under it, a box's top the floor under the box);
-    - one solid surface, not scattered in pieces (:func:`shapes.plane_pieces.is_scattered`
-      with ``min_main_piece_share``): a slice through the bottoms of flat things on a desk
-      falls apart around them.
+    - one solid surface, not scattered in pieces (its largest piece,
+      :func:`shapes.support_region.largest_piece`, holds ``min_main_piece_share`` of its voxels,
+      as :func:`shapes.plane_pieces.is_scattered` asks): a slice through the bottoms of flat
+      things on a desk falls apart around them.
     """
     cos = min(1.0, abs(float(plane.normal @ support.normal)))
     if math.degrees(math.acos(cos)) > params.max_band_tilt_deg:
@@ -107,4 +107,4 @@ def in_band_of(
     shared = occupied[(cells[:, 0] - lo[0]) * span[1] + cells[:, 1] - lo[1]]
     if shared.mean() < params.min_shared_ground:
         return False
-    return not is_scattered(support_region(mine[:, :2], cell), params.min_main_piece_share)
+    return float(largest_piece(mine[:, :2], cell).mean()) >= params.min_main_piece_share

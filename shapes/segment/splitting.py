@@ -5,8 +5,8 @@ Step 6 of :mod:`shapes.segment`. A cut is not taken when its parts stand on top 
 (:func:`_each_stands`), else only for what hangs over nothing that stands (:func:`_taken_cut`);
 parts that lie along each other stay one (:mod:`shapes.nested_parts`), and so do parts that close
 a ring around a common centre (:mod:`shapes.ring_cut`), and so do parts that all lie low
-(:mod:`shapes.lying_cut`). The splitter reads the
-noise of a cluster's normals clear of the support's corner (:func:`_clear_of_the_base`).
+(:mod:`shapes.lying_cut`). The splitter reads the noise of a cluster's normals clear of the
+support's corner (:func:`_clear_of_the_base`).
 """
 
 from __future__ import annotations

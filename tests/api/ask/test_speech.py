@@ -36,6 +36,7 @@ def test_a_spoken_question_is_heard_and_answered(
     asker: Asker, recogniser: Recogniser, question: str
 ) -> None:
     heard, answer = asker.ask_audio(synthesise(question), recogniser)
+    # audio_s is the clip's length (the audio read whole), not a timing.
     assert heard.text is not None and heard.audio_s > 0.5
     assert meaning(parse(heard.text)) == meaning(parse(question))
     assert answer.understood and answer.form == parse(question).form  # type: ignore[union-attr]
