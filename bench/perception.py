@@ -465,6 +465,9 @@ REAL_TRUTH = {  # scan: the scan its ground truth was measured on (the laptop sc
     "ycb_desk_xtion": "ycb_desk_xtion",
     "ycb_chair_tablet_xtion": "ycb_chair_tablet_xtion",
     "ycb_chessboard_table_xtion": "ycb_chessboard_table_xtion",
+    "blue_mug_table_realsense": "blue_mug_table_realsense",
+    "cracker_box_table_realsense": "cracker_box_table_realsense",
+    "tin_table_realsense": "tin_table_realsense",
 }
 
 

@@ -473,21 +473,21 @@ REGIONS = {
         {"tin": ((52, 232, 280, 370), True)},
     ),
 }
-HELD_OUT: set[str] = set()
-"""Scans no parameter or rule of ``shapes`` was chosen by looking at (README.md), beside the
-reserved ones below. Every scan held out until stop 39 was run and diagnosed, and is tuned on
-since: the three Asus Xtion scans reserved at stop 38 were run once at stop 39, by the lead,
-after the merge of that stop's first rules, then diagnosed and tuned on late in the stop."""
-RESERVED_AT_STOP_39: set[str] = {
+HELD_OUT_AT_STOP_40: set[str] = {
     "blue_mug_table_realsense",
     "cracker_box_table_realsense",
     "tin_table_realsense",
 }
-"""Found and measured at stop 39 (the next stop's fresh scans); not listed in
-``bench/perception.py``'s ``REAL_TRUTH`` until that stop (README.md)."""
-RESERVED: set[str] = set().union(RESERVED_AT_STOP_39)
+"""Found and measured at stop 39, reserved then, and held out at stop 40: listed in
+``bench/perception.py`` for the lead's one run after the stop's merge, and left out by
+``--tuned-only`` before it (README.md)."""
+HELD_OUT: set[str] = set(HELD_OUT_AT_STOP_40)
+"""Scans no parameter or rule of ``shapes`` was chosen by looking at (README.md), beside the
+reserved ones below. Every scan held out until stop 39 was run and diagnosed, and is tuned on
+since."""
+RESERVED: set[str] = set()
 """Held-out scans kept for a later stop, the union of every stop's reserved set:
-``bench/perception.py`` runs them only with ``--reserved`` (and lists none of stop 39's), so that
+``bench/perception.py`` runs them only with ``--reserved`` (and does not even list them), so that
 nobody gives them to the pipeline before then (README.md)."""
 HELD_OUT |= RESERVED
 MAX_HEIGHT_M = {
