@@ -91,7 +91,7 @@ def _awkward_covariances() -> np.ndarray:
 
 
 def test_smallest_axes_are_the_cross_product_forms_to_the_bit():
-    """Speed work (stop 40) wrote the cross products out on contiguous rows: every value, the
+    """Speed work (stop 38) wrote the cross products out on contiguous rows: every value, the
     sign of every zero included, is still the one np.cross's form gives."""
     cov = _awkward_covariances()
     expected = _smallest_axes_with_numpys_cross(cov)

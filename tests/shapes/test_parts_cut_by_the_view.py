@@ -121,7 +121,7 @@ def test_an_image_with_too_few_depths_for_a_window_is_seen_whole() -> None:
 @pytest.mark.parametrize("seed", range(3))
 def test_the_window_is_read_from_each_rows_and_columns_count_of_depths(seed: int) -> None:
     """The rows and columns kept are those whose count of valid pixels (each pixel's row and
-    column found by division, as before stop 40's speed work) reaches the share, repeated
+    column found by division, as before stop 38's speed work) reaches the share, repeated
     pixels counted each time."""
     rng = np.random.default_rng(seed)
     height, width = 48, 64
