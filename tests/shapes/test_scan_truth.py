@@ -27,7 +27,7 @@ HELD_OUT_AT_STOP_40 = {
 """Reserved at stop 39, held out at stop 40 for the lead's one run after the merge (README.md)."""
 
 
-RESERVED_AT_STOP_40 = {"tote_whisk_sr300_0", "tote_whisk_sr300_1"}
+RESERVED_AT_STOP_40 = {"tote_whisk_sr300_0", "tote_whisk_sr300_1", "pepper_can_table_realsense"}
 """Found and measured at stop 40, reserved for the next stop, never given to the pipeline
 (README.md)."""
 

@@ -56,9 +56,9 @@ MIT, commit 9f3dd7b7bce21dcafc05e8f18ccc90da3caabd04,
 registered to its colour image, in units of 0.1 mm (its ``tools/demo.py`` gives
 ``factor_depth`` 10000), with the intrinsic matrix that file gives.
 
-Frames of a mug, a cracker box and a tin on a table come from 6-DoF GraspNet's demo data
-(``NVlabs/6dof-graspnet``, MIT, commit d65ed693dcd66bac2bd98968675b452c588fcac6,
-``demo/data/{blue_mug,cheezit,cylinder}.npy``): each a pickled dict holding a float32 depth image
+Frames of a mug, a cracker box, a tin and a pepper can on a table come from 6-DoF GraspNet's
+demo data (``NVlabs/6dof-graspnet``, MIT, commit d65ed693dcd66bac2bd98968675b452c588fcac6,
+``demo/data/{blue_mug,cheezit,cylinder,pepper}.npy``): each a pickled dict holding a float32 depth image
 in metres (whole multiples of 0.1 mm, stored here in 0.1 mm units), the colour image and the
 intrinsic matrix. They are read with an unpickler that builds numpy arrays and nothing else.
 
@@ -168,6 +168,7 @@ GRASPNET_6DOF = {
     "demo/data/blue_mug.npy": "blue_mug_table_realsense.npz",
     "demo/data/cheezit.npy": "cracker_box_table_realsense.npz",
     "demo/data/cylinder.npy": "tin_table_realsense.npz",
+    "demo/data/pepper.npy": "pepper_can_table_realsense.npz",  # reserved at stop 40
 }
 """6-DoF GraspNet's demo frames (the twelfth argument); each carries its own intrinsic matrix."""
 ARC_TOTE = {
