@@ -473,7 +473,7 @@ REGIONS = {
         {"tin": ((52, 232, 280, 370), True)},
     ),
     # Reserved at stop 40 for the next stop (README.md): the ARC 2017 demo's two cameras over one
-    # red tote on a picking robot's shelf, an Intel RealSense SR300 (depth aligned to colour,
+    # picking robot's red tote, an Intel RealSense SR300 (depth aligned to colour,
     # 0.1 mm units). On the tote's floor: a whisk, a torch lying, scissors (under 1.5 cm) and a
     # wine glass lying. The floor rises by 1-2 cm towards the glass's end, and a fillet 2-3 cm
     # tall runs round it into the walls. Each support: the largest bare rectangle in each quarter

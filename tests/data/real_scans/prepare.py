@@ -58,11 +58,12 @@ registered to its colour image, in units of 0.1 mm (its ``tools/demo.py`` gives
 
 Frames of a mug, a cracker box, a tin and a pepper can on a table come from 6-DoF GraspNet's
 demo data (``NVlabs/6dof-graspnet``, MIT, commit d65ed693dcd66bac2bd98968675b452c588fcac6,
-``demo/data/{blue_mug,cheezit,cylinder,pepper}.npy``): each a pickled dict holding a float32 depth image
-in metres (whole multiples of 0.1 mm, stored here in 0.1 mm units), the colour image and the
-intrinsic matrix. They are read with an unpickler that builds numpy arrays and nothing else.
+``demo/data/{blue_mug,cheezit,cylinder,pepper}.npy``): each a pickled dict holding a float32
+depth image in metres (whole multiples of 0.1 mm, stored here in 0.1 mm units), the colour
+image and the intrinsic matrix. They are read with an unpickler that builds numpy arrays and
+nothing else.
 
-Two frames of a tote on a picking robot's shelf come from the demo data of the Amazon Robotics
+Two frames of a picking robot's red tote come from the demo data of the Amazon Robotics
 Challenge 2017 vision code (``andyzeng/arc-robot-vision``, Apache-2.0, commit
 33c02ba97097d7a3109736da47f7ded0fc8f19ff,
 ``parallel-jaw-grasping/convnet/demo/input-{0,1}.{color,depth}.png``): an Intel RealSense
