@@ -56,16 +56,25 @@ MIT, commit 9f3dd7b7bce21dcafc05e8f18ccc90da3caabd04,
 registered to its colour image, in units of 0.1 mm (its ``tools/demo.py`` gives
 ``factor_depth`` 10000), with the intrinsic matrix that file gives.
 
-Frames of a mug, a cracker box and a tin on a table come from 6-DoF GraspNet's demo data
-(``NVlabs/6dof-graspnet``, MIT, commit d65ed693dcd66bac2bd98968675b452c588fcac6,
-``demo/data/{blue_mug,cheezit,cylinder}.npy``): each a pickled dict holding a float32 depth image
-in metres (whole multiples of 0.1 mm, stored here in 0.1 mm units), the colour image and the
-intrinsic matrix. They are read with an unpickler that builds numpy arrays and nothing else.
+Frames of a mug, a cracker box, a tin and a pepper can on a table come from 6-DoF GraspNet's
+demo data (``NVlabs/6dof-graspnet``, MIT, commit d65ed693dcd66bac2bd98968675b452c588fcac6,
+``demo/data/{blue_mug,cheezit,cylinder,pepper}.npy``): each a pickled dict holding a float32
+depth image in metres (whole multiples of 0.1 mm, stored here in 0.1 mm units), the colour
+image and the intrinsic matrix. They are read with an unpickler that builds numpy arrays and
+nothing else.
+
+Two frames of a picking robot's red tote come from the demo data of the Amazon Robotics
+Challenge 2017 vision code (``andyzeng/arc-robot-vision``, Apache-2.0, commit
+33c02ba97097d7a3109736da47f7ded0fc8f19ff,
+``parallel-jaw-grasping/convnet/demo/input-{0,1}.{color,depth}.png``): an Intel RealSense
+SR300's depth aligned to its colour image, in units of 0.1 mm (the README and
+``getHeightmap.m`` read it so), with the colour camera's intrinsic matrix that
+``camera-{0,1}.intrinsics.txt`` gives.
 
     python tests/data/real_scans/prepare.py PCL_CHECKOUT/test OPEN3D_CHECKOUT/examples/test_data \
         PCL_DATA_CHECKOUT DENSE_RGBD_VO_CHECKOUT/examples SLAMBOOK2_CHECKOUT RTABMAP_CHECKOUT \
         PLANES_CHECKOUT POINTING_CHECKOUT ANNOTATOR_CHECKOUT PARTICLE_FILTER_CHECKOUT \
-        POSECNN_CHECKOUT GRASPNET_6DOF_CHECKOUT
+        POSECNN_CHECKOUT GRASPNET_6DOF_CHECKOUT ARC_ROBOT_VISION_CHECKOUT
 """
 
 import importlib
@@ -160,8 +169,23 @@ GRASPNET_6DOF = {
     "demo/data/blue_mug.npy": "blue_mug_table_realsense.npz",
     "demo/data/cheezit.npy": "cracker_box_table_realsense.npz",
     "demo/data/cylinder.npy": "tin_table_realsense.npz",
+    "demo/data/pepper.npy": "pepper_can_table_realsense.npz",  # reserved at stop 40
 }
 """6-DoF GraspNet's demo frames (the twelfth argument); each carries its own intrinsic matrix."""
+ARC_TOTE = {
+    "parallel-jaw-grasping/convnet/demo/input-0.depth.png": (
+        "parallel-jaw-grasping/convnet/demo/input-0.color.png",
+        "tote_whisk_sr300_0.npz",
+        {"fx": 619.871277, "fy": 619.871338, "cx": 314.241211, "cy": 238.906021},
+    ),
+    "parallel-jaw-grasping/convnet/demo/input-1.depth.png": (
+        "parallel-jaw-grasping/convnet/demo/input-1.color.png",
+        "tote_whisk_sr300_1.npz",
+        {"fx": 616.849915, "fy": 616.849915, "cx": 310.509369, "cy": 247.691116},
+    ),
+}
+"""The ARC 2017 demo's two cameras over one tote (the thirteenth argument), each with the
+intrinsic matrix of its ``camera-{0,1}.intrinsics.txt``; 10000 depth units a metre."""
 ROS_DEFAULT = {"fx": 525.0, "fy": 525.0, "cx": 319.5, "cy": 239.5}
 """The intrinsics the TUM benchmark recommends for its registered Freiburg 1 and 2 depth images."""
 WIDTH, HEIGHT = 640, 480
@@ -305,3 +329,8 @@ if __name__ == "__main__":
         graspnet = Path(sys.argv[12])
         for source, out in GRASPNET_6DOF.items():
             convert_graspnet_npy(graspnet / source, Path(__file__).with_name(out))
+    if len(sys.argv) > 13:
+        arc = Path(sys.argv[13])
+        for depth_png, (colour_png, out, camera) in ARC_TOTE.items():
+            target = Path(__file__).with_name(out)
+            convert_tum(arc / depth_png, arc / colour_png, target, camera, 1e-4)
