@@ -16,8 +16,8 @@ comparison, the round things beside them that come out right), one line with:
 - ``standing floor``: the cheapest standing cylinder (its axis the support's normal) over a grid
   of feet (4 mm steps, 10 cm round the centroid) and radii (1.5-8 cm, 2.5 mm steps), scored the
   same way on the points the fit scores its candidates on (its sample of at most
-  ``max_fit_points``); ``measured``: the ground truth's own cylinder or
-  sphere, where it has a radius. When both cost more than the planes, no rule on these costs
+  ``max_fit_points``); ``measured``: the ground truth's own cylinder, where it has a
+  radius. When both cost more than the planes, no rule on these costs
   makes the thing round;
 - ``relief``: across the object's middle rows, how much nearer its nearest pixel is than the
   third pixel in from each edge, against what a circle of its measured radius (or of half the
@@ -45,7 +45,7 @@ import numpy as np  # noqa: E402
 import shapes.pipeline as pipeline  # noqa: E402
 from shapes import Perception, PerceptionParams, open_source  # noqa: E402
 from shapes.fit import fit_cluster  # noqa: E402
-from shapes.fit.models import CylinderModel, SphereModel  # noqa: E402
+from shapes.fit.models import CylinderModel  # noqa: E402
 
 SCANS = Path(__file__).parents[1] / "tests" / "data" / "real_scans"
 _spec = importlib.util.spec_from_file_location("measure", SCANS / "measure.py")
@@ -56,7 +56,7 @@ _spec.loader.exec_module(measure)
 ROUND = {
     "desk_tum": ["beige cup", "jar", "clear bottle", "brown bottle", "green bottle", "mug"],
     "desk_fr2_tum_0": ["back can", "left can", "mug"],
-    "desk_fr2_tum_1": ["left can", "ball", "back can", "mug"],
+    "desk_fr2_tum_1": ["left can", "back can", "mug"],
 }
 
 
@@ -206,12 +206,9 @@ def run(name: str, seed: int) -> None:
         measured = ""
         if "radius_m" in item:
             at = world[:3, :3] @ centre + world[:3, 3]
-            if label == "ball":
-                d = SphereModel().distances(np.r_[at, item["radius_m"]][None, :], points)
-            else:
-                foot = at - (at @ normal + support.offset) * normal
-                truth_cylinder = np.r_[foot, normal, item["radius_m"]][None, :]
-                d = CylinderModel(with_caps=True).distances(truth_cylinder, points)
+            foot = at - (at @ normal + support.offset) * normal
+            truth_cylinder = np.r_[foot, normal, item["radius_m"]][None, :]
+            d = CylinderModel(with_caps=True).distances(truth_cylinder, points)
             measured = f"; measured {float(_cost(d[0], threshold)):.3f}"
         ray = cluster.centroid - eye
         ray /= np.linalg.norm(ray)

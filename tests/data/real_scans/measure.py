@@ -8,8 +8,7 @@ above that plane (60 or 80 cm where said), nearer than a stated depth where some
 behind it, and more than a stated distance in front of a wall's plane where a wall stands
 behind it (``object_mask``, the one attribution the benches use too); a round object's axis
 and radius come from an algebraic least-squares circle (Kasa) through its points in the plane's
-coordinates (through its side wall alone where its lid or rim shows: ``SIDE_WALL_CIRCLE``); a
-ball's centre and radius come from a least-squares sphere through its points (``SPHERES``).
+coordinates (through its side wall alone where its lid or rim shows: ``SIDE_WALL_CIRCLE``).
 Everything is in the sensor's optical frame (x right, y down, z forward), in metres.
 
     python tests/data/real_scans/measure.py > tests/data/real_scans/truth.json
@@ -200,8 +199,8 @@ REGIONS = {
             "monitor": ((98, 254, 232, 390), False),
             # Measured at stop 38 (README.md). The lamp: its pole, its head, its leaning arm with
             # the white board on it, its X-shaped foot; nearer than 1.75 m, the plant's leaves
-            # and the papers behind it from 1.8 m. The ball behind the monitor shows as a sliver
-            # of 119 pixels, 3 cm wide: not measured (README.md).
+            # and the papers behind it from 1.8 m. The foam die behind the monitor shows as a
+            # sliver of 119 pixels, 3 cm wide: not measured (README.md).
             "magnifier lamp": (
                 (
                     (55, 170, 96, 130),
@@ -217,14 +216,16 @@ REGIONS = {
             "teddy bear": ((55, 95, 285, 370), False),  # above the monitor's top edge
         },
     ),
-    # The same desk from a camera moved to the right and back: a ball shows beside the monitor.
+    # The same desk from a camera moved to the right and back: the foam die shows beside the
+    # monitor (taken for a ball until stop 40; the colour image shows a yellow cube with rounded
+    # edges, three pips on the face towards the camera: README.md).
     # One box of bare desk in front gave a plane the back of the desk lies 1.5 cm under.
     "desk_fr2_tum_1": (
         ((340, 380, 110, 330), (366, 395, 420, 560), (305, 335, 80, 160), (205, 225, 385, 430)),
         {
             "left can": ((252, 318, 28, 70), True),
             "back can": ((146, 192, 410, 432), False),
-            "ball": ((134, 180, 370, 394), True),  # its left part behind the monitor's edge
+            "die": ((134, 180, 370, 394), False),  # its left part behind the monitor's edge
             "mug": ((302, 366, 404, 448), True),
             "tape roll": ((310, 368, 494, 572), True),
             "keyboard": ((258, 316, 178, 362), False),
@@ -714,10 +715,6 @@ def object_mask(
     return np.asarray(own)
 
 
-SPHERES = {("desk_fr2_tum_1", "ball")}
-"""Balls: their centre and radius come from an algebraic least-squares sphere through their
-points (the ball on the TUM desk, 2.3 m away, its depths in 1.4 cm steps: the fit is rough, and
-its centre's height over the desk, 8.3 cm, against its radius, 7.6 cm, says by how much)."""
 SIDE_WALL_BELOW_TOP_M = 0.015
 
 
@@ -738,13 +735,6 @@ def side_wall_circle(a: np.ndarray, b: np.ndarray, side: np.ndarray) -> tuple[fl
         spread = 3 * 1.4826 * float(np.median(off[keep]))
         keep = side & (off < max(spread, 0.003))
     return ca, cb, radius
-
-
-def sphere(pts: np.ndarray) -> tuple[np.ndarray, float]:
-    """The algebraic least-squares sphere through the points: centre and radius."""
-    design = np.column_stack((2 * pts, np.ones(len(pts))))
-    sol = np.linalg.lstsq(design, (pts**2).sum(axis=1), rcond=None)[0]
-    return sol[:3], float(np.sqrt(sol[3] + sol[:3] @ sol[:3]))
 
 
 def measure(name: str) -> dict[str, object]:
@@ -770,12 +760,7 @@ def measure(name: str) -> dict[str, object]:
         h = pts @ normal + offset
         top = float(np.percentile(h, 99))
         item: dict[str, object] = {"points": len(pts), "height_m": round(top, 4)}
-        if (name, label) in SPHERES:
-            centre, radius = sphere(pts)
-            item["radius_m"] = round(radius, 4)
-            item["centre"] = centre.round(4).tolist()
-            item["note"] = "centre of the sphere"
-        elif round_:
+        if round_:
             a, b = pts @ e1, pts @ e2
             if (name, label) in SIDE_WALL_CIRCLE:
                 ca, cb, radius = side_wall_circle(a, b, h < top - SIDE_WALL_BELOW_TOP_M)
