@@ -16,7 +16,7 @@ bases the sensor does not see).
 Run from the repository root::
 
     PYTHONPATH=. nice -n 10 .venv/bin/python bench/perception_occlusion.py
-    PYTHONPATH=. .venv/bin/python bench/perception_occlusion.py --off min_unseen_base_share=2
+    PYTHONPATH=. nice -n 10 .venv/bin/python bench/perception_occlusion.py --off min_unseen_base_share=2
 """
 
 import argparse
