@@ -114,16 +114,12 @@ class ImageView:
         depth_image: FloatArray,
         probe_px: int,
         nearer_m: float,
-        *,
-        no_depth_hides: bool = False,
     ) -> float:
         """The share of a region's lines across the image whose last pixel towards the open
         edge has, within ``probe_px`` beyond it, a pixel of ``depth_image`` more than
         ``nearer_m`` nearer than the region there: where its lower edge is the outline of
-        something in front of it (an occluder), not its own. With ``no_depth_hides``, a pixel
-        with no depth there counts too: a surface the sensor does not see (a black foot) may
-        be what the region stands on. ``pixels`` are flat row-major, ``depth_m`` their depths;
-        the depth image holds NaN where there is no depth."""
+        something in front of it (an occluder), not its own. ``pixels`` are flat row-major,
+        ``depth_m`` their depths; the depth image holds NaN where there is no depth."""
         row, col = np.divmod(np.asarray(pixels), self.width)
         vertical = self.open_edge in ("top", "bottom")
         along, across = (row, col) if vertical else (col, row)
@@ -138,10 +134,7 @@ class ImageView:
             beyond = along[ends] + sign * step
             inside = (beyond >= 0) & (beyond < limit)
             r, c = (beyond, end_across) if vertical else (end_across, beyond)
-            seen = depth_image[r[inside], c[inside]]
-            found = seen < end_depth[inside] - nearer_m
-            if no_depth_hides:
-                found |= np.isnan(seen)
+            found = depth_image[r[inside], c[inside]] < end_depth[inside] - nearer_m
             hidden[np.flatnonzero(inside)[found]] = True
         return float(hidden.mean()) if len(ends) else 0.0
 

@@ -102,10 +102,8 @@ def floats(cluster: Cluster, reach: Reach, margin_m: float, params: Segmentation
     shelf), not an object: its lowest voxel lies ``max_base_height_m`` or more above the
     lowest an object's voxel can lie (``margin_m``, the support's noise margin), and its
     lower outline in the image is its own (less than ``min_hidden_share`` of
-    it has something nearer just past it, towards the image's open edge, and less than
-    ``min_unseen_base_share`` of it has something nearer or no depth at all there). An object
-    whose base is hidden behind another, or stands on something the sensor does not see (a
-    monitor on its black foot), stands on the support unseen, and is kept."""
+    it has something nearer just past it, towards the image's open edge). An object whose
+    base is hidden behind another stands on the support unseen, and is kept."""
     assert cluster.support is not None
     seen = reach.image()
     if seen is None or cluster.pixels is None:
@@ -114,12 +112,14 @@ def floats(cluster: Cluster, reach: Reach, margin_m: float, params: Segmentation
         return False
     view, image = seen
     depth = reach.depth_of(cluster.points)
-    probe = (cluster.pixels, depth, image, params.floating_probe_px, nearer_m(cluster, params))
-    if view.hidden_below(*probe) >= params.min_hidden_share:
-        return False
-    if params.min_unseen_base_share > 1.0:
-        return True
-    return view.hidden_below(*probe, no_depth_hides=True) < params.min_unseen_base_share
+    hidden = view.hidden_below(
+        cluster.pixels,
+        depth,
+        image,
+        params.floating_probe_px,
+        nearer_m(cluster, params),
+    )
+    return hidden < params.min_hidden_share
 
 
 def not_under(

@@ -101,15 +101,6 @@ class SegmentationParams:
     min_hidden_share: float = 0.5
     """The share of a cluster's lower outline that something nearer must hide for a bottom
     seen above ``max_base_height_m`` to be hidden rather than hanging (:func:`floats`)."""
-    min_unseen_base_share: float = 0.9
-    """The share of a cluster's lower outline that something nearer, or a pixel with no depth,
-    must border (within ``floating_probe_px``) for a bottom seen above ``max_base_height_m`` to
-    stand on something unseen rather than hang (:func:`floats`): a monitor's black foot returns
-    no depth. Over the clusters of the 24 tuned-on scans that hang by ``min_hidden_share``
-    (seeds 0-2), the fr1 monitor's screen (7,436-7,734 points) gives 0.95-1.00, the edge of
-    the monitor behind it (119-124 points) 1.00, pieces of 13-25 points 0.55-1.00, and the
-    four other clusters of 31-837 points 0.50-0.52 or less (docs/perception.md, "A base the
-    sensor does not see (stop 40)"); over 1: never."""
     support_edge_depth_m: float = 0.08
     """How far under a support's plane its edge reaches (the top's thickness, its front face,
     an apron): what hides the top of a cluster on a lower support from that high up is the
