@@ -109,3 +109,18 @@ class SegmentationParams:
     """The share of a cluster's upper outline that a higher support's edge must hide for the
     cluster to stand under that edge (:mod:`shapes.support_edge`); the same half as
     ``min_hidden_share`` asks of a lower outline."""
+    max_edge_share: float = 0.5
+    """The share of a cluster's pixels at a depth edge above which it is a band of an edge's
+    mixed pixels and gives no primitive (:mod:`shapes.segment.slivers`; 1: never). Over the
+    primitives the bench matches to a measured object on the 24 tuned-on scans (seeds 0-2),
+    the share is 0.25 at most (the TUM desk's mug, 85 points 1 m away, and the fr2 desk's);
+    the strays above half are lines of pixels along a silhouette (docs/perception.md, "What
+    the strays are (stop 40)")."""
+    sliver_window_px: int = 5
+    """The side (full-resolution pixels) of the window in which a depth edge is looked for
+    around a cluster's pixel (:func:`shapes.segment.slivers.edge_share`)."""
+    sliver_jump_ratio: float = 0.05
+    """The depth range within that window, as a share of the pixel's depth, that makes it a
+    depth edge: steeper than a surface seen at 80 degrees from its normal."""
+    sliver_samples: int = 200
+    """How many of a cluster's pixels (evenly spread) :func:`edge_share` judges."""
