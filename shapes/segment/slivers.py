@@ -1,19 +1,23 @@
 """Clusters made of a depth edge's pixels give no primitive.
 
 The last step of :mod:`shapes.segment`. Where the depth jumps between a near surface and a far
-one (an object's silhouette against the floor or a wall), a sensor returns mixed depths and
-smoothed ramps a pixel or two wide; the flying-pixel filter (:mod:`shapes.artefacts`) drops the
-loose ones, but a line of them along a long straight edge (a laptop screen's top, a bowl's
-rim) supports itself and becomes a cluster of its own. Such a cluster is a band along the edge:
-most of its pixels lie within ``sliver_window_px`` of a jump larger than ``sliver_jump_ratio``
-of their depth. A surface of an object seen by the camera has an inside, away from its
-silhouette; a cluster *most* of whose pixels (``max_edge_share``) are at an edge has none, and
-no primitive fitted to it describes a surface.
+one (an object's silhouette against a wall or a sofa), a sensor returns mixed depths a pixel or
+two wide; the flying-pixel filter (:mod:`shapes.artefacts`) drops the loose ones, but a line of
+them along a long straight edge (the top of a laptop's screen) supports itself and becomes a
+cluster of its own. Such a cluster is a band in front of the far side: most of its pixels have,
+within ``sliver_window_px``, at least ``sliver_min_farther`` pixels (a row or a column of the
+window) farther than themselves by more than ``sliver_jump_ratio`` of their depth. A surface of
+an object seen by the camera has an inside, away from its outline; a cluster *most* of whose
+pixels (``max_edge_share``) lie at such an edge has none, and no primitive fitted to it
+describes a surface.
 
-The jump is a share of the depth, not a multiple of the noise: at 5 % of the range within two
-pixels it is steeper than any surface the camera sees at up to 80 degrees from its normal (that
-one changes depth by about ``2 tan(80°) / f`` of the range across two pixels: 2.2 % at f = 525
-px), and ten noise levels or more for the sensors of ``tests/data/real_scans`` out to 3 m.
+Only what lies *farther* counts. A surface partly hidden by something nearer (a sphere behind
+another, the top of a box behind a telephone) is a real surface seen past an occluder, and its
+pixels along the occluder's outline stay inside it; sensor outliers in front of a surface do not
+make it an edge either. The jump is a share of the depth, not a multiple of the noise: 5 % of the
+range within two pixels is steeper than any surface the camera sees at up to 80 degrees from its
+normal (about ``2 tan(80°) / f`` of the range across two pixels: 2.2 % at f = 525 px), and ten
+noise levels or more for the sensors of ``tests/data/real_scans`` out to 3 m.
 """
 
 from __future__ import annotations
@@ -26,10 +30,12 @@ from shapes.types import FloatArray
 
 
 def edge_share(cluster: Cluster, depth_image: FloatArray, params: SegmentationParams) -> float:
-    """The share of ``cluster``'s pixels within ``sliver_window_px`` of a depth jump larger than
-    ``sliver_jump_ratio`` of their own depth, in ``depth_image`` (the frame's depths as an image,
-    NaN where there is none: no depth is no edge), judged on at most ``sliver_samples`` of its
-    pixels evenly spread over its list. 0.0 for a cluster without pixels.
+    """The share of ``cluster``'s pixels in front of a depth edge: with ``sliver_min_farther`` or
+    more pixels of the ``sliver_window_px`` square around them farther by more than
+    ``sliver_jump_ratio`` of their own depth, in ``depth_image`` (the frame's depths as an
+    image, NaN where there is none: no depth is nothing farther). Judged on at most
+    ``sliver_samples`` of its pixels evenly spread over its list; 0.0 for a cluster without
+    pixels.
 
     >>> depth = np.full((9, 9), 2.0)
     >>> depth[4, :] = 1.0  # a one-pixel line 1 m nearer than the wall behind it
@@ -45,17 +51,15 @@ def edge_share(cluster: Cluster, depth_image: FloatArray, params: SegmentationPa
     rows, cols = np.divmod(pixels, width)
     flat = depth_image.ravel()
     here = flat[pixels]
-    low = np.full(len(pixels), np.inf)
-    high = np.full(len(pixels), -np.inf)
+    farther = np.zeros(len(pixels), dtype=np.int64)
+    jump = params.sliver_jump_ratio * here
     reach = params.sliver_window_px // 2
     with np.errstate(invalid="ignore"):
         for dy in range(-reach, reach + 1):
             r = np.clip(rows + dy, 0, height - 1) * width
             for dx in range(-reach, reach + 1):
-                seen = flat[r + np.clip(cols + dx, 0, width - 1)]
-                low = np.fmin(low, seen)
-                high = np.fmax(high, seen)
-        at_edge = high - low > params.sliver_jump_ratio * here
+                farther += flat[r + np.clip(cols + dx, 0, width - 1)] - here > jump
+    at_edge = farther >= params.sliver_min_farther
     return float(np.mean(at_edge))
 
 
