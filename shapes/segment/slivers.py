@@ -51,14 +51,17 @@ def edge_share(cluster: Cluster, depth_image: FloatArray, params: SegmentationPa
     rows, cols = np.divmod(pixels, width)
     flat = depth_image.ravel()
     here = flat[pixels]
-    farther = np.zeros(len(pixels), dtype=np.int64)
-    jump = params.sliver_jump_ratio * here
     reach = params.sliver_window_px // 2
+    offsets = np.arange(-reach, reach + 1)
+    # The window of every sampled pixel at once, one row per pixel (clipped at the image's
+    # borders, where a border pixel then stands in for the missing ones).
+    r = np.clip(rows[:, None] + offsets, 0, height - 1)[:, :, None] * width
+    c = np.clip(cols[:, None] + offsets, 0, width - 1)[:, None, :]
+    window = flat[(r + c).reshape(len(pixels), -1)]
     with np.errstate(invalid="ignore"):
-        for dy in range(-reach, reach + 1):
-            r = np.clip(rows + dy, 0, height - 1) * width
-            for dx in range(-reach, reach + 1):
-                farther += flat[r + np.clip(cols + dx, 0, width - 1)] - here > jump
+        farther = np.count_nonzero(
+            window - here[:, None] > params.sliver_jump_ratio * here[:, None], axis=1
+        )
     at_edge = farther >= params.sliver_min_farther
     return float(np.mean(at_edge))
 
