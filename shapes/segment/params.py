@@ -113,7 +113,7 @@ class SegmentationParams:
     """The share of a cluster's pixels at a depth edge above which it is a band of an edge's
     mixed pixels and gives no primitive (:mod:`shapes.segment.slivers`; 1: never). Over the
     primitives the bench matches to a measured object on the 24 tuned-on scans (seeds 0-2),
-    the share is 0.19 at most (the fr1 desk's purple device); the one stray above half, 0.88,
+    the share is 0.16 at most (the fr1 desk's purple device); the one stray above half, 0.83,
     is the line of mixed pixels along the living room's laptop screen (docs/perception.md,
     "Clusters made of a depth edge's pixels (stop 40)")."""
     sliver_window_px: int = 5
