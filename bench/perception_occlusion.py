@@ -1,9 +1,11 @@
-"""What parting clusters at occlusion edges costs a Kinect frame, in one process.
+"""What a segmentation step (occlusion edges, slivers) costs a Kinect frame, in one process.
 
 Each tuned-on Kinect scan of ``tests/data/real_scans`` (``kinect`` in the name; the held-out and
 reserved ones are never loaded) goes through the pipeline with no pose (gravity from the scene)
-on seeds 0-2, with the occlusion step on (the default ``occlusion_slope``) and off
-(``occlusion_slope`` 0), alternately, ``--repeats`` times; each frame keeps its least CPU
+on seeds 0-2, with the step on (the default parameters) and off, alternately, ``--repeats``
+times. The steps (``--step``): ``occlusion`` (off: ``occlusion_slope`` 0;
+:mod:`shapes.segment.occlusion`) and ``slivers`` (off: ``max_edge_share`` 1;
+:mod:`shapes.segment.slivers`); each frame keeps its least CPU
 (``time.process_time``). Printed: the median over the scans of each scan's median frame, on and
 off, and the per-scan difference. The two come from the same minutes, so their difference
 survives the machine's load better than either figure alone (docs/perception.md, "A thing lying
@@ -12,6 +14,7 @@ across another, and a hand reaching in (stop 39)").
 Run from the repository root::
 
     PYTHONPATH=. nice -n 10 .venv/bin/python bench/perception_occlusion.py
+    PYTHONPATH=. nice -n 10 .venv/bin/python bench/perception_occlusion.py --step slivers
 """
 
 import argparse
@@ -25,10 +28,16 @@ from perception import REAL_SCANS, REAL_TRUTH
 from shapes import Perception, PerceptionParams, open_source
 from shapes.segment import SegmentationParams
 
+STEP_OFF = {"occlusion": {"occlusion_slope": 0.0}, "slivers": {"max_edge_share": 1.0}}
+"""Each step's parameters that turn it off."""
+
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("--repeats", type=int, default=3, help="runs of each frame and mode (3)")
+    parser.add_argument(
+        "--step", choices=sorted(STEP_OFF), default="occlusion", help="the step timed (occlusion)"
+    )
     args = parser.parse_args()
     truth = json.loads((REAL_SCANS / "truth.json").read_text())
     names = [
@@ -39,7 +48,7 @@ def main() -> None:
         and not truth[measured].get("reserved")
     ]
     on = PerceptionParams(gravity_from_scene=True)
-    off = dataclasses.replace(on, segmentation=SegmentationParams(occlusion_slope=0.0))
+    off = dataclasses.replace(on, segmentation=SegmentationParams(**STEP_OFF[args.step]))
     least: dict[tuple[str, int, str], float] = {}
     for scan in names:
         frame = next(open_source(REAL_SCANS / f"{scan}.npz"))
@@ -58,7 +67,7 @@ def main() -> None:
     gaps = [a - b for a, b in zip(per_scan["on"], per_scan["off"], strict=True)]
     print(
         f"{len(names)} Kinect scans, seeds 0-2: median frame {np.median(per_scan['on']):.0f} ms "
-        f"with the occlusion step, {np.median(per_scan['off']):.0f} ms without; per scan "
+        f"with the {args.step} step, {np.median(per_scan['off']):.0f} ms without; per scan "
         f"{np.median(gaps):.1f} ms more (median), {min(gaps):.1f} to {max(gaps):.1f} ms"
     )
 

@@ -72,7 +72,9 @@ Steps (PITT's, with its quirks fixed; see ``shared/reference/pitt-perception.md`
    occlusion edges where a thing lies across another in front of it, or a hand hangs in from the
    image's edge (:mod:`shapes.segment.occlusion`); clusters with fewer than
    ``min_cluster_voxels`` voxels are dropped;
-7. each cluster gets its full-resolution points (and colours) back through the voxel index.
+7. each cluster gets its full-resolution points (and colours) back through the voxel index;
+   a cluster most of whose pixels lie at a depth edge (a line of mixed pixels along a
+   silhouette) is dropped last (:mod:`shapes.segment.slivers`).
 
 When there is no cluster, :attr:`Segmentation.reason` says why in one line: no support found
 (with the planes seen), or no clusters above it, or clusters too small.
@@ -92,6 +94,7 @@ The modules, in the order of the steps (imports go one way, each only from those
 - :mod:`shapes.segment.reach`: how far the scene reaches (the depth cut, the image's window);
 - :mod:`shapes.segment.objects`: the rules of what is an object of the scene, in their order;
 - :mod:`shapes.segment.tall`: clusters cut at the band's top, grown upwards;
+- :mod:`shapes.segment.slivers`: clusters made of a depth edge's pixels give no primitive;
 - :mod:`shapes.segment.segmentation`: :func:`segment`, the steps in order, and
   :class:`Segmentation`.
 """

@@ -109,3 +109,23 @@ class SegmentationParams:
     """The share of a cluster's upper outline that a higher support's edge must hide for the
     cluster to stand under that edge (:mod:`shapes.support_edge`); the same half as
     ``min_hidden_share`` asks of a lower outline."""
+    max_edge_share: float = 0.5
+    """The share of a cluster's pixels at a depth edge above which it is a band of an edge's
+    mixed pixels and gives no primitive (:mod:`shapes.segment.slivers`; 1: never). Over the
+    primitives the bench matches to a measured object on the 24 tuned-on scans (seeds 0-2),
+    the share is 0.16 at most (the fr1 desk's purple device); the one stray above half, 0.83,
+    is the line of mixed pixels along the living room's laptop screen (docs/perception.md,
+    "Clusters made of a depth edge's pixels (stop 40)")."""
+    sliver_window_px: int = 5
+    """The side (full-resolution pixels) of the window in which a depth edge is looked for
+    around a cluster's pixel (:func:`shapes.segment.slivers.edge_share`)."""
+    sliver_jump_ratio: float = 0.05
+    """How much farther than a cluster's pixel, as a share of its depth, a pixel of that window
+    must lie to be past a depth edge: steeper than a surface seen at 80 degrees from its
+    normal."""
+    sliver_min_farther: int = 5
+    """How many pixels of that window must lie farther than the pixel by the jump for it to be
+    at a depth edge: one side of the window (a row or column of it beyond a straight edge),
+    which a few scattered outliers do not make."""
+    sliver_samples: int = 200
+    """How many of a cluster's pixels (evenly spread) :func:`edge_share` judges."""

@@ -24,6 +24,7 @@ from shapes.segment.objects import (
 from shapes.segment.params import SegmentationParams
 from shapes.segment.planes import in_world
 from shapes.segment.reach import Reach
+from shapes.segment.slivers import off_depth_edges
 from shapes.segment.supports import judge_planes
 from shapes.segment.survey import Survey, depth_cut_m, survey
 from shapes.segment.tall import grown_upwards
@@ -156,6 +157,7 @@ def segment(
         ]
         kept.append(not_under(found, parts, support, params))
     kept = not_under_support_edges(kept, supports, regions, frame, reach, params)
+    kept = [off_depth_edges(found, reach.depth_image, params) for found in kept]
     for k, found in enumerate(kept):
         votes[k] = sum(len(c.voxels) for c in found)
         clusters += found
