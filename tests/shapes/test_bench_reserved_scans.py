@@ -64,8 +64,8 @@ def test_a_held_out_scan_is_left_out_when_tuning(
 
 
 def test_every_held_out_scan_is_listed_in_the_bench() -> None:
-    """The held-out scans (stop 39's reserved RealSense frames, from stop 40) are in ``REAL_TRUTH``, for the lead's
-    one run."""
+    """The held-out scans (stop 39's reserved RealSense frames, from stop 40) are in
+    ``REAL_TRUTH``, for the lead's one run."""
     assert set(HELD_OUT) <= set(bench_module("perception").REAL_TRUTH)
 
 

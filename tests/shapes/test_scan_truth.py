@@ -10,7 +10,8 @@ from tests.shapes.real_scans import SCANS, measure_module
 
 TRUTH = json.loads((SCANS / "truth.json").read_text())
 TUNED_ON_SINCE_STOP_39 = {"ycb_desk_xtion", "ycb_chair_tablet_xtion", "ycb_chessboard_table_xtion"}
-"""Reserved at stop 38, run once at stop 39 by the lead after the merge, then tuned on (README.md)."""
+"""Reserved at stop 38, run once at stop 39 by the lead after the merge, then tuned on
+(README.md)."""
 
 
 @pytest.mark.parametrize("name", sorted(TRUTH))
