@@ -1,8 +1,8 @@
 """open3d's outlier removal and DBSCAN against an exact numpy/SciPy copy of both, in one process.
 
-Tried at stop 40 to make a Kinect frame cheaper, and not kept (docs/perception.md, "open3d's
-outlier removal and DBSCAN, copied to the bit (stop 40, speed, tried)"). The copy answers both
-of open3d's searches (``remove_statistical_outlier``'s nearest neighbours and
+Tried at stop 40 to make a Kinect frame cheaper, and not kept (docs/perception.md, "A Kinect
+frame's CPU at stop 40, and open3d's two searches copied to the bit (stop 40, tried)"). The copy
+answers both of open3d's searches (``remove_statistical_outlier``'s nearest neighbours and
 ``cluster_dbscan``'s radius) from one SciPy k-d tree's pairs closer than DBSCAN's radius: a point
 with ``neighbours - 1`` others within the radius has its nearest among them, and only the few
 that have not are searched again. Its results are open3d's to the bit: distances summed as
