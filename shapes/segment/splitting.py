@@ -11,6 +11,8 @@ support's corner (:func:`_clear_of_the_base`).
 
 from __future__ import annotations
 
+from collections.abc import Callable
+
 import numpy as np
 import numpy.typing as npt
 from scipy.sparse import coo_matrix
@@ -18,6 +20,7 @@ from scipy.sparse.csgraph import connected_components
 from scipy.spatial import cKDTree
 
 from shapes.arrays import column_max, column_min, column_span
+from shapes.colour_seam import parted_by_colour
 from shapes.lying_cut import lies_low
 from shapes.nested_parts import joined_where_nested
 from shapes.ring_cut import closes_a_ring
@@ -34,6 +37,7 @@ def split_clusters(
     sigma_1m: float,
     heights: FloatArray | None = None,
     margin_m: float = 0.0,
+    colours_lab: Callable[[npt.NDArray[np.intp]], FloatArray] | None = None,
 ) -> npt.NDArray[np.int64]:
     """Labels with every cluster cut along its concave seams (:mod:`shapes.split`), where
     :func:`_taken_cut` takes the cut (``heights``: each voxel's height over the support, when
@@ -65,8 +69,20 @@ def split_clusters(
         judged=None if heights is None else [_clear_of_the_base(heights[m], params) for m in cut],
     )
     for members, parts in zip(cut, found, strict=True):
-        if parts.max() == 0 or _stacked(voxels[members], parts, params.cluster_eps_m):
+        if parts.max() == 0:
             continue
+        if _stacked(voxels[members], parts, params.cluster_eps_m):
+            if colours_lab is None or params.min_part_colour_difference <= 0:
+                continue
+            parts = parted_by_colour(
+                voxels[members],
+                parts,
+                colours_lab(members),
+                min_apart_m=params.cluster_eps_m,
+                min_difference=params.min_part_colour_difference,
+            )
+            if parts.max() == 0:
+                continue
         if heights is not None:
             parts = _taken_cut(voxels[members], heights[members], parts, margin_m, params)
         parts = joined_where_nested(
