@@ -48,9 +48,7 @@ def lab(rgb: FloatArray) -> FloatArray:
     )
 
 
-def voxel_colours(
-    voxel_of: npt.NDArray[np.intp], colours: FloatArray, n_voxels: int
-) -> FloatArray:
+def voxel_colours(voxel_of: npt.NDArray[np.intp], colours: FloatArray, n_voxels: int) -> FloatArray:
     """Each voxel's mean colour (``(n_voxels, 3)``), from its points' colours (``colours``,
     one row per point, and ``voxel_of``, each point's voxel); NaN for a voxel with no point."""
     count = np.bincount(voxel_of, minlength=n_voxels).astype(np.float64)
