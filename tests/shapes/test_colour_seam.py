@@ -72,6 +72,14 @@ def test_parts_without_a_colour_refuse_the_cut() -> None:
     assert joined.max() == 0
 
 
+def test_a_scan_without_colour_refuses_the_cut() -> None:
+    """Two of the Kinect scans store every colour as black: every part is alike."""
+    voxels, parts, _ = _scene((YELLOW, BLACK, RED))
+    colours = lab(np.zeros((len(voxels), 3)))
+    joined = parted_by_colour(voxels, parts, colours, min_apart_m=0.03, min_difference=40.0)
+    assert joined.max() == 0
+
+
 def test_lab_of_white_black_and_red() -> None:
     np.testing.assert_allclose(
         lab(np.array([[1.0, 1.0, 1.0], [0.0, 0.0, 0.0], [1.0, 0.0, 0.0]])),
