@@ -7,11 +7,12 @@ along an occlusion line or its own fold. Lying objects that touch are cut so too
 side is cut along its own fold into an upper and a lower part, and the whole cut, which also
 parts the drill from the clamp and the box it touches, is refused.
 
-:func:`parted_by_colour` joins the stacked parts and keeps the cut between what remains only
-when each pair of touching remainders differs in colour by more than the spread of colours
-within one object: distinct objects set down against each other, rather than one object's
-faces. Colours are compared in CIELAB (:func:`lab`), where a distance is a perceived
-difference (CIE76 delta E), on each part's median colour.
+:func:`joined_where_stacked` joins the stacked parts, and :func:`touching_parts_differ` keeps
+the cut between what remains only when every two touching parts differ in colour by more than
+a threshold: distinct objects set down against each other. One object's faces may differ in
+colour too, but a textured object cut in several parts leaves some touching pair alike. Colours
+are compared in CIELAB (:func:`lab`), where a distance is a perceived difference (CIE76 delta
+E), on each part's median colour.
 """
 
 from __future__ import annotations
@@ -24,7 +25,7 @@ from scipy.spatial import cKDTree
 
 from shapes.types import FloatArray
 
-__all__ = ["lab", "parted_by_colour", "voxel_colours"]
+__all__ = ["joined_where_stacked", "lab", "touching_parts_differ", "voxel_colours"]
 
 _XYZ_FROM_LINEAR_RGB = np.array(
     [[0.4124, 0.3576, 0.1805], [0.2126, 0.7152, 0.0722], [0.0193, 0.1192, 0.9505]]
@@ -35,7 +36,7 @@ _D65_WHITE = np.array([0.95047, 1.0, 1.08883])
 def lab(rgb: FloatArray) -> FloatArray:
     """CIELAB (L* 0-100, a*, b*) of ``(N, 3)`` sRGB colours in [0, 1], D65 white.
 
-    >>> lab(np.array([[1.0, 1.0, 1.0], [0.0, 0.0, 0.0]])).round(1)
+    >>> lab(np.array([[1.0, 1.0, 1.0], [0.0, 0.0, 0.0]])).round(1) + 0.0
     array([[100.,   0.,   0.],
            [  0.,   0.,   0.]])
     """
@@ -59,19 +60,46 @@ def voxel_colours(voxel_of: npt.NDArray[np.intp], colours: FloatArray, n_voxels:
         return np.asarray(mean / count[:, None], dtype=np.float64)
 
 
-def parted_by_colour(
+def joined_where_stacked(
+    voxels: FloatArray, parts: npt.NDArray[np.int64], min_apart_m: float
+) -> npt.NDArray[np.int64]:
+    """The cut ``parts`` (labels 0, 1, ... of ``voxels``) with its stacked parts joined: those
+    whose centres across the support lie closer than ``min_apart_m``, and so on through one
+    another; relabelled 0, 1, ... (all zeros: every part was stacked with another, no cut left).
+
+    Raises ValueError when ``parts`` does not give one label per voxel.
+
+    >>> voxels = np.array([[0.0, 0, 0], [0.005, 0, 0.02], [0.1, 0, 0]])
+    >>> joined_where_stacked(voxels, np.array([0, 1, 2]), 0.03).tolist()
+    [0, 0, 1]
+    """
+    if len(parts) != len(voxels):
+        raise ValueError(f"parts: expected one label per voxel ({len(voxels)}), got {len(parts)}")
+    count = int(parts.max(initial=-1)) + 1
+    size = np.bincount(parts, minlength=count)
+    centres = np.column_stack(
+        [
+            np.bincount(parts, weights=voxels[:, axis], minlength=count) / np.maximum(size, 1)
+            for axis in (0, 1)
+        ]
+    )
+    pairs = cKDTree(centres).query_pairs(min_apart_m, output_type="ndarray")
+    graph = coo_matrix((np.ones(len(pairs)), (pairs[:, 0], pairs[:, 1])), shape=(count, count))
+    return np.asarray(connected_components(graph, directed=False)[1], dtype=np.int64)[parts]
+
+
+def touching_parts_differ(
     voxels: FloatArray,
     parts: npt.NDArray[np.int64],
     colours_lab: FloatArray,
     *,
-    min_apart_m: float,
+    near_m: float,
     min_difference: float,
-) -> npt.NDArray[np.int64]:
-    """The cut ``parts`` (labels 0, 1, ... of ``voxels``) with its stacked parts joined (centres
-    across the support closer than ``min_apart_m``, and so on through one another), when what
-    remains is two parts or more and every two of them that touch (nearest voxels within
-    ``min_apart_m``) have median colours (``colours_lab``, CIELAB, one row per voxel; NaN rows
-    are left out) more than ``min_difference`` apart; otherwise all zeros: the cut is refused.
+) -> bool:
+    """Whether a cut into two parts or more (``parts``: labels 0, 1, ... of ``voxels``) has
+    every two parts that touch (nearest voxels within ``near_m``) more than ``min_difference``
+    apart in median colour (``colours_lab``: CIELAB, one row per voxel; rows with a NaN, voxels
+    without a colour, are left out; a part with none is alike to every other).
 
     Raises ValueError when ``parts`` or ``colours_lab`` does not give one row per voxel, or
     ``min_difference`` is not positive.
@@ -83,28 +111,20 @@ def parted_by_colour(
         )
     if not min_difference > 0:
         raise ValueError(f"min_difference must be positive, got {min_difference}")
-    refused = np.zeros(len(parts), dtype=np.int64)
     count = int(parts.max(initial=-1)) + 1
-    centres = np.array([voxels[parts == k, :2].mean(axis=0) for k in range(count)])
-    pairs = cKDTree(centres).query_pairs(min_apart_m, output_type="ndarray")
-    graph = coo_matrix((np.ones(len(pairs)), (pairs[:, 0], pairs[:, 1])), shape=(count, count))
-    groups = connected_components(graph, directed=False)[1].astype(np.int64)
-    joined = groups[parts]
-    if joined.max() == 0:
-        return refused
-    medians = []
-    for g in range(int(joined.max()) + 1):
-        seen = colours_lab[joined == g]
+    if count < 2:
+        return False
+    medians = np.full((count, 3), np.nan)
+    for k in range(count):
+        seen = colours_lab[parts == k]
         seen = seen[np.isfinite(seen).all(axis=1)]
-        if not len(seen):
-            return refused
-        medians.append(np.median(seen, axis=0))
-    trees = [cKDTree(voxels[joined == g]) for g in range(len(medians))]
-    least = np.inf
-    for a in range(len(medians)):
-        for b in range(a + 1, len(medians)):
-            gap, _ = trees[b].query(voxels[joined == a], distance_upper_bound=min_apart_m)
-            if not np.isfinite(gap).any():
-                continue  # not touching: DBSCAN joined them through a third
-            least = min(least, float(np.linalg.norm(medians[a] - medians[b])))
-    return joined if np.isfinite(least) and least > min_difference else refused
+        if len(seen):
+            medians[k] = np.median(seen, axis=0)
+    with np.errstate(invalid="ignore"):
+        apart = np.linalg.norm(medians[:, None, :] - medians[None, :, :], axis=2)
+    # Only the pairs alike in colour can refuse: whether they touch is asked of them alone.
+    for a, b in zip(*np.nonzero(np.triu(~(apart > min_difference), 1)), strict=True):
+        gaps, _ = cKDTree(voxels[parts == b]).query(voxels[parts == a], distance_upper_bound=near_m)
+        if np.isfinite(gaps).any():
+            return False
+    return True

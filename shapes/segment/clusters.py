@@ -206,22 +206,18 @@ def _colours_lab(
     kept: KeptPoints, candidates: npt.NDArray[np.intp]
 ) -> Callable[[npt.NDArray[np.intp]], FloatArray] | None:
     """The CIELAB colour of the voxels ``members`` (indices into ``candidates``), each the mean
-    of its kept points' colours, worked out for all the candidates at the first call only (most
-    frames never ask); None when the frame has no colours."""
+    of its kept points' colours, worked out only when asked; None when the frame has no
+    colours."""
     if kept.colours is None:
         return None
     frame_colours, frame_index = kept.colours
-    found: list[FloatArray] = []
 
     def of(members: npt.NDArray[np.intp]) -> FloatArray:
-        if not found:
-            position = np.full(len(kept.voxels), -1, dtype=np.intp)
-            position[candidates] = np.arange(len(candidates))
-            at = position[kept.voxel_of]
-            own = np.flatnonzero(at >= 0)
-            rgb = frame_colours[frame_index[own]]
-            found.append(lab(voxel_colours(at[own], rgb, len(candidates))))
-        return found[0][members]
+        position = np.full(len(kept.voxels), -1, dtype=np.intp)
+        position[candidates[members]] = np.arange(len(members))
+        at = position[kept.voxel_of]
+        own = np.flatnonzero(at >= 0)
+        return lab(voxel_colours(at[own], frame_colours[frame_index[own]], len(members)))
 
     return of
 

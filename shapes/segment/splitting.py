@@ -5,7 +5,9 @@ Step 6 of :mod:`shapes.segment`. A cut is not taken when its parts stand on top 
 (:func:`_each_stands`), else only for what hangs over nothing that stands (:func:`_taken_cut`);
 parts that lie along each other stay one (:mod:`shapes.nested_parts`), and so do parts that close
 a ring around a common centre (:mod:`shapes.ring_cut`), and so do parts that all lie low
-(:mod:`shapes.lying_cut`). The splitter reads the noise of a cluster's normals clear of the
+(:mod:`shapes.lying_cut`). A cut refused as stacked is taken after all, its stacked parts
+joined, where every two touching parts differ in colour (:mod:`shapes.colour_seam`). The
+splitter reads the noise of a cluster's normals clear of the
 support's corner (:func:`_clear_of_the_base`).
 """
 
@@ -20,7 +22,7 @@ from scipy.sparse.csgraph import connected_components
 from scipy.spatial import cKDTree
 
 from shapes.arrays import column_max, column_min, column_span
-from shapes.colour_seam import parted_by_colour
+from shapes.colour_seam import joined_where_stacked, touching_parts_differ
 from shapes.lying_cut import lies_low
 from shapes.nested_parts import joined_where_nested
 from shapes.ring_cut import closes_a_ring
@@ -46,7 +48,11 @@ def split_clusters(
     parts, so joined, close a ring around their common centre (no gap between neighbouring parts
     wider than ``max_ring_gap_deg``, :mod:`shapes.ring_cut`) is not taken: a bowl seen from
     above. Nor is a cut whose parts all stay lower than ``max_lying_height_m`` over the support
-    (:mod:`shapes.lying_cut`): one thing lying on it, a drill on its side."""
+    (:mod:`shapes.lying_cut`): one thing lying on it, a drill on its side. A cut with parts
+    stacked on top of each other is refused (:func:`_stacked`), unless, those parts joined,
+    every two parts that touch differ in colour by more than ``min_part_colour_difference``
+    (``colours_lab``: the CIELAB colours of the voxels asked for, None without colours;
+    :mod:`shapes.colour_seam`): lying things set down against each other."""
     out = labels.copy()
     next_label = int(labels.max(initial=-1)) + 1
     order = np.argsort(labels, kind="stable")
@@ -72,16 +78,18 @@ def split_clusters(
         if parts.max() == 0:
             continue
         if _stacked(voxels[members], parts, params.cluster_eps_m):
+            # Things stacked in the image; distinct things if every two that touch differ in
+            # colour once the stacked parts are joined (:mod:`shapes.colour_seam`).
             if colours_lab is None or params.min_part_colour_difference <= 0:
                 continue
-            parts = parted_by_colour(
+            parts = joined_where_stacked(voxels[members], parts, params.cluster_eps_m)
+            if parts.max() == 0 or not touching_parts_differ(
                 voxels[members],
                 parts,
                 colours_lab(members),
-                min_apart_m=params.cluster_eps_m,
+                near_m=params.cluster_eps_m,
                 min_difference=params.min_part_colour_difference,
-            )
-            if parts.max() == 0:
+            ):
                 continue
         if heights is not None:
             parts = _taken_cut(voxels[members], heights[members], parts, margin_m, params)

@@ -8,7 +8,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from shapes.colour_seam import lab, parted_by_colour, voxel_colours
+from shapes.colour_seam import joined_where_stacked, lab, touching_parts_differ, voxel_colours
 from tests.shapes.real_scans import perceived
 
 SCANS = Path(__file__).parents[1] / "data" / "real_scans"
@@ -41,43 +41,56 @@ def _scene(colours: tuple[tuple[float, ...], ...]) -> tuple[np.ndarray, np.ndarr
     return voxels, parts, colour_of_part[parts]
 
 
-def test_things_of_distinct_colours_are_parted_and_the_stacked_parts_joined() -> None:
-    voxels, parts, colours = _scene((YELLOW, BLACK, RED))
-    joined = parted_by_colour(voxels, parts, colours, min_apart_m=0.03, min_difference=40.0)
+def _parted(colours: np.ndarray, voxels: np.ndarray, parts: np.ndarray) -> np.ndarray | None:
+    """The glue's answer: the stacked parts joined, and the cut kept only if colours differ."""
+    joined = joined_where_stacked(voxels, parts, 0.03)
+    if joined.max() == 0:
+        return None
+    differ = touching_parts_differ(voxels, joined, colours, near_m=0.03, min_difference=40.0)
+    return joined if differ else None
+
+
+def test_the_stacked_parts_are_joined() -> None:
+    voxels, parts, _ = _scene((YELLOW, BLACK, RED))
+    joined = joined_where_stacked(voxels, parts, 0.03)
     assert joined.max() == 2
     np.testing.assert_array_equal(joined[parts == 1], joined[parts == 2][0])
     assert len({int(joined[parts == k][0]) for k in (0, 1, 3)}) == 3
 
 
+def test_a_cut_whose_parts_are_all_stacked_leaves_no_cut() -> None:
+    voxels, parts, _ = _scene((YELLOW, BLACK, RED))
+    keep = (parts == 1) | (parts == 2)
+    assert joined_where_stacked(voxels[keep], parts[keep] - 1, 0.03).max() == 0
+
+
+def test_things_of_distinct_colours_are_parted() -> None:
+    voxels, parts, colours = _scene((YELLOW, BLACK, RED))
+    assert _parted(colours, voxels, parts) is not None
+
+
 def test_two_touching_parts_of_one_colour_refuse_the_cut() -> None:
     """The drill and the clamp alike in colour: the cut stays refused, as the glue refused it."""
     voxels, parts, colours = _scene((YELLOW, BLACK, BLACK))
-    joined = parted_by_colour(voxels, parts, colours, min_apart_m=0.03, min_difference=40.0)
-    assert joined.max() == 0
+    assert _parted(colours, voxels, parts) is None
 
 
-def test_a_cut_whose_parts_are_all_stacked_stays_refused() -> None:
-    voxels, parts, colours = _scene((YELLOW, BLACK, RED))
-    keep = (parts == 1) | (parts == 2)
-    joined = parted_by_colour(
-        voxels[keep], parts[keep] - 1, colours[keep], min_apart_m=0.03, min_difference=40.0
-    )
-    assert joined.max() == 0
+def test_parts_alike_that_do_not_touch_do_not_refuse_the_cut() -> None:
+    """The box and the clamp, both yellow, lie 10 cm apart on either side of the drill."""
+    voxels, parts, colours = _scene((YELLOW, BLACK, YELLOW))
+    assert _parted(colours, voxels, parts) is not None
 
 
 def test_parts_without_a_colour_refuse_the_cut() -> None:
     voxels, parts, colours = _scene((YELLOW, BLACK, RED))
     colours[parts == 3] = np.nan
-    joined = parted_by_colour(voxels, parts, colours, min_apart_m=0.03, min_difference=40.0)
-    assert joined.max() == 0
+    assert _parted(colours, voxels, parts) is None
 
 
 def test_a_scan_without_colour_refuses_the_cut() -> None:
     """Two of the Kinect scans store every colour as black: every part is alike."""
     voxels, parts, _ = _scene((YELLOW, BLACK, RED))
-    colours = lab(np.zeros((len(voxels), 3)))
-    joined = parted_by_colour(voxels, parts, colours, min_apart_m=0.03, min_difference=40.0)
-    assert joined.max() == 0
+    assert _parted(lab(np.zeros((len(voxels), 3))), voxels, parts) is None
 
 
 def test_lab_of_white_black_and_red() -> None:
@@ -104,15 +117,19 @@ def test_voxel_colours_are_their_points_means() -> None:
     ],
 )
 def test_bad_input_is_refused(rows: int, min_difference: float, message: str) -> None:
-    voxels = np.zeros((4, 3))
     with pytest.raises(ValueError, match=message):
-        parted_by_colour(
-            voxels,
+        touching_parts_differ(
+            np.zeros((4, 3)),
             np.array([0, 0, 1, 1]),
             np.zeros((rows, 3)),
-            min_apart_m=0.03,
+            near_m=0.03,
             min_difference=min_difference,
         )
+
+
+def test_labels_of_another_length_are_refused() -> None:
+    with pytest.raises(ValueError, match=r"one label per voxel \(4\), got 3"):
+        joined_where_stacked(np.zeros((4, 3)), np.array([0, 1, 1]), 0.03)
 
 
 @pytest.mark.parametrize("seed", [0, 2])
