@@ -19,8 +19,6 @@ from __future__ import annotations
 
 import numpy as np
 import numpy.typing as npt
-from scipy.sparse import coo_matrix
-from scipy.sparse.csgraph import connected_components
 from scipy.spatial import cKDTree
 
 from shapes.types import FloatArray
@@ -83,9 +81,14 @@ def joined_where_stacked(
             for axis in (0, 1)
         ]
     )
-    pairs = cKDTree(centres).query_pairs(min_apart_m, output_type="ndarray")
-    graph = coo_matrix((np.ones(len(pairs)), (pairs[:, 0], pairs[:, 1])), shape=(count, count))
-    return np.asarray(connected_components(graph, directed=False)[1], dtype=np.int64)[parts]
+    near = np.linalg.norm(centres[:, None, :] - centres[None, :, :], axis=2) < min_apart_m
+    group = np.arange(count)
+    while True:  # each part takes the least label among its stacked neighbours, until none moves
+        least = np.where(near, group[None, :], count).min(axis=1)
+        if (least >= group).all():
+            break
+        group = np.minimum(group, least)
+    return np.asarray(np.unique(group, return_inverse=True)[1], dtype=np.int64)[parts]
 
 
 def touching_parts_differ(
@@ -101,8 +104,8 @@ def touching_parts_differ(
     apart in median colour (``colours_lab``: CIELAB, one row per voxel; rows with a NaN, voxels
     without a colour, are left out; a part with none is alike to every other).
 
-    Raises ValueError when ``parts`` or ``colours_lab`` does not give one row per voxel, or
-    ``min_difference`` is not positive.
+    Raises ValueError when ``parts`` or ``colours_lab`` does not give one row per voxel, a
+    label under the largest holds no voxel, or ``min_difference`` is not positive.
     """
     if len(parts) != len(voxels) or len(colours_lab) != len(voxels):
         raise ValueError(
@@ -114,17 +117,36 @@ def touching_parts_differ(
     count = int(parts.max(initial=-1)) + 1
     if count < 2:
         return False
-    medians = np.full((count, 3), np.nan)
-    for k in range(count):
-        seen = colours_lab[parts == k]
-        seen = seen[np.isfinite(seen).all(axis=1)]
-        if len(seen):
-            medians[k] = np.median(seen, axis=0)
+    seen = np.isfinite(colours_lab).all(axis=1)
+    medians = _medians(colours_lab[seen], parts[seen], count)
     with np.errstate(invalid="ignore"):
         apart = np.linalg.norm(medians[:, None, :] - medians[None, :, :], axis=2)
+    order = np.argsort(parts, kind="stable")
+    starts = np.searchsorted(parts[order], np.arange(count))
+    if (np.diff(np.r_[starts, len(parts)]) == 0).any():
+        raise ValueError(f"parts: expected every label 0..{count - 1} to hold a voxel")
+    low = np.minimum.reduceat(voxels[order], starts) - near_m
+    high = np.maximum.reduceat(voxels[order], starts) + near_m
     # Only the pairs alike in colour can refuse: whether they touch is asked of them alone.
     for a, b in zip(*np.nonzero(np.triu(~(apart > min_difference), 1)), strict=True):
+        if (low[a] > high[b]).any() or (low[b] > high[a]).any():
+            continue  # their boxes, grown by near_m, do not meet
         gaps, _ = cKDTree(voxels[parts == b]).query(voxels[parts == a], distance_upper_bound=near_m)
         if np.isfinite(gaps).any():
             return False
     return True
+
+
+def _medians(values: FloatArray, labels: npt.NDArray[np.int64], count: int) -> FloatArray:
+    """The median of each column of ``values`` over each label 0 .. ``count`` - 1 (NaN for a
+    label with no row), by one sort per column rather than one median per label."""
+    out = np.full((count, values.shape[1]), np.nan)
+    sizes = np.bincount(labels, minlength=count)
+    starts = np.r_[0, np.cumsum(sizes)[:-1]]
+    held = sizes > 0
+    lower = (starts + (sizes - 1) // 2)[held]
+    upper = (starts + sizes // 2)[held]
+    for column in range(values.shape[1]):
+        ordered = values[np.lexsort((values[:, column], labels)), column]
+        out[held, column] = (ordered[lower] + ordered[upper]) / 2
+    return out

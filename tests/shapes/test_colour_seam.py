@@ -127,6 +127,17 @@ def test_bad_input_is_refused(rows: int, min_difference: float, message: str) ->
         )
 
 
+def test_an_empty_label_is_refused() -> None:
+    with pytest.raises(ValueError, match=r"every label 0..2 to hold a voxel"):
+        touching_parts_differ(
+            np.zeros((2, 3)),
+            np.array([0, 2]),
+            np.zeros((2, 3)),
+            near_m=0.03,
+            min_difference=40.0,
+        )
+
+
 def test_labels_of_another_length_are_refused() -> None:
     with pytest.raises(ValueError, match=r"one label per voxel \(4\), got 3"):
         joined_where_stacked(np.zeros((4, 3)), np.array([0, 1, 1]), 0.03)
