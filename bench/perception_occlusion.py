@@ -1,11 +1,12 @@
-"""What a segmentation step (occlusion edges, slivers) costs a Kinect frame, in one process.
+"""What a segmentation step (occlusion edges, slivers, colour seams) costs a Kinect frame.
 
 Each tuned-on Kinect scan of ``tests/data/real_scans`` (``kinect`` in the name; the held-out and
 reserved ones are never loaded) goes through the pipeline with no pose (gravity from the scene)
 on seeds 0-2, with the step on (the default parameters) and off, alternately, ``--repeats``
 times. The steps (``--step``): ``occlusion`` (off: ``occlusion_slope`` 0;
-:mod:`shapes.segment.occlusion`) and ``slivers`` (off: ``max_edge_share`` 1;
-:mod:`shapes.segment.slivers`); each frame keeps its least CPU
+:mod:`shapes.segment.occlusion`), ``slivers`` (off: ``max_edge_share`` 1;
+:mod:`shapes.segment.slivers`) and ``colour_seam`` (off: ``min_part_colour_difference`` 0;
+:mod:`shapes.colour_seam`); each frame keeps its least CPU
 (``time.process_time``). Printed: the median over the scans of each scan's median frame, on and
 off, and the per-scan difference. The two come from the same minutes, so their difference
 survives the machine's load better than either figure alone (docs/perception.md, "A thing lying
@@ -28,7 +29,11 @@ from perception import REAL_SCANS, REAL_TRUTH
 from shapes import Perception, PerceptionParams, open_source
 from shapes.segment import SegmentationParams
 
-STEP_OFF = {"occlusion": {"occlusion_slope": 0.0}, "slivers": {"max_edge_share": 1.0}}
+STEP_OFF = {
+    "occlusion": {"occlusion_slope": 0.0},
+    "slivers": {"max_edge_share": 1.0},
+    "colour_seam": {"min_part_colour_difference": 0.0},
+}
 """Each step's parameters that turn it off."""
 
 

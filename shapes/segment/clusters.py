@@ -8,6 +8,7 @@ an object of the scene is :mod:`shapes.segment.objects`'s to say.
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
@@ -15,6 +16,7 @@ import numpy.typing as npt
 import open3d as o3d
 
 from shapes.artefacts import sparse_points
+from shapes.colour_seam import lab, voxel_colours
 from shapes.segment.occlusion import parts_in_front, surfaces
 from shapes.segment.params import SegmentationParams
 from shapes.segment.splitting import split_clusters
@@ -97,6 +99,7 @@ def clusters_on(
             sigma_1m,
             support.signed_distance(voxels[candidates]),
             margin,
+            _colours_lab(kept, candidates),
         )
     if organised and params.occlusion_slope > 0:
         labels = _parted_at_occlusions(
@@ -197,6 +200,26 @@ def _parted_at_occlusions(
             out[voxels_of_cluster[parts == part]] = next_label
             next_label += 1
     return out
+
+
+def _colours_lab(
+    kept: KeptPoints, candidates: npt.NDArray[np.intp]
+) -> Callable[[npt.NDArray[np.intp]], FloatArray] | None:
+    """The CIELAB colour of the voxels ``members`` (indices into ``candidates``), each the mean
+    of its kept points' colours, worked out only when asked; None when the frame has no
+    colours."""
+    if kept.colours is None:
+        return None
+    frame_colours, frame_index = kept.colours
+
+    def of(members: npt.NDArray[np.intp]) -> FloatArray:
+        position = np.full(len(kept.voxels), -1, dtype=np.intp)
+        position[candidates[members]] = np.arange(len(members))
+        at = position[kept.voxel_of]
+        own = np.flatnonzero(at >= 0)
+        return lab(voxel_colours(at[own], frame_colours[frame_index[own]], len(members)))
+
+    return of
 
 
 def _cloud(points: FloatArray) -> o3d.geometry.PointCloud:

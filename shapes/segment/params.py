@@ -48,6 +48,12 @@ class SegmentationParams:
     Over the taken cuts of the 24 tuned-on scans (seeds 0-2) and the simulated bench's, the
     tallest part (98th percentile of its voxels' heights) is 5.1-5.6 cm on the lying drill and
     9.8 cm or more on every cut between objects measured side by side."""
+    min_part_colour_difference: float = 40.0
+    """How far apart (CIELAB delta E) the median colours of every two touching parts of a cut
+    refused as stacked must lie for the cut to be taken with the stacked parts joined
+    (:mod:`shapes.colour_seam`: a drill lying against a clamp and a sugar box; 0: never). Over
+    the 24 tuned-on scans (seeds 0-2), every other cut refused as stacked has a touching pair
+    27.2 or closer; the lying drill, clamp and sugar box's closest pair is 55.6-56.1."""
     occlusion_slope: float = 1.5
     """How steeply (depth step over distance across the ray) neighbouring pixels of one
     surface may differ in depth; a steeper step is an occlusion edge or a face seen edge-on,

@@ -5,11 +5,15 @@ Step 6 of :mod:`shapes.segment`. A cut is not taken when its parts stand on top 
 (:func:`_each_stands`), else only for what hangs over nothing that stands (:func:`_taken_cut`);
 parts that lie along each other stay one (:mod:`shapes.nested_parts`), and so do parts that close
 a ring around a common centre (:mod:`shapes.ring_cut`), and so do parts that all lie low
-(:mod:`shapes.lying_cut`). The splitter reads the noise of a cluster's normals clear of the
+(:mod:`shapes.lying_cut`). A cut refused as stacked is taken after all, its stacked parts
+joined, where every two touching parts differ in colour (:mod:`shapes.colour_seam`). The
+splitter reads the noise of a cluster's normals clear of the
 support's corner (:func:`_clear_of_the_base`).
 """
 
 from __future__ import annotations
+
+from collections.abc import Callable
 
 import numpy as np
 import numpy.typing as npt
@@ -18,6 +22,7 @@ from scipy.sparse.csgraph import connected_components
 from scipy.spatial import cKDTree
 
 from shapes.arrays import column_max, column_min, column_span
+from shapes.colour_seam import joined_where_stacked, touching_parts_differ
 from shapes.lying_cut import lies_low
 from shapes.nested_parts import joined_where_nested
 from shapes.ring_cut import closes_a_ring
@@ -34,6 +39,7 @@ def split_clusters(
     sigma_1m: float,
     heights: FloatArray | None = None,
     margin_m: float = 0.0,
+    colours_lab: Callable[[npt.NDArray[np.intp]], FloatArray] | None = None,
 ) -> npt.NDArray[np.int64]:
     """Labels with every cluster cut along its concave seams (:mod:`shapes.split`), where
     :func:`_taken_cut` takes the cut (``heights``: each voxel's height over the support, when
@@ -42,7 +48,11 @@ def split_clusters(
     parts, so joined, close a ring around their common centre (no gap between neighbouring parts
     wider than ``max_ring_gap_deg``, :mod:`shapes.ring_cut`) is not taken: a bowl seen from
     above. Nor is a cut whose parts all stay lower than ``max_lying_height_m`` over the support
-    (:mod:`shapes.lying_cut`): one thing lying on it, a drill on its side."""
+    (:mod:`shapes.lying_cut`): one thing lying on it, a drill on its side. A cut with parts
+    stacked on top of each other is refused (:func:`_stacked`), unless, those parts joined,
+    every two parts that touch differ in colour by more than ``min_part_colour_difference``
+    (``colours_lab``: the CIELAB colours of the voxels asked for, None without colours;
+    :mod:`shapes.colour_seam`): lying things set down against each other."""
     out = labels.copy()
     next_label = int(labels.max(initial=-1)) + 1
     order = np.argsort(labels, kind="stable")
@@ -65,8 +75,22 @@ def split_clusters(
         judged=None if heights is None else [_clear_of_the_base(heights[m], params) for m in cut],
     )
     for members, parts in zip(cut, found, strict=True):
-        if parts.max() == 0 or _stacked(voxels[members], parts, params.cluster_eps_m):
+        if parts.max() == 0:
             continue
+        if _stacked(voxels[members], parts, params.cluster_eps_m):
+            # Things stacked in the image; distinct things if every two that touch differ in
+            # colour once the stacked parts are joined (:mod:`shapes.colour_seam`).
+            if colours_lab is None or params.min_part_colour_difference <= 0:
+                continue
+            parts = joined_where_stacked(voxels[members], parts, params.cluster_eps_m)
+            if parts.max() == 0 or not touching_parts_differ(
+                voxels[members],
+                parts,
+                colours_lab(members),
+                near_m=params.cluster_eps_m,
+                min_difference=params.min_part_colour_difference,
+            ):
+                continue
         if heights is not None:
             parts = _taken_cut(voxels[members], heights[members], parts, margin_m, params)
         parts = joined_where_nested(
