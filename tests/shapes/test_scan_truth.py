@@ -1,6 +1,7 @@
 """The real scans' ground truth is what measure.py computes from the scans, held-out ones marked."""
 
 import json
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -59,3 +60,16 @@ def test_the_tum_frame_loads_with_its_depths_unchanged() -> None:
     np.testing.assert_allclose(frame.points[:, 2], depth, atol=1e-6)
     u = frame.pixels % 640
     np.testing.assert_allclose(frame.points[:, 0], (u - 320.1) / 535.4 * depth, atol=1e-6)
+
+
+@pytest.mark.parametrize("path", sorted(SCANS.glob("*.npz")), ids=lambda p: p.stem)
+def test_a_scan_with_colour_has_colours_and_one_without_has_none(path: Path) -> None:
+    """PCL's pairwise captures carry no colour: their frames have none, where an all-black image
+    once stood in and read as black things (a colour seam saw every part alike)."""
+    data = np.load(path)
+    frame = next(open_source(path))
+    if "rgb" in data.files:
+        assert data["rgb"].any(), "an all-black image is no colour: leave out 'rgb'"
+        assert frame.colours is not None
+    else:
+        assert frame.colours is None

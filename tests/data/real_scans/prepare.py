@@ -3,8 +3,9 @@ by the tests).
 
 Each organised PCD (640 x 480, NaN where the sensor saw nothing) is stored as its depth image:
 ``depth`` (uint16, in units of ``depth_scale`` metres), the pinhole intrinsics ``fx fy cx cy``
-recovered from the points by least squares, and ``rgb`` (uint8). The Kinect frames' depths are
-whole millimetres, so they come back to within 1e-6 m; the stereo scan's are rounded to 0.1 mm.
+recovered from the points by least squares, and ``rgb`` (uint8) where the cloud has colour. The
+Kinect frames' depths are whole millimetres, so they come back to within 1e-6 m; the stereo
+scan's are rounded to 0.1 mm.
 
 The TUM RGB-D frame comes as a depth PNG (uint16, 5000 units a metre, registered to the colour
 image) and a colour PNG, from Open3D's test data before it left the repository
@@ -205,13 +206,15 @@ def convert(source: Path, target: Path, depth_scale: float) -> None:
     ay, by = np.polyfit(v, y / z, 1)
     depth = np.zeros(WIDTH * HEIGHT, dtype=np.uint16)
     depth[pixel] = np.round(z / depth_scale).astype(np.uint16)
-    rgb = np.zeros((WIDTH * HEIGHT, 3), dtype=np.uint8)
+    # A cloud with no colour (PCL's pairwise captures) gets no "rgb": black would read as colour.
+    colour = {}
     if cloud.has_colors():
-        rgb[:] = np.round(np.asarray(cloud.colors) * 255).astype(np.uint8)
+        rgb = np.round(np.asarray(cloud.colors) * 255).astype(np.uint8)
+        colour["rgb"] = rgb.reshape(HEIGHT, WIDTH, 3)
     np.savez_compressed(
         target,
         depth=depth.reshape(HEIGHT, WIDTH),
-        rgb=rgb.reshape(HEIGHT, WIDTH, 3),
+        **colour,
         depth_scale=depth_scale,
         fx=1 / ax,
         fy=1 / ay,
