@@ -191,14 +191,12 @@ def view_server(tmp_path_factory: pytest.TempPathFactory) -> Iterator[ViewServer
     data_dir = tmp_path_factory.mktemp("views") / "data"
     episode = build_memory(data_dir)
     settings = Settings(host="127.0.0.1", port=free_port(), data_dir=data_dir)
-    server, thread, url = serve(create_app(settings), settings)
-    client = httpx.Client(base_url=url, timeout=60)
-    try:
-        yield ViewServer(url, client, episode, Path(__file__).parents[2] / "docs" / "screenshots")
-    finally:
-        client.close()
-        server.should_exit = True
-        thread.join(timeout=30)
+    with (
+        serve(create_app(settings), settings) as running,
+        httpx.Client(base_url=running.url, timeout=60) as client,
+    ):
+        shots = Path(__file__).parents[2] / "docs" / "screenshots"
+        yield ViewServer(running.url, client, episode, shots)
 
 
 @dataclass

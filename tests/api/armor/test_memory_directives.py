@@ -358,14 +358,12 @@ def test_a_failing_list_leaves_the_clock_as_it_was(settable: ArmorEngine) -> Non
 
 
 def test_a_settable_server_drives_the_clock_over_http(tmp_path: Path) -> None:
-    server, thread, url = start_live_server(tmp_path, clock_settable=True)
-    try:
-        with httpx.Client(base_url=url, timeout=30) as http:
-            armor = Armor(http, url)
-            answer = armor.call("MEMORY", "CLOCK", "SET", ["2040-05-01T12:00:00+00:00"], ref="r")
-            assert answer["success"] and answer["queried_objects"] == ["2040-05-01T12:00:00+00:00"]
-            answer = armor.call("MEMORY", "CLOCK", "ADVANCE", ["90"], ref="r")
-            assert answer["queried_objects"] == ["2040-05-01T12:01:30+00:00"]
-    finally:
-        server.should_exit = True
-        thread.join(timeout=30)
+    with (
+        start_live_server(tmp_path, clock_settable=True) as running,
+        httpx.Client(base_url=running.url, timeout=30) as http,
+    ):
+        armor = Armor(http, running.url)
+        answer = armor.call("MEMORY", "CLOCK", "SET", ["2040-05-01T12:00:00+00:00"], ref="r")
+        assert answer["success"] and answer["queried_objects"] == ["2040-05-01T12:00:00+00:00"]
+        answer = armor.call("MEMORY", "CLOCK", "ADVANCE", ["90"], ref="r")
+        assert answer["queried_objects"] == ["2040-05-01T12:01:30+00:00"]

@@ -47,8 +47,8 @@ def lived_server(tmp_path_factory: pytest.TempPathFactory) -> Iterator[LiveServe
     """A server over the lived week, shared by the tests of one module."""
     data = write_lived_week(tmp_path_factory.mktemp("lived"))
     settings = Settings(host="127.0.0.1", port=free_port(), data_dir=data)
-    server, thread, url = serve(create_app(settings), settings)
-    with httpx.Client(base_url=url, timeout=60) as client:
-        yield LiveServer(url, settings, client)
-    server.should_exit = True
-    thread.join(timeout=30)
+    with (
+        serve(create_app(settings), settings) as running,
+        httpx.Client(base_url=running.url, timeout=60) as client,
+    ):
+        yield LiveServer(running.url, settings, client)
