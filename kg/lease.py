@@ -30,12 +30,12 @@ import sparql
 from kg.errors import LeaseHeldError, StoreError, StoreUnavailableError
 from kg.remote import RemoteDataset
 from kg.sparql_text import bind_values
+from ontologies.vocab import XSD_DATETIME
 
 __all__ = ["Lease", "default_owner"]
 
 log = logging.getLogger(__name__)
 
-_XSD_DATETIME = NamedNode("http://www.w3.org/2001/XMLSchema#dateTime")
 Clock = Callable[[], dt.datetime]
 
 
@@ -45,7 +45,7 @@ def default_owner() -> str:
 
 
 def _time(value: dt.datetime) -> Literal:
-    return Literal(value.isoformat(), datatype=_XSD_DATETIME)
+    return Literal(value.isoformat(), datatype=XSD_DATETIME)
 
 
 class Lease:
