@@ -22,11 +22,11 @@ import os
 import socket
 import threading
 import uuid
-from collections.abc import Callable
 
 from pyoxigraph import Literal, NamedNode
 
 import sparql
+from kg.clock import Clock, utc_now
 from kg.errors import LeaseHeldError, StoreError, StoreUnavailableError
 from kg.remote import RemoteDataset
 from kg.sparql_text import bind_values
@@ -35,8 +35,6 @@ from ontologies.vocab import XSD_DATETIME
 __all__ = ["Lease", "default_owner"]
 
 log = logging.getLogger(__name__)
-
-Clock = Callable[[], dt.datetime]
 
 
 def default_owner() -> str:
@@ -61,7 +59,7 @@ class Lease:
         *,
         owner: str | None = None,
         term_s: float = 15.0,
-        clock: Clock = lambda: dt.datetime.now(dt.UTC),
+        clock: Clock = utc_now,
     ) -> None:
         if not term_s > 0:
             raise ValueError(f"lease term_s: got {term_s!r}, expected a positive number of seconds")
