@@ -1,5 +1,6 @@
 """Fixtures shared by every test package: stores, and a real server on a loopback port."""
 
+import base64
 import socket
 import threading
 import time
@@ -11,6 +12,7 @@ from pathlib import Path
 from typing import Any
 
 import httpx
+import numpy as np
 import pytest
 import uvicorn
 
@@ -18,6 +20,13 @@ from api.config import Settings
 from api.header_timeout import with_header_timeout
 from api.main import create_app
 from kg import Store, ensure_ontology
+
+
+def wire_array(value: dict[str, Any]) -> np.ndarray:
+    """The array of a sample value in its JSON form ``{"dtype", "shape", "b64"}``
+    (:mod:`episodes.streams.wire`), decoded here without the server's code."""
+    raw = base64.b64decode(value["b64"])
+    return np.frombuffer(raw, dtype=value["dtype"]).reshape(value["shape"])
 
 
 @pytest.fixture
