@@ -16,10 +16,13 @@ import pytest
 
 from api.config import Settings
 from api.main import create_app
+from api.protocol import ArmorDirectiveReq
 from tests.conftest import RunningServer, free_port, serve
 
 DATA = Path(__file__).parent / "data"
 TEST_IRI = "http://www.semanticweb.org/emarolab/ontologies/armor-test"
+Step = tuple[str, str, str, list[str]]
+"""A directive as (command, primary spec, secondary spec, args)."""
 
 
 def directive(
@@ -40,6 +43,21 @@ def directive(
         "secondary_command_spec": second,
         "args": args or [],
     }
+
+
+def directives(steps: list[Step], ref: str, client: str = "client") -> list[ArmorDirectiveReq]:
+    """The requests of ``steps``, each to reference ``ref`` from ``client``."""
+    return [
+        ArmorDirectiveReq(
+            client_name=client,
+            reference_name=ref,
+            command=command,
+            primary_command_spec=first,
+            secondary_command_spec=second,
+            args=args,
+        )
+        for command, first, second, args in steps
+    ]
 
 
 class Armor:

@@ -22,7 +22,7 @@ from ontologies.vocab import ENGRAM_NS, EPISODIC, MEMORY, TRASH
 from reasoners.clock import SettableClock
 from reasoners.memory import SceneMemory
 from reasoners.operations import StoreScene
-from tests.api.armor.conftest import Armor, start_live_server
+from tests.api.armor.conftest import Armor, Step, directives, start_live_server
 
 TABLE = Primitive("table", "Plane", centre=(0.3, 0.1, 0.1), axis=(0, 0, 1), hessian=-0.1)
 
@@ -117,20 +117,8 @@ def test_memory_directive_errors_and_rollback(armor: Armor, ref: str) -> None:
 # One transaction per list, memory directives included ------------------------------------------
 
 
-def _requests(
-    directives: list[tuple[str, str, str, list[str]]], ref: str = "scenes", client: str = "cam"
-) -> list[ArmorDirectiveReq]:
-    return [
-        ArmorDirectiveReq(
-            client_name=client,
-            reference_name=ref,
-            command=command,
-            primary_command_spec=first,
-            secondary_command_spec=second,
-            args=args,
-        )
-        for command, first, second, args in directives
-    ]
+def _requests(steps: list[Step]) -> list[ArmorDirectiveReq]:
+    return directives(steps, "scenes", client="cam")
 
 
 def _scene(*primitives: Primitive) -> list[tuple[str, str, str, list[str]]]:
