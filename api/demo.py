@@ -26,13 +26,14 @@ from api.client import ArmorClient, LocalTransport
 from api.perceive import perceive
 from episodes import ArgumentSpec, Cue, EpisodeMemory
 from kg import Store
+from kg.clock import SimulatedClock
 from kg.export import export
 from reasoners.memory import SceneMemory
 from reasoners.results import ItemScores
 from shapes import Frame, Perception
 from shapes.synthetic import PALETTE, SyntheticShot, TabletopScene, TruthObject
 
-__all__ = ["SCENES", "SimulatedClock", "run_demo"]
+__all__ = ["SCENES", "run_demo"]
 
 START = dt.datetime(2026, 1, 26, 8, 0, tzinfo=dt.UTC)
 FRAMES_PER_VIEW = 8
@@ -94,19 +95,6 @@ CUES: tuple[tuple[str, list[str]], ...] = (
     ("a cone behind a can", ["Cone isBehindOf Cylinder"]),
     ("a can to the left of another", ["Cylinder isLeftOf Cylinder"]),
 )
-
-
-class SimulatedClock:
-    """A clock the demo moves by hand; the memory reads time only from it."""
-
-    def __init__(self, start: dt.datetime) -> None:
-        self.now = start
-
-    def __call__(self) -> dt.datetime:
-        return self.now
-
-    def advance(self, **delta: float) -> None:
-        self.now += dt.timedelta(**delta)
 
 
 @dataclass

@@ -15,7 +15,6 @@ A running server announces itself in ``<data dir>/server.json`` (its URL), so th
 that finds the store held by it can name the server to talk to instead (:class:`StoreBusyError`).
 """
 
-import datetime as dt
 import json
 import logging
 import os
@@ -27,6 +26,7 @@ from typing import TYPE_CHECKING
 
 from api.config import Settings
 from kg import Store, ensure_ontology
+from kg.clock import Clock, utc_now
 from kg.errors import NotFoundError, StoreLockedError
 from ontologies.vocab import ENGRAM_NS
 
@@ -51,7 +51,6 @@ __all__ = [
 
 log = logging.getLogger(__name__)
 
-Clock = Callable[[], dt.datetime]
 
 SERVER_FILE = "server.json"
 """Written by a running server in its data directory: ``{"url": ..., "pid": ...}``."""
@@ -73,10 +72,6 @@ class StoreBusyError(StoreLockedError):
 INDEX_SAVE_INTERVAL_S = 300.0
 """How often a serving process brings the scene memory's index file up to date (if the memory
 changed), so that a restart after a crash reads a recent one; closing saves it too."""
-
-
-def _utc_now() -> dt.datetime:
-    return dt.datetime.now(dt.UTC)
 
 
 def _logged(action: Callable[[], object], failure: str) -> None:
@@ -106,7 +101,7 @@ class Services:
         self.where = where
         """Where the memory is, in words: a directory, or a memory on a SPARQL server."""
         self.remote = remote
-        self.clock: Clock = clock or _utc_now
+        self.clock: Clock = clock or utc_now
         self._background = background
         self._serving = serving
         self.ontology: OntologyStatus = ensure_ontology(store)

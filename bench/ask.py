@@ -36,12 +36,13 @@ sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
 
 from api.ask import Asker, parse
 from api.ask.grammar import Parsed, parse_thing
-from api.ask.samples import SPOKEN, Clock, live_a_week
+from api.ask.samples import SPOKEN, START, live_a_week
 from api.ask.speech import Recogniser, synthesise
 from episodes import ArgumentSpec, EpisodeMemory, MemorySnapshot
 from episodes.terms import episode_iri
 from episodes.times import to_literal
 from kg import Store
+from kg.clock import SimulatedClock
 from kg.primitive import KINDS, Primitive
 from ontologies.vocab import EPISODES, PROV_NS
 from reasoners.memory import SceneMemory
@@ -61,7 +62,7 @@ def meaning(parsed: Parsed | None) -> object:
 
 
 def speech(speeds: list[int]) -> None:
-    asker = Asker(*live_a_week(Store(), Clock()))
+    asker = Asker(*live_a_week(Store(), SimulatedClock(START)))
     recogniser = Recogniser()
     right = total = 0
     audio_s = decode_s = 0.0

@@ -12,8 +12,9 @@ from episodes.bag_limits import DEFAULT_LIMIT_BYTES
 from episodes.lifecycle import ArgumentSpec
 from episodes.model import Episode, ImportReport
 from episodes.paths import DataPaths
-from episodes.times import Clock, now
+from episodes.times import now
 from kg import Store
+from kg.clock import Clock
 
 __all__ = ["BagImports"]
 

@@ -43,9 +43,10 @@ from episodes.stream_files import StreamFiles
 from episodes.streams import RecordingRegistry, StreamError
 from episodes.streams.mcapread import LIMIT_BYTES
 from episodes.terms import ArgumentKind, check_id, episode_iri, new_id
-from episodes.times import Clock, system_clock, time_or_now
+from episodes.times import system_clock, time_or_now
 from episodes.world import WorldChange, world_change
 from kg import Store
+from kg.clock import Clock
 
 __all__ = ["EpisodeMemory"]
 

@@ -13,8 +13,9 @@ from episodes.feedback import Ranking
 from episodes.model import Episode, Rating
 from episodes.snapshot import MemoryState
 from episodes.terms import check_id
-from episodes.times import Clock, time_or_now
+from episodes.times import time_or_now
 from kg import Store
+from kg.clock import Clock
 
 __all__ = ["Ratings"]
 

@@ -18,8 +18,9 @@ from episodes.model import AugmentationRun, DerivedSample, EpisodeSummary
 from episodes.queue import AugmentationQueue
 from episodes.run_files import RunFiles
 from episodes.stream_files import StreamFiles
-from episodes.times import Clock, now
+from episodes.times import now
 from kg import Store
+from kg.clock import Clock
 from ontologies.vocab import EPISODES
 
 __all__ = ["AugmentationRuns"]

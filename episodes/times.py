@@ -13,15 +13,14 @@ episodes.errors.InvalidInputError: begin: got '2026-01-26T15:30:00', expected an
 """
 
 import datetime as dt
-from collections.abc import Callable
 
 from pyoxigraph import Literal
 
 from episodes.errors import InvalidInputError
+from kg.clock import Clock
 from ontologies.vocab import XSD_DATETIME
 
 __all__ = [
-    "Clock",
     "from_literal",
     "from_ns",
     "now",
@@ -31,9 +30,6 @@ __all__ = [
     "time_or_now",
     "to_literal",
 ]
-
-Clock = Callable[[], dt.datetime]
-"""Returns the current time, time-zone aware; injected so tests and dialogues can fix "now"."""
 
 EXPECTED = "an ISO 8601 date-time with a time zone, e.g. 2026-01-26T15:30:00+01:00"
 _WORDS = [

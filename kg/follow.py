@@ -19,6 +19,7 @@ import sparql
 from kg.errors import StoreError
 from kg.remote import Change, RemoteDataset
 from kg.sparql_text import bind_values
+from ontologies.vocab import XSD_INTEGER
 
 __all__ = ["Follower"]
 
@@ -100,4 +101,4 @@ class Follower:
 
 
 def _integer(value: int) -> Literal:
-    return Literal(str(value), datatype=NamedNode("http://www.w3.org/2001/XMLSchema#integer"))
+    return Literal(str(value), datatype=XSD_INTEGER)

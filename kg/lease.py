@@ -22,21 +22,19 @@ import os
 import socket
 import threading
 import uuid
-from collections.abc import Callable
 
 from pyoxigraph import Literal, NamedNode
 
 import sparql
+from kg.clock import Clock, utc_now
 from kg.errors import LeaseHeldError, StoreError, StoreUnavailableError
 from kg.remote import RemoteDataset
 from kg.sparql_text import bind_values
+from ontologies.vocab import XSD_DATETIME
 
 __all__ = ["Lease", "default_owner"]
 
 log = logging.getLogger(__name__)
-
-_XSD_DATETIME = NamedNode("http://www.w3.org/2001/XMLSchema#dateTime")
-Clock = Callable[[], dt.datetime]
 
 
 def default_owner() -> str:
@@ -45,7 +43,7 @@ def default_owner() -> str:
 
 
 def _time(value: dt.datetime) -> Literal:
-    return Literal(value.isoformat(), datatype=_XSD_DATETIME)
+    return Literal(value.isoformat(), datatype=XSD_DATETIME)
 
 
 class Lease:
@@ -61,7 +59,7 @@ class Lease:
         *,
         owner: str | None = None,
         term_s: float = 15.0,
-        clock: Clock = lambda: dt.datetime.now(dt.UTC),
+        clock: Clock = utc_now,
     ) -> None:
         if not term_s > 0:
             raise ValueError(f"lease term_s: got {term_s!r}, expected a positive number of seconds")

@@ -9,7 +9,7 @@ store in a namespace of Engram's own, which Oxigraph keeps verbatim, and every r
 See docs/literals.md for what this costs (SPARQL compares these literals as strings of an unknown
 datatype) and what the store still canonicalises (the lexical forms of the core datatypes).
 
->>> byte = Literal("5", datatype=NamedNode(XSD + "byte"))
+>>> byte = Literal("5", datatype=NamedNode(XSD_NS + "byte"))
 >>> stored = to_store(byte)
 >>> stored.datatype.value
 'https://w3id.org/engram/kept-datatype#byte'
@@ -23,10 +23,11 @@ from typing import TypeVar
 
 from pyoxigraph import Literal, NamedNode, Quad
 
+from ontologies.vocab import XSD_NS
+
 __all__ = [
     "KEPT",
     "REWRITTEN",
-    "XSD",
     "from_store",
     "kept_text",
     "ntriples_to_store",
@@ -35,7 +36,6 @@ __all__ = [
     "to_store",
 ]
 
-XSD = "http://www.w3.org/2001/XMLSchema#"
 KEPT = "https://w3id.org/engram/kept-datatype#"
 """The namespace the rewritten datatypes are stored under: ``KEPT + "byte"`` is ``xsd:byte``."""
 REWRITTEN = frozenset(
@@ -60,7 +60,7 @@ REWRITTEN = frozenset(
 _TO_STORE = re.compile(
     rb"\^\^<http://www\.w3\.org/2001/XMLSchema#(" + "|".join(sorted(REWRITTEN)).encode() + rb")>"
 )
-_KEPT_BYTES, _XSD_BYTES = KEPT.encode(), XSD.encode()
+_KEPT_BYTES, _XSD_BYTES = KEPT.encode(), XSD_NS.encode()
 _Term = TypeVar("_Term")
 
 
@@ -68,8 +68,8 @@ def to_store(term: _Term) -> _Term:
     """The term to write: a literal of a rewritten datatype under :data:`KEPT`, else ``term``."""
     if isinstance(term, Literal):
         datatype = term.datatype.value
-        if datatype.startswith(XSD) and datatype[len(XSD) :] in REWRITTEN:
-            kept = Literal(term.value, datatype=NamedNode(KEPT + datatype[len(XSD) :]))
+        if datatype.startswith(XSD_NS) and datatype[len(XSD_NS) :] in REWRITTEN:
+            kept = Literal(term.value, datatype=NamedNode(KEPT + datatype[len(XSD_NS) :]))
             return kept  # type: ignore[return-value]
     return term
 
@@ -79,7 +79,7 @@ def from_store(term: _Term) -> _Term:
     if isinstance(term, Literal):
         datatype = term.datatype.value
         if datatype.startswith(KEPT):
-            original = Literal(term.value, datatype=NamedNode(XSD + datatype[len(KEPT) :]))
+            original = Literal(term.value, datatype=NamedNode(XSD_NS + datatype[len(KEPT) :]))
             return original  # type: ignore[return-value]
     return term
 
@@ -92,7 +92,7 @@ def quad_from_store(quad: Quad) -> Quad:
     return quad
 
 
-_REWRITTEN_TYPES = frozenset(NamedNode(XSD + name) for name in REWRITTEN)
+_REWRITTEN_TYPES = frozenset(NamedNode(XSD_NS + name) for name in REWRITTEN)
 
 
 def quads_to_store(quads: Iterable[Quad]) -> list[Quad]:

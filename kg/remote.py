@@ -50,6 +50,9 @@ from ontologies.vocab import (
     SKOLEM_PREFIX,
     TOUCHED,
     TOUCHED_EVERYTHING,
+    XSD_BOOLEAN,
+    XSD_DATETIME,
+    XSD_INTEGER,
 )
 
 __all__ = ["Change", "RemoteDataset"]
@@ -64,8 +67,6 @@ them costs the writer one journal triple per subject, no more than the transacti
 itself; a follower reloads a listed subject by one index lookup, while "everything" makes it
 rebuild its whole scene memory index (seconds at 10,000 classes). A new class linked above
 hundreds of existing ones touches them all."""
-XSD_INTEGER = NamedNode("http://www.w3.org/2001/XMLSchema#integer")
-XSD_BOOLEAN = NamedNode("http://www.w3.org/2001/XMLSchema#boolean")
 
 
 @dataclass(frozen=True)
@@ -271,7 +272,7 @@ class RemoteDataset:
 
     def _journal_text(self, revision: int, touched: frozenset[NamedNode] | None) -> str:
         ns, entry = self.namespace, self.namespace.entry(revision)
-        now = Literal(dt.datetime.now(dt.UTC).isoformat(), datatype=_XSD_DATETIME)
+        now = Literal(dt.datetime.now(dt.UTC).isoformat(), datatype=XSD_DATETIME)
         quads = [
             Quad(ns.node, REVISION, _integer(revision), ns.control),
             Quad(entry, RDF_TYPE, JOURNAL_ENTRY, ns.control),
@@ -373,9 +374,6 @@ class RemoteDataset:
             raise StoreUnavailableError("catching up with the SPARQL server; retry shortly")
         if self.guard is not None:
             self.guard()
-
-
-_XSD_DATETIME = NamedNode("http://www.w3.org/2001/XMLSchema#dateTime")
 
 
 def _integer(value: int) -> Literal:

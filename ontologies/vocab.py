@@ -20,6 +20,8 @@ XSD_NS = "http://www.w3.org/2001/XMLSchema#"
 PROV_NS = "http://www.w3.org/ns/prov#"
 DCTERMS_NS = "http://purl.org/dc/terms/"
 SKOS_NS = "http://www.w3.org/2004/02/skos/core#"
+SWRL_NS = "http://www.w3.org/2003/11/swrl#"
+SWRLB_NS = "http://www.w3.org/2003/11/swrlb#"
 
 PREFIXES = {
     "engram": ENGRAM_NS,
@@ -212,6 +214,7 @@ PROV_GENERATED_AT_TIME = prov("generatedAtTime")
 XSD_STRING = NamedNode(XSD_NS + "string")
 XSD_INTEGER = NamedNode(XSD_NS + "integer")
 XSD_DOUBLE = NamedNode(XSD_NS + "double")
+XSD_BOOLEAN = NamedNode(XSD_NS + "boolean")
 
 # Engram's episode terms (engram.ttl, section "Autobiographical memory").
 EPISODE = engram("Episode")

@@ -15,22 +15,16 @@ accessed, forgotten) must stay in order.
 
 import datetime as dt
 import threading
-from collections.abc import Callable
 
-__all__ = ["Clock", "SettableClock", "read_clock"]
+from kg.clock import Clock, utc_now
 
-Clock = Callable[[], dt.datetime]
-"""Returns the current time as a timezone-aware datetime."""
-
-
-def _utc_now() -> dt.datetime:
-    return dt.datetime.now(dt.UTC)
+__all__ = ["SettableClock", "read_clock"]
 
 
 class SettableClock:
     """A clock that reads ``real()`` until :meth:`set` or :meth:`advance` fixes it."""
 
-    def __init__(self, real: Callable[[], dt.datetime] = _utc_now) -> None:
+    def __init__(self, real: Clock = utc_now) -> None:
         self._real = real
         self._fixed: dt.datetime | None = None
         self._lock = threading.Lock()

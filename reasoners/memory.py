@@ -51,6 +51,7 @@ from operator import attrgetter
 
 from pyoxigraph import Literal, NamedNode
 
+from kg.clock import Clock, utc_now
 from kg.ontology import ensure_ontology
 from kg.primitive import Primitive
 from kg.store import Store
@@ -75,7 +76,7 @@ from ontologies.vocab import (
     UPDATES_SINCE_SLEEP,
 )
 from reasoners import forgetting, history, index_file, persist
-from reasoners.clock import Clock, SettableClock, read_clock
+from reasoners.clock import SettableClock, read_clock
 from reasoners.collector import collector_paused
 from reasoners.encode import Encoder, Relation
 from reasoners.errors import (
@@ -128,10 +129,6 @@ log = logging.getLogger(__name__)
 _IRI_TEXT = attrgetter("value")
 
 
-def _utc_now() -> dt.datetime:
-    return dt.datetime.now(dt.UTC)
-
-
 class SceneMemory:
     """A robot's scene memory kept in ``store`` (the T-Box is loaded if missing).
 
@@ -146,7 +143,7 @@ class SceneMemory:
         self,
         store: Store,
         *,
-        clock: Clock = _utc_now,
+        clock: Clock = utc_now,
         policy: NamedNode = DEFAULT_POLICY,
         background: bool = False,
     ) -> None:

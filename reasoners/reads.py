@@ -24,8 +24,9 @@ from operator import attrgetter
 
 from pyoxigraph import NamedNode
 
+from kg.clock import Clock
 from reasoners import forgetting
-from reasoners.clock import Clock, read_clock
+from reasoners.clock import read_clock
 from reasoners.errors import UnknownItemError
 from reasoners.loading import LoadedModel
 from reasoners.model import MemoryModel

@@ -1,14 +1,18 @@
 """Fixtures shared by every test package: stores, and a real server on a loopback port."""
 
+import base64
 import socket
 import threading
 import time
 from collections.abc import Callable, Iterator
+from contextlib import ExitStack
 from dataclasses import dataclass
+from itertools import count
 from pathlib import Path
 from typing import Any
 
 import httpx
+import numpy as np
 import pytest
 import uvicorn
 
@@ -16,6 +20,13 @@ from api.config import Settings
 from api.header_timeout import with_header_timeout
 from api.main import create_app
 from kg import Store, ensure_ontology
+
+
+def wire_array(value: dict[str, Any]) -> np.ndarray:
+    """The array of a sample value in its JSON form ``{"dtype", "shape", "b64"}``
+    (:mod:`episodes.streams.wire`), decoded here without the server's code."""
+    raw = base64.b64decode(value["b64"])
+    return np.frombuffer(raw, dtype=value["dtype"]).reshape(value["shape"])
 
 
 @pytest.fixture
@@ -58,10 +69,33 @@ def free_port() -> int:
         return port
 
 
-def serve(app: Any, settings: Settings) -> tuple[uvicorn.Server, threading.Thread, str]:
+@dataclass
+class RunningServer:
+    """A uvicorn server running in a daemon thread at ``url``; :meth:`stop` ends it, and so does
+    leaving a ``with`` block over it."""
+
+    url: str
+    server: uvicorn.Server
+    thread: threading.Thread
+
+    def stop(self) -> None:
+        """Ask the server to exit and wait (up to 30 s) for its thread to end."""
+        self.server.should_exit = True
+        self.thread.join(timeout=30)
+
+    def __enter__(self) -> "RunningServer":
+        return self
+
+    def __exit__(self, *exc_info: object) -> None:
+        self.stop()
+
+
+def serve(app: Any, settings: Settings) -> RunningServer:
     """Run ``app`` with uvicorn in a daemon thread on ``settings``' host and port, with ``engram
-    serve``'s protocol and time limits; returns once it serves, with its base URL. Stop it with
-    ``server.should_exit = True; thread.join()``."""
+    serve``'s protocol and time limits; returns once it serves.
+
+    Raises :class:`RuntimeError` if it does not start within 30 s.
+    """
     config = uvicorn.Config(
         app,
         host=settings.host,
@@ -77,27 +111,38 @@ def serve(app: Any, settings: Settings) -> tuple[uvicorn.Server, threading.Threa
         if not thread.is_alive() or time.monotonic() > deadline:
             raise RuntimeError("the test server did not start")
         time.sleep(0.02)
-    return server, thread, f"http://{settings.host}:{settings.port}"
+    return RunningServer(f"http://{settings.host}:{settings.port}", server, thread)
+
+
+def _starter(data_dir: Callable[[], Path], running: ExitStack) -> Callable[..., LiveServer]:
+    """Starts a server with the given settings overrides over ``data_dir()`` unless one is
+    given; ``running`` stops it and closes its client."""
+
+    def start(**overrides: Any) -> LiveServer:
+        overrides.setdefault("data_dir", data_dir())
+        settings = Settings(host="127.0.0.1", port=free_port(), **overrides)
+        url = running.enter_context(serve(create_app(settings), settings)).url
+        client = running.enter_context(httpx.Client(base_url=url, timeout=60))
+        return LiveServer(url, settings, client)
+
+    return start
 
 
 @pytest.fixture
 def start_server(tmp_path: Path) -> Iterator[Callable[..., LiveServer]]:
     """Start a server with the given settings overrides; every server stops after the test."""
-    running: list[tuple[uvicorn.Server, threading.Thread, httpx.Client]] = []
+    dirs = iter(tmp_path / f"data-{n}" for n in count())
+    with ExitStack() as running:
+        yield _starter(lambda: next(dirs), running)
 
-    def start(**overrides: Any) -> LiveServer:
-        overrides.setdefault("data_dir", tmp_path / f"data-{len(running)}")
-        settings = Settings(host="127.0.0.1", port=free_port(), **overrides)
-        server, thread, url = serve(create_app(settings), settings)
-        client = httpx.Client(base_url=url, timeout=60)
-        running.append((server, thread, client))
-        return LiveServer(url, settings, client)
 
-    yield start
-    for server, thread, client in running:
-        client.close()
-        server.should_exit = True
-        thread.join(timeout=30)
+@pytest.fixture(scope="module")
+def start_module_server(
+    tmp_path_factory: pytest.TempPathFactory,
+) -> Iterator[Callable[..., LiveServer]]:
+    """:func:`start_server` for fixtures shared by a module: every server stops after it."""
+    with ExitStack() as running:
+        yield _starter(lambda: tmp_path_factory.mktemp("server"), running)
 
 
 @pytest.fixture

@@ -62,11 +62,11 @@ def served(tmp_path_factory: pytest.TempPathFactory) -> Iterator[tuple[httpx.Cli
     del memory
     gc.collect()  # closes the store for the server
     settings = Settings(host="127.0.0.1", port=free_port(), data_dir=data)
-    server, thread, url = serve(create_app(settings), settings)
-    with httpx.Client(base_url=url, timeout=30) as http:
+    with (
+        serve(create_app(settings), settings) as running,
+        httpx.Client(base_url=running.url, timeout=30) as http,
+    ):
         yield http, facts
-    server.should_exit = True
-    thread.join(timeout=30)
 
 
 def rows(http: httpx.Client, name: str) -> list[dict[str, str]]:

@@ -20,14 +20,10 @@ from urllib.parse import urljoin
 from pyoxigraph import BlankNode, Literal, NamedNode, Triple
 
 from kg.errors import InvalidInputError
+from ontologies.vocab import OWL_NS, RDF_NS, RDFS_NS, SWRL_NS, XSD_NS
 
 __all__ = ["OwlXmlError", "owlxml_triples"]
 
-OWL = "http://www.w3.org/2002/07/owl#"
-RDF = "http://www.w3.org/1999/02/22-rdf-syntax-ns#"
-RDFS = "http://www.w3.org/2000/01/rdf-schema#"
-XSD = "http://www.w3.org/2001/XMLSchema#"
-SWRL = "http://www.w3.org/2003/11/swrl#"
 XML_NS = "{http://www.w3.org/XML/1998/namespace}"
 Term = NamedNode | BlankNode | Literal
 Node = NamedNode | BlankNode
@@ -41,15 +37,15 @@ def _n(namespace: str, name: str) -> NamedNode:
     return NamedNode(namespace + name)
 
 
-TYPE = _n(RDF, "type")
-FIRST, REST, NIL = _n(RDF, "first"), _n(RDF, "rest"), _n(RDF, "nil")
+TYPE = _n(RDF_NS, "type")
+FIRST, REST, NIL = _n(RDF_NS, "first"), _n(RDF_NS, "rest"), _n(RDF_NS, "nil")
 _DECLARED = {
-    "Class": _n(OWL, "Class"),
-    "Datatype": _n(RDFS, "Datatype"),
-    "ObjectProperty": _n(OWL, "ObjectProperty"),
-    "DataProperty": _n(OWL, "DatatypeProperty"),
-    "AnnotationProperty": _n(OWL, "AnnotationProperty"),
-    "NamedIndividual": _n(OWL, "NamedIndividual"),
+    "Class": _n(OWL_NS, "Class"),
+    "Datatype": _n(RDFS_NS, "Datatype"),
+    "ObjectProperty": _n(OWL_NS, "ObjectProperty"),
+    "DataProperty": _n(OWL_NS, "DatatypeProperty"),
+    "AnnotationProperty": _n(OWL_NS, "AnnotationProperty"),
+    "NamedIndividual": _n(OWL_NS, "NamedIndividual"),
 }
 _CHARACTERISTICS = {
     "FunctionalObjectProperty": "FunctionalProperty",
@@ -62,22 +58,22 @@ _CHARACTERISTICS = {
     "TransitiveObjectProperty": "TransitiveProperty",
 }
 _PAIRS = {  # axiom -> predicate between its two (or first and each further) operands
-    "SubClassOf": _n(RDFS, "subClassOf"),
-    "SubObjectPropertyOf": _n(RDFS, "subPropertyOf"),
-    "SubDataPropertyOf": _n(RDFS, "subPropertyOf"),
-    "SubAnnotationPropertyOf": _n(RDFS, "subPropertyOf"),
-    "ObjectPropertyDomain": _n(RDFS, "domain"),
-    "DataPropertyDomain": _n(RDFS, "domain"),
-    "AnnotationPropertyDomain": _n(RDFS, "domain"),
-    "ObjectPropertyRange": _n(RDFS, "range"),
-    "DataPropertyRange": _n(RDFS, "range"),
-    "AnnotationPropertyRange": _n(RDFS, "range"),
-    "InverseObjectProperties": _n(OWL, "inverseOf"),
-    "DatatypeDefinition": _n(OWL, "equivalentClass"),
-    "EquivalentClasses": _n(OWL, "equivalentClass"),
-    "EquivalentObjectProperties": _n(OWL, "equivalentProperty"),
-    "EquivalentDataProperties": _n(OWL, "equivalentProperty"),
-    "SameIndividual": _n(OWL, "sameAs"),
+    "SubClassOf": _n(RDFS_NS, "subClassOf"),
+    "SubObjectPropertyOf": _n(RDFS_NS, "subPropertyOf"),
+    "SubDataPropertyOf": _n(RDFS_NS, "subPropertyOf"),
+    "SubAnnotationPropertyOf": _n(RDFS_NS, "subPropertyOf"),
+    "ObjectPropertyDomain": _n(RDFS_NS, "domain"),
+    "DataPropertyDomain": _n(RDFS_NS, "domain"),
+    "AnnotationPropertyDomain": _n(RDFS_NS, "domain"),
+    "ObjectPropertyRange": _n(RDFS_NS, "range"),
+    "DataPropertyRange": _n(RDFS_NS, "range"),
+    "AnnotationPropertyRange": _n(RDFS_NS, "range"),
+    "InverseObjectProperties": _n(OWL_NS, "inverseOf"),
+    "DatatypeDefinition": _n(OWL_NS, "equivalentClass"),
+    "EquivalentClasses": _n(OWL_NS, "equivalentClass"),
+    "EquivalentObjectProperties": _n(OWL_NS, "equivalentProperty"),
+    "EquivalentDataProperties": _n(OWL_NS, "equivalentProperty"),
+    "SameIndividual": _n(OWL_NS, "sameAs"),
 }
 _NARY = {  # axiom -> (predicate for two operands, class of the n-ary node, its list predicate)
     "DisjointClasses": ("disjointWith", "AllDisjointClasses", "members"),
@@ -112,19 +108,19 @@ _ATOMS = {
 
 def _local(element: ET.Element) -> str:
     tag = element.tag
-    if not tag.startswith("{" + OWL + "}"):
+    if not tag.startswith("{" + OWL_NS + "}"):
         raise OwlXmlError(f"element {tag!r} is not in the OWL namespace")
-    return tag[len(OWL) + 2 :]
+    return tag[len(OWL_NS) + 2 :]
 
 
 class _Reader:
     def __init__(self, root: ET.Element) -> None:
         self.base = root.get(XML_NS + "base") or root.get("ontologyIRI") or ""
         self.prefixes = {
-            "owl": OWL,
-            "rdf": RDF,
-            "rdfs": RDFS,
-            "xsd": XSD,
+            "owl": OWL_NS,
+            "rdf": RDF_NS,
+            "rdfs": RDFS_NS,
+            "xsd": XSD_NS,
             "xml": "http://www.w3.org/XML/1998/namespace",
         }
         self.triples: list[Triple] = []
@@ -164,7 +160,7 @@ class _Reader:
         datatype = element.get("datatypeIRI")
         if language:
             return Literal(text, language=language)
-        if datatype is None or datatype == RDF + "PlainLiteral":
+        if datatype is None or datatype == RDF_NS + "PlainLiteral":
             return Literal(text)
         return Literal(text, datatype=NamedNode(urljoin(self.base, datatype)))
 
@@ -211,59 +207,59 @@ class _Reader:
         children = list(element)
         node = BlankNode()
         if tag in ("ObjectInverseOf", "DataInverseOf"):
-            self.add(node, _n(OWL, "inverseOf"), self.expression(children[0]))
+            self.add(node, _n(OWL_NS, "inverseOf"), self.expression(children[0]))
             return node
         if tag in ("ObjectIntersectionOf", "ObjectUnionOf", "DataIntersectionOf", "DataUnionOf"):
             kind = "Class" if tag.startswith("Object") else "Datatype"
             self.add(node, TYPE, _DECLARED[kind])
             predicate = "intersectionOf" if "Intersection" in tag else "unionOf"
             operands = [self.expression(c) for c in children]
-            self.add(node, _n(OWL, predicate), self.items(operands))
+            self.add(node, _n(OWL_NS, predicate), self.items(operands))
             return node
         if tag == "ObjectComplementOf":
             self.add(node, TYPE, _DECLARED["Class"])
-            self.add(node, _n(OWL, "complementOf"), self.expression(children[0]))
+            self.add(node, _n(OWL_NS, "complementOf"), self.expression(children[0]))
             return node
         if tag == "DataComplementOf":
             self.add(node, TYPE, _DECLARED["Datatype"])
-            self.add(node, _n(OWL, "datatypeComplementOf"), self.expression(children[0]))
+            self.add(node, _n(OWL_NS, "datatypeComplementOf"), self.expression(children[0]))
             return node
         if tag in ("ObjectOneOf", "DataOneOf"):
             kind = "Class" if tag == "ObjectOneOf" else "Datatype"
             self.add(node, TYPE, _DECLARED[kind])
-            self.add(node, _n(OWL, "oneOf"), self.items([self.expression(c) for c in children]))
+            self.add(node, _n(OWL_NS, "oneOf"), self.items([self.expression(c) for c in children]))
             return node
         if tag == "DatatypeRestriction":
             self.add(node, TYPE, _DECLARED["Datatype"])
-            self.add(node, _n(OWL, "onDatatype"), self.expression(children[0]))
+            self.add(node, _n(OWL_NS, "onDatatype"), self.expression(children[0]))
             facets: list[Term] = []
             for facet in children[1:]:
                 cell = BlankNode()
                 self.add(cell, NamedNode(facet.get("facet", "")), self.literal(facet[0]))
                 facets.append(cell)
-            self.add(node, _n(OWL, "withRestrictions"), self.items(facets))
+            self.add(node, _n(OWL_NS, "withRestrictions"), self.items(facets))
             return node
-        self.add(node, TYPE, _n(OWL, "Restriction"))
+        self.add(node, TYPE, _n(OWL_NS, "Restriction"))
         if tag in _RESTRICTIONS:
-            self.add(node, _n(OWL, "onProperty"), self.expression(children[0]))
-            self.add(node, _n(OWL, _RESTRICTIONS[tag]), self.expression(children[1]))
+            self.add(node, _n(OWL_NS, "onProperty"), self.expression(children[0]))
+            self.add(node, _n(OWL_NS, _RESTRICTIONS[tag]), self.expression(children[1]))
             return node
         if tag == "ObjectHasSelf":
-            self.add(node, _n(OWL, "onProperty"), self.expression(children[0]))
-            self.add(node, _n(OWL, "hasSelf"), Literal(True))
+            self.add(node, _n(OWL_NS, "onProperty"), self.expression(children[0]))
+            self.add(node, _n(OWL_NS, "hasSelf"), Literal(True))
             return node
         for bound, (plain, qualified) in _CARDINALITIES.items():
             if tag in (f"Object{bound}Cardinality", f"Data{bound}Cardinality"):
                 count = Literal(
-                    element.get("cardinality", "0"), datatype=_n(XSD, "nonNegativeInteger")
+                    element.get("cardinality", "0"), datatype=_n(XSD_NS, "nonNegativeInteger")
                 )
-                self.add(node, _n(OWL, "onProperty"), self.expression(children[0]))
+                self.add(node, _n(OWL_NS, "onProperty"), self.expression(children[0]))
                 if len(children) > 1:
-                    self.add(node, _n(OWL, qualified), count)
+                    self.add(node, _n(OWL_NS, qualified), count)
                     on = "onClass" if tag.startswith("Object") else "onDataRange"
-                    self.add(node, _n(OWL, on), self.expression(children[1]))
+                    self.add(node, _n(OWL_NS, on), self.expression(children[1]))
                 else:
-                    self.add(node, _n(OWL, plain), count)
+                    self.add(node, _n(OWL_NS, plain), count)
                 return node
         raise OwlXmlError(f"<{tag}> is not an OWL/XML class expression or data range")
 
@@ -276,10 +272,10 @@ class _Reader:
         main = self._axiom(tag, operands)
         if annotations and main is not None:
             node = BlankNode()
-            self.add(node, TYPE, _n(OWL, "Axiom"))
-            self.add(node, _n(OWL, "annotatedSource"), self._term(main.subject))
-            self.add(node, _n(OWL, "annotatedProperty"), main.predicate)
-            self.add(node, _n(OWL, "annotatedTarget"), self._term(main.object))
+            self.add(node, TYPE, _n(OWL_NS, "Axiom"))
+            self.add(node, _n(OWL_NS, "annotatedSource"), self._term(main.subject))
+            self.add(node, _n(OWL_NS, "annotatedProperty"), main.predicate)
+            self.add(node, _n(OWL_NS, "annotatedTarget"), self._term(main.object))
             for annotation in annotations:
                 self.annotation(node, annotation)
 
@@ -292,10 +288,10 @@ class _Reader:
             entity = ops[0]
             return self.add(self.iri(entity), TYPE, _DECLARED[_local(entity)])
         if tag in _CHARACTERISTICS:
-            return self.add(self._node(ops[0]), TYPE, _n(OWL, _CHARACTERISTICS[tag]))
+            return self.add(self._node(ops[0]), TYPE, _n(OWL_NS, _CHARACTERISTICS[tag]))
         if tag == "SubObjectPropertyOf" and _local(ops[0]) == "ObjectPropertyChain":
             chain = [self.expression(c) for c in ops[0]]
-            return self.add(self._node(ops[1]), _n(OWL, "propertyChainAxiom"), self.items(chain))
+            return self.add(self._node(ops[1]), _n(OWL_NS, "propertyChainAxiom"), self.items(chain))
         if tag in _PAIRS:
             first = self._node(ops[0])
             main = None
@@ -306,19 +302,19 @@ class _Reader:
             pair, kind, members = _NARY[tag]
             terms = [self.expression(c) for c in ops]
             if len(terms) == 2:
-                return self.add(self._as_node(terms[0]), _n(OWL, pair), terms[1])
+                return self.add(self._as_node(terms[0]), _n(OWL_NS, pair), terms[1])
             node = BlankNode()
-            self.add(node, TYPE, _n(OWL, kind))
+            self.add(node, TYPE, _n(OWL_NS, kind))
             if tag == "DifferentIndividuals":
                 members = "distinctMembers"
-            self.add(node, _n(OWL, members), self.items(terms))
+            self.add(node, _n(OWL_NS, members), self.items(terms))
             return None
         if tag == "DisjointUnion":
             terms = [self.expression(c) for c in ops[1:]]
-            return self.add(self.iri(ops[0]), _n(OWL, "disjointUnionOf"), self.items(terms))
+            return self.add(self.iri(ops[0]), _n(OWL_NS, "disjointUnionOf"), self.items(terms))
         if tag == "HasKey":
             keys = [self.expression(c) for c in ops[1:]]
-            return self.add(self._node(ops[0]), _n(OWL, "hasKey"), self.items(keys))
+            return self.add(self._node(ops[0]), _n(OWL_NS, "hasKey"), self.items(keys))
         if tag == "ClassAssertion":
             return self.add(self.individual(ops[1]), TYPE, self.expression(ops[0]))
         if tag in ("ObjectPropertyAssertion", "DataPropertyAssertion"):
@@ -329,10 +325,10 @@ class _Reader:
         if tag in ("NegativeObjectPropertyAssertion", "NegativeDataPropertyAssertion"):
             node = BlankNode()
             target = "targetIndividual" if tag.startswith("NegativeObject") else "targetValue"
-            self.add(node, TYPE, _n(OWL, "NegativePropertyAssertion"))
-            self.add(node, _n(OWL, "sourceIndividual"), self.individual(ops[1]))
-            self.add(node, _n(OWL, "assertionProperty"), self.expression(ops[0]))
-            self.add(node, _n(OWL, target), self.value(ops[2]))
+            self.add(node, TYPE, _n(OWL_NS, "NegativePropertyAssertion"))
+            self.add(node, _n(OWL_NS, "sourceIndividual"), self.individual(ops[1]))
+            self.add(node, _n(OWL_NS, "assertionProperty"), self.expression(ops[0]))
+            self.add(node, _n(OWL_NS, target), self.value(ops[2]))
             return None
         if tag == "AnnotationAssertion":
             subject = self.value(ops[1])
@@ -363,25 +359,25 @@ class _Reader:
 
     def rule(self, parts: list[ET.Element]) -> None:
         node = BlankNode()
-        self.add(node, TYPE, _n(SWRL, "Imp"))
+        self.add(node, TYPE, _n(SWRL_NS, "Imp"))
         for part in parts:
             which = {"Body": "body", "Head": "head"}.get(_local(part))
             if which is None:
                 raise OwlXmlError(f"<DLSafeRule> holds <{_local(part)}>, expected Body and Head")
             atoms: list[Term] = [self.atom(a) for a in part]
-            self.add(node, _n(SWRL, which), self.items(atoms, _n(SWRL, "AtomList")))
+            self.add(node, _n(SWRL_NS, which), self.items(atoms, _n(SWRL_NS, "AtomList")))
 
     def atom(self, element: ET.Element) -> Node:
         tag = _local(element)
         if tag not in _ATOMS:
             raise OwlXmlError(f"<{tag}> is not a SWRL atom")
         node = BlankNode()
-        self.add(node, TYPE, _n(SWRL, _ATOMS[tag]))
+        self.add(node, TYPE, _n(SWRL_NS, _ATOMS[tag]))
         children = list(element)
         args: list[Term] = [self.argument(c) for c in children]
         if tag == "BuiltInAtom":
-            self.add(node, _n(SWRL, "builtin"), self.iri(element))
-            self.add(node, _n(SWRL, "arguments"), self.items(args))
+            self.add(node, _n(SWRL_NS, "builtin"), self.iri(element))
+            self.add(node, _n(SWRL_NS, "arguments"), self.items(args))
             return node
         predicate = {
             "ClassAtom": "classPredicate",
@@ -390,16 +386,16 @@ class _Reader:
             "DataPropertyAtom": "propertyPredicate",
         }.get(tag)
         if predicate is not None:
-            self.add(node, _n(SWRL, predicate), self.expression(children[0]))
+            self.add(node, _n(SWRL_NS, predicate), self.expression(children[0]))
             args = args[1:]
         for index, arg in enumerate(args, start=1):
-            self.add(node, _n(SWRL, f"argument{index}"), arg)
+            self.add(node, _n(SWRL_NS, f"argument{index}"), arg)
         return node
 
     def argument(self, element: ET.Element) -> Term:
         if _local(element) == "Variable":
             variable = self.iri(element)
-            self.add(variable, TYPE, _n(SWRL, "Variable"))
+            self.add(variable, TYPE, _n(SWRL_NS, "Variable"))
             return variable
         return self.expression(element)
 
@@ -417,21 +413,21 @@ def owlxml_triples(content: bytes) -> list[Triple]:
         root = ET.fromstring(content)
     except ET.ParseError as error:
         raise OwlXmlError(f"not well-formed XML: {error}") from None
-    if root.tag != "{" + OWL + "}Ontology":
+    if root.tag != "{" + OWL_NS + "}Ontology":
         raise OwlXmlError(f"the root element is {root.tag!r}, expected OWL's <Ontology>")
     reader = _Reader(root)
     ontology = root.get("ontologyIRI")
     header: Node = NamedNode(ontology) if ontology else BlankNode()
-    reader.add(header, TYPE, _n(OWL, "Ontology"))
+    reader.add(header, TYPE, _n(OWL_NS, "Ontology"))
     if version := root.get("versionIRI"):
-        reader.add(header, _n(OWL, "versionIRI"), NamedNode(version))
+        reader.add(header, _n(OWL_NS, "versionIRI"), NamedNode(version))
     for element in root:
         tag = _local(element)
         try:
             if tag == "Prefix":
                 reader.prefixes[element.get("name", "")] = element.get("IRI", "")
             elif tag == "Import":
-                reader.add(header, _n(OWL, "imports"), reader.iri_text(element))
+                reader.add(header, _n(OWL_NS, "imports"), reader.iri_text(element))
             elif tag == "Annotation":
                 reader.annotation(header, element)
             else:

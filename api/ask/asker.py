@@ -340,8 +340,8 @@ class Asker:
         data: dict[str, Any] = {}
         if phrase is not None:
             start, end = time_window(phrase, self.scenes.reads.now())
-            bound["from"] = _time(start)
-            bound["to"] = _time(end)
+            bound["from"] = to_literal(start)
+            bound["to"] = to_literal(end)
             data |= {"from": start.isoformat(), "to": end.isoformat()}
         rows = self.store.select("ask_forgotten", **bound)
         classes = [r["subject"] for r in rows if r["kind"].value == "class"]
@@ -491,10 +491,6 @@ def _not_understood(text: str, words: str) -> Answer:
         + ".",
         suggestions=suggestions,
     )
-
-
-def _time(moment: dt.datetime) -> Literal:
-    return to_literal(moment)
 
 
 def _parse(text: str) -> dt.datetime:

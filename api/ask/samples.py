@@ -14,23 +14,14 @@ from pathlib import Path
 
 from episodes import ArgumentSpec, EpisodeMemory
 from kg import Store, ensure_ontology
+from kg.clock import SimulatedClock
 from kg.primitive import Primitive
 from reasoners.memory import SceneMemory
 
-__all__ = ["EPISODES", "NOW", "SPOKEN", "START", "Clock", "live_a_week", "main"]
+__all__ = ["EPISODES", "NOW", "SPOKEN", "START", "live_a_week", "main"]
 
 START = dt.datetime(2026, 3, 2, 8, 0, tzinfo=dt.UTC)
 NOW = dt.datetime(2026, 3, 4, 10, 0, tzinfo=dt.UTC)
-
-
-class Clock:
-    """A clock moved by hand."""
-
-    def __init__(self) -> None:
-        self.now = START
-
-    def __call__(self) -> dt.datetime:
-        return self.now
 
 
 def sphere(name: str, x: float, y: float, z: float) -> Primitive:
@@ -58,7 +49,7 @@ EPISODES = [
 ]
 
 
-def live_a_week(store: Store, clock: Clock) -> tuple[SceneMemory, EpisodeMemory]:
+def live_a_week(store: Store, clock: SimulatedClock) -> tuple[SceneMemory, EpisodeMemory]:
     """The memories of the module docstring: Scene-1 two balls on a table (seen 30 times),
     Scene-2 two spheres side by side (LONE, forgotten on Tuesday), Scene-3 a ball on a table
     (the parent of Scene-1), Scene-4 a cone behind a ball, the last scene (learned: nothing
@@ -123,7 +114,7 @@ def main(argv: list[str] | None = None) -> int:
         print(f"{data} already holds a store; give a new directory", file=sys.stderr)
         return 2
     store = Store(data / "store")
-    scenes, episodes = live_a_week(store, Clock())
+    scenes, episodes = live_a_week(store, SimulatedClock(START))
     store.flush()
     del scenes, episodes, store
     gc.collect()  # the memories hold the store in cycles; free it before the process ends

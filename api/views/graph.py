@@ -21,7 +21,7 @@ from api.views.models import (
     SceneEntry,
     ScorePoint,
 )
-from api.views.scenes import scene_entries
+from api.views.scenes import scene_entries, time_of
 from api.views.words import relation_of, words
 from kg import Store
 from kg.errors import NotFoundError
@@ -116,13 +116,6 @@ def _number(term: Any, default: float = 0.0) -> float:
         return float(term.value) if isinstance(term, Literal) else default
     except ValueError:
         return default
-
-
-def _time(term: Any) -> dt.datetime | None:
-    try:
-        return dt.datetime.fromisoformat(term.value) if isinstance(term, Literal) else None
-    except ValueError:
-        return None
 
 
 def _forgotten_node(store: Store, iri: NamedNode, top: float) -> ClassNode | None:
@@ -354,8 +347,8 @@ def class_detail(memory: SceneMemory, name: str) -> ClassDetail:
         raw_score=_number(values.get(SCORE)),
         stored_level=level.value if isinstance(level, Literal) else None,
         consecutive_weak=None,
-        created=_time(values.get(CREATED)),
-        last_accessed=_time(values.get(LAST_ACCESSED)),
+        created=time_of(values.get(CREATED)),
+        last_accessed=time_of(values.get(LAST_ACCESSED)),
         history=[],
         scenes=_scenes_of(memory.store, trashed, TRASH),
     )

@@ -34,6 +34,7 @@ __all__ = [
     "scene_detail",
     "scene_entries",
     "scene_list",
+    "time_of",
 ]
 
 _KINDS = {ENGRAM_NS + k: k for k in ("Sphere", "Cylinder", "Cone", "Plane")}
@@ -48,7 +49,13 @@ def _name(iri: NamedNode) -> str:
     return iri.value.rsplit("#", 1)[-1]
 
 
-def _time(term: Any) -> dt.datetime | None:
+def time_of(term: Any) -> dt.datetime | None:
+    """The time a stored ``xsd:dateTime`` literal holds; ``None`` for anything else (no term, an
+    IRI, or text that is not an ISO 8601 time), which the views show as an unknown time.
+
+    >>> time_of(Literal("2026-01-26T08:00:00+00:00")).isoformat(), time_of(None)
+    ('2026-01-26T08:00:00+00:00', None)
+    """
     if not isinstance(term, Literal):
         return None
     try:
@@ -64,7 +71,7 @@ def _entry(store: Store, item: NamedNode, graph: NamedNode) -> SceneEntry:
     for quad in store.quads(item, None, None, graph):
         p, o = quad.predicate, quad.object
         if p == CREATED:
-            created = _time(o)
+            created = time_of(o)
         elif p == HAPPENED_DURING and isinstance(o, NamedNode):
             episode = o.value.rsplit("/", 1)[-1].rsplit("#", 1)[-1]
         elif p == RDF_TYPE and o not in (EXPERIENCED_SCENE, OWL_NAMED_INDIVIDUAL):

@@ -9,32 +9,27 @@ import re
 
 from pyoxigraph import Literal, NamedNode
 
-RDF = "http://www.w3.org/1999/02/22-rdf-syntax-ns#"
-RDFS = "http://www.w3.org/2000/01/rdf-schema#"
-OWL = "http://www.w3.org/2002/07/owl#"
-XSD = "http://www.w3.org/2001/XMLSchema#"
-SWRL = "http://www.w3.org/2003/11/swrl#"
-SWRLB = "http://www.w3.org/2003/11/swrlb#"
+from ontologies.vocab import OWL_NS, RDF_NS, RDFS_NS, SWRL_NS, XSD_NS
 
 
 def rdf(name: str) -> str:
-    return f"<{RDF}{name}>"
+    return f"<{RDF_NS}{name}>"
 
 
 def rdfs(name: str) -> str:
-    return f"<{RDFS}{name}>"
+    return f"<{RDFS_NS}{name}>"
 
 
 def owl(name: str) -> str:
-    return f"<{OWL}{name}>"
+    return f"<{OWL_NS}{name}>"
 
 
 def xsd(name: str) -> str:
-    return f"<{XSD}{name}>"
+    return f"<{XSD_NS}{name}>"
 
 
 def swrl(name: str) -> str:
-    return f"<{SWRL}{name}>"
+    return f"<{SWRL_NS}{name}>"
 
 
 TYPE = rdf("type")

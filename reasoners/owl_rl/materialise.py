@@ -57,8 +57,9 @@ from dataclasses import dataclass, field
 from pyoxigraph import Literal, NamedNode, Quad
 
 from kg import Store
+from ontologies.vocab import SWRL_NS
 from reasoners.collector import collector_paused
-from reasoners.owl_rl._terms import HAS_KEY, SWRL, to_term
+from reasoners.owl_rl._terms import HAS_KEY, to_term
 from reasoners.owl_rl.consistency import Clash, clashes
 from reasoners.owl_rl.engine import AXIOMS, Engine, Fact
 from reasoners.owl_rl.errors import UnknownReasonerError
@@ -257,7 +258,7 @@ def _stream_outputs(engine: Engine, asserted: set[Fact]) -> Iterator[Fact]:
 def _touches_swrl(facts: list[Fact]) -> bool:
     """Does a fact belong to a rule run as a fact hook (SWRL, ``owl:hasKey``)? Those are
     attached when the engine is built, so such a change needs a full run."""
-    prefix = f"<{SWRL}"
+    prefix = f"<{SWRL_NS}"
     return any(f[1].startswith(prefix) or f[2].startswith(prefix) or f[1] == HAS_KEY for f in facts)
 
 

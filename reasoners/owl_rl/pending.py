@@ -53,6 +53,7 @@ from dataclasses import dataclass
 from pyoxigraph import Literal, NamedNode, Quad
 
 from kg import Store
+from ontologies.vocab import RDF_NS, XSD_STRING
 from reasoners.collector import collector_paused
 from reasoners.owl_rl._terms import to_term
 from reasoners.owl_rl.consistency import Clash
@@ -83,12 +84,7 @@ __all__ = ["PendingChanges", "Prepared", "prepare"]
 log = logging.getLogger(__name__)
 
 _SCRATCH = NamedNode("urn:engram:owl-rl:canonical")
-_STRING_TYPES = frozenset(
-    {
-        "http://www.w3.org/2001/XMLSchema#string",
-        "http://www.w3.org/1999/02/22-rdf-syntax-ns#langString",
-    }
-)
+_STRING_TYPES = frozenset({XSD_STRING.value, RDF_NS + "langString"})
 
 
 @dataclass(frozen=True)

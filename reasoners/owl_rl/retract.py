@@ -27,8 +27,8 @@ Typed literals are leaves unless they are the subject of a non-type fact: their 
 ``"0"^^xsd:integer`` stay two regions.
 
 >>> from reasoners.owl_rl.engine import Engine
->>> from reasoners.owl_rl._terms import RDF, RDFS
->>> t, sco = f"<{RDF}type>", f"<{RDFS}subClassOf>"
+>>> from ontologies.vocab import RDF_NS, RDFS_NS
+>>> t, sco = f"<{RDF_NS}type>", f"<{RDFS_NS}subClassOf>"
 >>> engine = Engine()
 >>> engine.add_all([("<A>", sco, "<B>"), ("<a1>", t, "<A>"), ("<a2>", t, "<A>")])
 >>> engine.run()
@@ -42,14 +42,15 @@ Typed literals are leaves unless they are the subject of a non-type fact: their 
 from collections.abc import Iterable
 from dataclasses import dataclass
 
-from reasoners.owl_rl._terms import HAS_KEY, SAME_AS, SWRL, TYPE
+from ontologies.vocab import SWRL_NS
+from reasoners.owl_rl._terms import HAS_KEY, SAME_AS, TYPE
 from reasoners.owl_rl.datatypes import value_types
 from reasoners.owl_rl.engine import AXIOMS, SCHEMA_PREDICATES, SCHEMA_TYPES, Engine, Fact
 
 __all__ = ["Retraction", "inferred_delta", "retract"]
 
 _AXIOM_TERMS = frozenset(term for fact in AXIOMS for term in fact)
-_SWRL_PREFIX = f"<{SWRL}"
+_SWRL_PREFIX = f"<{SWRL_NS}"
 
 
 @dataclass(frozen=True)

@@ -31,15 +31,14 @@ from decimal import Decimal, InvalidOperation
 
 from pyoxigraph import Literal, NamedNode
 
+from ontologies.vocab import SWRLB_NS, XSD_NS
 from reasoners.owl_rl._terms import (
     ALL_DIFFERENT,
     DIFFERENT_FROM,
     DISTINCT_MEMBERS,
     MEMBERS,
     SAME_AS,
-    SWRLB,
     TYPE,
-    XSD,
     literal_datatype,
     swrl,
     unescape,
@@ -144,7 +143,7 @@ def _atom(engine: Engine, imp: str, node: str, variables: set[str]) -> Atom:
         return Atom("datarange", _one(engine, imp, node, "dataRange"), (arg("argument1"),))
     if swrl("BuiltinAtom") in kinds:
         builtin = _one(engine, imp, node, "builtin")
-        name = builtin[1 + len(SWRLB) : -1] if builtin.startswith(f"<{SWRLB}") else ""
+        name = builtin[1 + len(SWRLB_NS) : -1] if builtin.startswith(f"<{SWRLB_NS}") else ""
         if name not in BUILTINS:
             raise SwrlRuleError(
                 f"SWRL rule {imp}: built-in {builtin} is not supported; expected one of "
@@ -165,7 +164,7 @@ _INTEGER_NAMES = (
     "integer int long short byte nonNegativeInteger positiveInteger nonPositiveInteger "
     "negativeInteger unsignedLong unsignedInt unsignedShort unsignedByte"
 )
-_INTEGER_TYPES = {f"<{XSD}{name}>" for name in _INTEGER_NAMES.split()}
+_INTEGER_TYPES = {f"<{XSD_NS}{name}>" for name in _INTEGER_NAMES.split()}
 
 
 def value_of(term: str) -> _Value | None:
@@ -180,11 +179,11 @@ def value_of(term: str) -> _Value | None:
     try:
         if datatype in _INTEGER_TYPES:
             return int(lexical)
-        if datatype == f"<{XSD}decimal>":
+        if datatype == f"<{XSD_NS}decimal>":
             return Decimal(lexical)
-        if datatype in (f"<{XSD}double>", f"<{XSD}float>"):
+        if datatype in (f"<{XSD_NS}double>", f"<{XSD_NS}float>"):
             return float(lexical.replace("INF", "inf"))
-        if datatype == f"<{XSD}boolean>":
+        if datatype == f"<{XSD_NS}boolean>":
             return lexical in ("true", "1")
     except (ValueError, InvalidOperation):
         return None
@@ -194,12 +193,12 @@ def value_of(term: str) -> _Value | None:
 def term_of(value: _Value) -> str:
     """The canonical literal term for a value, as the store writes it."""
     if isinstance(value, bool):
-        literal = Literal("true" if value else "false", datatype=NamedNode(XSD + "boolean"))
+        literal = Literal("true" if value else "false", datatype=NamedNode(XSD_NS + "boolean"))
     elif isinstance(value, int):
-        literal = Literal(str(value), datatype=NamedNode(XSD + "integer"))
+        literal = Literal(str(value), datatype=NamedNode(XSD_NS + "integer"))
     elif isinstance(value, Decimal):
         text = format(value.normalize(), "f")
-        literal = Literal(text, datatype=NamedNode(XSD + "decimal"))
+        literal = Literal(text, datatype=NamedNode(XSD_NS + "decimal"))
     elif isinstance(value, float):
         if value.is_integer() and abs(value) < 1e16:
             text = str(int(value))
@@ -207,7 +206,7 @@ def term_of(value: _Value) -> str:
             text = format(Decimal(repr(value)), "f")
         else:
             text = "NaN" if math.isnan(value) else ("INF" if value > 0 else "-INF")
-        literal = Literal(text, datatype=NamedNode(XSD + "double"))
+        literal = Literal(text, datatype=NamedNode(XSD_NS + "double"))
     else:
         literal = Literal(value)
     return str(literal)

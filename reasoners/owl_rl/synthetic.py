@@ -16,13 +16,11 @@ True
 
 import random
 
+from ontologies.vocab import OWL_NS, RDF_NS, RDFS_NS, XSD_NS
+
 __all__ = ["EX", "scene_ontology", "tbox_lines"]
 
 EX = "http://example.org/scene#"
-_RDF = "http://www.w3.org/1999/02/22-rdf-syntax-ns#"
-_RDFS = "http://www.w3.org/2000/01/rdf-schema#"
-_OWL = "http://www.w3.org/2002/07/owl#"
-_XSD = "http://www.w3.org/2001/XMLSchema#"
 
 _SUBCLASSES = [
     ("PhysicalObject", "Entity"),
@@ -75,32 +73,32 @@ def _t(s: str, p: str, o: str) -> str:
 
 def tbox_lines() -> list[str]:
     """The T-Box as N-Triples lines (restrictions and lists use ``_:`` blank nodes)."""
-    a, sco = f"<{_RDF}type>", f"<{_RDFS}subClassOf>"
-    lines = [_t(f"<{EX}ontology>", a, f"<{_OWL}Ontology>")]
+    a, sco = f"<{RDF_NS}type>", f"<{RDFS_NS}subClassOf>"
+    lines = [_t(f"<{EX}ontology>", a, f"<{OWL_NS}Ontology>")]
     classes = {c for pair in _SUBCLASSES for c in pair}
     classes |= {"StackedObject", "SupportingObject", "SceneWithContainer"}
     classes |= {"ObjectNearRound", "PartOfFurniture", "ScoredObject", "GroundObject"}
-    lines += [_t(_iri(c), a, f"<{_OWL}Class>") for c in sorted(classes)]
+    lines += [_t(_iri(c), a, f"<{OWL_NS}Class>") for c in sorted(classes)]
     lines += [_t(_iri(c), sco, _iri(d)) for c, d in _SUBCLASSES]
-    lines += [_t(_iri(p), a, f"<{_OWL}ObjectProperty>") for p in _OBJECT_PROPERTIES]
-    lines += [_t(_iri(p), a, f"<{_OWL}DatatypeProperty>") for p in _DATA_PROPERTIES]
-    inverse = f"<{_OWL}inverseOf>"
+    lines += [_t(_iri(p), a, f"<{OWL_NS}ObjectProperty>") for p in _OBJECT_PROPERTIES]
+    lines += [_t(_iri(p), a, f"<{OWL_NS}DatatypeProperty>") for p in _DATA_PROPERTIES]
+    inverse = f"<{OWL_NS}inverseOf>"
     lines += [
         _t(_iri("rightOf"), inverse, _iri("leftOf")),
         _t(_iri("below"), inverse, _iri("above")),
         _t(_iri("hasPart"), inverse, _iri("partOf")),
         _t(_iri("hasObject"), inverse, _iri("inScene")),
-        _t(_iri("onTopOf"), f"<{_RDFS}subPropertyOf>", _iri("above")),
-        _t(_iri("inScene"), f"<{_RDFS}domain>", _iri("PhysicalObject")),
-        _t(_iri("inScene"), f"<{_RDFS}range>", _iri("Scene")),
-        _t(_iri("score"), f"<{_RDFS}domain>", _iri("PhysicalObject")),
-        _t(_iri("Sphere"), f"<{_OWL}disjointWith>", _iri("Cube")),
-        _t(_iri("Scene"), f"<{_OWL}disjointWith>", _iri("PhysicalObject")),
+        _t(_iri("onTopOf"), f"<{RDFS_NS}subPropertyOf>", _iri("above")),
+        _t(_iri("inScene"), f"<{RDFS_NS}domain>", _iri("PhysicalObject")),
+        _t(_iri("inScene"), f"<{RDFS_NS}range>", _iri("Scene")),
+        _t(_iri("score"), f"<{RDFS_NS}domain>", _iri("PhysicalObject")),
+        _t(_iri("Sphere"), f"<{OWL_NS}disjointWith>", _iri("Cube")),
+        _t(_iri("Scene"), f"<{OWL_NS}disjointWith>", _iri("PhysicalObject")),
     ]
     for p in ("leftOf", "above", "partOf"):
-        lines.append(_t(_iri(p), a, f"<{_OWL}TransitiveProperty>"))
+        lines.append(_t(_iri(p), a, f"<{OWL_NS}TransitiveProperty>"))
     for p in ("near", "touches"):
-        lines.append(_t(_iri(p), a, f"<{_OWL}SymmetricProperty>"))
+        lines.append(_t(_iri(p), a, f"<{OWL_NS}SymmetricProperty>"))
     # Defined classes: name = intersection of parts, each part a class or a restriction.
     defined: list[tuple[str, list[str | tuple[str, str, str]]]] = [
         ("StackedObject", ["PhysicalObject", ("some", "above", _iri("PhysicalObject"))]),
@@ -108,8 +106,8 @@ def tbox_lines() -> list[str]:
         ("SceneWithContainer", ["Scene", ("some", "hasObject", _iri("Container"))]),
         ("ObjectNearRound", [("some", "near", _iri("RoundPrimitive"))]),
         ("PartOfFurniture", [("some", "partOf", _iri("Furniture"))]),
-        ("ScoredObject", ["PhysicalObject", ("some", "score", f"<{_XSD}double>")]),
-        ("GroundObject", [("value", "level", f'"0"^^<{_XSD}integer>')]),
+        ("ScoredObject", ["PhysicalObject", ("some", "score", f"<{XSD_NS}double>")]),
+        ("GroundObject", [("value", "level", f'"0"^^<{XSD_NS}integer>')]),
     ]
     for n, (name, parts) in enumerate(defined):
         nodes: list[str] = []
@@ -120,28 +118,28 @@ def tbox_lines() -> list[str]:
             kind, prop, filler = part
             r = f"_:r{n}x{k}"
             nodes.append(r)
-            lines.append(_t(r, a, f"<{_OWL}Restriction>"))
-            lines.append(_t(r, f"<{_OWL}onProperty>", _iri(prop)))
+            lines.append(_t(r, a, f"<{OWL_NS}Restriction>"))
+            lines.append(_t(r, f"<{OWL_NS}onProperty>", _iri(prop)))
             key = "someValuesFrom" if kind == "some" else "hasValue"
-            lines.append(_t(r, f"<{_OWL}{key}>", filler))
+            lines.append(_t(r, f"<{OWL_NS}{key}>", filler))
         if len(nodes) == 1:
-            lines.append(_t(_iri(name), f"<{_OWL}equivalentClass>", nodes[0]))
+            lines.append(_t(_iri(name), f"<{OWL_NS}equivalentClass>", nodes[0]))
             continue
         head = f"_:l{n}x0"
-        lines.append(_t(f"_:i{n}", a, f"<{_OWL}Class>"))
-        lines.append(_t(f"_:i{n}", f"<{_OWL}intersectionOf>", head))
-        lines.append(_t(_iri(name), f"<{_OWL}equivalentClass>", f"_:i{n}"))
+        lines.append(_t(f"_:i{n}", a, f"<{OWL_NS}Class>"))
+        lines.append(_t(f"_:i{n}", f"<{OWL_NS}intersectionOf>", head))
+        lines.append(_t(_iri(name), f"<{OWL_NS}equivalentClass>", f"_:i{n}"))
         for k, node in enumerate(nodes):
-            rest = f"_:l{n}x{k + 1}" if k + 1 < len(nodes) else f"<{_RDF}nil>"
-            lines.append(_t(f"_:l{n}x{k}", f"<{_RDF}first>", node))
-            lines.append(_t(f"_:l{n}x{k}", f"<{_RDF}rest>", rest))
+            rest = f"_:l{n}x{k + 1}" if k + 1 < len(nodes) else f"<{RDF_NS}nil>"
+            lines.append(_t(f"_:l{n}x{k}", f"<{RDF_NS}first>", node))
+            lines.append(_t(f"_:l{n}x{k}", f"<{RDF_NS}rest>", rest))
     lines.append(
         _t(_iri("Scene"), sco, "_:avf"),
     )
     lines += [
-        _t("_:avf", a, f"<{_OWL}Restriction>"),
-        _t("_:avf", f"<{_OWL}onProperty>", _iri("hasObject")),
-        _t("_:avf", f"<{_OWL}allValuesFrom>", _iri("PhysicalObject")),
+        _t("_:avf", a, f"<{OWL_NS}Restriction>"),
+        _t("_:avf", f"<{OWL_NS}onProperty>", _iri("hasObject")),
+        _t("_:avf", f"<{OWL_NS}allValuesFrom>", _iri("PhysicalObject")),
     ]
     return lines
 
@@ -152,21 +150,21 @@ def scene_ontology(triples: int, *, seed: int = 0) -> list[str]:
     The same ``seed`` gives the same lines. Transitive relations are acyclic within a scene.
     """
     rng = random.Random(seed)
-    a = f"<{_RDF}type>"
+    a = f"<{RDF_NS}type>"
     lines = tbox_lines()
     scene = 0
     while len(lines) < triples:
         s = _iri(f"scene{scene}")
         lines.append(_t(s, a, _iri(rng.choice(_SCENE_KINDS))))
-        lines.append(_t(s, _iri("level"), f'"{rng.randint(0, 3)}"^^<{_XSD}integer>'))
-        lines.append(_t(s, _iri("timestamp"), f'"{1_700_000_000 + scene}"^^<{_XSD}integer>'))
+        lines.append(_t(s, _iri("level"), f'"{rng.randint(0, 3)}"^^<{XSD_NS}integer>'))
+        lines.append(_t(s, _iri("timestamp"), f'"{1_700_000_000 + scene}"^^<{XSD_NS}integer>'))
         objects = [_iri(f"scene{scene}_obj{k}") for k in range(rng.randint(4, 8))]
         for obj in objects:
             lines.append(_t(obj, a, _iri(rng.choice(_LEAVES))))
             lines.append(_t(obj, _iri("inScene"), s))
-            lines.append(_t(obj, _iri("score"), f'"{rng.randint(1, 99) / 100}"^^<{_XSD}double>'))
-            lines.append(_t(obj, _iri("level"), f'"{rng.randint(0, 2)}"^^<{_XSD}integer>'))
-            lines.append(_t(obj, f"<{_RDFS}label>", f'"object {obj[-6:-1]}"'))
+            lines.append(_t(obj, _iri("score"), f'"{rng.randint(1, 99) / 100}"^^<{XSD_NS}double>'))
+            lines.append(_t(obj, _iri("level"), f'"{rng.randint(0, 2)}"^^<{XSD_NS}integer>'))
+            lines.append(_t(obj, f"<{RDFS_NS}label>", f'"object {obj[-6:-1]}"'))
         for _ in range(rng.randint(5, 10)):
             i, j = sorted(rng.sample(range(len(objects)), 2))
             prop = rng.choice(["leftOf", "above", "onTopOf", "near", "touches", "partOf"])

@@ -28,11 +28,11 @@ def confined(tmp_path_factory: pytest.TempPathFactory) -> Iterator[tuple[Armor, 
         data_dir=tmp_path_factory.mktemp("armor-files"),
         armor_url_prefixes=f"http://127.0.0.1:{port}/export",
     )
-    server, thread, url = serve(create_app(settings), settings)
-    with httpx.Client(base_url=url, timeout=60) as http:
-        yield Armor(http, url), settings
-    server.should_exit = True
-    thread.join(timeout=30)
+    with (
+        serve(create_app(settings), settings) as running,
+        httpx.Client(base_url=running.url, timeout=60) as http,
+    ):
+        yield Armor(http, running.url), settings
     for handler in logging.getLogger("api.armor").handlers:  # LOG FILE ON's, if a test failed
         handler.close()
 
@@ -114,11 +114,8 @@ def test_load_web_fetches_only_under_the_allowed_prefixes(
 
 def test_load_web_is_refused_when_no_prefix_is_set(tmp_path: Path) -> None:
     settings = Settings(host="127.0.0.1", port=free_port(), data_dir=tmp_path / "data")
-    server, thread, url = serve(create_app(settings), settings)
-    try:
+    with serve(create_app(settings), settings) as running:
+        url = running.url
         with httpx.Client(base_url=url, timeout=60) as http:
             result = _load(Armor(http, url), f"{url}/export", "web", web=True)
         assert (result["success"], result["exit_code"]) == (False, RESOURCE_ERROR), result
-    finally:
-        server.should_exit = True
-        thread.join(timeout=30)

@@ -2,9 +2,8 @@
 the unpacking limit, and a damaged bag answers 422 naming the bag and the problem; nothing
 stays behind."""
 
-from collections.abc import Callable, Iterator
+from collections.abc import Callable
 from pathlib import Path
-from typing import Any
 
 import httpx
 import numpy as np
@@ -12,8 +11,6 @@ import pytest
 from typer.testing import CliRunner
 
 from api.cli import app as cli
-from api.config import Settings
-from api.main import create_app
 from episodes import EpisodeMemory
 from episodes.bag_limits import DamagedBagError, DecompressionLimitError
 from kg import Store, ensure_ontology
@@ -26,7 +23,7 @@ from tests.api.bags_hostile import (
     ros2_bag,
     tar_of,
 )
-from tests.conftest import LiveServer, free_port, serve
+from tests.conftest import LiveServer
 
 LIMIT = 1024 * 1024
 BOMB = 8 * LIMIT  # what the bombs expand to
@@ -36,27 +33,6 @@ BOMB = 8 * LIMIT  # what the bombs expand to
 def server(start_module_server: Callable[..., LiveServer]) -> LiveServer:
     """A server whose bag pieces may expand to 1 MiB."""
     return start_module_server(max_decompressed_bytes=LIMIT)
-
-
-@pytest.fixture(scope="module")
-def start_module_server(
-    tmp_path_factory: pytest.TempPathFactory,
-) -> Iterator[Callable[..., LiveServer]]:
-    running: list[tuple[Any, Any, httpx.Client]] = []
-
-    def start(**overrides: Any) -> LiveServer:
-        data = tmp_path_factory.mktemp("bags")
-        settings = Settings(host="127.0.0.1", port=free_port(), data_dir=data, **overrides)
-        process, thread, url = serve(create_app(settings), settings)
-        client = httpx.Client(base_url=url, timeout=60)
-        running.append((process, thread, client))
-        return LiveServer(url, settings, client)
-
-    yield start
-    for process, thread, client in running:
-        client.close()
-        process.should_exit = True
-        thread.join(timeout=30)
 
 
 def _upload(server: LiveServer, body: bytes, episode_id: str) -> httpx.Response:

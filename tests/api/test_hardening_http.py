@@ -5,20 +5,17 @@ import base64
 import hashlib
 import re
 import socket
-import threading
 import time
 from collections.abc import Callable, Iterator
 from pathlib import Path
 
 import httpx
 import pytest
-import uvicorn
 
 from api.config import Settings
-from api.header_timeout import with_header_timeout
 from api.main import create_app
 from api.security import allowed_host_names, content_security_policy
-from tests.conftest import LiveServer, free_port
+from tests.conftest import LiveServer, free_port, serve
 
 EVIL = "http://attacker.example"
 TRIG = b"<urn:x> <urn:y> <urn:z> ."
@@ -216,24 +213,12 @@ def test_answers_name_files_inside_the_data_directory_not_its_path(server: LiveS
 
 @pytest.fixture
 def header_timed_server(tmp_path: Path) -> Iterator[str]:
-    """A server with ``engram serve``'s protocol and a 0.5 s header timeout; its base URL."""
-    settings = Settings(host="127.0.0.1", port=free_port(), data_dir=tmp_path / "data")
-    config = uvicorn.Config(
-        create_app(settings),
-        host=settings.host,
-        port=settings.port,
-        log_level="warning",
-        http=with_header_timeout(0.5),
+    """A server with ``engram serve``'s protocol and a 0.5 s header timeout; its host:port."""
+    settings = Settings(
+        host="127.0.0.1", port=free_port(), data_dir=tmp_path / "data", header_timeout_s=0.5
     )
-    server = uvicorn.Server(config)
-    thread = threading.Thread(target=server.run, daemon=True)
-    thread.start()
-    deadline = time.monotonic() + 30
-    while not server.started and time.monotonic() < deadline:
-        time.sleep(0.02)
-    yield f"{settings.host}:{settings.port}"
-    server.should_exit = True
-    thread.join(timeout=30)
+    with serve(create_app(settings), settings):
+        yield f"{settings.host}:{settings.port}"
 
 
 @pytest.mark.parametrize(

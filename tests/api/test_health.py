@@ -16,18 +16,14 @@ pytestmark = pytest.mark.slow
 def test_health_reads_nothing_from_the_store_and_reports_its_state(tmp_path: Path) -> None:
     settings = Settings(host="127.0.0.1", port=free_port(), data_dir=tmp_path / "data")
     app = create_app(settings)
-    server, thread, url = serve(app, settings)
-    try:
+    with serve(app, settings) as running:
         store = app.state.services.store
         version = stored_version(store)
         assert version is not None
         reads: list[str] = []
-        with httpx.Client(base_url=url, timeout=60) as client:
+        with httpx.Client(base_url=running.url, timeout=60) as client:
             with store.tracing(lambda kind, text, _: reads.append(text)):
                 body = client.get("/health").json()
             assert reads == []
             assert body["ontology_version"] == version.value
             assert body["transactions"] == store.generation
-    finally:
-        server.should_exit = True
-        thread.join(timeout=30)

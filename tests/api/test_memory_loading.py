@@ -72,30 +72,25 @@ def test_a_stopped_server_saves_the_index_file_and_the_next_start_reads_it(
     tmp_path: Path,
 ) -> None:
     settings = Settings(host="127.0.0.1", port=free_port(), data_dir=tmp_path / "data")
-    server, thread, url = serve(create_app(settings), settings)
-    with httpx.Client(base_url=url, timeout=60) as http:
+    running = serve(create_app(settings), settings)
+    with httpx.Client(base_url=running.url, timeout=60) as http:
         assert _wait_for(http, "ready")["memory"] == {"state": "ready", "loaded_from": "store"}
-        with ArmorClient("camera", "engram", base_url=url) as client:
+        with ArmorClient("camera", "engram", base_url=running.url) as client:
             stored = client.memory.store_scene(SCENE)
         # the loaded heap is out of the collector's full passes while it serves
         deadline = time.monotonic() + 30
         while not gc.get_freeze_count() and time.monotonic() < deadline:
             time.sleep(0.05)
         assert gc.get_freeze_count() > 0
-    server.should_exit = True
-    thread.join(timeout=30)
+    running.stop()
     assert gc.get_freeze_count() == 0  # and back in them once it stopped: the store can close
     assert settings.store_dir.with_name("store" + index_file.SUFFIX).exists()
     settings = Settings(host="127.0.0.1", port=free_port(), data_dir=tmp_path / "data")
-    server, thread, url = serve(create_app(settings), settings)
-    try:
-        with httpx.Client(base_url=url, timeout=60) as http:
+    with serve(create_app(settings), settings) as running:
+        with httpx.Client(base_url=running.url, timeout=60) as http:
             body = _wait_for(http, "ready")
             assert body["memory"] == {"state": "ready", "loaded_from": "index file"}
-            with ArmorClient("camera", "engram", base_url=url) as client:
+            with ArmorClient("camera", "engram", base_url=running.url) as client:
                 again = client.memory.store_scene(SCENE)
         assert again.details["learned"] == ["false"]
         assert again.values == stored.values
-    finally:
-        server.should_exit = True
-        thread.join(timeout=30)

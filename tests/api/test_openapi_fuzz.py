@@ -26,12 +26,8 @@ EXAMPLES = int(os.environ.get("ENGRAM_FUZZ_EXAMPLES", "6"))
 @pytest.fixture(scope="module")
 def live_schema(tmp_path_factory: pytest.TempPathFactory) -> Iterator[Any]:
     data: Path = tmp_path_factory.mktemp("fuzz")
-    server, thread, url = start_live_server(data, sparql_timeout_s=2.0)
-    try:
-        yield schemathesis.openapi.from_url(url + "/openapi.json")
-    finally:
-        server.should_exit = True
-        thread.join(timeout=30)
+    with start_live_server(data, sparql_timeout_s=2.0) as running:
+        yield schemathesis.openapi.from_url(running.url + "/openapi.json")
 
 
 def _fuzz(operation: Any) -> str | None:

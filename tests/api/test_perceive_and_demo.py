@@ -224,11 +224,11 @@ def demo_server(demo_run: tuple[Path, Any]) -> Iterator[httpx.Client]:
     assert result.exit_code == 0, result.output
     gc.collect()  # a command run before may still hold the store in a traceback's frames
     settings = Settings(host="127.0.0.1", port=free_port(), data_dir=data_dir)
-    server, thread, url = serve(create_app(settings), settings)
-    with httpx.Client(base_url=url, timeout=60) as client:
+    with (
+        serve(create_app(settings), settings) as running,
+        httpx.Client(base_url=running.url, timeout=60) as client,
+    ):
         yield client
-    server.should_exit = True
-    thread.join(timeout=30)
 
 
 @pytest.mark.slow

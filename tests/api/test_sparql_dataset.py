@@ -52,13 +52,11 @@ def test_a_plain_query_counts_the_live_memory_and_the_trash_answers_by_name(
     live, forgotten = _forgetful_store(tmp_path / "store")
     assert live and forgotten
     settings = Settings(host="127.0.0.1", port=free_port(), data_dir=tmp_path)
-    server, thread, url = serve(create_app(settings), settings)
-    try:
-        with httpx.Client(base_url=url, timeout=30) as http:
-            assert _count(http, SCENES) == live
-            assert _count(http, TRASHED) == forgotten
-            # a default graph named in the request is used as it is
-            assert _count(http, SCENES, **{"default-graph-uri": TRASH.value}) == forgotten
-    finally:
-        server.should_exit = True
-        thread.join(timeout=30)
+    with (
+        serve(create_app(settings), settings) as running,
+        httpx.Client(base_url=running.url, timeout=30) as http,
+    ):
+        assert _count(http, SCENES) == live
+        assert _count(http, TRASHED) == forgotten
+        # a default graph named in the request is used as it is
+        assert _count(http, SCENES, **{"default-graph-uri": TRASH.value}) == forgotten

@@ -49,16 +49,16 @@ def armor_server(
 ) -> Iterator[Armor]:
     """The ARMOR tests' server, its store a fresh memory on the SPARQL server."""
     url, profile = _target(request)
-    server, thread, base = start_live_server(
-        tmp_path_factory.mktemp("armor-remote"),
-        store_url=url,
-        store_profile=profile,
-        memory=f"armor-{uuid.uuid4().hex[:8]}",
-    )
-    with httpx.Client(base_url=base, timeout=60) as http:
-        yield Armor(http, base)
-    server.should_exit = True
-    thread.join(timeout=30)
+    with (
+        start_live_server(
+            tmp_path_factory.mktemp("armor-remote"),
+            store_url=url,
+            store_profile=profile,
+            memory=f"armor-{uuid.uuid4().hex[:8]}",
+        ) as running,
+        httpx.Client(base_url=running.url, timeout=60) as http,
+    ):
+        yield Armor(http, running.url)
 
 
 @pytest.fixture

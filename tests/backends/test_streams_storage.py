@@ -2,7 +2,6 @@
 write-once with its URI, size and SHA-256 in the graph; replay reads it in place by ranges, export
 fetches it back into a size-bounded cache; deleting the episode deletes its objects."""
 
-import base64
 import hashlib
 import io
 import json
@@ -10,7 +9,6 @@ import os
 import tarfile
 import uuid
 from pathlib import Path
-from typing import Any
 
 import boto3
 import numpy as np
@@ -23,7 +21,7 @@ from episodes.streams.ranged import open_ranged
 from episodes.streams.wire import BATCH_MEDIA_TYPE, encode_batch
 from kg import Store
 from tests.backends.servers import MotoServer
-from tests.conftest import LiveServer
+from tests.conftest import LiveServer, wire_array
 
 pytestmark = pytest.mark.slow
 
@@ -43,11 +41,6 @@ def bucket(s3_server: MotoServer) -> str:
     name = f"engram-{uuid.uuid4().hex[:12]}"
     boto3.client("s3", endpoint_url=s3_server.url).create_bucket(Bucket=name)
     return name
-
-
-def _array(value: dict[str, Any]) -> np.ndarray:
-    raw = base64.b64decode(value["b64"])
-    return np.frombuffer(raw, dtype=value["dtype"]).reshape(value["shape"])
 
 
 def _record(server: LiveServer, episode: str, ticks: int) -> list[np.ndarray]:
@@ -112,7 +105,7 @@ def test_an_ended_episode_round_trips_through_object_storage_and_is_deleted_with
         json.loads(line)
         for line in server.client.get("/episodes/ep1/streams/replay").text.splitlines()
     ]
-    replayed = [_array(f["samples"][0]["value"]["position"]) for f in frames]
+    replayed = [wire_array(f["samples"][0]["value"]["position"]) for f in frames]
     assert [r.tobytes() for r in replayed] == [s.tobytes() for s in sent]  # bit-exact
     assert not local.exists()  # replayed by ranged reads, not fetched
 

@@ -12,7 +12,7 @@ import pytest
 from rosbags.highlevel import AnyReader
 
 from episodes.streams.wire import encode_value
-from tests.conftest import LiveServer
+from tests.conftest import LiveServer, wire_array
 
 T0 = 1_769_441_400_000_000_000
 MS = 1_000_000
@@ -64,10 +64,8 @@ def augmented(live_server: LiveServer) -> tuple[LiveServer, list[str]]:
 
 
 def _value(sample: dict[str, Any]) -> list[float]:
-    import base64
-
-    raw = base64.b64decode(sample["value"]["b64"])
-    return np.frombuffer(raw, dtype=sample["value"]["dtype"]).tolist()
+    values: list[float] = wire_array(sample["value"]).tolist()
+    return values
 
 
 def test_a_run_replays_alone_at_its_source_frames(augmented: tuple[LiveServer, list[str]]) -> None:

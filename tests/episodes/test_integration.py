@@ -2,7 +2,6 @@
 with joints, skin and two cameras; query it by cue; replay it both ways; augment it; rate and
 rank the augmentations; delete it everywhere."""
 
-import base64
 import json
 from pathlib import Path
 from typing import Any
@@ -12,19 +11,13 @@ import pytest
 
 from episodes.streams import Replayer
 from episodes.streams.wire import BATCH_MEDIA_TYPE, encode_batch, encode_value
-from tests.conftest import LiveServer
+from tests.conftest import LiveServer, wire_array
 
 T0 = 1_769_441_400_000_000_000  # 2026-01-26T15:30:00Z in ns
 MS = 1_000_000
 NOW = "2026-02-26T10:00:00+00:00"
 TAXELS = 4224
 JOINTS = [f"j{i}" for i in range(53)]
-
-
-def _array(value: dict[str, Any]) -> np.ndarray:
-    return np.frombuffer(base64.b64decode(value["b64"]), dtype=value["dtype"]).reshape(
-        value["shape"]
-    )
 
 
 def _frames(text: str) -> list[dict[str, Any]]:
@@ -129,7 +122,7 @@ def test_record_query_replay_augment_rate_rank_delete(
         for name, value in samples.items():
             replayed = got[name]["value"]
             replayed = replayed["position"] if name == "icub/joints" else replayed
-            assert _array(replayed).tobytes() == value.tobytes(), (frame["frame"], name)
+            assert wire_array(replayed).tobytes() == value.tobytes(), (frame["frame"], name)
             assert got[name]["episode"] == "ep1"
     # ... in real time, a subset of channels, and in Python.
     realtime = _frames(
@@ -142,7 +135,7 @@ def test_record_query_replay_augment_rate_rank_delete(
         [s["provider"] for s in f["samples"]] == ["icub/cam/left"] for f in realtime
     )
     last_left = next(s for s in reversed(sent) if "icub/cam/left" in s)["icub/cam/left"]
-    assert _array(realtime[-1]["samples"][0]["value"]).tobytes() == last_left.tobytes()
+    assert wire_array(realtime[-1]["samples"][0]["value"]).tobytes() == last_left.tobytes()
     python_frames = list(Replayer(data_dir / "streams" / "ep1").frames(["icub/skin"]))
     assert [f.samples["icub/skin"].value.tobytes() for f in python_frames] == [
         s["icub/skin"].tobytes() for s in sent
@@ -164,7 +157,7 @@ def test_record_query_replay_augment_rate_rank_delete(
         run_id = run.json()["id"]
         derived = []
         for f in left_frames[:5]:
-            image = _array(
+            image = wire_array(
                 next(s for s in f["samples"] if s["provider"] == "icub/cam/left")["value"]
             )
             edges = (image.mean(axis=2) > threshold).astype(np.uint8) * 255

@@ -3,12 +3,7 @@ test script (``scripts/armor_api/client_test.py``) as the directives it sends.""
 
 from pathlib import Path
 
-from api.protocol import ArmorDirectiveReq
-
-DATA = Path(__file__).resolve().parents[1] / "api" / "armor" / "data"
-TEST_IRI = "http://www.semanticweb.org/emarolab/ontologies/armor-test"
-
-Step = tuple[str, str, str, list[str]]
+from tests.api.armor.conftest import DATA, TEST_IRI, Step
 
 
 def every_family(saved: Path) -> list[Step]:
@@ -80,18 +75,4 @@ def armor_py_api_client_test() -> list[Step]:
         ("APPLY", "", "", []),  # utils.apply_buffered_changes()
         ("REASON", "", "", []),  # utils.sync_buffered_reasoner()
         ("QUERY", "IND", "", ["ind_1"]),  # query.check_ind_exists("ind_1")
-    ]
-
-
-def directives(steps: list[Step], ref: str, client: str = "client") -> list[ArmorDirectiveReq]:
-    return [
-        ArmorDirectiveReq(
-            client_name=client,
-            reference_name=ref,
-            command=command,
-            primary_command_spec=first,
-            secondary_command_spec=second,
-            args=args,
-        )
-        for command, first, second, args in steps
     ]

@@ -12,13 +12,10 @@ import pytest
 from api.protocol import ArmorDirectiveListRes
 from api.ros._ros import rosgraph, rospy
 from api.ros.convert import response_of
+from tests.api.armor.conftest import directives
 from tests.conftest import LiveServer
 from tests.ros.conftest import ARMOR_FILE_DIRS, MAX_LIST_LENGTH, RosArmor
-from tests.ros.sequences import (
-    armor_py_api_client_test,
-    directives,
-    every_family,
-)
+from tests.ros.sequences import armor_py_api_client_test, every_family
 from tests.third_party.load_armor_py_api import (
     CLIENT_TEST_OUTPUT,
     VENDORED,

@@ -23,6 +23,7 @@ from api.config import Settings
 from api.main import create_app
 from episodes import ArgumentSpec, EpisodeMemory
 from kg import Store
+from kg.clock import SimulatedClock
 from kg.primitive import Primitive
 from reasoners.memory import SceneMemory
 from tests.conftest import free_port, serve
@@ -111,14 +112,6 @@ SCENES: dict[str, list[Primitive]] = {
 SCRIPT = ("breakfast", "funnel", "two cans", "breakfast", "ball before a cone", "breakfast")
 
 
-class _Clock:
-    def __init__(self) -> None:
-        self.now = START
-
-    def __call__(self) -> dt.datetime:
-        return self.now
-
-
 @dataclass
 class ViewServer:
     """The live server over the demo-like memory, and what the memory was built with."""
@@ -132,7 +125,7 @@ class ViewServer:
 def build_memory(data_dir: Path) -> str:
     """Write the demo-like memory into ``data_dir``; returns the recorded episode's id."""
     store = Store(data_dir / "store")
-    clock = _Clock()
+    clock = SimulatedClock(START)
     memory = SceneMemory(store, clock=clock)
     episodes = EpisodeMemory(store, data_dir=data_dir, clock=clock)
     episode = episodes.begin(
@@ -191,14 +184,12 @@ def view_server(tmp_path_factory: pytest.TempPathFactory) -> Iterator[ViewServer
     data_dir = tmp_path_factory.mktemp("views") / "data"
     episode = build_memory(data_dir)
     settings = Settings(host="127.0.0.1", port=free_port(), data_dir=data_dir)
-    server, thread, url = serve(create_app(settings), settings)
-    client = httpx.Client(base_url=url, timeout=60)
-    try:
-        yield ViewServer(url, client, episode, Path(__file__).parents[2] / "docs" / "screenshots")
-    finally:
-        client.close()
-        server.should_exit = True
-        thread.join(timeout=30)
+    with (
+        serve(create_app(settings), settings) as running,
+        httpx.Client(base_url=running.url, timeout=60) as client,
+    ):
+        shots = Path(__file__).parents[2] / "docs" / "screenshots"
+        yield ViewServer(running.url, client, episode, shots)
 
 
 @dataclass

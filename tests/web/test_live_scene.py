@@ -123,7 +123,8 @@ def test_an_open_stream_does_not_hold_a_stopping_server(
 ) -> None:
     monkeypatch.setattr(views, "LIVE_STREAM_S", 1.0)
     settings = Settings(host="127.0.0.1", port=free_port(), data_dir=tmp_path / "data")
-    server, thread, url = serve(create_app(settings), settings)
+    running = serve(create_app(settings), settings)
+    url = running.url
     opened = threading.Event()
 
     def listen() -> None:
@@ -137,7 +138,6 @@ def test_an_open_stream_does_not_hold_a_stopping_server(
     listener.start()
     assert opened.wait(10)
     began = time.monotonic()
-    server.should_exit = True
-    thread.join(timeout=20)
-    assert not thread.is_alive()
+    running.stop()
+    assert not running.thread.is_alive()
     assert time.monotonic() - began < 5

@@ -13,7 +13,7 @@ from api.config import Settings
 from api.main import create_app
 from episodes import ArgumentSpec, EpisodeMemory
 from kg import Store
-from tests.conftest import free_port, serve
+from tests.conftest import RunningServer, free_port, serve
 from tests.web.browser import until
 from tests.web.conftest import VIEWPORT
 
@@ -55,24 +55,16 @@ def _hostile_memory(data_dir: Path) -> None:
     gc.collect()
 
 
-class Server:
-    """A live server that a test may stop."""
-
-    def __init__(self, data_dir: Path) -> None:
-        settings = Settings(host="127.0.0.1", port=free_port(), data_dir=data_dir)
-        self.server, self.thread, self.url = serve(create_app(settings), settings)
-
-    def stop(self) -> None:
-        self.server.should_exit = True
-        self.thread.join(timeout=30)
+def _server(data_dir: Path) -> RunningServer:
+    settings = Settings(host="127.0.0.1", port=free_port(), data_dir=data_dir)
+    return serve(create_app(settings), settings)
 
 
 @pytest.fixture
-def hostile_server(tmp_path: Path) -> Iterator[Server]:
+def hostile_server(tmp_path: Path) -> Iterator[RunningServer]:
     _hostile_memory(tmp_path / "data")
-    server = Server(tmp_path / "data")
-    yield server
-    server.stop()
+    with _server(tmp_path / "data") as running:
+        yield running
 
 
 @pytest.fixture
@@ -86,7 +78,9 @@ def page(browser: Any) -> Iterator[Any]:
     context.close()
 
 
-def test_episode_strings_show_as_text_and_fetch_nothing(page: Any, hostile_server: Server) -> None:
+def test_episode_strings_show_as_text_and_fetch_nothing(
+    page: Any, hostile_server: RunningServer
+) -> None:
     page.goto(f"{hostile_server.url}/web/#episodes")
     page.wait_for_selector("#timeline .vis-item.rating", state="visible")
     shown = page.inner_text("#timeline")
@@ -100,7 +94,7 @@ def test_episode_strings_show_as_text_and_fetch_nothing(page: Any, hostile_serve
 
 
 def test_a_view_shows_it_is_loading_until_its_data_comes_and_what_it_shows(
-    page: Any, hostile_server: Server
+    page: Any, hostile_server: RunningServer
 ) -> None:
     held: list[Any] = []
     page.route(lambda url: "/views/episodes?" in url, lambda route: held.append(route))
@@ -118,27 +112,27 @@ def test_a_view_shows_it_is_loading_until_its_data_comes_and_what_it_shows(
 
 
 def test_with_the_server_gone_pages_say_so(page: Any, tmp_path: Path) -> None:
-    server = Server(tmp_path / "data")
-    page.goto(f"{server.url}/web/#query")
-    page.wait_for_selector("#query-examples option", state="attached")
-    assert page.locator("#banner").is_hidden()
-    server.stop()
-    page.click("#query-run")
-    page.wait_for_selector("#banner", state="visible")
-    assert "did not answer /sparql: is it still running?" in page.inner_text("#banner")
-    assert "still running" in page.inner_text("#query-results .error")
-    page.click("#banner-close")
-    assert page.locator("#banner").is_hidden()
-    page.evaluate("location.hash = '#graph'")
-    page.wait_for_selector("#banner", state="visible")
-    assert "is it still running?" in page.inner_text("#banner")
-    assert page.locator("#loading").is_hidden()
-    page.evaluate("location.hash = '#episodes'")  # a view whose module never loaded
-    until(page, "() => document.querySelector('#banner').textContent.includes('episodes')")
-    assert "could not be loaded from the server" in page.inner_text("#banner")
+    with _server(tmp_path / "data") as server:
+        page.goto(f"{server.url}/web/#query")
+        page.wait_for_selector("#query-examples option", state="attached")
+        assert page.locator("#banner").is_hidden()
+        server.stop()
+        page.click("#query-run")
+        page.wait_for_selector("#banner", state="visible")
+        assert "did not answer /sparql: is it still running?" in page.inner_text("#banner")
+        assert "still running" in page.inner_text("#query-results .error")
+        page.click("#banner-close")
+        assert page.locator("#banner").is_hidden()
+        page.evaluate("location.hash = '#graph'")
+        page.wait_for_selector("#banner", state="visible")
+        assert "is it still running?" in page.inner_text("#banner")
+        assert page.locator("#loading").is_hidden()
+        page.evaluate("location.hash = '#episodes'")  # a view whose module never loaded
+        until(page, "() => document.querySelector('#banner').textContent.includes('episodes')")
+        assert "could not be loaded from the server" in page.inner_text("#banner")
 
 
-def test_the_api_reference_needs_no_other_host(page: Any, hostile_server: Server) -> None:
+def test_the_api_reference_needs_no_other_host(page: Any, hostile_server: RunningServer) -> None:
     foreign: list[str] = []
 
     def guard(route: Any) -> None:

@@ -6,7 +6,6 @@ module to stay fast, and isolate themselves by using a fresh reference name per 
 
 import os
 import tempfile
-import threading
 import uuid
 from collections.abc import Callable, Iterator
 from pathlib import Path
@@ -14,14 +13,16 @@ from typing import Any
 
 import httpx
 import pytest
-import uvicorn
 
 from api.config import Settings
 from api.main import create_app
-from tests.conftest import free_port, serve
+from api.protocol import ArmorDirectiveReq
+from tests.conftest import RunningServer, free_port, serve
 
 DATA = Path(__file__).parent / "data"
 TEST_IRI = "http://www.semanticweb.org/emarolab/ontologies/armor-test"
+Step = tuple[str, str, str, list[str]]
+"""A directive as (command, primary spec, secondary spec, args)."""
 
 
 def directive(
@@ -42,6 +43,21 @@ def directive(
         "secondary_command_spec": second,
         "args": args or [],
     }
+
+
+def directives(steps: list[Step], ref: str, client: str = "client") -> list[ArmorDirectiveReq]:
+    """The requests of ``steps``, each to reference ``ref`` from ``client``."""
+    return [
+        ArmorDirectiveReq(
+            client_name=client,
+            reference_name=ref,
+            command=command,
+            primary_command_spec=first,
+            secondary_command_spec=second,
+            args=args,
+        )
+        for command, first, second, args in steps
+    ]
 
 
 class Armor:
@@ -90,9 +106,9 @@ class Armor:
         assert result["success"], result
 
 
-def start_live_server(
-    data_dir: Path, **overrides: Any
-) -> tuple[uvicorn.Server, threading.Thread, str]:
+def start_live_server(data_dir: Path, **overrides: Any) -> RunningServer:
+    """A server over ``data_dir`` with the given settings overrides, which may LOAD and SAVE
+    files in the temporary directory and the tests' data."""
     # the tests LOAD and SAVE files in their temporary directories and in DATA
     overrides.setdefault("armor_file_dirs", os.pathsep.join([tempfile.gettempdir(), str(DATA)]))
     settings = Settings(host="127.0.0.1", port=free_port(), data_dir=data_dir, **overrides)
@@ -102,11 +118,11 @@ def start_live_server(
 @pytest.fixture(scope="module")
 def armor_server(tmp_path_factory: pytest.TempPathFactory) -> Iterator[Armor]:
     """A server over a fresh on-disk store, shared by the tests of one module."""
-    server, thread, url = start_live_server(tmp_path_factory.mktemp("armor"))
-    with httpx.Client(base_url=url, timeout=60) as http:
-        yield Armor(http, url)
-    server.should_exit = True
-    thread.join(timeout=30)
+    with (
+        start_live_server(tmp_path_factory.mktemp("armor")) as running,
+        httpx.Client(base_url=running.url, timeout=60) as http,
+    ):
+        yield Armor(http, running.url)
 
 
 @pytest.fixture

@@ -209,28 +209,23 @@ def test_client_errors_and_fixed_bugs(armor: Armor, ref: str, tmp_path: Path) ->
 def test_writes_need_the_token_when_one_is_set(tmp_path: Path) -> None:
     from tests.api.armor.conftest import start_live_server
 
-    server, thread, url = start_live_server(tmp_path / "data", token="s3cret")
-    try:
-        client = ArmorClient("c", "r", base_url=url)
+    with start_live_server(tmp_path / "data", token="s3cret") as running:
+        client = ArmorClient("c", "r", base_url=running.url)
         with pytest.raises(ArmorServiceCallError, match="401"):
             client.utils.get_all_refs()
-        authorised = ArmorClient("c", "r", base_url=url, token="s3cret")
+        authorised = ArmorClient("c", "r", base_url=running.url, token="s3cret")
         authorised.utils.load_ref_from_file("", "http://ex.org/r")
         assert authorised.utils.get_all_refs() == ["r"]
         client.close()
         authorised.close()
-    finally:
-        server.should_exit = True
-        thread.join(timeout=30)
 
 
 def test_references_survive_a_restart(tmp_path: Path) -> None:
     from tests.api.armor.conftest import start_live_server
 
     for attempt in range(2):
-        server, thread, url = start_live_server(tmp_path / "data")
-        try:
-            client = ArmorClient("c", "kept", base_url=url)
+        with start_live_server(tmp_path / "data") as running:
+            client = ArmorClient("c", "kept", base_url=running.url)
             if attempt == 0:
                 client.utils.load_ref_from_file("", "http://ex.org/kept", True, "PELLET", True)
                 client.manipulation.add_dataprop_to_ind("stamp", "a", "LONG", "7")
@@ -241,6 +236,3 @@ def test_references_survive_a_restart(tmp_path: Path) -> None:
                 client.manipulation.add_ind_to_class("b", "C")  # still buffered after the restart
                 assert client.query.ind_b2_class("C") == []
             client.close()
-        finally:
-            server.should_exit = True
-            thread.join(timeout=30)

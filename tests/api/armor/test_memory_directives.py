@@ -22,7 +22,7 @@ from ontologies.vocab import ENGRAM_NS, EPISODIC, MEMORY, TRASH
 from reasoners.clock import SettableClock
 from reasoners.memory import SceneMemory
 from reasoners.operations import StoreScene
-from tests.api.armor.conftest import Armor, start_live_server
+from tests.api.armor.conftest import Armor, Step, directives, start_live_server
 
 TABLE = Primitive("table", "Plane", centre=(0.3, 0.1, 0.1), axis=(0, 0, 1), hessian=-0.1)
 
@@ -117,20 +117,8 @@ def test_memory_directive_errors_and_rollback(armor: Armor, ref: str) -> None:
 # One transaction per list, memory directives included ------------------------------------------
 
 
-def _requests(
-    directives: list[tuple[str, str, str, list[str]]], ref: str = "scenes", client: str = "cam"
-) -> list[ArmorDirectiveReq]:
-    return [
-        ArmorDirectiveReq(
-            client_name=client,
-            reference_name=ref,
-            command=command,
-            primary_command_spec=first,
-            secondary_command_spec=second,
-            args=args,
-        )
-        for command, first, second, args in directives
-    ]
+def _requests(steps: list[Step]) -> list[ArmorDirectiveReq]:
+    return directives(steps, "scenes", client="cam")
 
 
 def _scene(*primitives: Primitive) -> list[tuple[str, str, str, list[str]]]:
@@ -358,14 +346,12 @@ def test_a_failing_list_leaves_the_clock_as_it_was(settable: ArmorEngine) -> Non
 
 
 def test_a_settable_server_drives_the_clock_over_http(tmp_path: Path) -> None:
-    server, thread, url = start_live_server(tmp_path, clock_settable=True)
-    try:
-        with httpx.Client(base_url=url, timeout=30) as http:
-            armor = Armor(http, url)
-            answer = armor.call("MEMORY", "CLOCK", "SET", ["2040-05-01T12:00:00+00:00"], ref="r")
-            assert answer["success"] and answer["queried_objects"] == ["2040-05-01T12:00:00+00:00"]
-            answer = armor.call("MEMORY", "CLOCK", "ADVANCE", ["90"], ref="r")
-            assert answer["queried_objects"] == ["2040-05-01T12:01:30+00:00"]
-    finally:
-        server.should_exit = True
-        thread.join(timeout=30)
+    with (
+        start_live_server(tmp_path, clock_settable=True) as running,
+        httpx.Client(base_url=running.url, timeout=30) as http,
+    ):
+        armor = Armor(http, running.url)
+        answer = armor.call("MEMORY", "CLOCK", "SET", ["2040-05-01T12:00:00+00:00"], ref="r")
+        assert answer["success"] and answer["queried_objects"] == ["2040-05-01T12:00:00+00:00"]
+        answer = armor.call("MEMORY", "CLOCK", "ADVANCE", ["90"], ref="r")
+        assert answer["queried_objects"] == ["2040-05-01T12:01:30+00:00"]

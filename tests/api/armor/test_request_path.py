@@ -250,11 +250,11 @@ def test_an_engine_exception_is_answered_by_the_apps_handlers(
 
 @pytest.fixture(scope="module")
 def with_token(tmp_path_factory: pytest.TempPathFactory) -> Iterator[httpx.Client]:
-    server, thread, url = start_live_server(tmp_path_factory.mktemp("token"), token="s3cret")
-    with httpx.Client(base_url=url, timeout=60) as http:
+    with (
+        start_live_server(tmp_path_factory.mktemp("token"), token="s3cret") as running,
+        httpx.Client(base_url=running.url, timeout=60) as http,
+    ):
         yield http
-    server.should_exit = True
-    thread.join(timeout=30)
 
 
 @pytest.mark.parametrize(
@@ -286,19 +286,14 @@ def test_a_body_over_the_apps_limit_gets_413(tmp_path: Path) -> None:
     settings = Settings(host="127.0.0.1", port=free_port(), data_dir=tmp_path)
     app = create_app(settings)
     app.max_body_size = 2000
-    server, thread, url = serve(app, settings)
-    try:
-        with httpx.Client(base_url=url, timeout=60) as http:
-            small = {"armor_request": _directive("any", "GET", "ALL", "REFS")}
-            assert http.post(SINGLE, json=small).status_code == 200
-            large = {"armor_request": _directive("r", "QUERY", "IND", "", "x" * 3000)}
-            answer = http.post(SINGLE, json=large)
-            assert answer.status_code == 413, answer.text
-            chunked = http.post(SINGLE, content=iter([b"{" + b" " * 1500] * 2), headers=JSON)
-            assert chunked.status_code == 413, chunked.text
-    finally:
-        server.should_exit = True
-        thread.join(timeout=30)
+    with serve(app, settings) as running, httpx.Client(base_url=running.url, timeout=60) as http:
+        small = {"armor_request": _directive("any", "GET", "ALL", "REFS")}
+        assert http.post(SINGLE, json=small).status_code == 200
+        large = {"armor_request": _directive("r", "QUERY", "IND", "", "x" * 3000)}
+        answer = http.post(SINGLE, json=large)
+        assert answer.status_code == 413, answer.text
+        chunked = http.post(SINGLE, content=iter([b"{" + b" " * 1500] * 2), headers=JSON)
+        assert chunked.status_code == 413, chunked.text
 
 
 def test_the_openapi_description_has_both_services_with_their_models(armor: Armor) -> None:

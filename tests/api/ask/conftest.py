@@ -8,22 +8,23 @@ import httpx
 import pytest
 
 from api.ask import Asker
-from api.ask.samples import TWO_BALLS, Clock, live_a_week
+from api.ask.samples import START, TWO_BALLS, live_a_week
 from api.config import Settings
 from api.main import create_app
 from kg import Store
+from kg.clock import SimulatedClock
 from tests.conftest import LiveServer, free_port, serve
 
 __all__ = ["TWO_BALLS"]
 
 
 @pytest.fixture
-def clock() -> Clock:
-    return Clock()
+def clock() -> SimulatedClock:
+    return SimulatedClock(START)
 
 
 @pytest.fixture
-def asker(clock: Clock) -> Asker:
+def asker(clock: SimulatedClock) -> Asker:
     """An Asker over the lived week, "now" Wednesday 2026-03-04 10:00 UTC."""
     return Asker(*live_a_week(Store(), clock))
 
@@ -31,7 +32,7 @@ def asker(clock: Clock) -> Asker:
 def write_lived_week(data: Path) -> Path:
     """A data directory holding the lived week (for the CLI and the server)."""
     store = Store(data / "store")
-    live_a_week(store, Clock())
+    live_a_week(store, SimulatedClock(START))
     store.flush()
     del store
     return data
@@ -47,8 +48,8 @@ def lived_server(tmp_path_factory: pytest.TempPathFactory) -> Iterator[LiveServe
     """A server over the lived week, shared by the tests of one module."""
     data = write_lived_week(tmp_path_factory.mktemp("lived"))
     settings = Settings(host="127.0.0.1", port=free_port(), data_dir=data)
-    server, thread, url = serve(create_app(settings), settings)
-    with httpx.Client(base_url=url, timeout=60) as client:
-        yield LiveServer(url, settings, client)
-    server.should_exit = True
-    thread.join(timeout=30)
+    with (
+        serve(create_app(settings), settings) as running,
+        httpx.Client(base_url=running.url, timeout=60) as client,
+    ):
+        yield LiveServer(running.url, settings, client)

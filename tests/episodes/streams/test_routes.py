@@ -1,6 +1,5 @@
 """The stream endpoints through the real server on loopback."""
 
-import base64
 import io
 import json
 import tarfile
@@ -13,15 +12,11 @@ import pytest
 from rosbags.highlevel import AnyReader
 
 from episodes.streams.wire import BATCH_MEDIA_TYPE, encode_batch
+from tests.conftest import wire_array
 
 T0 = 1_750_000_000_000_000_000
 MS = 1_000_000
 BASE = "/episodes/ep-http/streams"
-
-
-def _array(value: dict[str, Any]) -> np.ndarray:
-    raw = base64.b64decode(value["b64"])
-    return np.frombuffer(raw, dtype=value["dtype"]).reshape(value["shape"])
 
 
 def _lines(text: str) -> list[dict[str, Any]]:
@@ -130,7 +125,8 @@ def test_replay_frame_by_frame_is_bit_exact(recorded_over_http: tuple[Any, list[
             replayed = sample["value"]
             if name == "icub/head":
                 replayed = replayed["position"]
-            assert _array(replayed).tobytes() == np.asarray(value).tobytes(), (frame["frame"], name)
+            exact = wire_array(replayed).tobytes() == np.asarray(value).tobytes()
+            assert exact, (frame["frame"], name)
     left = next(s for s in frames[12]["samples"] if s["provider"] == "icub/cam/left")
     assert left["stamp_ns"] == left["time_ns"] - 3 * MS
 

@@ -6,24 +6,18 @@ import random
 import pytest
 
 from kg import Store
+from kg.clock import SimulatedClock
 from kg.primitive import KINDS, Primitive
 from reasoners.memory import SceneMemory
 
 START = dt.datetime(2025, 3, 1, 9, 0, tzinfo=dt.UTC)
 
 
-class FakeClock:
-    """A clock the test moves by hand."""
+class FakeClock(SimulatedClock):
+    """A clock the test moves by hand, from :data:`START` unless given another time."""
 
     def __init__(self, start: dt.datetime = START) -> None:
-        self.now = start
-
-    def __call__(self) -> dt.datetime:
-        return self.now
-
-    def advance(self, **delta: float) -> dt.datetime:
-        self.now += dt.timedelta(**delta)
-        return self.now
+        super().__init__(start)
 
 
 @pytest.fixture
