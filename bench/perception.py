@@ -44,7 +44,12 @@ sphere's, with the radius), the kind, the primitives of objects not in the groun
 wheels, a cardboard box at the back: real objects), and the CPU time per frame; then, for each set
 of scans and each of the chain's three seeds (the rows show seed 0's result), the totals against the
 issue's targets (objects found as one primitive within 3 cm, farther, in parts or missed; round
-objects given a curved primitive with the radius within 25 %; strays); then the median CPU time per
+objects given a curved primitive with the radius within 25 %; strays), and the type target: the
+objects that are one of the four shapes (``"kind"`` in truth.json, from ``measure.py``'s ``KINDS``:
+cans, mugs, cups and jars are Cylinders; books, papers, keyboards and boards are Planes; boxes,
+bottles and the rest are none of the four and not scored) given a primitive of that kind (the
+nearest one if in parts; a missed object is not right; one with a measured radius also needs the
+radius within 25 %), with the ones that are not and what they got; then the median CPU time per
 Kinect frame beside a simulated frame's, timed in the same run (their ratio is what survives the
 machine's load), against the target (< 100 ms per Kinect frame); then the track ids over the three
 consecutive laptop frames.
