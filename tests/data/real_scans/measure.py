@@ -691,7 +691,7 @@ KINDS: dict[tuple[str, str], str] = {
     ("ycb_chair_tablet_xtion", "soup can"): CYLINDER,
     ("ycb_chessboard_table_xtion", "soup can"): CYLINDER,
     # Thin flat things, lying or standing: a book, a pile of two books, a keyboard, papers, a
-    # plate, a sheet, a board. Their height is at most a third of their shorter side.
+    # plate, a sheet, a board: their thickness is at most a third of their shorter side.
     ("desk_tum", "striped board"): PLANE,  # standing, leaning back a little
     ("desk_tum", "plate"): PLANE,
     **{
