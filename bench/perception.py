@@ -44,7 +44,12 @@ sphere's, with the radius), the kind, the primitives of objects not in the groun
 wheels, a cardboard box at the back: real objects), and the CPU time per frame; then, for each set
 of scans and each of the chain's three seeds (the rows show seed 0's result), the totals against the
 issue's targets (objects found as one primitive within 3 cm, farther, in parts or missed; round
-objects given a curved primitive with the radius within 25 %; strays); then the median CPU time per
+objects given a curved primitive with the radius within 25 %; strays), and the type target: the
+objects that are one of the four shapes (``"kind"`` in truth.json, from ``measure.py``'s ``KINDS``:
+cans, mugs, cups and jars are Cylinders; books, papers, keyboards and boards are Planes; boxes,
+bottles and the rest are none of the four and not scored) given a primitive of that kind (the
+nearest one if in parts; a missed object is not right; one with a measured radius also needs the
+radius within 25 %), with the ones that are not and what they got; then the median CPU time per
 Kinect frame beside a simulated frame's, timed in the same run (their ratio is what survives the
 machine's load), against the target (< 100 ms per Kinect frame); then the track ids over the three
 consecutive laptop frames.
@@ -496,9 +501,16 @@ def _nearest_objects(seen: list[np.ndarray], objects: dict[str, np.ndarray]) -> 
     return owner
 
 
-def _objects_row(result: FrameResult, gt: dict[str, Any]) -> tuple[list[str], Counter[str]]:
+def _objects_row(
+    result: FrameResult, gt: dict[str, Any], kind_misses: list[str] | None = None
+) -> tuple[list[str], Counter[str]]:
     """One result against a scan's measured objects: a cell per object (its parts, the centroid
-    error, the kind, a round object's radius) and the counts the totals add up."""
+    error, the kind, a round object's radius) and the counts the totals add up.
+
+    An object with a ``"kind"`` (one of the four shapes, truth.json) counts in ``"kinds"``, and in
+    ``"kind right"`` when its nearest primitive has that kind and, if it has a measured radius,
+    that radius within 25 %; a missed one is not right. Each object that is not right is appended
+    to ``kind_misses``, if given, as "label: what came (what it is)"."""
     back = np.linalg.inv(result.world_from_sensor)
     seen = [back[:3, :3] @ c + back[:3, 3] for c in result.centroids]
     objects = {
@@ -507,6 +519,7 @@ def _objects_row(result: FrameResult, gt: dict[str, Any]) -> tuple[list[str], Co
     owner = _nearest_objects(seen, objects)
     tally: Counter[str] = Counter(scans=1, objects=len(objects), strays=owner.count(None))
     tally["round"] = sum("radius_m" in gt[label] for label in objects)
+    tally["kinds"] = sum("kind" in gt[label] for label in objects)
     cells = []
     for label, centre in objects.items():
         item = gt[label]
@@ -514,10 +527,13 @@ def _objects_row(result: FrameResult, gt: dict[str, Any]) -> tuple[list[str], Co
         if not near:
             tally["missed"] += 1
             cells.append(f"{label} missed")
+            if "kind" in item and kind_misses is not None:
+                kind_misses.append(f"{label}: missed ({item['kind']})")
             continue
         best = min(near, key=lambda k: float(np.linalg.norm(seen[k] - centre)))
         prim = result.primitives[best]
         err = 100 * float(np.linalg.norm(seen[best] - centre))
+        within = True
         if "radius_m" in item:  # a round object: its axis centre and radius
             axis = back[:3, :3] @ np.asarray(prim.centre) + back[:3, 3]
             err = 100 * float(np.linalg.norm(axis - centre))
@@ -526,6 +542,11 @@ def _objects_row(result: FrameResult, gt: dict[str, Any]) -> tuple[list[str], Co
             tally["round right"] += prim.kind is not ShapeKind.PLANE and within
         else:
             r = ""
+        if "kind" in item:
+            kind_right = prim.kind.value == item["kind"] and within
+            tally["kind right"] += kind_right
+            if not kind_right and kind_misses is not None:
+                kind_misses.append(f"{label}: {prim.kind.value}{r} ({item['kind']})")
         tally["in parts" if len(near) > 1 else "one within 3 cm" if err < 3 else "one, off"] += 1
         cells.append(f"{label} {len(near)}, {err:.1f} cm, {prim.kind.value}{r}")
     return cells, tally
@@ -546,6 +567,7 @@ def real_scans(tuned_only: bool = False, reserved: bool = False) -> None:
     )
     ids: list[set[int]] = []
     tallies: dict[str, list[Counter[str]]] = {}
+    kind_misses: dict[str, list[list[str]]] = {}
     tracker = Perception(PerceptionParams(gravity_from_scene=True), seed=0)
     kinect_ms: list[float] = []
     simulated_ms: list[float] = []
@@ -587,7 +609,12 @@ def real_scans(tuned_only: bool = False, reserved: bool = False) -> None:
             "reserved" if gt.get("reserved") else "held out" if gt.get("held_out") else "tuned on"
         )
         per_seed = tallies.setdefault(kind, [Counter() for _ in runs])
-        rows = [_objects_row(run, gt) for run, _ in runs]
+        misses = kind_misses.setdefault(kind, [[] for _ in runs])
+        rows = []
+        for (run, _), missed_kinds in zip(runs, misses, strict=True):
+            named: list[str] = []
+            rows.append(_objects_row(run, gt, named))
+            missed_kinds += [f"{scan} {miss}" for miss in named]
         for tally, (_, counts) in zip(per_seed, rows, strict=True):
             tally.update(counts)
         cells, counts = rows[0]
@@ -604,6 +631,11 @@ def real_scans(tuned_only: bool = False, reserved: bool = False) -> None:
                 f"primitive farther, {tally['in parts']} in parts, {tally['missed']} missed; "
                 f"{tally['round right']} of {tally['round']} round ones a curved primitive with "
                 f"the radius within 25 %; {tally['strays']} strays"
+            )
+        for seed, (tally, misses) in enumerate(zip(per_seed, kind_misses[kind], strict=True)):
+            print(
+                f"  {kind}, seed {seed}: kind right for {tally['kind right']} of {tally['kinds']} "
+                f"objects that are one of the four shapes; not right: {'; '.join(misses) or 'none'}"
             )
     if kinect_ms:
         kinect, sim = float(np.median(kinect_ms)), float(np.median(simulated_ms))
