@@ -27,7 +27,7 @@ def test_a_former_stray_is_the_measured_object_found_within_3_cm(
     scan: str, measured: str, label: str
 ) -> None:
     result = perceived(scan, 0)
-    cells, tally = BENCH._objects_row(result, TRUTH[measured])
+    cells, _ = BENCH._objects_row(result, TRUTH[measured])
     cell = next(c for c in cells if c.startswith(f"{label} "))
     parts, error_cm = cell.removeprefix(f"{label} ").split(", ")[:2]
     assert parts == "1" and float(error_cm.removesuffix(" cm")) < 3.0, cell
