@@ -665,8 +665,8 @@ IN_FRONT_OF = {
 than this distance (metres) in front of it; what lies on the plane or behind it is the wall."""
 ON_BACKDROP = {
     # The second monitor of the fr1 desk is the backdrop itself: its face's points lie within
-    # 2 cm of the plane (rms 7 mm), the first monitor's screen 15 cm and more in front of it, the
-    # man and the wall behind it 0.7 m and more behind (stop 40).
+    # 3 cm of the plane (rms 7 mm), its stand's mount 7-10 cm in front, the first monitor's
+    # screen 30 cm and more in front, the man and the wall 0.73 m and more behind (stop 40).
     (scan, "second monitor"): ("monitor behind", 0.1)
     for scan in ("desk_fr1_tum_0", "desk_fr1_tum_1")
 }
