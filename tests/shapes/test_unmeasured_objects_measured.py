@@ -20,7 +20,6 @@ MEASURE = measure_module()
     [
         ("desk_fr1_tum_0", "desk_fr1_tum_0", "second monitor"),
         ("desk_fr1_tum_1", "desk_fr1_tum_1", "second monitor"),
-        ("laptop_box_kinect_2", "laptop_box_kinect_0", "plug"),
     ],
 )
 def test_a_former_stray_is_the_measured_object_found_within_3_cm(

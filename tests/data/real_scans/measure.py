@@ -37,13 +37,7 @@ REGIONS = {
     ),
     "laptop_box_kinect_0": (
         (380, 470, 50, 600),
-        {
-            "laptop": ((140, 320, 130, 375), False),
-            "box": ((175, 315, 372, 505), False),
-            # Measured at stop 40 (README.md): a plug lying on the carpet at the right, 5 cm tall;
-            # the depth image ends at column 603, through its right end.
-            "plug": ((268, 308, 570, 610), False),
-        },
+        {"laptop": ((140, 320, 130, 375), False), "box": ((175, 315, 372, 505), False)},
     ),
     # Held out when they were added (stop 34), tuned on since (README.md).
     "desk_tum": (
