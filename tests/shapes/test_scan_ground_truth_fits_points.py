@@ -117,6 +117,10 @@ def test_each_object_stands_on_the_support_where_its_box_is(name: str, label: st
         backdrop, in_front_m = MEASURE.IN_FRONT_OF[name, label]
         wall, wall_distance = _plane(_in_boxes(image, MEASURE.BACKDROPS[name][backdrop]))
         keep &= pts @ wall + wall_distance > in_front_m
+    if (name, label) in MEASURE.ON_BACKDROP:
+        backdrop, within_m = MEASURE.ON_BACKDROP[name, label]
+        wall, wall_distance = _plane(_in_boxes(image, MEASURE.BACKDROPS[name][backdrop]))
+        keep &= np.abs(pts @ wall + wall_distance) <= within_m
     above = pts[keep]
     assert len(above) >= MIN_OBJECT_POINTS
     # The rounded normal moves points by up to 0.3 mm: those that near a height cut may fall

@@ -6,7 +6,8 @@ the points of a box of bare table or floor (or of several boxes spread over it, 
 is too small to fix its tilt), an object is the points of its box between 1.5 cm and 40 cm
 above that plane (60 or 80 cm where said), nearer than a stated depth where something is seen
 behind it, and more than a stated distance in front of a wall's plane where a wall stands
-behind it (``object_mask``, the one attribution the benches use too); a round object's axis
+behind it, or within a stated distance of that plane where the object is the wall's own
+surface (``object_mask``, the one attribution the benches use too); a round object's axis
 and radius come from an algebraic least-squares circle (Kasa) through its points in the plane's
 coordinates (through its side wall alone where its lid or rim shows: ``SIDE_WALL_CIRCLE``).
 Everything is in the sensor's optical frame (x right, y down, z forward), in metres.
@@ -128,6 +129,10 @@ REGIONS = {
                 ),
                 False,
             ),
+            # Measured at stop 40 (README.md): the second monitor behind the first, seen from the
+            # back above the first's screen (1.23-1.38 m away): its points are those within 10 cm
+            # of its face's plane (ON_BACKDROP), which the first monitor's points are not.
+            "second monitor": ((40, 128, 288, 522), False),
         },
     ),
     "desk_fr1_tum_1": (
@@ -158,6 +163,7 @@ REGIONS = {
                 ),
                 False,
             ),
+            "second monitor": ((45, 136, 278, 515), False),  # 1.27-1.40 m away
         },
     ),
     "box_floor_kinect": (
@@ -651,6 +657,16 @@ IN_FRONT_OF = {
 }
 """Objects whose boxes reach a backdrop's plane (``BACKDROPS``): their points are those more
 than this distance (metres) in front of it; what lies on the plane or behind it is the wall."""
+ON_BACKDROP = {
+    # The second monitor of the fr1 desk is the backdrop itself: its face's points lie within
+    # 3 cm of the plane (rms 7 mm), its stand's mount 7-10 cm in front, the first monitor's
+    # screen 30 cm and more in front, the man and the wall 0.73 m and more behind (stop 40).
+    (scan, "second monitor"): ("monitor behind", 0.1)
+    for scan in ("desk_fr1_tum_0", "desk_fr1_tum_1")
+}
+"""Objects that are a backdrop's own surface (``BACKDROPS``): their points are those within this
+distance (metres) of its plane, either side; the complement of ``IN_FRONT_OF`` at the same
+distance, so that an object measured in front of the backdrop shares no point with it."""
 SIDE_WALL_CIRCLE = {
     (scan, label)
     for scan in ("desk_fr2_tum_0", "desk_fr2_tum_1")
@@ -760,8 +776,9 @@ def object_mask(
     """The object's own pixels, a mask of ``image.shape[:2]``: those of its boxes (a pixel in
     two of them once) with a finite point 1.5 cm to ``MAX_HEIGHT_M`` over the support (``normal``
     and ``offset``, as :func:`plane` gives them), nearer than ``NEARER_THAN_M`` and more than
-    ``IN_FRONT_OF``'s distance in front of its backdrop's plane. The one attribution of an
-    object's points: the benches read it from here.
+    ``IN_FRONT_OF``'s distance in front of its backdrop's plane (within ``ON_BACKDROP``'s of it
+    where the object is the backdrop). The one attribution of an object's points: the benches
+    read it from here.
 
     Raises KeyError when ``label`` is not one of the scan's measured objects."""
     own = box_mask(image.shape, REGIONS[name][1][label][0]) & np.isfinite(image).all(axis=2)
@@ -773,6 +790,10 @@ def object_mask(
             backdrop, distance_m = IN_FRONT_OF[name, label]
             wall, wall_offset, _ = plane(points_in(image, BACKDROPS[name][backdrop]))
             own &= image @ wall + wall_offset > distance_m
+        if (name, label) in ON_BACKDROP:
+            backdrop, distance_m = ON_BACKDROP[name, label]
+            wall, wall_offset, _ = plane(points_in(image, BACKDROPS[name][backdrop]))
+            own &= np.abs(image @ wall + wall_offset) <= distance_m
     return np.asarray(own)
 
 
