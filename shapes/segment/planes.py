@@ -36,10 +36,10 @@ def ransac_plane(
 ) -> tuple[FloatArray, npt.NDArray[np.intp]] | None:
     """RANSAC: of up to ``iterations`` planes through three random points, the one with the
     most points within ``threshold`` (the first on a tie), counted on ``_SCORED_POINTS`` random
-    points when there are more. It stops early, as usual, once the
-    samples scored make a better plane unlikely (``_CONFIDENCE``, from the best inlier ratio so
-    far). Returns the unit normal and the indices of its points, or None if no sample spans a
-    plane.
+    points when there are more, with distances in single precision. It stops early, as usual,
+    once the samples scored make a better plane unlikely (``_CONFIDENCE``, from the best inlier
+    ratio so far). Returns the unit normal and the indices of its points, or None if no sample
+    spans a plane.
 
     In numpy with the caller's generator, so that a seed fixes the result: open3d's
     ``segment_plane`` runs its iterations on parallel threads and, even seeded, its result
@@ -61,7 +61,7 @@ def ransac_plane(
     offsets = -np.einsum("ij,ij->i", normals, a[spanning])
     # Hypotheses are scored in single precision (docs/perception.md, "The plane search scored
     # in single precision (stop 40, speed)"): half the arithmetic and memory of the distance
-    # matrices; a point's distance moves by under a micrometre, so only a point that close to
+    # matrices; a point's distance moves by a micrometre at most, so only a point that close to
     # the threshold can count differently. The inliers are then taken in double precision.
     scored = np.ascontiguousarray(points.T, dtype=np.float32)
     normals32, offsets32 = normals.astype(np.float32), offsets.astype(np.float32)
