@@ -24,29 +24,20 @@ import os
 for _var in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS"):
     os.environ.setdefault(_var, "1")
 
-import importlib.util  # noqa: E402
 import json  # noqa: E402
 from pathlib import Path  # noqa: E402
-from types import ModuleType  # noqa: E402
 
 import numpy as np  # noqa: E402
 
 from shapes import PerceptionParams, open_source  # noqa: E402
 from shapes.segment import survey  # noqa: E402
+from tests.shapes.real_scans import load_script  # noqa: E402
 
 BAND_M = 0.5
 MIN_PIXELS = 500
 
 
-def _load(name: str, path: Path) -> ModuleType:
-    spec = importlib.util.spec_from_file_location(name, path)
-    assert spec is not None and spec.loader is not None
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
-
-
-bench = _load("perception_bench", Path(__file__).with_name("perception.py"))
+bench = load_script(Path(__file__).with_name("perception.py"), "perception_bench")
 
 
 def depth_step_m(depths: np.ndarray) -> float:

@@ -31,11 +31,9 @@ for _var in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS"):
     os.environ.setdefault(_var, "1")
 
 import argparse  # noqa: E402
-import importlib.util  # noqa: E402
 import json  # noqa: E402
 from collections.abc import Callable  # noqa: E402
 from pathlib import Path  # noqa: E402
-from types import ModuleType  # noqa: E402
 from typing import Any  # noqa: E402
 
 import numpy as np  # noqa: E402
@@ -44,17 +42,11 @@ import numpy.typing as npt  # noqa: E402
 import shapes.segment.segmentation as seg_module  # noqa: E402
 from shapes import Perception, PerceptionParams, open_source  # noqa: E402
 from shapes.segment.reach import reaching  # noqa: E402
+from tests.shapes.real_scans import load_script  # noqa: E402
 
-
-def _load(name: str, path: Path) -> ModuleType:
-    spec = importlib.util.spec_from_file_location(name, path)
-    assert spec is not None and spec.loader is not None
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
-
-
-oracle = _load("perception_oracle_for_missed", Path(__file__).with_name("perception_oracle.py"))
+oracle = load_script(
+    Path(__file__).with_name("perception_oracle.py"), "perception_oracle_for_missed"
+)
 bench = oracle.bench
 SCANS = bench.REAL_SCANS
 STEPS = (

@@ -50,14 +50,12 @@ for _var in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS"):
     os.environ.setdefault(_var, "1")
 
 import argparse  # noqa: E402
-import importlib.util  # noqa: E402
 import json  # noqa: E402
 import platform  # noqa: E402
 from collections import Counter  # noqa: E402
 from collections.abc import Sequence  # noqa: E402
 from dataclasses import dataclass, replace  # noqa: E402
 from pathlib import Path  # noqa: E402
-from types import ModuleType  # noqa: E402
 from typing import Any  # noqa: E402
 
 import numpy as np  # noqa: E402
@@ -68,19 +66,11 @@ from shapes.fit import fit_cluster  # noqa: E402
 from shapes.gravity import rotation_to_z  # noqa: E402
 from shapes.segment import survey  # noqa: E402
 from shapes.types import SupportPlane  # noqa: E402
+from tests.shapes.real_scans import load_script  # noqa: E402
 
-
-def _load(name: str, path: Path) -> ModuleType:
-    spec = importlib.util.spec_from_file_location(name, path)
-    assert spec is not None and spec.loader is not None
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
-
-
-bench = _load("perception_bench", Path(__file__).with_name("perception.py"))
+bench = load_script(Path(__file__).with_name("perception.py"), "perception_bench")
 SCANS = bench.REAL_SCANS
-measure = _load("real_scans_measure", SCANS / "measure.py")
+measure = load_script(SCANS / "measure.py", "real_scans_measure")
 
 FOUND_WITHIN_M = 0.03
 """The issue's centre target, as the bench counts "one primitive within 3 cm"."""

@@ -31,7 +31,6 @@ All on the scans tuned on; seed 0 unless ``--seed``. Run from the repository roo
 """
 
 import argparse
-import importlib.util
 import json
 import os
 from pathlib import Path
@@ -46,12 +45,10 @@ import shapes.pipeline as pipeline  # noqa: E402
 from shapes import Perception, PerceptionParams, open_source  # noqa: E402
 from shapes.fit import fit_cluster  # noqa: E402
 from shapes.fit.models import CylinderModel  # noqa: E402
+from tests.shapes.real_scans import load_script  # noqa: E402
 
 SCANS = Path(__file__).parents[1] / "tests" / "data" / "real_scans"
-_spec = importlib.util.spec_from_file_location("measure", SCANS / "measure.py")
-assert _spec is not None and _spec.loader is not None
-measure = importlib.util.module_from_spec(_spec)
-_spec.loader.exec_module(measure)
+measure = load_script(SCANS / "measure.py", "measure")
 
 ROUND = {
     "desk_tum": ["beige cup", "jar", "clear bottle", "brown bottle", "green bottle", "mug"],

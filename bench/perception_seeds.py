@@ -21,19 +21,15 @@ for _var in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS"):
     os.environ.setdefault(_var, "1")
 
 import argparse  # noqa: E402
-import importlib.util  # noqa: E402
 import json  # noqa: E402
 from pathlib import Path  # noqa: E402
 
 import numpy as np  # noqa: E402
 
 from shapes import Perception, PerceptionParams, open_source  # noqa: E402
+from tests.shapes.real_scans import load_script  # noqa: E402
 
-_BENCH = Path(__file__).with_name("perception.py")
-_spec = importlib.util.spec_from_file_location("perception_bench", _BENCH)
-assert _spec is not None and _spec.loader is not None
-bench = importlib.util.module_from_spec(_spec)
-_spec.loader.exec_module(bench)
+bench = load_script(Path(__file__).with_name("perception.py"), "perception_bench")
 
 
 def row(scan: str, truth: dict, seed: int) -> str:

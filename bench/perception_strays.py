@@ -48,12 +48,10 @@ for _var in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS"):
     os.environ.setdefault(_var, "1")
 
 import argparse  # noqa: E402
-import importlib.util  # noqa: E402
 import json  # noqa: E402
 from collections import Counter  # noqa: E402
 from dataclasses import dataclass, replace  # noqa: E402
 from pathlib import Path  # noqa: E402
-from types import ModuleType  # noqa: E402
 from typing import Any  # noqa: E402
 
 import numpy as np  # noqa: E402
@@ -64,18 +62,10 @@ from scipy.spatial import cKDTree  # noqa: E402
 import shapes.pipeline  # noqa: E402
 from shapes import Perception, PerceptionParams, ShapeKind, open_source  # noqa: E402
 from shapes.segment import Cluster, SegmentationParams  # noqa: E402
+from tests.shapes.real_scans import load_script  # noqa: E402
 
-
-def _load(name: str, path: Path) -> ModuleType:
-    spec = importlib.util.spec_from_file_location(name, path)
-    assert spec is not None and spec.loader is not None
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
-
-
-bench = _load("perception_bench", Path(__file__).with_name("perception.py"))
-oracle = _load("perception_oracle_", Path(__file__).with_name("perception_oracle.py"))
+bench = load_script(Path(__file__).with_name("perception.py"), "perception_bench")
+oracle = load_script(Path(__file__).with_name("perception_oracle.py"), "perception_oracle_")
 SCANS = bench.REAL_SCANS
 measure = oracle.measure
 

@@ -23,7 +23,6 @@ nothing about them is printed.
 
 from __future__ import annotations
 
-import importlib.util
 import json
 import math
 import os
@@ -33,15 +32,13 @@ from typing import Any
 
 import numpy as np
 
+from tests.shapes.real_scans import load_script
+
 SCANS = Path(__file__).parents[1] / "tests" / "data" / "real_scans"
 
 
 def _measure() -> ModuleType:
-    spec = importlib.util.spec_from_file_location("measure", SCANS / "measure.py")
-    assert spec is not None and spec.loader is not None
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
+    return load_script(SCANS / "measure.py", "measure")
 
 
 def _plane(points: np.ndarray) -> tuple[np.ndarray, float]:
