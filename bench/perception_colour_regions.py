@@ -245,6 +245,16 @@ def pair_lines(scan: str, seed: int, call: dict[str, Any], owner: npt.NDArray[An
             values = colours[np.isin(members, part)]
             medians.append(np.median(values[np.isfinite(values).all(axis=1)], axis=0))
         delta_e = float(np.linalg.norm(medians[0] - medians[1]))
+        # The other thing's own colour regions, and how far the object's colour lies from each.
+        values = colours[np.isin(members, theirs)]
+        values = values[np.isfinite(values).all(axis=1)]
+        group = two_means(values)
+        own = [np.median(values[group == k], axis=0) for k in (0, 1) if (group == k).any()]
+        regions = ", ".join(
+            f"{(group == k).sum()} voxels at dE {np.linalg.norm(medians[0] - m):.1f}"
+            for k, m in enumerate(own)
+        )
+        inner = float(np.linalg.norm(own[0] - own[-1]))
         normals = [
             np.linalg.svd(voxels[p] - voxels[p].mean(axis=0), full_matrices=False)[2][-1]
             for p in (mine, theirs)
@@ -253,6 +263,7 @@ def pair_lines(scan: str, seed: int, call: dict[str, Any], owner: npt.NDArray[An
         out.append(
             f"{scan} s{seed}: cluster of {len(members)} voxels: {target} {len(mine)},"
             f" {other or 'unmeasured'} {len(theirs)}; dE {delta_e:.1f};"
+            f" the other's own two colour regions {inner:.1f} apart ({regions});"
             f" median heights {100 * np.median(heights[mine]):.1f} and"
             f" {100 * np.median(heights[theirs]):.1f} cm; normals {angle:.1f} deg apart;"
             f" plane rms union {100 * plane_rms(voxels[np.r_[mine, theirs]]):.2f} cm,"
@@ -304,6 +315,8 @@ def main() -> None:
             if guard(p)
         )
         print(f"{name}: would part {sum(taken.values())}: {dict(sorted(taken.items()))}")
+        which = Counter(f"{p.scan} {p.owners[0][0] or '-'}" for p in rows if guard(p))
+        print("    " + ", ".join(f"{k} x{n}" for k, n in sorted(which.items())))
     within = [
         p.delta_e
         for p in rows
