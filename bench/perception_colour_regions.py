@@ -16,13 +16,16 @@ For each cluster of ``MIN_VOXELS`` coloured voxels or more it prints:
 
 Then, for each candidate guard of "flat things side by side, parted by colour" (docs/perception.md,
 "Flat things side by side, parted by colour regions (stop 40, tried)"), how many clusters it
-would part, by what the ground truth says they are; and, with ``--pairs``, the ground truth's own
+would part, by what the ground truth says they are; with ``--short-contact``, the colour
+regions that meet the rest of their cluster at a point (:func:`short_contacts`); and, with
+``--pairs``, the ground truth's own
 partition of the fr1 power adapter and the fr2 papers from the cluster that holds them.
 
 Run from the repository root (about a minute of CPU a seed)::
 
     PYTHONPATH=. .venv/bin/python bench/perception_colour_regions.py --seeds 3
     PYTHONPATH=. .venv/bin/python bench/perception_colour_regions.py --pairs
+    PYTHONPATH=. .venv/bin/python bench/perception_colour_regions.py --short-contact --seeds 3
 """
 
 import os
@@ -58,6 +61,11 @@ MIN_VOXELS = 24
 """Clusters with fewer coloured voxels are left out (two regions of 12, the least cluster)."""
 LINK_M = 0.015
 """Voxels (1 cm) closer than this are one piece: the 6 face neighbours, not the diagonals."""
+EDGE_DELTA_E = 30.0
+"""``--short-contact``: neighbouring voxels closer in colour than this are one colour region."""
+MAX_CONTACT = 6
+"""``--short-contact``: a region touching the rest of its cluster with this many voxels or fewer
+meets it at a point, not along a line (the adapter meets the dispenser with 1-4)."""
 PAIRS = {
     "desk_fr1_tum_0": ("power adapter", "tape dispenser"),
     "desk_fr1_tum_1": ("power adapter", "tape dispenser"),
@@ -80,6 +88,8 @@ class Parted:
     height_apart_m: float
     rms_union_m: float
     rms_worse_part_m: float
+    touching: int
+    """The smaller region's voxels within ``LINK_M`` of the other region: how long they meet."""
     owners: tuple[tuple[str, int, int], tuple[str, int, int]]
     """Each region's main measured object ("" for none), its voxels, and the region's."""
 
@@ -94,7 +104,7 @@ class Parted:
             f" compact {self.compact[0]:.2f},{self.compact[1]:.2f}"
             f" heights {100 * self.height_apart_m:.1f} cm apart"
             f" plane rms {100 * self.rms_union_m:.2f} (union) {100 * self.rms_worse_part_m:.2f}"
-            f" (worse part) cm | {owners}"
+            f" (worse part) cm, {self.touching} touching | {owners}"
         )
 
 
@@ -190,6 +200,14 @@ def largest_piece_share(voxels: npt.NDArray[np.float64]) -> float:
     return float(np.bincount(connected_components(graph, directed=False)[1]).max() / len(voxels))
 
 
+def touching_voxels(
+    voxels: npt.NDArray[np.float64], part: npt.NDArray[np.intp], other: npt.NDArray[np.intp]
+) -> int:
+    """How many voxels of ``part`` lie within ``LINK_M`` of a voxel of ``other``."""
+    gaps = cKDTree(voxels[other]).query(voxels[part], distance_upper_bound=LINK_M)[0]
+    return int(np.isfinite(gaps).sum())
+
+
 def plane_rms(voxels: npt.NDArray[np.float64]) -> float:
     """The rms distance of ``voxels`` from their least-squares plane."""
     smallest = np.linalg.svd(voxels - voxels.mean(axis=0), compute_uv=False)[-1]
@@ -224,8 +242,70 @@ def parted(scan: str, seed: int, call: dict[str, Any], owner: npt.NDArray[Any]) 
             abs(float(np.median(heights[region[0]]) - np.median(heights[region[1]]))),
             plane_rms(voxels[members]),
             max(plane_rms(voxels[r]) for r in region),
+            touching_voxels(voxels, *sorted(region, key=len)),
             (main[0], main[1]),
         )
+
+
+def short_contacts(
+    scan: str, seed: int, call: dict[str, Any], owner: npt.NDArray[Any]
+) -> Iterator[tuple[str, str]]:
+    """Colour regions cut off where they meet the rest of their cluster at a point: the voxel
+    graph (links within ``LINK_M``) keeps only links between voxels less than ``EDGE_DELTA_E``
+    apart in colour; each piece of 20 voxels or more touching the rest with at most
+    ``MAX_CONTACT`` voxels, and more than 40 apart from every region it touches. Yields a line
+    and what the ground truth says the cut parts."""
+    labels, voxels = call["labels"], call["voxels"]
+    for label in range(int(labels.max(initial=-1)) + 1):
+        members = np.flatnonzero(labels == label)
+        if len(members) < 40:
+            continue
+        colours = call["colours"](members)
+        at = voxels[members]
+        pairs = cKDTree(at).query_pairs(LINK_M, output_type="ndarray")
+        seen = np.isfinite(colours).all(axis=1)
+        alike = (
+            seen[pairs[:, 0]]
+            & seen[pairs[:, 1]]
+            & (np.linalg.norm(colours[pairs[:, 0]] - colours[pairs[:, 1]], axis=1) < EDGE_DELTA_E)
+        )
+        linked = pairs[alike]
+        graph = coo_matrix(
+            (np.ones(len(linked)), (linked[:, 0], linked[:, 1])), shape=(len(at), len(at))
+        )
+        region = connected_components(graph, directed=False)[1]
+        sizes = np.bincount(region)
+        for k in np.flatnonzero(sizes >= 20):
+            part, rest = np.flatnonzero(region == k), np.flatnonzero(region != k)
+            if len(rest) < 20:
+                continue
+            gaps, nearest = cKDTree(at[rest]).query(at[part], distance_upper_bound=LINK_M)
+            contact = int(np.isfinite(gaps).sum())
+            if not 0 < contact <= MAX_CONTACT:
+                continue
+            median = np.nanmedian(colours[part], axis=0)
+            apart = min(
+                float(np.linalg.norm(median - np.nanmedian(colours[region == n], axis=0)))
+                for n in np.unique(region[rest[nearest[np.isfinite(gaps)]]])
+            )
+            if apart <= 40:
+                continue
+            mains = []
+            for side in (part, rest):
+                names, counts = np.unique(owner[members[side]], return_counts=True)
+                mains.append(str(names[counts.argmax()]))
+            kind = (
+                "two things"
+                if mains[0] != mains[1]
+                else "one measured object"
+                if mains[0]
+                else "unmeasured"
+            )
+            yield (
+                f"{scan} s{seed}: region {len(part)} of {len(members)} voxels, {contact} touching,"
+                f" dE {apart:.1f}: {mains[0] or '-'} from {mains[1] or '-'}",
+                kind,
+            )
 
 
 def pair_lines(scan: str, seed: int, call: dict[str, Any], owner: npt.NDArray[Any]) -> list[str]:
@@ -245,13 +325,19 @@ def pair_lines(scan: str, seed: int, call: dict[str, Any], owner: npt.NDArray[An
             values = colours[np.isin(members, part)]
             medians.append(np.median(values[np.isfinite(values).all(axis=1)], axis=0))
         delta_e = float(np.linalg.norm(medians[0] - medians[1]))
-        # The other thing's own colour regions, and how far the object's colour lies from each.
+        # The other thing's own colour regions: how far the object's colour lies from each,
+        # their median heights, and how many of their voxels lie within LINK_M of the object.
         values = colours[np.isin(members, theirs)]
-        values = values[np.isfinite(values).all(axis=1)]
-        group = two_means(values)
-        own = [np.median(values[group == k], axis=0) for k in (0, 1) if (group == k).any()]
+        seen = np.isfinite(values).all(axis=1)
+        group = two_means(values[seen])
+        near_object = np.isfinite(
+            cKDTree(voxels[mine]).query(voxels[theirs[seen]], distance_upper_bound=LINK_M)[0]
+        )
+        own = [np.median(values[seen][group == k], axis=0) for k in (0, 1) if (group == k).any()]
         regions = ", ".join(
-            f"{(group == k).sum()} voxels at dE {np.linalg.norm(medians[0] - m):.1f}"
+            f"{(group == k).sum()} voxels at dE {np.linalg.norm(medians[0] - m):.1f},"
+            f" {100 * np.median(heights[theirs[seen][group == k]]):.1f} cm high,"
+            f" {(near_object & (group == k)).sum()} touching"
             for k, m in enumerate(own)
         )
         inner = float(np.linalg.norm(own[0] - own[-1]))
@@ -277,9 +363,13 @@ def main() -> None:
     parser.add_argument("--seeds", type=int, default=3)
     parser.add_argument("--scan", action="append", help="only these scans (repeatable)")
     parser.add_argument("--pairs", action="store_true", help="only the merged flat things")
+    parser.add_argument(
+        "--short-contact", action="store_true", help="colour regions that meet at a point"
+    )
     args = parser.parse_args()
     truth = json.loads((SCANS / "truth.json").read_text())
     rows: list[Parted] = []
+    contacts: Counter[str] = Counter()
     for scan, measured in bench.REAL_TRUTH.items():
         if truth[measured].get("held_out") or truth[measured].get("reserved"):
             continue  # never loaded
@@ -298,10 +388,18 @@ def main() -> None:
                     for line in pair_lines(scan, seed, call, owner):
                         print(line)
                     continue
+                if args.short_contact:
+                    for line, kind in short_contacts(scan, seed, call, owner):
+                        contacts[kind] += 1
+                        print(line)
+                    continue
                 for row in parted(scan, seed, call, owner):
                     rows.append(row)
                     print(row.line())
     if args.pairs:
+        return
+    if args.short_contact:
+        print(f"cut at a point: {sum(contacts.values())}: {dict(sorted(contacts.items()))}")
         return
     print(f"\n{len(rows)} clusters of {MIN_VOXELS} coloured voxels or more")
     for name, guard in GUARDS.items():
@@ -317,6 +415,14 @@ def main() -> None:
         print(f"{name}: would part {sum(taken.values())}: {dict(sorted(taken.items()))}")
         which = Counter(f"{p.scan} {p.owners[0][0] or '-'}" for p in rows if guard(p))
         print("    " + ", ".join(f"{k} x{n}" for k, n in sorted(which.items())))
+    alike = [
+        p
+        for p in rows
+        if p.one_object and p.owners[0][0] and min(p.sizes) >= 20 and min(p.compact) >= 0.8
+    ]
+    if alike:
+        touching = sorted(p.touching for p in alike if p.delta_e > 40)
+        print(f"of those more than 40 apart, the smaller region's voxels touching: {touching}")
     within = [
         p.delta_e
         for p in rows
