@@ -105,7 +105,7 @@ def rows(
                 )
             )
             out.append(
-                f"  {scan:<28}{label:<16}{kind or '-':<10}{draw:>4}  {got:<10}{costs:<62}"
+                f"  {scan:<28}{label:<26} {kind or '-':<9}{draw:>4}  {got:<10}{costs:<62}"
                 f"T {1000 * fp.selection_threshold_m:4.1f} mm  {depth:4.2f} m  "
                 f"{100 * spread:4.1f} cm  {len(own.world)}"
             )
@@ -133,7 +133,7 @@ def main() -> None:
         if not (truth[measured].get("held_out") or truth[measured].get("reserved"))
     ]
     print(
-        f"  {'scan':<28}{'object':<16}{'kind':<10}{'draw':>4}  {'fitted':<10}{'final costs':<62}"
+        f"  {'scan':<28}{'object':<26} {'kind':<9}{'draw':>4}  {'fitted':<10}{'final costs':<62}"
         "threshold  depth  along the ray  points"
     )
     for scan in scans:
