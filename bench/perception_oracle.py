@@ -168,21 +168,31 @@ class Oracle:
     for a segmentation that gave the object's own points as one cluster."""
 
 
-def oracle_fits(
+@dataclass(frozen=True)
+class OwnPoints:
+    """One object's points as :func:`oracle_fits` fits them, and what the fit is given."""
+
+    truth_points: int
+    world: npt.NDArray[np.float64]
+    """The points the survey keeps, in the world frame of the measured support."""
+    noise_m: float
+    """The depth noise at the points' median range (the fit's parameters are raised to it)."""
+
+
+def own_points(
     frame: Frame,
     pixels: dict[str, npt.NDArray[np.intp]],
     support_plane: tuple[npt.NDArray[np.float64], float],
-    seeds: Sequence[int] = (0,),
-) -> dict[str, list[Oracle]]:
-    """Each object's pixels (``object_pixels``) that the chain's survey keeps, fitted as
-    :meth:`shapes.Perception.process` with each of ``seeds`` fits one cluster in frame 0 (one
-    :class:`Oracle` per seed, in order); gravity and the support are the measured support's
-    (``support_plane``: normal and offset in the sensor frame, :func:`measured_support`).
+) -> tuple[dict[str, OwnPoints], SupportPlane, npt.NDArray[np.float64]]:
+    """Each object's pixels (``object_pixels``) that the chain's survey keeps, turned to the
+    world frame by gravity from the measured support (``support_plane``: normal and offset in
+    the sensor frame, :func:`measured_support`); with the support in that frame and the pose
+    (sensor to world, the camera at the origin).
 
     Raises ValueError when the survey measures no depth noise on the frame's image."""
     params = PerceptionParams(gravity_from_scene=True)
     # Which points the survey keeps (depth cut, artefacts, stride) does not depend on its seed.
-    surveyed = survey(frame, params.segmentation, seeds[0] if seeds else 0)
+    surveyed = survey(frame, params.segmentation, 0)
     sigma_1m = surveyed.sigma_1m
     if sigma_1m <= 0.0:
         raise ValueError(f"{frame.frame_id}: no depth noise measured on the image")
@@ -192,15 +202,34 @@ def oracle_fits(
     normal, offset = support_plane
     pose = np.eye(4)
     pose[:3, :3] = rotation_to_z(normal)
-    support = SupportPlane((0.0, 0.0, 1.0), offset)
-    out: dict[str, list[Oracle]] = {}
+    out: dict[str, OwnPoints] = {}
     for label, pix in pixels.items():
         idx = point_of[pix]
         idx = idx[idx >= 0]
         idx = idx[surveyed.keep[idx]]
         sensor = frame.points[idx]
-        world = sensor @ pose[:3, :3].T
         noise_m = sigma_1m * float(np.median(sensor[:, 2])) ** 2 if len(idx) else 0.0
+        out[label] = OwnPoints(len(pix), sensor @ pose[:3, :3].T, noise_m)
+    return out, SupportPlane((0.0, 0.0, 1.0), offset), pose
+
+
+def oracle_fits(
+    frame: Frame,
+    pixels: dict[str, npt.NDArray[np.intp]],
+    support_plane: tuple[npt.NDArray[np.float64], float],
+    seeds: Sequence[int] = (0,),
+) -> dict[str, list[Oracle]]:
+    """Each object's points (:func:`own_points`) fitted as :meth:`shapes.Perception.process`
+    with each of ``seeds`` fits one cluster in frame 0 (one :class:`Oracle` per seed, in
+    order); gravity and the support are the measured support's (``support_plane``: normal and
+    offset in the sensor frame, :func:`measured_support`).
+
+    Raises ValueError when the survey measures no depth noise on the frame's image."""
+    params = PerceptionParams(gravity_from_scene=True)
+    objects, support, pose = own_points(frame, pixels, support_plane)
+    out: dict[str, list[Oracle]] = {}
+    for label, own in objects.items():
+        world = own.world
         out[label] = []
         for seed in seeds:
             primitives: tuple[Any, ...] = ()
@@ -208,7 +237,7 @@ def oracle_fits(
             fit = fit_cluster(
                 world,
                 support=support,
-                params=params.fit.for_noise(noise_m),
+                params=params.fit.for_noise(own.noise_m),
                 rng=np.random.default_rng([seed, 0]),
                 viewpoint=pose[:3, 3],
             )
@@ -217,8 +246,10 @@ def oracle_fits(
             result = FrameResult(
                 0, None, support, primitives, (), centroids, world_from_sensor=pose
             )
-            kept = len(idx)
-            out[label].append(Oracle(len(pix), kept, min(kept, params.fit.max_fit_points), result))
+            kept = len(world)
+            out[label].append(
+                Oracle(own.truth_points, kept, min(kept, params.fit.max_fit_points), result)
+            )
     return out
 
 
