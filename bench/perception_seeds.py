@@ -3,10 +3,11 @@
 For every real scan tuned on (the held-out and reserved ones, ``"held_out": true`` in
 truth.json, are never loaded) and each of the seeds 0 to ``--seeds`` - 1, the chain with no
 pose (``Perception(PerceptionParams(gravity_from_scene=True), seed=k)``: the seed is the plane
-search's, the survey's, and the fits') is run once and each measured object is matched as
-``bench/perception.py`` matches it (a primitive whose centroid lies within 8 cm is one of its
-parts). A line per scan and seed: each object's parts, centre error and kind, and the stray
-primitives ("others"). ``--changing`` prints only the scans whose line differs between seeds.
+search's, the survey's, and the fits') is run once and each measured object is matched by
+``bench/perception.py``'s own matching (each primitive a part of the object whose centroid is
+nearest, within 8 cm, or a stray). A line per scan and seed: each object's parts, centre error
+and kind, and the stray primitives ("others"). ``--changing`` prints only the scans whose line
+differs between seeds.
 
 Run the same script on another checkout by putting it first on ``PYTHONPATH`` (the code is the
 checkout's, the data and the matching this script's)::
@@ -24,8 +25,6 @@ import argparse  # noqa: E402
 import json  # noqa: E402
 from pathlib import Path  # noqa: E402
 
-import numpy as np  # noqa: E402
-
 from shapes import Perception, PerceptionParams, open_source  # noqa: E402
 from tests.shapes.real_scans import load_script  # noqa: E402
 
@@ -33,32 +32,12 @@ bench = load_script(Path(__file__).with_name("perception.py"), "perception_bench
 
 
 def row(scan: str, truth: dict, seed: int) -> str:
-    """The objects and strays of one scan on one seed, as ``bench/perception.py`` counts
-    them (kinds abbreviated: Plane P, Cylinder Cy, Cone Co, Sphere S)."""
+    """The objects and strays of one scan on one seed, matched and written as
+    ``bench/perception.py`` writes a scan's row (its ``_objects_row``)."""
     frame = next(open_source(bench.REAL_SCANS / f"{scan}.npz"))
     result = Perception(PerceptionParams(gravity_from_scene=True), seed=seed).process(frame)
-    back = np.linalg.inv(result.world_from_sensor)
-    seen = [back[:3, :3] @ c + back[:3, 3] for c in result.centroids]
-    used: set[int] = set()
-    cells = []
-    for label, item in truth.items():
-        if label in bench.NOT_OBJECTS:
-            continue
-        centre = np.asarray(item["centre"])
-        near = [k for k, c in enumerate(seen) if np.linalg.norm(c - centre) < bench.REAL_NEAR_M]
-        used.update(near)
-        if not near:
-            cells.append(f"{label} -")
-            continue
-        best = min(near, key=lambda k: float(np.linalg.norm(seen[k] - centre)))
-        prim = result.primitives[best]
-        kind = {"Plane": "P", "Cylinder": "Cy", "Cone": "Co", "Sphere": "S"}[prim.kind.value]
-        point = seen[best]
-        if "radius_m" in item:
-            point = back[:3, :3] @ np.asarray(prim.centre) + back[:3, 3]
-        err = 100 * float(np.linalg.norm(point - centre))
-        cells.append(f"{label} {len(near)}/{err:.1f}/{kind}")
-    return f"{'; '.join(cells)} | others {len(result.primitives) - len(used)}"
+    cells, tally = bench._objects_row(result, truth)
+    return f"{'; '.join(cells)} | others {tally['strays']}"
 
 
 def main() -> None:
