@@ -473,6 +473,9 @@ REAL_TRUTH = {  # scan: the scan its ground truth was measured on (the laptop sc
     "blue_mug_table_realsense": "blue_mug_table_realsense",
     "cracker_box_table_realsense": "cracker_box_table_realsense",
     "tin_table_realsense": "tin_table_realsense",
+    "tote_whisk_sr300_0": "tote_whisk_sr300_0",
+    "tote_whisk_sr300_1": "tote_whisk_sr300_1",
+    "pepper_can_table_realsense": "pepper_can_table_realsense",
 }
 
 

@@ -515,26 +515,19 @@ REGIONS = {
         },
     ),
 }
-HELD_OUT_AT_STOP_40: set[str] = {
-    "blue_mug_table_realsense",
-    "cracker_box_table_realsense",
-    "tin_table_realsense",
-}
-"""Found and measured at stop 39, reserved then, and held out at stop 40: listed in
-``bench/perception.py`` for the lead's one run after the stop's merge, and left out by
-``--tuned-only`` before it (README.md)."""
-HELD_OUT: set[str] = set(HELD_OUT_AT_STOP_40)
-"""Scans no parameter or rule of ``shapes`` was chosen by looking at (README.md), beside the
-reserved ones below. Every scan held out until stop 39 was run and diagnosed, and is tuned on
-since."""
-RESERVED_AT_STOP_40: set[str] = {
+HELD_OUT_AT_STOP_41: set[str] = {
     "tote_whisk_sr300_0",
     "tote_whisk_sr300_1",
     "pepper_can_table_realsense",
 }
-"""Found and measured at stop 40, reserved for the next stop: not listed in
-``bench/perception.py``, so that no run of this stop can give them to the pipeline (README.md)."""
-RESERVED: set[str] = set().union(RESERVED_AT_STOP_40)
+"""Found and measured at stop 40, reserved then, and held out at stop 41: listed in
+``bench/perception.py`` for the lead's one run after the stop's merge, and left out by
+``--tuned-only`` before it (README.md)."""
+HELD_OUT: set[str] = set(HELD_OUT_AT_STOP_41)
+"""Scans no parameter or rule of ``shapes`` was chosen by looking at (README.md), beside the
+reserved ones below. Every scan held out until stop 40 was run and diagnosed, and is tuned on
+since."""
+RESERVED: set[str] = set()
 """Held-out scans kept for a later stop, the union of every stop's reserved set:
 ``bench/perception.py`` runs them only with ``--reserved`` (and does not even list them), so that
 nobody gives them to the pipeline before then (README.md)."""
