@@ -82,10 +82,21 @@ wall above the scene, dropped to make it 640 x 480); each point is coloured by p
 the colour camera (its calibration's extrinsics and distortion), and left black where a nearer
 point takes that colour pixel (what the colour camera cannot see). Depths stay whole millimetres.
 
+A frame of a table with a mug, an apple and cups comes from the sample data of ClearGrasp
+(``Shreeyak/cleargrasp``, Apache-2.0, commit 0688647e49380139e440bacbe8562132bb2afbd7,
+``data/sample_dataset/real-val/d435/000000130-opaque-{depth-img.exr,rgb-img.jpg}`` and
+``camera_intrinsics.yaml``): an Intel RealSense D435's depth aligned to its 1280 x 720 colour
+image, in metres as half floats in an OpenEXR file (ZIP compressed), of the scene's opaque
+replicas. Every other pixel of every other row is kept (a pinhole image with half the focal
+lengths, exactly), and 60 rows with no depth are added above and below to make it 640 x 480. The
+depths are stored exactly, in units of 2^-14 m (every half float from 0.25 m to 4 m is a whole
+number of them).
+
     python tests/data/real_scans/prepare.py PCL_CHECKOUT/test OPEN3D_CHECKOUT/examples/test_data \
         PCL_DATA_CHECKOUT DENSE_RGBD_VO_CHECKOUT/examples SLAMBOOK2_CHECKOUT RTABMAP_CHECKOUT \
         PLANES_CHECKOUT POINTING_CHECKOUT ANNOTATOR_CHECKOUT PARTICLE_FILTER_CHECKOUT \
-        POSECNN_CHECKOUT GRASPNET_6DOF_CHECKOUT ARC_ROBOT_VISION_CHECKOUT PYK4A_CHECKOUT
+        POSECNN_CHECKOUT GRASPNET_6DOF_CHECKOUT ARC_ROBOT_VISION_CHECKOUT PYK4A_CHECKOUT \
+        CLEARGRASP_CHECKOUT
 """
 
 import importlib
@@ -93,6 +104,7 @@ import io
 import json
 import pickle
 import sys
+import zlib
 from pathlib import Path
 
 import numpy as np
@@ -204,6 +216,15 @@ AZURE_KINECT = ("tests/assets/recording.mkv", "mug_desk_azure_kinect.npz")
 AZURE_TOP_ROWS_DROPPED = 116
 """Rows of the undistorted 640 x 576 depth image left out at its top (the wall above the scene),
 so that it is 640 x 480 like every other scan; its bottom row is the raw image's last."""
+CLEARGRASP = (
+    "data/sample_dataset/real-val/d435/000000130-opaque-depth-img.exr",
+    "data/sample_dataset/real-val/d435/000000130-opaque-rgb-img.jpg",
+    "mug_apple_table_d435.npz",
+)
+CLEARGRASP_CALIB = {"fx": 921.0, "fy": 921.0, "cx": 642.0, "cy": 359.0}
+"""``camera_intrinsics.yaml`` of the D435 frames at 1280 x 720 (the fifteenth argument)."""
+CLEARGRASP_ROWS_ADDED = 60
+"""Rows with no depth added above and below the halved 640 x 360 image."""
 ROS_DEFAULT = {"fx": 525.0, "fy": 525.0, "cx": 319.5, "cy": 239.5}
 """The intrinsics the TUM benchmark recommends for its registered Freiburg 1 and 2 depth images."""
 WIDTH, HEIGHT = 640, 480
@@ -351,6 +372,66 @@ def _k4a_distort(cam: dict[str, float], x: np.ndarray, y: np.ndarray) -> tuple[n
     return xd, yd
 
 
+def _exr_half_zip(path: Path) -> np.ndarray:
+    """The first channel of an OpenEXR scan-line image of half floats with ZIP compression (the
+    only kind ClearGrasp's depth files are), as float32."""
+    raw = path.read_bytes()
+    at, header = 8, {}
+    while raw[at]:
+        name_end = raw.index(b"\0", at)
+        type_end = raw.index(b"\0", name_end + 1)
+        size = int.from_bytes(raw[type_end + 1 : type_end + 5], "little")
+        header[raw[at:name_end].decode()] = raw[type_end + 5 : type_end + 5 + size]
+        at = type_end + 5 + size
+    at += 1
+    assert header["compression"] == b"\x03", path  # ZIP, 16 scan lines a block
+    x0, y0, x1, y1 = np.frombuffer(header["dataWindow"], "<i4").tolist()
+    width, height = x1 - x0 + 1, y1 - y0 + 1
+    chlist, types = header["channels"], []
+    while chlist[0]:  # name, pixel type (int32), linear, reserved (3), x and y sampling (int32)
+        name_end = chlist.index(b"\0")
+        types.append(int.from_bytes(chlist[name_end + 1 : name_end + 5], "little"))
+        chlist = chlist[name_end + 17 :]
+    assert set(types) == {1}, path  # half floats only
+    channels = len(types)
+    blocks = (height + 15) // 16
+    image = np.zeros((height, width), dtype=np.float32)
+    for offset in np.frombuffer(raw[at : at + 8 * blocks], "<u8").tolist():
+        y, size = np.frombuffer(raw[offset : offset + 8], "<i4").tolist()
+        packed = np.frombuffer(zlib.decompress(raw[offset + 8 : offset + 8 + size]), np.uint8)
+        deltas = packed.astype(np.int64) - 128
+        deltas[0] = packed[0]
+        bytes_ = (np.cumsum(deltas) % 256).astype(np.uint8)  # undo the predictor
+        half = (len(bytes_) + 1) // 2
+        data = np.empty_like(bytes_)
+        data[0::2], data[1::2] = bytes_[:half], bytes_[half:]  # undo the interleaving
+        rows = min(16, height - (y - y0))
+        lines = data.view("<f2").reshape(rows, channels, width)
+        image[y - y0 : y - y0 + rows] = lines[:, 0]
+    return image
+
+
+def convert_cleargrasp(depth_exr: Path, colour_jpg: Path, target: Path) -> None:
+    from PIL import Image
+
+    metres = _exr_half_zip(depth_exr)[::2, ::2].astype(np.float64)
+    metres[~np.isfinite(metres)] = 0.0
+    depth = np.round(metres * 2**14)
+    assert np.all(depth * 2.0**-14 == metres) and depth.max() < 2**16, depth_exr
+    rgb = np.asarray(Image.open(colour_jpg).convert("RGB"))[::2, ::2]
+    pad = ((CLEARGRASP_ROWS_ADDED, CLEARGRASP_ROWS_ADDED), (0, 0))
+    np.savez_compressed(
+        target,
+        depth=np.pad(depth.astype(np.uint16), pad),
+        rgb=np.pad(rgb, (*pad, (0, 0))),
+        depth_scale=2.0**-14,
+        fx=CLEARGRASP_CALIB["fx"] / 2,
+        fy=CLEARGRASP_CALIB["fy"] / 2,
+        cx=CLEARGRASP_CALIB["cx"] / 2,
+        cy=CLEARGRASP_CALIB["cy"] / 2 + CLEARGRASP_ROWS_ADDED,
+    )
+
+
 def convert_azure_kinect_mkv(source: Path, target: Path) -> None:
     from PIL import Image
 
@@ -463,3 +544,9 @@ if __name__ == "__main__":
     if len(sys.argv) > 14:
         recording, out = AZURE_KINECT
         convert_azure_kinect_mkv(Path(sys.argv[14]) / recording, Path(__file__).with_name(out))
+    if len(sys.argv) > 15:
+        depth_exr, colour_jpg, out = CLEARGRASP
+        checkout = Path(sys.argv[15])
+        convert_cleargrasp(
+            checkout / depth_exr, checkout / colour_jpg, Path(__file__).with_name(out)
+        )
