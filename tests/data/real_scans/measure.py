@@ -527,8 +527,8 @@ REGIONS = {
     ),
     # Reserved at stop 41 likewise: ClearGrasp's sample frame 130, a RealSense D435 (depth aligned
     # to colour) 0.52 m over a dark wooden table, looking down 46 degrees, halved by prepare.py.
-    # The scene's opaque replicas: a mug, an apple, a geode, a blue box, a square vase standing
-    # and three tapered square cups lying; a wall at the left, the floor past the table's far
+    # The mug, the apple, the geode and the blue box, and the opaque replicas of four clear
+    # tapered square cups, one standing and three lying; a wall at the left, the floor past the table's far
     # edge (every depth past 1.05 m removed before publication). Each object by the union of
     # boxes inside its outline where it meets a neighbour, chosen on the colour image and the
     # heights over the table.
@@ -542,8 +542,8 @@ REGIONS = {
             # Its right lobe reaches under the blue box's lower left corner.
             "geode": (((118, 180, 255, 322), (153, 180, 322, 336)), False),
             "blue box": ((112, 153, 322, 368), False),
-            # The grey cup lies before the vase's foot, right of column 391.
-            "vase": (((90, 156, 368, 420), (156, 170, 368, 391)), False),
+            # The grey cup lies before the standing cup's foot, right of column 391.
+            "standing cup": (((90, 156, 368, 420), (156, 170, 368, 391)), False),
             "grey cup": (((156, 170, 391, 468), (170, 203, 378, 468), (203, 214, 378, 418)), False),
             "tan cup": ((203, 262, 418, 520), False),
             "white cup": ((268, 346, 494, 622), False),
