@@ -528,10 +528,10 @@ REGIONS = {
     # Reserved at stop 41 likewise: ClearGrasp's sample frame 130, a RealSense D435 (depth aligned
     # to colour) 0.52 m over a dark wooden table, looking down 46 degrees, halved by prepare.py.
     # The mug, the apple, the geode and the blue box, and the opaque replicas of four clear
-    # tapered square cups, one standing and three lying; a wall at the left, the floor past the table's far
-    # edge (every depth past 1.05 m removed before publication). Each object by the union of
-    # boxes inside its outline where it meets a neighbour, chosen on the colour image and the
-    # heights over the table.
+    # tapered square cups, one standing and three lying; a wall at the left, the floor past the
+    # table's far edge (no depth past 1.05 m). Each object by the union of boxes inside its
+    # outline where it meets a neighbour, chosen on the colour image and the heights over the
+    # table.
     "mug_apple_table_d435": (
         ((179, 213, 306, 357), (154, 249, 528, 563), (324, 404, 171, 325), (274, 415, 383, 476)),
         {
