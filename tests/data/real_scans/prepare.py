@@ -82,15 +82,16 @@ wall above the scene, dropped to make it 640 x 480); each point is coloured by p
 the colour camera (its calibration's extrinsics and distortion), and left black where a nearer
 point takes that colour pixel (what the colour camera cannot see). Depths stay whole millimetres.
 
-A frame of a table with a mug, an apple and cups comes from the sample data of ClearGrasp
-(``Shreeyak/cleargrasp``, Apache-2.0, commit 0688647e49380139e440bacbe8562132bb2afbd7,
-``data/sample_dataset/real-val/d435/000000130-opaque-{depth-img.exr,rgb-img.jpg}`` and
+Two frames of tables with a mug, an apple, cups and bottles come from the sample data of
+ClearGrasp (``Shreeyak/cleargrasp``, Apache-2.0, commit
+0688647e49380139e440bacbe8562132bb2afbd7,
+``data/sample_dataset/real-val/d435/000000{130,080}-opaque-{depth-img.exr,rgb-img.jpg}`` and
 ``camera_intrinsics.yaml``): an Intel RealSense D435's depth aligned to its 1280 x 720 colour
-image, in metres as half floats in an OpenEXR file (ZIP compressed), of the scene's opaque
-replicas. Every other pixel of every other row is kept (a pinhole image with half the focal
-lengths, exactly), and 60 rows with no depth are added above and below to make it 640 x 480. The
-depths are stored exactly, in units of 2^-14 m (every half float from 0.25 m to 4 m is a whole
-number of them).
+image, in metres as half floats in an OpenEXR file (ZIP compressed; NaN where there is no
+depth), of the scenes' opaque replicas. Every other pixel of every other row is kept (a pinhole
+image with half the focal lengths, exactly), and 60 rows with no depth are added above and below
+to make it 640 x 480. The depths are stored exactly, in units of 2^-14 m (every half float from
+0.25 m to 4 m is a whole number of them).
 
     python tests/data/real_scans/prepare.py PCL_CHECKOUT/test OPEN3D_CHECKOUT/examples/test_data \
         PCL_DATA_CHECKOUT DENSE_RGBD_VO_CHECKOUT/examples SLAMBOOK2_CHECKOUT RTABMAP_CHECKOUT \
@@ -216,11 +217,16 @@ AZURE_KINECT = ("tests/assets/recording.mkv", "mug_desk_azure_kinect.npz")
 AZURE_TOP_ROWS_DROPPED = 116
 """Rows of the undistorted 640 x 576 depth image left out at its top (the wall above the scene),
 so that it is 640 x 480 like every other scan; its bottom row is the raw image's last."""
-CLEARGRASP = (
-    "data/sample_dataset/real-val/d435/000000130-opaque-depth-img.exr",
-    "data/sample_dataset/real-val/d435/000000130-opaque-rgb-img.jpg",
-    "mug_apple_table_d435.npz",
-)
+CLEARGRASP = {
+    "data/sample_dataset/real-val/d435/000000130-opaque-depth-img.exr": (
+        "data/sample_dataset/real-val/d435/000000130-opaque-rgb-img.jpg",
+        "mug_apple_table_d435.npz",
+    ),
+    "data/sample_dataset/real-val/d435/000000080-opaque-depth-img.exr": (
+        "data/sample_dataset/real-val/d435/000000080-opaque-rgb-img.jpg",
+        "bottles_cloth_d435.npz",
+    ),
+}
 CLEARGRASP_CALIB = {"fx": 921.0, "fy": 921.0, "cx": 642.0, "cy": 359.0}
 """``camera_intrinsics.yaml`` of the D435 frames at 1280 x 720 (the fifteenth argument)."""
 CLEARGRASP_ROWS_ADDED = 60
@@ -545,8 +551,7 @@ if __name__ == "__main__":
         recording, out = AZURE_KINECT
         convert_azure_kinect_mkv(Path(sys.argv[14]) / recording, Path(__file__).with_name(out))
     if len(sys.argv) > 15:
-        depth_exr, colour_jpg, out = CLEARGRASP
         checkout = Path(sys.argv[15])
-        convert_cleargrasp(
-            checkout / depth_exr, checkout / colour_jpg, Path(__file__).with_name(out)
-        )
+        for depth_exr, (colour_jpg, out) in CLEARGRASP.items():
+            target = Path(__file__).with_name(out)
+            convert_cleargrasp(checkout / depth_exr, checkout / colour_jpg, target)
