@@ -516,7 +516,7 @@ REGIONS = {
     ),
     # Reserved at stop 41 for the next stop (README.md): pyk4a's test recording, an Azure Kinect
     # (time of flight), undistorted to a pinhole image by prepare.py. The camera 5 cm over a pale
-    # desk, looking along it: a mug 0.2-0.3 m away (nearer than the sensor's rated 0.5 m), its
+    # desk, tilted 10 degrees up: a mug 0.26-0.31 m away (nearer than the rated 0.5 m), its
     # handle to the right; a wall and a window 1.4-1.5 m behind. The desk shows as a strip from
     # row 396 to 475: one box of bare desk in each quarter of it (README.md, stop 37).
     "mug_desk_azure_kinect": (
