@@ -34,6 +34,11 @@ HELD_OUT_AT_STOP_41 = {"tote_whisk_sr300_0", "tote_whisk_sr300_1", "pepper_can_t
 """Reserved at stop 40, held out at stop 41 for the lead's one run after the merge (README.md)."""
 
 
+RESERVED_AT_STOP_41 = {"mug_desk_azure_kinect", "mug_apple_table_d435", "bottles_cloth_d435"}
+"""Found and measured at stop 41, reserved for the next stop, never given to the pipeline
+(README.md)."""
+
+
 def test_the_held_out_scans_are_marked() -> None:
     held_out = {name for name, scan in TRUTH.items() if scan["held_out"]}
     measure = measure_module()
@@ -45,7 +50,7 @@ def test_the_reserved_scans_are_held_out_and_marked() -> None:
     """Reserved scans are kept for a later stop: held out, and marked so the bench skips them."""
     reserved = {name for name, scan in TRUTH.items() if scan.get("reserved")}
     measure = measure_module()
-    assert reserved == measure.RESERVED
+    assert reserved == measure.RESERVED == RESERVED_AT_STOP_41 == measure.RESERVED_AT_STOP_41
     assert not reserved & HELD_OUT_AT_STOP_41
     assert all(TRUTH[name]["held_out"] for name in reserved)
     assert all(scan.get("reserved", True) is True for scan in TRUTH.values())

@@ -72,16 +72,40 @@ SR300's depth aligned to its colour image, in units of 0.1 mm (the README and
 ``getHeightmap.m`` read it so), with the colour camera's intrinsic matrix that
 ``camera-{0,1}.intrinsics.txt`` gives.
 
+A frame of a mug on a desk comes from the test recording of ``etiennedub/pyk4a`` (MIT, commit
+8c153164b484037bd7afc02db0c2be89e7bb8b38, ``tests/assets/recording.mkv``): one capture of an
+Azure Kinect (time of flight, NFOV unbinned, 640 x 576) with its 720p MJPEG colour image and the
+device's calibration in the Matroska file's attachment. The depth camera's lens distortion
+(Brown-Conrady, rational) is undone by sampling the raw depth, nearest pixel, at each pixel of a
+pinhole image with the depth camera's own focal lengths and principal point (the top 116 rows,
+wall above the scene, dropped to make it 640 x 480); each point is coloured by projecting it into
+the colour camera (its calibration's extrinsics and distortion), and left black where a nearer
+point takes that colour pixel (what the colour camera cannot see). Depths stay whole millimetres.
+
+Two frames of tables with a mug, an apple, cups and bottles come from the sample data of
+ClearGrasp (``Shreeyak/cleargrasp``, Apache-2.0, commit
+0688647e49380139e440bacbe8562132bb2afbd7,
+``data/sample_dataset/real-val/d435/000000{130,080}-opaque-{depth-img.exr,rgb-img.jpg}`` and
+``camera_intrinsics.yaml``): an Intel RealSense D435's depth aligned to its 1280 x 720 colour
+image, in metres as half floats in an OpenEXR file (ZIP compressed; NaN where there is no
+depth), of the scenes' opaque replicas. Every other pixel of every other row is kept (a pinhole
+image with half the focal lengths, exactly), and 60 rows with no depth are added above and below
+to make it 640 x 480. The depths are stored exactly, in units of 2^-14 m (every half float from
+0.25 m to 4 m is a whole number of them).
+
     python tests/data/real_scans/prepare.py PCL_CHECKOUT/test OPEN3D_CHECKOUT/examples/test_data \
         PCL_DATA_CHECKOUT DENSE_RGBD_VO_CHECKOUT/examples SLAMBOOK2_CHECKOUT RTABMAP_CHECKOUT \
         PLANES_CHECKOUT POINTING_CHECKOUT ANNOTATOR_CHECKOUT PARTICLE_FILTER_CHECKOUT \
-        POSECNN_CHECKOUT GRASPNET_6DOF_CHECKOUT ARC_ROBOT_VISION_CHECKOUT
+        POSECNN_CHECKOUT GRASPNET_6DOF_CHECKOUT ARC_ROBOT_VISION_CHECKOUT PYK4A_CHECKOUT \
+        CLEARGRASP_CHECKOUT
 """
 
 import importlib
 import io
+import json
 import pickle
 import sys
+import zlib
 from pathlib import Path
 
 import numpy as np
@@ -187,6 +211,26 @@ ARC_TOTE = {
 }
 """The ARC 2017 demo's two cameras over one tote (the thirteenth argument), each with the
 intrinsic matrix of its ``camera-{0,1}.intrinsics.txt``; 10000 depth units a metre."""
+AZURE_KINECT = ("tests/assets/recording.mkv", "mug_desk_azure_kinect.npz")
+"""The pyk4a test recording (the fourteenth argument): one Azure Kinect capture, reserved at stop
+41."""
+AZURE_TOP_ROWS_DROPPED = 116
+"""Rows of the undistorted 640 x 576 depth image left out at its top (the wall above the scene),
+so that it is 640 x 480 like every other scan; its bottom row is the raw image's last."""
+CLEARGRASP = {
+    "data/sample_dataset/real-val/d435/000000130-opaque-depth-img.exr": (
+        "data/sample_dataset/real-val/d435/000000130-opaque-rgb-img.jpg",
+        "mug_apple_table_d435.npz",
+    ),
+    "data/sample_dataset/real-val/d435/000000080-opaque-depth-img.exr": (
+        "data/sample_dataset/real-val/d435/000000080-opaque-rgb-img.jpg",
+        "bottles_cloth_d435.npz",
+    ),
+}
+CLEARGRASP_CALIB = {"fx": 921.0, "fy": 921.0, "cx": 642.0, "cy": 359.0}
+"""``camera_intrinsics.yaml`` of the D435 frames at 1280 x 720 (the fifteenth argument)."""
+CLEARGRASP_ROWS_ADDED = 60
+"""Rows with no depth added above and below the halved 640 x 360 image."""
 ROS_DEFAULT = {"fx": 525.0, "fy": 525.0, "cx": 319.5, "cy": 239.5}
 """The intrinsics the TUM benchmark recommends for its registered Freiburg 1 and 2 depth images."""
 WIDTH, HEIGHT = 640, 480
@@ -275,6 +319,172 @@ def convert_graspnet_npy(source: Path, target: Path, depth_scale: float = 1e-4) 
     )
 
 
+def _matroska_frames(raw: bytes) -> dict[int, bytes]:
+    """The payload of each track's first block in a Matroska file (track number: bytes), and its
+    attachment's data under track 0: a minimal EBML walk, enough for an Azure Kinect recording."""
+    masters = {0x18538067, 0x1F43B675, 0xA0, 0x1941A469, 0x61A7}  # segment, cluster, group, ...
+
+    def number(at: int, keep_marker: bool) -> tuple[int, int]:
+        length = 1
+        while not raw[at] & (0x80 >> (length - 1)):
+            length += 1
+        value = raw[at] if keep_marker else raw[at] & ((0x80 >> (length - 1)) - 1)
+        for byte in raw[at + 1 : at + length]:
+            value = value << 8 | byte
+        return value, length
+
+    frames: dict[int, bytes] = {}
+    stack = [(0, len(raw))]
+    while stack:
+        at, end = stack.pop()
+        while at < end:
+            element, n = number(at, keep_marker=True)
+            size, m = number(at + n, keep_marker=False)
+            at += n + m
+            if element in masters:
+                stack.append((at, at + size))
+            elif element in (0xA3, 0xA1):  # SimpleBlock, Block: track, timecode (2), flags (1)
+                track, k = number(at, keep_marker=False)
+                frames.setdefault(track, raw[at + k + 3 : at + size])
+            elif element == 0x465C:  # FileData of the attachment (calibration.json)
+                frames.setdefault(0, raw[at : at + size])
+            at += size
+    return frames
+
+
+def _k4a_camera(camera: dict, binned: tuple[int, int], crop: tuple[int, int]) -> dict[str, float]:
+    """A camera of the Azure Kinect's raw calibration in pixels for one mode, as the SDK's
+    ``transformation_get_mode_specific_camera_calibration`` computes it."""
+    p = camera["Intrinsics"]["ModelParameters"]  # cx cy fx fy k1..k6 codx cody p2 p1 (unitised)
+    return {
+        "cx": p[0] * binned[0] - crop[0] - 0.5,
+        "cy": p[1] * binned[1] - crop[1] - 0.5,
+        "fx": p[2] * binned[0],
+        "fy": p[3] * binned[1],
+        **{f"k{i}": p[3 + i] for i in range(1, 7)},
+        "p2": p[12],
+        "p1": p[13],
+    }
+
+
+def _k4a_distort(cam: dict[str, float], x: np.ndarray, y: np.ndarray) -> tuple[np.ndarray, ...]:
+    """Normalised pinhole coordinates to distorted ones (rational Brown-Conrady)."""
+    r2 = x * x + y * y
+    radial = (1 + r2 * (cam["k1"] + r2 * (cam["k2"] + r2 * cam["k3"]))) / (
+        1 + r2 * (cam["k4"] + r2 * (cam["k5"] + r2 * cam["k6"]))
+    )
+    xd = x * radial + 2 * cam["p1"] * x * y + cam["p2"] * (r2 + 2 * x * x)
+    yd = y * radial + cam["p1"] * (r2 + 2 * y * y) + 2 * cam["p2"] * x * y
+    return xd, yd
+
+
+def _exr_half_zip(path: Path) -> np.ndarray:
+    """The first channel of an OpenEXR scan-line image of half floats with ZIP compression (the
+    only kind ClearGrasp's depth files are), as float32."""
+    raw = path.read_bytes()
+    at, header = 8, {}
+    while raw[at]:
+        name_end = raw.index(b"\0", at)
+        type_end = raw.index(b"\0", name_end + 1)
+        size = int.from_bytes(raw[type_end + 1 : type_end + 5], "little")
+        header[raw[at:name_end].decode()] = raw[type_end + 5 : type_end + 5 + size]
+        at = type_end + 5 + size
+    at += 1
+    assert header["compression"] == b"\x03", path  # ZIP, 16 scan lines a block
+    x0, y0, x1, y1 = np.frombuffer(header["dataWindow"], "<i4").tolist()
+    width, height = x1 - x0 + 1, y1 - y0 + 1
+    chlist, types = header["channels"], []
+    while chlist[0]:  # name, pixel type (int32), linear, reserved (3), x and y sampling (int32)
+        name_end = chlist.index(b"\0")
+        types.append(int.from_bytes(chlist[name_end + 1 : name_end + 5], "little"))
+        chlist = chlist[name_end + 17 :]
+    assert set(types) == {1}, path  # half floats only
+    channels = len(types)
+    blocks = (height + 15) // 16
+    image = np.zeros((height, width), dtype=np.float32)
+    for offset in np.frombuffer(raw[at : at + 8 * blocks], "<u8").tolist():
+        y, size = np.frombuffer(raw[offset : offset + 8], "<i4").tolist()
+        packed = np.frombuffer(zlib.decompress(raw[offset + 8 : offset + 8 + size]), np.uint8)
+        deltas = packed.astype(np.int64) - 128
+        deltas[0] = packed[0]
+        bytes_ = (np.cumsum(deltas) % 256).astype(np.uint8)  # undo the predictor
+        half = (len(bytes_) + 1) // 2
+        data = np.empty_like(bytes_)
+        data[0::2], data[1::2] = bytes_[:half], bytes_[half:]  # undo the interleaving
+        rows = min(16, height - (y - y0))
+        lines = data.view("<f2").reshape(rows, channels, width)
+        image[y - y0 : y - y0 + rows] = lines[:, 0]
+    return image
+
+
+def convert_cleargrasp(depth_exr: Path, colour_jpg: Path, target: Path) -> None:
+    from PIL import Image
+
+    metres = _exr_half_zip(depth_exr)[::2, ::2].astype(np.float64)
+    metres[~np.isfinite(metres)] = 0.0
+    depth = np.round(metres * 2**14)
+    assert np.all(depth * 2.0**-14 == metres) and depth.max() < 2**16, depth_exr
+    rgb = np.asarray(Image.open(colour_jpg).convert("RGB"))[::2, ::2]
+    pad = ((CLEARGRASP_ROWS_ADDED, CLEARGRASP_ROWS_ADDED), (0, 0))
+    np.savez_compressed(
+        target,
+        depth=np.pad(depth.astype(np.uint16), pad),
+        rgb=np.pad(rgb, (*pad, (0, 0))),
+        depth_scale=2.0**-14,
+        fx=CLEARGRASP_CALIB["fx"] / 2,
+        fy=CLEARGRASP_CALIB["fy"] / 2,
+        cx=CLEARGRASP_CALIB["cx"] / 2,
+        cy=CLEARGRASP_CALIB["cy"] / 2 + CLEARGRASP_ROWS_ADDED,
+    )
+
+
+def convert_azure_kinect_mkv(source: Path, target: Path) -> None:
+    from PIL import Image
+
+    frames = _matroska_frames(source.read_bytes())
+    cameras = {c["Purpose"]: c for c in json.loads(frames[0])["CalibrationInformation"]["Cameras"]}
+    depth_cam = _k4a_camera(cameras["CALIBRATION_CameraPurposeDepth"], (1024, 1024), (192, 180))
+    colour = cameras["CALIBRATION_CameraPurposePhotoVideo"]
+    colour_cam = _k4a_camera(colour, (1280, 960), (0, 120))  # 720p
+    raw = np.frombuffer(frames[2], ">u2").reshape(576, 640)  # track 2: depth, b16g, mm
+    rgb = np.asarray(Image.open(io.BytesIO(frames[1])).convert("RGB"))  # track 1: MJPEG
+    v, u = np.mgrid[0:HEIGHT, 0:WIDTH].astype(np.float64)
+    x = (u - depth_cam["cx"]) / depth_cam["fx"]
+    y = (v + AZURE_TOP_ROWS_DROPPED - depth_cam["cy"]) / depth_cam["fy"]
+    xd, yd = _k4a_distort(depth_cam, x, y)
+    ur = np.rint(xd * depth_cam["fx"] + depth_cam["cx"]).astype(int)
+    vr = np.rint(yd * depth_cam["fy"] + depth_cam["cy"]).astype(int)
+    inside = (ur >= 0) & (ur < 640) & (vr >= 0) & (vr < 576)
+    depth = np.zeros((HEIGHT, WIDTH), dtype=np.uint16)
+    depth[inside] = raw[vr[inside], ur[inside]]
+    z = depth.astype(np.float64) * 1e-3
+    points = np.dstack((x * z, y * z, z)).reshape(-1, 3)
+    rotation = np.array(colour["Rt"]["Rotation"]).reshape(3, 3)  # depth to colour camera
+    seen = points @ rotation.T + np.array(colour["Rt"]["Translation"])
+    with np.errstate(invalid="ignore", divide="ignore"):
+        xc, yc = _k4a_distort(colour_cam, seen[:, 0] / seen[:, 2], seen[:, 1] / seen[:, 2])
+        uc = np.rint(xc * colour_cam["fx"] + colour_cam["cx"])
+        vc = np.rint(yc * colour_cam["fy"] + colour_cam["cy"])
+    ok = (z.reshape(-1) > 0) & (uc >= 0) & (uc < 1280) & (vc >= 0) & (vc < 720)
+    uc, vc = np.where(ok, uc, 0).astype(int), np.where(ok, vc, 0).astype(int)
+    cell = vc // 4 * 320 + uc // 4  # a z-buffer over 4 x 4 colour pixels: the nearest point wins
+    nearest = np.full(180 * 320, np.inf)
+    np.minimum.at(nearest, cell[ok], seen[ok, 2])
+    ok &= seen[:, 2] <= nearest[cell] + 0.03
+    colours = np.zeros((HEIGHT * WIDTH, 3), dtype=np.uint8)
+    colours[ok] = rgb[vc[ok], uc[ok]]
+    np.savez_compressed(
+        target,
+        depth=depth,
+        rgb=colours.reshape(HEIGHT, WIDTH, 3),
+        depth_scale=1e-3,
+        fx=depth_cam["fx"],
+        fy=depth_cam["fy"],
+        cx=depth_cam["cx"],
+        cy=depth_cam["cy"] - AZURE_TOP_ROWS_DROPPED,
+    )
+
+
 if __name__ == "__main__":
     root = Path(sys.argv[1])
     for name, (out, scale) in SCANS.items():
@@ -337,3 +547,11 @@ if __name__ == "__main__":
         for depth_png, (colour_png, out, camera) in ARC_TOTE.items():
             target = Path(__file__).with_name(out)
             convert_tum(arc / depth_png, arc / colour_png, target, camera, 1e-4)
+    if len(sys.argv) > 14:
+        recording, out = AZURE_KINECT
+        convert_azure_kinect_mkv(Path(sys.argv[14]) / recording, Path(__file__).with_name(out))
+    if len(sys.argv) > 15:
+        checkout = Path(sys.argv[15])
+        for depth_exr, (colour_jpg, out) in CLEARGRASP.items():
+            target = Path(__file__).with_name(out)
+            convert_cleargrasp(checkout / depth_exr, checkout / colour_jpg, target)
