@@ -122,10 +122,9 @@ def taken_apart(
         own_centre = points[mine].mean(axis=0) if mine.any() else np.full(3, np.nan)
         extra = points[~mine]
         whose = Counter(label_of[cluster.pixels[~mine]])
-        whose_text = ", ".join(
-            f"{name or 'unmeasured'} {n}" for name, n in whose.most_common(3)
-        )
+        whose_text = ", ".join(f"{name or 'unmeasured'} {n}" for name, n in whose.most_common(3))
         heights = extra @ normal + offset if len(extra) else np.zeros(1)
+        low, mid, high = (100 * np.percentile(heights, q) for q in (5, 50, 95))
         lacking = np.setdiff1d(own_kept, cluster.pixels)
         went = Counter(
             "no primitive" if cluster_of[p] < 0 else owner[cluster_of[p]] or "stray"
@@ -142,8 +141,7 @@ def taken_apart(
         out.append(
             f"    in {mine.sum()}/{len(own_kept)} ({100 * mine.sum() / len(own_kept):.0f} %);"
             f" extra {len(extra)}/{len(points)} ({100 * len(extra) / len(points):.0f} %):"
-            f" {whose_text or '-'}; extra heights median {100 * np.median(heights):.1f} cm"
-            f" (5-95 % {100 * np.percentile(heights, 5):.1f}..{100 * np.percentile(heights, 95):.1f})"
+            f" {whose_text or '-'}; heights {mid:.1f} cm (5-95 % {low:.1f}..{high:.1f})"
         )
         out.append(f"    lacking {len(lacking)}: {went_text or '-'}")
         delta_own = own_centre - centre
