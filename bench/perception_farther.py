@@ -123,8 +123,10 @@ def taken_apart(
         extra = points[~mine]
         whose = Counter(label_of[cluster.pixels[~mine]])
         whose_text = ", ".join(f"{name or 'unmeasured'} {n}" for name, n in whose.most_common(3))
-        heights = extra @ normal + offset if len(extra) else np.zeros(1)
-        low, mid, high = (100 * np.percentile(heights, q) for q in (5, 50, 95))
+        heights_text = "-"
+        if len(extra):
+            low, mid, high = (100 * np.percentile(extra @ normal + offset, q) for q in (5, 50, 95))
+            heights_text = f"{whose_text}; heights {mid:.1f} cm (5-95 % {low:.1f}..{high:.1f})"
         lacking = np.setdiff1d(own_kept, cluster.pixels)
         went = Counter(
             "no primitive" if cluster_of[p] < 0 else owner[cluster_of[p]] or "stray"
@@ -141,7 +143,7 @@ def taken_apart(
         out.append(
             f"    in {mine.sum()}/{len(own_kept)} ({100 * mine.sum() / len(own_kept):.0f} %);"
             f" extra {len(extra)}/{len(points)} ({100 * len(extra) / len(points):.0f} %):"
-            f" {whose_text or '-'}; heights {mid:.1f} cm (5-95 % {low:.1f}..{high:.1f})"
+            f" {heights_text}"
         )
         out.append(f"    lacking {len(lacking)}: {went_text or '-'}")
         delta_own = own_centre - centre
