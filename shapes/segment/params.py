@@ -135,3 +135,11 @@ class SegmentationParams:
     which a few scattered outliers do not make."""
     sliver_samples: int = 200
     """How many of a cluster's pixels (evenly spread) :func:`edge_share` judges."""
+    fragment_max_voxels: int = 40
+    """A cluster with fewer voxels than this (1 cm voxels: its visible surface in cm²) is a
+    fragment, joined to the object it touches (:mod:`shapes.segment.fragments`; 0: never)."""
+    fragment_gap_m: float = 0.05
+    """How far in 3D a fragment may lie from the cluster it joins."""
+    fragment_touch_px: int = 4
+    """How near in the image (rows and columns) a fragment's pixels must come to the cluster's
+    it joins: two strides of a 640 x 480 frame, nothing of the support seen between them."""
