@@ -10,7 +10,9 @@ A *fragment* is a cluster with a visible surface smaller than the small objects 
 measure: fewer than ``fragment_max_voxels`` voxels (1 cm voxels: square centimetres seen). A
 fragment joins the nearest other cluster of its support that is not a fragment when the two
 *touch in the image* (their pixels within ``fragment_touch_px`` of each other: nothing of the
-support is seen between them) and lie within ``fragment_gap_m`` of each other in 3D. Two
+support is seen between them) and lie within ``fragment_gap_m`` of each other in 3D, but no
+nearer than DBSCAN parts things (``cluster_eps_m`` less a voxel): what lies nearer was cut by the
+splitter or the occlusion step, on purpose, between two things. Two
 things side by side on a support show the support between them in the image; the pieces of
 one object seen across a step of its own depth do not. A fragment with no such neighbour stays
 as it is. On an unorganised cloud (no image) the step does nothing.
@@ -77,8 +79,10 @@ def fragments_joined(
     clusters: list[Cluster], image_width: int | None, params: SegmentationParams
 ) -> list[Cluster]:
     """``clusters`` (of one support) with each fragment (under ``fragment_max_voxels`` voxels)
-    joined to the nearest cluster that is not one, among those it touches in the image (within
-    ``fragment_touch_px``) and lies within ``fragment_gap_m`` of; the others in their order.
+    joined to the nearest cluster that is not one among those it touches in the image (within
+    ``fragment_touch_px``), when that cluster lies within ``fragment_gap_m`` of it and no nearer
+    than ``cluster_eps_m - voxel_m`` (nearer, a cut of the splitter or the occlusion step parted
+    them, and it stands); the others in their order.
     ``image_width``: the width of the image the clusters' pixels index. All of them when there
     is no image or ``fragment_max_voxels`` is 0 (the step is off).
 
@@ -98,6 +102,10 @@ def fragments_joined(
     fragment = [len(c.voxels) < params.fragment_max_voxels for c in clusters]
     if not any(fragment) or all(fragment):
         return clusters
+    # DBSCAN parts voxels more than cluster_eps_m apart, so points of two voxels it parted lie
+    # at least that less a voxel apart; nearer, the splitter or the occlusion step cut them on
+    # purpose (a seam between two things), and that cut stands.
+    parted_gap_m = params.cluster_eps_m - params.voxel_m
     into: dict[int, list[Cluster]] = {}
     joined_away: set[int] = set()
     for k, cluster in enumerate(clusters):
@@ -111,7 +119,7 @@ def fragments_joined(
             for j, other in enumerate(clusters)
         ]
         nearest = int(np.argmin(gaps))
-        if gaps[nearest] <= params.fragment_gap_m:
+        if parted_gap_m <= gaps[nearest] <= params.fragment_gap_m:
             into.setdefault(nearest, []).append(cluster)
             joined_away.add(k)
     return [

@@ -43,6 +43,10 @@ def test_a_fragment_touching_an_object_in_the_image_and_near_in_3d_joins_it() ->
         (_strip(0.11, 11, 3, row=6), "6 rows away in the image"),
         (_strip(0.14, 11, 3), "7 cm away in 3D, more than fragment_gap_m"),
         (_strip(0.11, 11, 5), "5 voxels: not under fragment_max_voxels, an object of its own"),
+        (
+            _strip(0.085, 9, 3),
+            "1.5 cm away in 3D: the splitter's cut (under cluster_eps_m - voxel_m)",
+        ),
     ],
 )
 def test_what_stays_apart(fragment: Cluster, why: str) -> None:
