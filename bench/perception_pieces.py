@@ -139,7 +139,8 @@ def image_gap_px(a: Any, b: Any, width: int, reach_px: int = 40) -> int:
 
 
 def pairs_of(scan: str, measured: str, seed: int, near_m: float = NEAR_M) -> list[dict[str, Any]]:
-    """Every pair of ``scan``'s primitives' clusters within ``near_m`` of each other, on ``seed``."""
+    """Every pair of ``scan``'s primitives' clusters within ``near_m`` of each other (seed
+    ``seed``)."""
     truth = json.loads((SCANS / "truth.json").read_text())[measured]
     frame = next(open_source(SCANS / f"{scan}.npz"))
     owned = oracle.object_pixels(scan, measured)
@@ -169,9 +170,10 @@ def pairs_of(scan: str, measured: str, seed: int, near_m: float = NEAR_M) -> lis
             d, _ = trees[large].query(clusters[small].points, distance_upper_bound=near_m)
             if not np.isfinite(d).any():
                 continue
-            if matched[small] is None and belongs[small] and belongs[small] == matched[large]:
-                label = "piece"
-            elif matched[large] is None and belongs[large] and belongs[large] == matched[small]:
+            if any(
+                matched[a] is None and belongs[a] and belongs[a] == matched[b]
+                for a, b in ((small, large), (large, small))
+            ):
                 label = "piece"
             elif belongs[i] and belongs[j] and belongs[i] != belongs[j]:
                 label = "apart"
