@@ -76,7 +76,7 @@ Steps (PITT's, with its quirks fixed; see ``shared/reference/pitt-perception.md`
    a cluster most of whose pixels lie at a depth edge (a line of mixed pixels along a
    silhouette) is dropped (:mod:`shapes.segment.slivers`), and a cluster under
    ``fragment_max_voxels`` voxels that touches a larger one in the image and lies within
-   ``fragment_gap_m`` of it in 3D (a cup's far rim, a strip of a laptop's keyboard) joins it
+   ``fragment_gap_m`` of it in 3D (a cup's rim, a strip of a laptop) joins it
    (:mod:`shapes.segment.fragments`).
 
 When there is no cluster, :attr:`Segmentation.reason` says why in one line: no support found

@@ -1,21 +1,21 @@
 """A fragment of an object joins the object it lies beside.
 
 A step of :mod:`shapes.segment`, after the slivers. DBSCAN parts a surface wherever its voxels
-are more than ``cluster_eps_m`` apart, and an object seen in pieces leaves small clusters
-beside its main one: the far rim of a cup or a bowl seen past its inside, a banana of a bunch,
-a strip of a laptop's keyboard. Each was fitted as an object of its own, a primitive that
-describes nothing (docs/perception.md, "Extra pieces of found objects (stop 41)").
+are more than ``cluster_eps_m`` apart, and an object seen in pieces leaves small clusters beside
+its main one: the rim of a cup or a bowl, a banana of a bunch, a strip of a laptop. Each was
+fitted as an object of its own, a primitive that describes nothing (docs/perception.md, "Extra
+pieces of found objects (stop 41)").
 
 A *fragment* is a cluster with a visible surface smaller than the small objects the scans
 measure: fewer than ``fragment_max_voxels`` voxels (1 cm voxels: square centimetres seen). A
 fragment joins the nearest other cluster of its support that is not a fragment when the two
 *touch in the image* (their pixels within ``fragment_touch_px`` of each other: nothing of the
 support is seen between them) and lie within ``fragment_gap_m`` of each other in 3D, but no
-nearer than DBSCAN parts things (``cluster_eps_m`` less a voxel): what lies nearer was cut by the
-splitter or the occlusion step, on purpose, between two things. Two
-things side by side on a support show the support between them in the image; the pieces of
-one object seen across a step of its own depth do not. A fragment with no such neighbour stays
-as it is. On an unorganised cloud (no image) the step does nothing.
+nearer than DBSCAN parts things (``cluster_eps_m`` less a voxel): what lies nearer was cut by
+the splitter or the occlusion step, on purpose, between two things. Two things side by side on
+a support show the support between them in the image; the pieces of one object seen across a
+step of its own depth do not. A fragment with no such neighbour stays as it is. On an
+unorganised cloud (no image) the step does nothing.
 """
 
 from __future__ import annotations

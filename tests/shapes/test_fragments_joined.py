@@ -91,7 +91,7 @@ def _distances_cm(name: str, result: FrameResult, label: str) -> list[float]:
 
 @pytest.mark.parametrize("seed", [0, 1, 2])
 def test_the_living_rooms_cup_and_bowl_are_one_primitive_each_with_their_rims(seed: int) -> None:
-    """``living_room_floor_realsense`` (tuned on): the cup's far rim was a primitive of its own
+    """``living_room_floor_realsense`` (tuned on): the cup's rim was a primitive of its own
     11-12 cm from the cup's measured centre on seeds 0-2, and the bowl's 20 cm from the bowl's on
     seeds 0 and 2 (strays: 26-37 points, 3.0-4.4 cm from their object, touching it in the image).
     Each now joins its object: one primitive within 25 cm of each, the cup's within 3 cm."""
