@@ -21,6 +21,7 @@ unorganised cloud (no image) the step does nothing.
 from __future__ import annotations
 
 import numpy as np
+from scipy.spatial import cKDTree
 
 from shapes.segment.clusters import Cluster
 from shapes.segment.params import SegmentationParams
@@ -39,11 +40,12 @@ def touch_in_image(a: Cluster, b: Cluster, image_width: int, reach_px: int) -> b
         & (cb >= ca.min() - reach_px)
         & (cb <= ca.max() + reach_px)
     )
-    rb, cb = rb[box], cb[box]
-    if len(rb) == 0:
+    if not box.any():
         return False
-    gaps = np.maximum(np.abs(ra[:, None] - rb[None, :]), np.abs(ca[:, None] - cb[None, :]))
-    return bool(gaps.min() <= reach_px)
+    # Chebyshev distance (p = inf), on a tree: a near fragment holds hundreds of pixels.
+    near = cKDTree(np.column_stack([rb[box], cb[box]]))
+    d, _ = near.query(np.column_stack([ra, ca]), p=np.inf, distance_upper_bound=reach_px + 0.5)
+    return bool(np.isfinite(d).any())
 
 
 def gap_m(a: Cluster, b: Cluster, reach_m: float) -> float:
@@ -53,8 +55,8 @@ def gap_m(a: Cluster, b: Cluster, reach_m: float) -> float:
     near = b.points[np.all((b.points >= low) & (b.points <= high), axis=1)]
     if len(near) == 0:
         return float("inf")
-    d2 = ((a.points[:, None, :] - near[None, :, :]) ** 2).sum(axis=2)
-    return float(np.sqrt(d2.min()))
+    d, _ = cKDTree(near).query(a.points)
+    return float(np.min(d))
 
 
 def joined(main: Cluster, pieces: list[Cluster]) -> Cluster:
