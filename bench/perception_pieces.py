@@ -23,15 +23,20 @@ For each pair it measures what physically joins the two:
 - ``rise``: the smaller's median height less the larger's 95th percentile of height (cm);
 - ``step``: which step of segmentation parted them: ``dbscan`` (two DBSCAN clusters: a gap of
   more than ``cluster_eps_m``), ``splitter`` (one DBSCAN cluster the splitter cut), ``occlusion``
-  (one cluster after the splitter, parted at an occlusion edge); read from the labels the three
-  steps gave the two clusters' voxels.
+  (one cluster after the splitter, parted later: at an occlusion edge); read from the labels
+  DBSCAN and the splitter gave the two clusters' voxels.
 
 Only the tuned-on scans are loaded (``"held_out": true`` in truth.json are never read).
 
-Run from the repository root::
+Run from the repository root (``--near-cm``: the pairs this close, 5 by default)::
 
     PYTHONPATH=. .venv/bin/python bench/perception_pieces.py            # pieces and apart pairs
     PYTHONPATH=. .venv/bin/python bench/perception_pieces.py --all      # and the other pairs
+
+The pairs are those of the checkout first on ``PYTHONPATH``: on the code with
+:mod:`shapes.segment.fragments` the fragments it joins are gone; the figures of
+docs/perception.md, "Extra pieces of found objects (stop 41)", are those of the code before it
+(10d3fea).
 """
 
 import os
@@ -74,9 +79,9 @@ def _key(rows: npt.NDArray[np.float64]) -> list[bytes]:
 
 
 class StageLabels:
-    """The labels DBSCAN, the splitter and the occlusion step gave each candidate voxel, keyed by
-    the voxel's world coordinates (recorded by wrapping the two steps in
-    :mod:`shapes.segment.clusters`)."""
+    """The labels DBSCAN and the splitter gave each candidate voxel, keyed by the voxel's world
+    coordinates (recorded by wrapping the splitter in :mod:`shapes.segment.clusters`: its input
+    is DBSCAN's labels)."""
 
     def __init__(self) -> None:
         self.dbscan: dict[bytes, tuple[int, int]] = {}
