@@ -89,7 +89,7 @@ class StageLabels:
         self.calls = 0
 
     def __enter__(self) -> "StageLabels":
-        self._split, self._occl = seg_clusters.split_clusters, seg_clusters._parted_at_occlusions
+        self._split = seg_clusters.split_clusters
         me = self
 
         def split(labels: Any, voxels: Any, *args: Any, **kwargs: Any) -> Any:
