@@ -163,7 +163,9 @@ def strays_of(scan: str, measured: str, seeds: int, params: PerceptionParams) ->
     frame = next(open_source(SCANS / f"{scan}.npz"))
     image = measure.points_of(scan)
     flat = image.reshape(-1, 3)
-    rgb = np.load(SCANS / f"{scan}.npz")["rgb"].reshape(-1, 3)
+    with np.load(SCANS / f"{scan}.npz") as data:
+        # A PCL capture without colour stores no image (its strays' colour reads 0, 0, 0).
+        rgb = data["rgb"].reshape(-1, 3) if "rgb" in data.files else np.zeros_like(flat)
     normal, offset = oracle.measured_support(scan, measured)
     height = flat @ normal + offset
     owned = oracle.object_pixels(scan, measured)

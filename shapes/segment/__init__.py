@@ -74,7 +74,10 @@ Steps (PITT's, with its quirks fixed; see ``shared/reference/pitt-perception.md`
    ``min_cluster_voxels`` voxels are dropped;
 7. each cluster gets its full-resolution points (and colours) back through the voxel index;
    a cluster most of whose pixels lie at a depth edge (a line of mixed pixels along a
-   silhouette) is dropped last (:mod:`shapes.segment.slivers`).
+   silhouette) is dropped (:mod:`shapes.segment.slivers`), and a cluster under
+   ``fragment_max_voxels`` voxels that touches a larger one in the image and lies within
+   ``fragment_gap_m`` of it in 3D (a cup's rim, a strip of a laptop) joins it
+   (:mod:`shapes.segment.fragments`).
 
 When there is no cluster, :attr:`Segmentation.reason` says why in one line: no support found
 (with the planes seen), or no clusters above it, or clusters too small.
@@ -95,6 +98,7 @@ The modules, in the order of the steps (imports go one way, each only from those
 - :mod:`shapes.segment.objects`: the rules of what is an object of the scene, in their order;
 - :mod:`shapes.segment.tall`: clusters cut at the band's top, grown upwards;
 - :mod:`shapes.segment.slivers`: clusters made of a depth edge's pixels give no primitive;
+- :mod:`shapes.segment.fragments`: a fragment of an object joins the object it touches;
 - :mod:`shapes.segment.segmentation`: :func:`segment`, the steps in order, and
   :class:`Segmentation`.
 """

@@ -135,3 +135,17 @@ class SegmentationParams:
     which a few scattered outliers do not make."""
     sliver_samples: int = 200
     """How many of a cluster's pixels (evenly spread) :func:`edge_share` judges."""
+    fragment_max_voxels: int = 40
+    """A cluster with fewer voxels than this (1 cm voxels: its visible surface in cm²) is a
+    fragment, joined to the object it touches (:mod:`shapes.segment.fragments`; 0: never). Over
+    the tuned-on scans (seeds 0-2) the pieces of found objects within 5 cm of them have 12-30
+    voxels; the one measured object under 70 voxels that touches a neighbour in the image within
+    6 cm (the fr1 tray's black device) has 41."""
+    fragment_gap_m: float = 0.05
+    """How far in 3D a fragment may lie from the cluster it joins: the pieces lie 2.4-4.4 cm from
+    their objects, the black device 6.0 cm from its neighbour."""
+    fragment_touch_px: int = 4
+    """How near in the image (rows and columns) a fragment's pixels must come to the cluster's
+    it joins: two strides of a 640 x 480 frame, nothing of the support seen between them. The
+    pieces come within 2-4 pixels of their objects; measured small objects beside a neighbour
+    6-12 (the mice, the beige cup, the blue packet, the purple device)."""

@@ -13,6 +13,7 @@ import numpy as np
 
 from shapes.frame import Frame
 from shapes.segment.clusters import Cluster, KeptPoints, clusters_on
+from shapes.segment.fragments import fragments_joined
 from shapes.segment.free_voxels import free_voxels, over_supports, robust_sigma
 from shapes.segment.objects import (
     cut_by_limits,
@@ -158,6 +159,8 @@ def segment(
         kept.append(not_under(found, parts, support, params))
     kept = not_under_support_edges(kept, supports, regions, frame, reach, params)
     kept = [off_depth_edges(found, reach.depth_image, params) for found in kept]
+    width = None if frame.image_shape is None else frame.image_shape[1]
+    kept = [fragments_joined(found, width, params) for found in kept]
     for k, found in enumerate(kept):
         votes[k] = sum(len(c.voxels) for c in found)
         clusters += found
