@@ -2,16 +2,18 @@
 
 The plane search (:mod:`shapes.segment.planes`) refits each RANSAC plane by plain least squares
 on its voxels: every voxel weighs the same, whether it lies 0.8 m or 3.5 m away, though a depth
-camera's noise grows with the square of the range (σ(z) = σ₁ z²). On a support seen from 2 to
-4 m, the far rows' noise then tilts the plane, and its height extrapolated to the camera is
-2-3 cm off (docs/perception.md, "The support's plane weighed by the depth noise (stop 41)").
+camera's noise grows with the square of the range (``sigma_1m z²``). On a support seen from 2
+to 4 m the far rows, noisier and in depth terraces, tilt the plane, and its height extrapolated
+to the camera is 2-3 cm off (docs/perception.md, "The support measured again, weighed by the
+depth noise (stop 41)").
 
 :func:`measured_support` fits the plane again through the support's main piece by iteratively
-reweighted least squares: each voxel weighs 1/σ², with σ a third of its tolerance (the one the
-plane search already gives it, ``max(support_threshold_m, 3 σ₁ z²)``), times Tukey's biweight
-of its residual in units of σ, so that what stands on the support in the tolerance band does
-not pull the plane. Segmentation does not use this plane: its clusters are cut with the plane
-search's plane, and only the plane reported as the support (and given to the fits) is this one.
+reweighted least squares: each voxel weighs ``1 / sigma²``, with ``sigma`` a third of its
+tolerance (the one the plane search already gives it, ``max(support_threshold_m,
+3 sigma_1m z²)``), times Tukey's biweight of its residual in units of ``sigma``, so that what
+stands on the support within the tolerance band does not pull the plane. Segmentation does not
+use this plane: its clusters are cut, and their objects fitted, with the plane search's plane;
+this one is the support reported (:attr:`shapes.segment.Segmentation.support`).
 
 >>> rng = np.random.default_rng(0)
 >>> xy = rng.uniform(-1.0, 1.0, (2000, 2))
@@ -32,7 +34,8 @@ from shapes.types import FloatArray, SupportPlane, vec3
 __all__ = ["measured_support"]
 
 _BIWEIGHT = 4.685
-"""Tukey's biweight constant, in units of σ: 95 % efficiency on Gaussian noise."""
+"""Tukey's biweight constant, in units of the noise's sigma: 95 % efficiency on Gaussian
+noise."""
 
 _ITERATIONS = 20
 """At most this many reweighting rounds; it stops earlier once the plane moves less than
@@ -49,8 +52,9 @@ def measured_support(
     from a plane it may lie (three times its depth noise).
 
     The normal keeps the side of ``support``'s; the centre is ``support``'s (the mean of its
-    points, unweighted) dropped onto the new plane, and the extent is ``support``'s. ``support`` itself is returned
-    when fewer than three voxels keep a weight or they span no plane.
+    points, unweighted) dropped onto the new plane, and the extent is ``support``'s.
+    ``support`` itself is returned when fewer than three voxels keep a weight or they span no
+    plane.
     """
     normal = np.asarray(support.normal, dtype=np.float64)
     offset = float(support.offset)
