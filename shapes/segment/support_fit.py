@@ -69,7 +69,7 @@ def measured_support(
         spread = table - centre
         scatter = spread.T @ (spread * weight[:, None])
         values, vectors = np.linalg.eigh(scatter)
-        if values[1] <= 0.0:
+        if values[1] <= 1e-12 * values[2]:
             return support
         new = vectors[:, 0] if vectors[:, 0] @ normal >= 0 else -vectors[:, 0]
         new_offset = -float(new @ centre)
