@@ -6,7 +6,9 @@ reserved ones are never loaded) goes through the pipeline with no pose (gravity 
 on seeds 0-2, with the step on (the default parameters) and off, alternately, ``--repeats``
 times. The steps (``--step``), each off as ``STEP_OFF`` says: ``occlusion``
 (:mod:`shapes.segment.occlusion`), ``slivers`` (:mod:`shapes.segment.slivers`), ``colour_seam``
-(:mod:`shapes.colour_seam`) and ``parameter_charge`` (:mod:`shapes.fit.information`); each frame
+(:mod:`shapes.colour_seam`), ``parameter_charge`` (:mod:`shapes.fit.information`) and
+``support_fit`` (:mod:`shapes.segment.support_fit`: it changes only the support reported, no
+primitive of an object); each frame
 keeps its least CPU (``time.process_time``). Printed: every primitive whose kind the step
 changes (scan, seed, kind off -> on, its centre in the world frame), then the median over the
 scans of each scan's median frame, on and off, and the per-scan difference. The two come from
@@ -36,6 +38,7 @@ STEP_OFF = {
     "slivers": {"segmentation": SegmentationParams(max_edge_share=1.0)},
     "colour_seam": {"segmentation": SegmentationParams(min_part_colour_difference=0.0)},
     "parameter_charge": {"fit": FitParams(parameter_charge=0.0)},
+    "support_fit": {"segmentation": SegmentationParams(measure_support=False)},
 }
 """Each step's parameters that turn it off (fields of :class:`shapes.PerceptionParams`)."""
 

@@ -169,17 +169,18 @@ def segment(
         kept.append(not_under(found, parts, support, params))
     kept = not_under_support_edges(kept, supports, regions, frame, reach, params)
     kept = [off_depth_edges(found, reach.depth_image, params) for found in kept]
-    # The clusters were cut, and their objects are fitted, with the plane search's planes;
-    # the support reported is each plane measured again over its main piece (support_fit).
-    reported = list(supports)
-    if params.measure_support:
-        for k, plane in enumerate(horizontal):
-            table = np.flatnonzero(plane.inliers)[judged.region_of[id(plane)].piece]
-            reported[k] = measured_support(supports[k], voxels[table], scan.tolerance[table])
     for k, found in enumerate(kept):
         votes[k] = sum(len(c.voxels) for c in found)
         clusters += found
     order = [int(k) for k in np.argsort(-votes, kind="stable") if votes[k] > 0]
+    # The clusters were cut, and their objects are fitted, with the plane search's planes;
+    # the support reported is its plane measured again over its main piece (support_fit).
+    reported = list(supports)
+    for k in order or [largest]:
+        if params.measure_support:
+            plane = horizontal[k]
+            table = np.flatnonzero(plane.inliers)[judged.region_of[id(plane)].piece]
+            reported[k] = measured_support(supports[k], voxels[table], scan.tolerance[table])
     with_objects = [reported[k] for k in order]
     primary = with_objects[0] if with_objects else reported[largest]
     reason = None

@@ -37,25 +37,34 @@ _BIWEIGHT = 4.685
 """Tukey's biweight constant, in units of the noise's sigma: 95 % efficiency on Gaussian
 noise."""
 
-_ITERATIONS = 20
+_ITERATIONS = 10
 """At most this many reweighting rounds; it stops earlier once the plane moves less than
-``_SETTLED_M`` anywhere within 5 m."""
+``_SETTLED_M`` anywhere within 5 m (3 to 7 rounds on the tuned-on Kinect scans' supports)."""
 
-_SETTLED_M = 1e-5
+_SETTLED_M = 1e-4
+"""A tenth of a millimetre: a two-hundredth of the 2 cm the support's height is judged by."""
+
+_MOST_VOXELS = 4000
+"""A support of more voxels is measured on an even sample of this many (every k-th voxel): a
+floor of 25,000 voxels fixes its plane no better than a table's 4,000, for five times the
+CPU."""
 
 
 def measured_support(
     support: SupportPlane, table: FloatArray, tolerance: FloatArray
 ) -> SupportPlane:
     """``support`` fitted again through ``table`` (its main piece's voxels, in the world frame)
-    by noise-weighted, robust least squares (the module doc); ``tolerance``: per voxel, how far
-    from a plane it may lie (three times its depth noise).
+    by noise-weighted, robust least squares (the module doc), on every k-th voxel when there
+    are more than ``_MOST_VOXELS``; ``tolerance``: per voxel, how far from a plane it may lie
+    (three times its depth noise).
 
     The normal keeps the side of ``support``'s; the centre is ``support``'s (the mean of its
     points, unweighted) dropped onto the new plane, and the extent is ``support``'s.
     ``support`` itself is returned when fewer than three voxels keep a weight or they span no
     plane.
     """
+    step = max(1, -(-len(table) // _MOST_VOXELS))  # ceil: at most _MOST_VOXELS voxels
+    table, tolerance = table[::step], np.asarray(tolerance)[::step]
     normal = np.asarray(support.normal, dtype=np.float64)
     offset = float(support.offset)
     sigma = np.asarray(tolerance, dtype=np.float64) / 3.0
