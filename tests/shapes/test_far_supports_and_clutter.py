@@ -76,7 +76,7 @@ def test_the_far_support_is_found_within_two_centimetres_at_the_camera(
     The plane search's own least-squares plane weighs its far, noisy rows as much as its near
     ones: at seed 0 it lies 3.1 cm (desk_tum, 2.1-2.9 m away) and 2.3 cm (office_kinect, 3.2-4.4
     m away) off at the camera. The plane measured again with the depth noise model
-    (:mod:`shapes.segment.support_fit`) lies 1.0 and 0.1 cm off.
+    (:mod:`shapes.segment.support_fit`) lies 0.9 and 0.0 cm off.
     """
     result = perceived(name, seed)
     angle, at_camera, _ = _support_error(result, name)
