@@ -176,11 +176,10 @@ def segment(
     # The clusters were cut, and their objects are fitted, with the plane search's planes;
     # the support reported is its plane measured again over its main piece (support_fit).
     reported = list(supports)
-    for k in order or [largest]:
-        if params.measure_support:
-            plane = horizontal[k]
-            table = np.flatnonzero(plane.inliers)[judged.region_of[id(plane)].piece]
-            reported[k] = measured_support(supports[k], voxels[table], scan.tolerance[table])
+    for k in (order or [largest]) if params.measure_support else []:
+        plane = horizontal[k]
+        table = np.flatnonzero(plane.inliers)[judged.region_of[id(plane)].piece]
+        reported[k] = measured_support(supports[k], voxels[table], scan.tolerance[table])
     with_objects = [reported[k] for k in order]
     primary = with_objects[0] if with_objects else reported[largest]
     reason = None

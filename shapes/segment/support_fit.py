@@ -4,7 +4,7 @@ The plane search (:mod:`shapes.segment.planes`) refits each RANSAC plane by plai
 on its voxels: every voxel weighs the same, whether it lies 0.8 m or 3.5 m away, though a depth
 camera's noise grows with the square of the range (``sigma_1m z²``). On a support seen from 2
 to 4 m the far rows, noisier and in depth terraces, tilt the plane, and its height extrapolated
-to the camera is 2-3 cm off (docs/perception.md, "The support measured again, weighed by the
+to the camera was 2-6 cm off (docs/perception.md, "The support measured again, weighed by the
 depth noise (stop 41)").
 
 :func:`measured_support` fits the plane again through the support's main piece by iteratively
