@@ -8,10 +8,10 @@ times. The steps (``--step``), each off as ``STEP_OFF`` says: ``occlusion``
 (:mod:`shapes.segment.occlusion`), ``slivers`` (:mod:`shapes.segment.slivers`), ``colour_seam``
 (:mod:`shapes.colour_seam`), ``parameter_charge`` (:mod:`shapes.fit.information`) and
 ``support_fit`` (:mod:`shapes.segment.support_fit`: it changes only the support reported, no
-primitive of an object); each frame
-keeps its least CPU (``time.process_time``). Printed: every primitive whose kind the step
-changes (scan, seed, kind off -> on, its centre in the world frame), then the median over the
-scans of each scan's median frame, on and off, and the per-scan difference. The two come from
+primitive of an object); each frame keeps its least CPU (``time.process_time``). Printed:
+every primitive whose kind the step changes (scan, seed, kind off -> on, its centre in the
+world frame), then the median over the scans of each scan's median frame, on and off, and the
+per-scan difference. The two come from
 the same minutes, so their difference survives the machine's load better than either figure
 alone (docs/perception.md, "A thing lying across another, and a hand reaching in (stop 39)").
 
