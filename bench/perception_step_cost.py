@@ -1,18 +1,21 @@
 """What a step of the chain (occlusion edges, slivers, colour seams, the fit's parameter charge,
-fragments joined) costs a Kinect frame, and which primitives it changes.
+fragments joined, the support measured again) costs a Kinect frame, and which primitives it
+changes.
 
 Each tuned-on Kinect scan of ``tests/data/real_scans`` (``kinect`` in the name; the held-out and
 reserved ones are never loaded) goes through the pipeline with no pose (gravity from the scene)
 on seeds 0-2, with the step on (the default parameters) and off, alternately, ``--repeats``
 times. The steps (``--step``), each off as ``STEP_OFF`` says: ``occlusion``
 (:mod:`shapes.segment.occlusion`), ``slivers`` (:mod:`shapes.segment.slivers`), ``colour_seam``
-(:mod:`shapes.colour_seam`), ``parameter_charge`` (:mod:`shapes.fit.information`) and
-``fragments`` (:mod:`shapes.segment.fragments`); each frame
-keeps its least CPU (``time.process_time``). Printed: every primitive whose kind the step
-changes (scan, seed, kind off -> on, its centre in the world frame), then the median over the
-scans of each scan's median frame, on and off, and the per-scan difference. The two come from
-the same minutes, so their difference survives the machine's load better than either figure
-alone (docs/perception.md, "A thing lying across another, and a hand reaching in (stop 39)").
+(:mod:`shapes.colour_seam`), ``parameter_charge`` (:mod:`shapes.fit.information`),
+``fragments`` (:mod:`shapes.segment.fragments`) and ``support_fit``
+(:mod:`shapes.segment.support_fit`: it changes only the support reported, no primitive of an
+object); each frame keeps its least CPU (``time.process_time``). Printed: every primitive whose
+kind the step changes (scan, seed, kind off -> on, its centre in the world frame), then the
+median over the scans of each scan's median frame, on and off, and the per-scan difference. The
+two come from the same minutes, so their difference survives the machine's load better than
+either figure alone (docs/perception.md, "A thing lying across another, and a hand reaching in
+(stop 39)").
 
 Run from the repository root::
 
@@ -38,6 +41,7 @@ STEP_OFF = {
     "colour_seam": {"segmentation": SegmentationParams(min_part_colour_difference=0.0)},
     "parameter_charge": {"fit": FitParams(parameter_charge=0.0)},
     "fragments": {"segmentation": SegmentationParams(fragment_max_voxels=0)},
+    "support_fit": {"segmentation": SegmentationParams(measure_support=False)},
 }
 """Each step's parameters that turn it off (fields of :class:`shapes.PerceptionParams`)."""
 

@@ -24,7 +24,7 @@ from shapes.colour import mean_colour
 from shapes.fit import FitParams, fit_cluster
 from shapes.frame import Frame
 from shapes.gravity import gravity_from_survey
-from shapes.segment import Cluster, SegmentationParams, segment, survey
+from shapes.segment import Cluster, Segmentation, SegmentationParams, segment, survey
 from shapes.track import Tracker, box_of
 from shapes.types import FloatArray, Primitive, ShapeKind, SupportPlane
 
@@ -78,15 +78,19 @@ def _signature(primitive: Primitive) -> tuple[str, float]:
     return primitive.kind.value, primitive.radius or 0.0
 
 
-def _supports_under(fitted: list[tuple[Cluster, Primitive]]) -> list[tuple[Cluster, Primitive]]:
-    """The supports the fitted objects stand on, each as a Plane primitive of the scene.
+def _supports_under(
+    fitted: list[tuple[Cluster, Primitive]], seg: Segmentation
+) -> list[tuple[Cluster, Primitive]]:
+    """The supports the fitted objects stand on, each as a Plane primitive of the scene: the
+    plane measured again over the support's main piece (:meth:`Segmentation.reported`).
 
     The plane's ``centre`` is the mean of the support's own points (on the plane): an object
     added to the scene or taken away leaves the relations of the others to the support as
     they were, so a scene with one more object is a specialisation of the scene without it.
     """
     out: list[tuple[Cluster, Primitive]] = []
-    for support in dict.fromkeys(c.support for c, _ in fitted if c.support is not None):
+    found = dict.fromkeys(c.support for c, _ in fitted if c.support is not None)
+    for support in (seg.reported(plane) for plane in found):
         if support.centre is None:
             continue
         centre = np.asarray(support.centre)
@@ -154,7 +158,7 @@ class Perception:
             )
             if fit is not None:
                 fitted.append((cluster, fit.primitive))
-        supports = _supports_under(fitted)
+        supports = _supports_under(fitted, seg)
         reason = seg.reason
         if seg.clusters and not fitted:
             reason = f"clusters rejected: no model fits any of the {len(seg.clusters)} cluster(s)"

@@ -59,7 +59,9 @@ Steps (PITT's, with its quirks fixed; see ``shared/reference/pitt-perception.md`
    larger horizontal plane, lying partly under it and partly over it, is no support and its
    voxels stay free (:func:`shapes.segment.supports._crosses`). Every horizontal plane that gets
    clusters is reported (:attr:`Segmentation.supports`); the one with the most object voxels is
-   *the* support. The largest plane (often the floor or a wall) wins nothing by its size;
+   *the* support. The largest plane (often the floor or a wall) wins nothing by its size.
+   The plane reported is each support measured again over its main piece, weighed by the
+   depth noise (:mod:`shapes.segment.support_fit`); the clusters keep the plane search's;
 5. the above-table margin adapts to the noise: ``above_margin = max(above_margin_m, 3 sigma)``
    with sigma the robust spread of the support's voxels about the plane; full-resolution points
    are cut at ``max(above_margin_m, 2 sigma(z))`` with ``sigma(z) = sigma_1m z²`` (measured on
@@ -99,6 +101,8 @@ The modules, in the order of the steps (imports go one way, each only from those
 - :mod:`shapes.segment.tall`: clusters cut at the band's top, grown upwards;
 - :mod:`shapes.segment.slivers`: clusters made of a depth edge's pixels give no primitive;
 - :mod:`shapes.segment.fragments`: a fragment of an object joins the object it touches;
+- :mod:`shapes.segment.support_fit`: each support measured again over its main piece, weighed
+  by the depth noise: the plane reported;
 - :mod:`shapes.segment.segmentation`: :func:`segment`, the steps in order, and
   :class:`Segmentation`.
 """

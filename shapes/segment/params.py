@@ -133,6 +133,12 @@ class SegmentationParams:
     """How many pixels of that window must lie farther than the pixel by the jump for it to be
     at a depth edge: one side of the window (a row or column of it beyond a straight edge),
     which a few scattered outliers do not make."""
+    measure_support: bool = True
+    """Whether each support that carries clusters (the largest plane, when none does) is
+    measured again over its main piece, weighed by the depth noise and robustly
+    (:mod:`shapes.segment.support_fit`), for the plane reported as the support
+    (:attr:`Segmentation.support`, the pipeline's support primitives); the clusters are cut,
+    and their objects fitted, with the plane search's plane."""
     sliver_samples: int = 200
     """How many of a cluster's pixels (evenly spread) :func:`edge_share` judges."""
     fragment_max_voxels: int = 40

@@ -26,6 +26,7 @@ from shapes.segment.params import SegmentationParams
 from shapes.segment.planes import in_world
 from shapes.segment.reach import Reach
 from shapes.segment.slivers import off_depth_edges
+from shapes.segment.support_fit import measured_support
 from shapes.segment.supports import judge_planes
 from shapes.segment.survey import Survey, depth_cut_m, survey
 from shapes.segment.tall import grown_upwards
@@ -38,14 +39,24 @@ log = logging.getLogger(__name__)
 @dataclass(frozen=True, eq=False)
 class Segmentation:
     """What :func:`segment` found: the support plane (None if none), the clusters on every
-    support, the supports that carry clusters, the depth noise at 1 m, and, when there is no
-    cluster, the reason in one line."""
+    support, the supports that carry clusters, the depth noise at 1 m, when there is no
+    cluster the reason in one line, and each support as found and as measured again."""
 
     support: SupportPlane | None
     clusters: tuple[Cluster, ...]
     supports: tuple[SupportPlane, ...] = ()
     noise_1m: float = 0.0
     reason: str | None = None
+    measured: tuple[tuple[SupportPlane, SupportPlane], ...] = ()
+    """Each support that carries clusters as the plane search found it (the plane the clusters
+    were cut with and their objects are fitted on, :attr:`Cluster.support`) beside the same
+    support measured again over its main piece (:mod:`shapes.segment.support_fit`), which is
+    the one reported in :attr:`support` and :attr:`supports`."""
+
+    def reported(self, plane: SupportPlane) -> SupportPlane:
+        """The support reported for a cluster's ``plane`` (its measured plane; ``plane``
+        itself when it was not measured again)."""
+        return next((m for found, m in self.measured if found is plane), plane)
 
 
 def segment(
@@ -164,8 +175,16 @@ def segment(
     for k, found in enumerate(kept):
         votes[k] = sum(len(c.voxels) for c in found)
         clusters += found
-    with_objects = [supports[k] for k in np.argsort(-votes, kind="stable") if votes[k] > 0]
-    primary = with_objects[0] if with_objects else supports[largest]
+    order = [int(k) for k in np.argsort(-votes, kind="stable") if votes[k] > 0]
+    # The clusters were cut, and their objects are fitted, with the plane search's planes;
+    # the support reported is its plane measured again over its main piece (support_fit).
+    reported = list(supports)
+    for k in (order or [largest]) if params.measure_support else []:
+        plane = horizontal[k]
+        table = np.flatnonzero(plane.inliers)[judged.region_of[id(plane)].piece]
+        reported[k] = measured_support(supports[k], voxels[table], scan.tolerance[table])
+    with_objects = [reported[k] for k in order]
+    primary = with_objects[0] if with_objects else reported[largest]
     reason = None
     if not clusters:
         if above < params.min_cluster_voxels:
@@ -184,4 +203,11 @@ def segment(
                 "or outliers"
             )
     log.debug("segmented %d points into %d clusters", len(points), len(clusters))
-    return Segmentation(primary, tuple(clusters), tuple(with_objects), sigma_1m, reason)
+    return Segmentation(
+        primary,
+        tuple(clusters),
+        tuple(with_objects),
+        sigma_1m,
+        reason,
+        tuple((supports[k], reported[k]) for k in order),
+    )

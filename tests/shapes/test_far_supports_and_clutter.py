@@ -2,25 +2,19 @@
 office_kinect; tests/data/real_scans/README.md). Expected values measured by hand
 (tests/data/real_scans/measure.py), compared in the sensor's optical frame."""
 
-import functools
 import json
 from pathlib import Path
 
 import numpy as np
 import pytest
 
-from shapes import FrameResult, Perception, PerceptionParams, ShapeKind, open_source
+from shapes import FrameResult, ShapeKind
 from shapes.artefacts import depth_noise_1m
 from shapes.segment import SegmentationParams, depth_cut_m
+from tests.shapes.real_scans import perceived
 
 SCANS = Path(__file__).parents[1] / "data" / "real_scans"
 TRUTH = json.loads((SCANS / "truth.json").read_text())
-
-
-@functools.cache
-def _without_pose(name: str) -> FrameResult:
-    frame = next(open_source(SCANS / f"{name}.npz"))
-    return Perception(PerceptionParams(gravity_from_scene=True), seed=0).process(frame)
 
 
 def _support_error(result: FrameResult, name: str) -> tuple[float, float, float]:
@@ -53,7 +47,7 @@ def _support_error(result: FrameResult, name: str) -> tuple[float, float, float]
 
 
 def test_a_floor_beyond_three_metres_is_the_support_of_the_office() -> None:
-    angle, at_camera, at_objects = _support_error(_without_pose("office_kinect"), "office_kinect")
+    angle, at_camera, at_objects = _support_error(perceived("office_kinect"), "office_kinect")
     assert angle < 5.0 and abs(at_camera) < 0.05 and at_objects < 0.02, (
         angle,
         at_camera,
@@ -62,7 +56,7 @@ def test_a_floor_beyond_three_metres_is_the_support_of_the_office() -> None:
 
 
 def test_the_desk_two_metres_away_is_found_within_two_centimetres_at_its_objects() -> None:
-    angle, at_camera, at_objects = _support_error(_without_pose("desk_tum"), "desk_tum")
+    angle, at_camera, at_objects = _support_error(perceived("desk_tum"), "desk_tum")
     assert angle < 5.0 and abs(at_camera) < 0.05 and at_objects < 0.02, (
         angle,
         at_camera,
@@ -70,19 +64,27 @@ def test_the_desk_two_metres_away_is_found_within_two_centimetres_at_its_objects
     )
 
 
-@pytest.mark.xfail(
-    strict=True,
-    reason="the supports measured over the whole visible support (stop 37) lie 2.3 cm (office) "
-    "and 3.1 cm (desk_tum) from the found ones at the camera; the issue's 2 cm there is not met",
-)
+@pytest.mark.parametrize("seed", [0, 1, 2])
 @pytest.mark.parametrize("name", ["office_kinect", "desk_tum"])
-def test_the_far_support_is_found_within_two_centimetres_at_the_camera(name: str) -> None:
-    angle, at_camera, _ = _support_error(_without_pose(name), name)
+def test_the_far_support_is_found_within_two_centimetres_at_the_camera(
+    name: str, seed: int
+) -> None:
+    """The reported support's height at the camera (the sensor's distance to the found plane
+    against its distance to the measured one) is within 2 cm on the two far supports, for each
+    of the plane search's seeds 0-2, and its normal within 5 degrees.
+
+    The plane search's own least-squares plane weighs its far, noisy rows as much as its near
+    ones: at seed 0 it lies 3.1 cm (desk_tum, 2.1-2.9 m away) and 2.3 cm (office_kinect, 3.2-4.4
+    m away) off at the camera. The plane measured again with the depth noise model
+    (:mod:`shapes.segment.support_fit`) lies 0.9 and 0.0 cm off.
+    """
+    result = perceived(name, seed)
+    angle, at_camera, _ = _support_error(result, name)
     assert angle < 5.0 and abs(at_camera) < 0.02, (angle, at_camera)
 
 
 def test_the_mug_on_the_far_desk_is_a_cylinder() -> None:
-    result = _without_pose("desk_tum")
+    result = perceived("desk_tum")
     back = np.linalg.inv(result.world_from_sensor)
     mug = np.asarray(TRUTH["desk_tum"]["mug"]["centre"])
     near = [
@@ -96,7 +98,7 @@ def test_the_mug_on_the_far_desk_is_a_cylinder() -> None:
 def test_the_chairs_in_front_of_the_desk_give_no_primitive_over_it() -> None:
     """The desk's plane also holds the chairs' seats and things across the room at its
     height; its objects are those over the desk itself (its main piece's outline)."""
-    result = _without_pose("desk_tum")
+    result = perceived("desk_tum")
     desk = result.support
     assert desk is not None and desk.extent is not None and desk.centre is not None
     assert desk.extent[1] < 1.2, desk.extent  # not 1.45 m: the chairs in front are no desk
@@ -122,3 +124,15 @@ def test_the_depth_cut_follows_the_noise_of_the_sensor() -> None:
     cuts = [depth_cut_m(sigma_1m, params) for sigma_1m in (0.001, 0.002, 0.003)]
     assert cuts[0] > cuts[1] > 3.0 > cuts[2]  # the old fixed cut lies between
     assert depth_cut_m(0.001, SegmentationParams(max_depth_m=2.0)) == 2.0
+
+
+def test_the_floor_seen_from_1_7_m_on_is_found_within_its_measured_spread() -> None:
+    """box_floor_kinect's floor, seen only 1.7-2.7 m away: the reported plane's normal within
+    1.5 degrees and its height within 1 cm where the measured boxes stand, at seed 0.
+
+    Its height at the camera (+2.1 cm, from +5.7 cm with the plane search's plane) is not
+    asserted within 2 cm: the ground truth's own planes, each through all of its boxes of bare
+    floor but one, lie up to 1.9 cm apart there (bench/support_truth.py), so the truth cannot
+    tell 2.1 cm from 2. The plane search's plane was 2.1 degrees and 1.5 cm off."""
+    angle, at_camera, at_objects = _support_error(perceived("box_floor_kinect"), "box_floor_kinect")
+    assert angle < 1.5 and at_objects < 0.01, (angle, at_camera, at_objects)

@@ -54,7 +54,7 @@ def _hanging_over_the_floor(params: SegmentationParams) -> list[float]:
     lowest = [
         float(c.support.signed_distance(c.voxels).min())
         for c in found.clusters
-        if c.support is not None and c.support is not found.support
+        if c.support is not None and found.reported(c.support) is not found.support
     ]
     return [h for h in lowest if h > 0.4]
 
