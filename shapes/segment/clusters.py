@@ -81,13 +81,14 @@ def clusters_on(
     many were too small. ``view``: the image's valid window, whose closed edges cut what crosses
     them (:mod:`shapes.view`)."""
     voxels, voxel_of, points, sigma_1m = kept.voxels, kept.voxel_of, kept.points, kept.sigma_1m
-    cloud = _cloud(voxels[candidates])
-    _, inliers = cloud.remove_statistical_outlier(
+    # open3d hands back the inliers' own cloud (their points in order): DBSCAN runs on it, not
+    # on a second copy of the same points.
+    inlier_cloud, inliers = _cloud(voxels[candidates]).remove_statistical_outlier(
         params.outlier_neighbours, params.outlier_std_ratio
     )
     candidates = candidates[np.asarray(inliers, dtype=np.intp)]
     labels = np.asarray(
-        _cloud(voxels[candidates]).cluster_dbscan(params.cluster_eps_m, params.cluster_min_points),
+        inlier_cloud.cluster_dbscan(params.cluster_eps_m, params.cluster_min_points),
         dtype=np.int64,
     )
     if params.split_touching:

@@ -27,6 +27,7 @@ import numpy.typing as npt
 from scipy import ndimage
 from scipy.spatial import cKDTree
 
+from shapes.arrays import norm3
 from shapes.types import FloatArray
 
 # The four forward neighbours on the pixel grid: right, down, down-right, down-left.
@@ -60,8 +61,10 @@ def surfaces(
     >>> labels.tolist(), front.tolist()
     ([0, 0, 0, 0, 1, 1, 1, 1], [[0, 1]])
     """
-    rows, cols = pixels // image_width, pixels % image_width
-    stride = int(np.gcd.reduce(np.r_[rows - rows.min(), cols - cols.min()])) or 1
+    rows, cols = np.divmod(pixels, image_width)
+    # The grid's step: the gcd of the distinct offsets (a few hundred), not of every point's two.
+    offsets = np.r_[rows - rows.min(), cols - cols.min()]
+    stride = int(np.gcd.reduce(np.flatnonzero(np.bincount(offsets)))) or 1
     r, c = (rows - rows.min()) // stride, (cols - cols.min()) // stride + 1
     grid = np.full((int(r.max()) + 2, int(c.max()) + 2), -1, dtype=np.int64)
     grid[r, c] = np.arange(len(points))
@@ -81,7 +84,7 @@ def surfaces(
         second.append(grid[rb, cb][over])
     a, b = np.concatenate(first), np.concatenate(second)
     step = np.abs(depth[a] - depth[b])
-    apart = np.linalg.norm(points[a] - points[b], axis=1)
+    apart = norm3(np.take(points, a, axis=0) - np.take(points, b, axis=0))
     across = np.sqrt(np.maximum(apart**2 - step**2, 0.0))
     steep = step > max_slope * across
     a, b = a[steep], b[steep]
@@ -109,8 +112,10 @@ def surfaces(
         on_surface < 0, return_distances=False, return_indices=True
     )
     labels = on_surface[near_r[r, c], near_c[r, c]]
-    _, labels = np.unique(labels, return_inverse=True)
-    labels = labels.astype(np.int64)
+    # Numbered 0, 1, ... in the order of the labels left (np.unique's inverse; the labels are
+    # small non-negative numbers, so a count of each stands in for its sort).
+    present = np.bincount(labels) > 0
+    labels = (np.cumsum(present) - 1)[labels].astype(np.int64)
     la, lb = labels[a], labels[b]
     cross = la != lb
     nearer = np.where(depth[a] < depth[b], la, lb)[cross]

@@ -56,13 +56,22 @@ def judge_planes(
     step."""
     planes = one_plane_per_band(planes, voxels, tolerance, params)
     level = [p for p in planes if p.horizontal]
-    judged = {id(p): _judged_voxels(p, voxels, level, params) for p in planes}
+    # A plane is judged against the other horizontal planes only (one under it, or a larger
+    # one it stands on): with none, it is neither a face nor a step, and its voxels are not
+    # worked out (a tabletop frame's only support, its largest plane).
+    judged = {
+        id(p): _judged_voxels(p, voxels, level, params)
+        for p in planes
+        if any(q is not p for q in level)
+    }
     faces = {
-        id(p) for p in planes if _faces_on(judged[id(p)], [q for q in level if q is not p], params)
+        id(p)
+        for p in planes
+        if id(p) in judged and _faces_on(judged[id(p)], [q for q in level if q is not p], params)
     }
     steps: set[int] = set()
     for p in planes:
-        if id(p) in faces:
+        if id(p) in faces or id(p) not in judged:
             continue
         below = _standing_on(voxels, judged[id(p)], p, level, params)
         if below is None:
