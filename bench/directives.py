@@ -55,7 +55,6 @@ import argparse
 import http.client
 import json
 import os
-import socket
 import statistics
 import subprocess
 import sys
@@ -76,10 +75,15 @@ from ontologies.vocab import reference_graph
 from reasoners.owl_rl import materialise
 from reasoners.owl_rl.synthetic import EX, scene_ontology
 
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 sys.path.insert(0, str(Path(__file__).parent))
 from reasoning import owlrl_closure
 
+from bench.timing import load_average
+from tests.conftest import free_port
+
 ROOT = Path(__file__).resolve().parent.parent
+
 SERVER = """
 import sys, uvicorn
 from api.config import Settings
@@ -140,24 +144,12 @@ uvicorn.run(app, host="127.0.0.1", port=int(sys.argv[2]), log_level="warning", a
 Directive = dict[str, Any]
 
 
-def _free_port() -> int:
-    with socket.socket() as probe:
-        probe.bind(("127.0.0.1", 0))
-        port: int = probe.getsockname()[1]
-        return port
-
-
-def _load_average() -> str:
-    one, five, fifteen = os.getloadavg()
-    return f"load average {one:.2f} {five:.2f} {fifteen:.2f} on {os.cpu_count()} CPUs"
-
-
 class Server:
     """``uvicorn`` serving the app in a child process, over a fresh data directory; the app of
     the checkout at ``root`` (this one by default)."""
 
     def __init__(self, data: str, code: str = SERVER, root: Path = ROOT) -> None:
-        self.port = _free_port()
+        self.port = free_port()
         self.url = f"http://127.0.0.1:{self.port}"
         env = {**os.environ, "PYTHONPATH": str(root)}
         self.process = subprocess.Popen(
@@ -315,7 +307,7 @@ def in_process(seconds: float) -> float:
 def throughput(seconds: float, *, lean: bool) -> None:
     client = "http.client" if lean else "httpx"
     print(f"# ARMOR simple directives (ADD IND CLASS / QUERY IND alternating), {client} clients")
-    print(f"  {_load_average()}")
+    print(f"  {load_average()}")
     with tempfile.TemporaryDirectory(prefix="engram-bench-") as data:
         bare_server = Server(data, BARE)
         server = Server(data)
@@ -350,7 +342,7 @@ def throughput(seconds: float, *, lean: bool) -> None:
         f"  baseline in-process engine, no HTTP, 1 thread: {local:8.0f} directives/s "
         f"(HTTP with 8 clients = {eight / local:.2f}x)"
     )
-    print(f"  {_load_average()}")
+    print(f"  {load_average()}")
 
 
 def against(other: Path, seconds: float, rounds: int, *, lean: bool, floors: bool) -> None:
@@ -359,7 +351,7 @@ def against(other: Path, seconds: float, rounds: int, *, lean: bool, floors: boo
     ``floors``, the two floors (uvicorn and FastAPI answering a fixed body, uvicorn alone) in
     the same turns."""
     print(f"# ARMOR simple directives, 8 clients: this checkout against {other}")
-    print(f"  {_load_average()}")
+    print(f"  {load_average()}")
     names = ["this", "other"] + (["fastapi floor", "uvicorn floor"] if floors else [])
     figures: dict[str, list[tuple[float, float | None]]] = {name: [] for name in names}
     with tempfile.TemporaryDirectory(prefix="engram-bench-") as data:
@@ -399,7 +391,7 @@ def against(other: Path, seconds: float, rounds: int, *, lean: bool, floors: boo
     if cpu is not None and other_cpu is not None:
         line += f"; median server CPU a request this ÷ other: {cpu / other_cpu:.2f}"
     print(line)
-    print(f"  {_load_average()}")
+    print(f"  {load_average()}")
 
 
 # REASON -----------------------------------------------------------------------------------------
@@ -488,7 +480,7 @@ def _http_list(http: httpx.Client) -> Callable[[list[Directive]], None]:
 
 
 def reason(sizes: list[int], owlrl_50k: bool, runs: int) -> None:
-    print(f"# REASON through the directive engine vs owlrl {owlrl.__version__}; {_load_average()}")
+    print(f"# REASON through the directive engine vs owlrl {owlrl.__version__}; {load_average()}")
     with tempfile.TemporaryDirectory(prefix="engram-bench-") as tmp:
         work = Path(tmp)
         engine: ArmorEngine | None = None
@@ -570,7 +562,7 @@ def reason(sizes: list[int], owlrl_50k: bool, runs: int) -> None:
                 print(_summary("HTTP: one list [5 ADDs, REASON]", whole_list))
         finally:
             server.stop()
-    print(f"  {_load_average()}")
+    print(f"  {load_average()}")
 
 
 # Long lists -------------------------------------------------------------------------------------
@@ -578,7 +570,7 @@ def reason(sizes: list[int], owlrl_50k: bool, runs: int) -> None:
 
 def long_lists(lengths: list[int]) -> None:
     """Time one list of N ADD directives per length, over HTTP, against the first length."""
-    print(f"\nlong directive lists, one request each ({_load_average()})")
+    print(f"\nlong directive lists, one request each ({load_average()})")
     with tempfile.TemporaryDirectory() as data:
         server = Server(data)
         try:

@@ -26,6 +26,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 from api.config import Settings
 from api.main import create_app
 from api.views import timeline
+from bench.timing import median_s
 from episodes import ArgumentSpec, EpisodeMemory, lifecycle
 from episodes.terms import episode_iri
 from kg import Store
@@ -33,16 +34,6 @@ from kg import Store
 START = dt.datetime(2025, 1, 1, tzinfo=dt.UTC)
 VIEW_PAGE = "/views/episodes?limit=200&newest=true"
 """What the Episodes page asks for (api/web/episodes.js)."""
-
-
-def timed(call: Callable[[], object], repeat: int) -> float:
-    """Median seconds of ``repeat`` calls."""
-    samples = []
-    for _ in range(repeat):
-        began = time.perf_counter()
-        call()
-        samples.append(time.perf_counter() - began)
-    return statistics.median(samples)
 
 
 def cpu_timed(call: Callable[[], object], repeat: int) -> float:
@@ -120,8 +111,8 @@ def run(data_dir: Path, episodes: int, repeat: int) -> None:
             "GET /views/episodes?limit=500": lambda: client.get("/views/episodes?limit=500"),
             "GET the view's page (newest 200)": lambda: client.get(VIEW_PAGE),
         }
-        figures = {name: timed(call, repeat) for name, call in cases.items()}
-        figures["before: read, 500 (once)"] = timed(lambda: before(memory, 500), 1)
+        figures = {name: median_s(call, repeat) for name, call in cases.items()}
+        figures["before: read, 500 (once)"] = median_s(lambda: before(memory, 500), 1)
         cpu = cpu_timed(lambda: timeline.episode_list(memory, offset=0, limit=500), repeat)
         print(f"timeline read, 500: {cpu * 1000:.0f} ms of CPU (median of {repeat})")
     baseline = figures["point lookup (baseline)"]

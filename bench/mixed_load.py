@@ -38,7 +38,6 @@ import http.client
 import json
 import os
 import random
-import socket
 import statistics
 import subprocess
 import sys
@@ -51,6 +50,7 @@ from urllib.parse import urlencode
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 from api.client._memory import Primitive, primitive_directives  # noqa: E402
+from tests.conftest import free_port  # noqa: E402
 
 SERVER = """
 import sys, uvicorn
@@ -70,18 +70,11 @@ JOIN = (
 )
 
 
-def _free_port() -> int:
-    with socket.socket() as probe:
-        probe.bind(("127.0.0.1", 0))
-        port: int = probe.getsockname()[1]
-        return port
-
-
 class Server:
     """``uvicorn`` serving the app in a child process, over a fresh data directory."""
 
     def __init__(self, data: str, **settings: str) -> None:
-        self.port = _free_port()
+        self.port = free_port()
         env = os.environ | {f"ENGRAM_{name.upper()}": value for name, value in settings.items()}
         self.process = subprocess.Popen(
             [sys.executable, "-c", SERVER, data, str(self.port)], cwd=ROOT, env=env
