@@ -45,19 +45,6 @@ class RosArmor:
         return self.list([self.request(d) for d in directives])
 
 
-def directive(
-    command: str, first: str = "", second: str = "", args: list[str] | None = None, *, ref: str
-) -> ArmorDirectiveReq:
-    return ArmorDirectiveReq(
-        client_name="tester",
-        reference_name=ref,
-        command=command,
-        primary_command_spec=first,
-        secondary_command_spec=second,
-        args=args or [],
-    )
-
-
 @pytest.fixture(autouse=True)
 def _rospy_sockets() -> Iterator[None]:
     """rospy leaves sockets of its XML-RPC connections unclosed (their warnings are ignored)."""
