@@ -56,7 +56,6 @@ import http.client
 import json
 import os
 import statistics
-import subprocess
 import sys
 import tempfile
 import threading
@@ -79,8 +78,8 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 sys.path.insert(0, str(Path(__file__).parent))
 from reasoning import owlrl_closure
 
+from bench.servers import ChildServer
 from bench.timing import load_average
-from tests.conftest import free_port
 
 ROOT = Path(__file__).resolve().parent.parent
 
@@ -142,33 +141,6 @@ uvicorn.run(app, host="127.0.0.1", port=int(sys.argv[2]), log_level="warning", a
 """
 """The floor of uvicorn alone: a plain ASGI app that reads the body and answers a fixed body."""
 Directive = dict[str, Any]
-
-
-class Server:
-    """``uvicorn`` serving the app in a child process, over a fresh data directory; the app of
-    the checkout at ``root`` (this one by default)."""
-
-    def __init__(self, data: str, code: str = SERVER, root: Path = ROOT) -> None:
-        self.port = free_port()
-        self.url = f"http://127.0.0.1:{self.port}"
-        env = {**os.environ, "PYTHONPATH": str(root)}
-        self.process = subprocess.Popen(
-            [sys.executable, "-c", code, data, str(self.port)], cwd=root, env=env
-        )
-        deadline = time.monotonic() + 60
-        while True:
-            try:
-                httpx.get(self.url + "/health", timeout=1).raise_for_status()
-                return
-            except httpx.HTTPError:
-                if time.monotonic() > deadline or self.process.poll() is not None:
-                    self.stop()
-                    raise RuntimeError("the bench server did not start") from None
-                time.sleep(0.1)
-
-    def stop(self) -> None:
-        self.process.terminate()
-        self.process.wait(timeout=30)
 
 
 def _request(
@@ -267,7 +239,7 @@ def _cpu_seconds(pid: int) -> float | None:
     return (int(fields[11]) + int(fields[12])) / os.sysconf("SC_CLK_TCK")
 
 
-def run_measured(server: "Server", clients: int, seconds: float, path: str, lean: bool) -> str:
+def run_measured(server: ChildServer, clients: int, seconds: float, path: str, lean: bool) -> str:
     """``run_clients``, with the server's CPU time per request: on a shared machine the rate
     depends on the other load, the CPU time much less."""
     rate, cpu, share = _measure(server, clients, seconds, path, lean)
@@ -277,7 +249,7 @@ def run_measured(server: "Server", clients: int, seconds: float, path: str, lean
 
 
 def _measure(
-    server: "Server", clients: int, seconds: float, path: str, lean: bool
+    server: ChildServer, clients: int, seconds: float, path: str, lean: bool
 ) -> tuple[float, float | None, float]:
     """Requests per second, the server's CPU µs per request (None without /proc), and the
     share of a core the server used."""
@@ -309,8 +281,8 @@ def throughput(seconds: float, *, lean: bool) -> None:
     print(f"# ARMOR simple directives (ADD IND CLASS / QUERY IND alternating), {client} clients")
     print(f"  {load_average()}")
     with tempfile.TemporaryDirectory(prefix="engram-bench-") as data:
-        bare_server = Server(data, BARE)
-        server = Server(data)
+        bare_server = ChildServer(data, BARE)
+        server = ChildServer(data, SERVER)
         try:
             response = httpx.post(
                 server.url + "/armor_interface_srv", json={"armor_request": _load("bench")}
@@ -356,12 +328,12 @@ def against(other: Path, seconds: float, rounds: int, *, lean: bool, floors: boo
     figures: dict[str, list[tuple[float, float | None]]] = {name: [] for name in names}
     with tempfile.TemporaryDirectory(prefix="engram-bench-") as data:
         servers = {
-            "this": Server(str(Path(data) / "this")),
-            "other": Server(str(Path(data) / "other"), root=other),
+            "this": ChildServer(str(Path(data) / "this"), SERVER),
+            "other": ChildServer(str(Path(data) / "other"), SERVER, root=other),
         }
         if floors:
-            servers["fastapi floor"] = Server(data, FLOOR_FASTAPI)
-            servers["uvicorn floor"] = Server(data, FLOOR_ASGI)
+            servers["fastapi floor"] = ChildServer(data, FLOOR_FASTAPI)
+            servers["uvicorn floor"] = ChildServer(data, FLOOR_ASGI)
         try:
             for name, server in servers.items():
                 if "floor" not in name:
@@ -547,7 +519,7 @@ def reason(sizes: list[int], owlrl_50k: bool, runs: int) -> None:
         same = _inferred(engine.store, "onto") == _inferred(fresh, "onto")
         print(f"  incremental result equals a full REASON: {same}")
         del engine
-        server = Server(str(work / "server"))
+        server = ChildServer(str(work / "server"), SERVER)
         try:
             with httpx.Client(base_url=server.url, timeout=600) as http:
                 send = _http_list(http)
@@ -572,7 +544,7 @@ def long_lists(lengths: list[int]) -> None:
     """Time one list of N ADD directives per length, over HTTP, against the first length."""
     print(f"\nlong directive lists, one request each ({load_average()})")
     with tempfile.TemporaryDirectory() as data:
-        server = Server(data)
+        server = ChildServer(data, SERVER)
         try:
             with httpx.Client(base_url=server.url, timeout=600) as http:
                 base: float | None = None
