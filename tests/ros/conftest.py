@@ -55,8 +55,14 @@ def _rospy_sockets() -> Iterator[None]:
 
 @pytest.fixture(autouse=True, scope="module")
 def _collect_rospy_sockets() -> Iterator[None]:
-    """Those of them in reference cycles: collected before the next module's tests."""
+    """Those of them in reference cycles: collected before the next module's tests. And the
+    connections rospy keeps to each master it called (its XML-RPC proxies, cached for the
+    process's life), closed: left open, they are reported at the interpreter's exit, after
+    pytest's summary (run ``-p tests.open_sockets`` to see)."""
     yield
+    for proxy in rospy.core._xmlrpc_cache.values():
+        proxy("close")()
+    rospy.core._xmlrpc_cache.clear()
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", ResourceWarning)
         gc.collect()
