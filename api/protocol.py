@@ -18,8 +18,6 @@ same dataclass.
 
 from pydantic import BaseModel, ConfigDict, Field
 
-from kg.primitive import Primitive
-
 __all__ = [
     "ArmorDirectiveListReq",
     "ArmorDirectiveListRes",
@@ -27,7 +25,6 @@ __all__ = [
     "ArmorDirectiveRes",
     "ArmorRequest",
     "ArmorResponse",
-    "Primitive",
     "QueryItem",
 ]
 

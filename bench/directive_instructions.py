@@ -36,7 +36,6 @@ import json
 import os
 import re
 import signal
-import socket
 import subprocess
 import sys
 import tempfile
@@ -45,6 +44,10 @@ from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
+sys.path.insert(0, str(ROOT))
+from bench.timing import load_average  # noqa: E402
+from tests.conftest import free_port  # noqa: E402
+
 CHILD = r"""
 import asyncio, json, os, subprocess, sys, tempfile
 from pathlib import Path
@@ -110,11 +113,6 @@ asyncio.run(main())
 """
 
 
-def _load_average() -> str:
-    one, five, fifteen = os.getloadavg()
-    return f"load average {one:.2f} {five:.2f} {fifteen:.2f} on {os.cpu_count()} CPUs"
-
-
 def instructions(root: Path, count: int, null: bool) -> int:
     """Instructions of one child run over the checkout at ``root``."""
     with tempfile.TemporaryDirectory(prefix="engram-callgrind-") as work:
@@ -174,9 +172,7 @@ def server_per_request(root: Path, count: int) -> float:
 
     with tempfile.TemporaryDirectory(prefix="engram-callgrind-") as work:
         out = Path(work) / "callgrind.out"
-        with socket.socket() as probe:
-            probe.bind(("127.0.0.1", 0))
-            port = probe.getsockname()[1]
+        port = free_port()
         command = ["valgrind", "--tool=callgrind", "--instr-atstart=no"]
         command += [f"--callgrind-out-file={out}", sys.executable, "-c", SERVER, work, str(port)]
         # the upkeep every sleep_check_s (a store flush...) would be counted by wall time
@@ -250,7 +246,7 @@ def main() -> None:
     else:
         what = "HTTP layers alone (fixed answer)" if options.null else "whole directive"
         print(f"# ARMOR simple directive, in-process ASGI, callgrind: {what}")
-    print(f"  {_load_average()}")
+    print(f"  {load_average()}")
 
     def count(root: Path) -> float:
         if options.server:
@@ -268,7 +264,7 @@ def main() -> None:
             other = count(options.against.resolve())
         print(f"  {options.against}: {other / 1000:.0f}k instructions a request")
         print(f"  this ÷ other: {this / other:.2f}")
-    print(f"  {_load_average()}")
+    print(f"  {load_average()}")
 
 
 if __name__ == "__main__":

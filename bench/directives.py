@@ -55,9 +55,7 @@ import argparse
 import http.client
 import json
 import os
-import socket
 import statistics
-import subprocess
 import sys
 import tempfile
 import threading
@@ -76,10 +74,15 @@ from ontologies.vocab import reference_graph
 from reasoners.owl_rl import materialise
 from reasoners.owl_rl.synthetic import EX, scene_ontology
 
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 sys.path.insert(0, str(Path(__file__).parent))
 from reasoning import owlrl_closure
 
+from bench.servers import ChildServer
+from bench.timing import load_average
+
 ROOT = Path(__file__).resolve().parent.parent
+
 SERVER = """
 import sys, uvicorn
 from api.config import Settings
@@ -138,45 +141,6 @@ uvicorn.run(app, host="127.0.0.1", port=int(sys.argv[2]), log_level="warning", a
 """
 """The floor of uvicorn alone: a plain ASGI app that reads the body and answers a fixed body."""
 Directive = dict[str, Any]
-
-
-def _free_port() -> int:
-    with socket.socket() as probe:
-        probe.bind(("127.0.0.1", 0))
-        port: int = probe.getsockname()[1]
-        return port
-
-
-def _load_average() -> str:
-    one, five, fifteen = os.getloadavg()
-    return f"load average {one:.2f} {five:.2f} {fifteen:.2f} on {os.cpu_count()} CPUs"
-
-
-class Server:
-    """``uvicorn`` serving the app in a child process, over a fresh data directory; the app of
-    the checkout at ``root`` (this one by default)."""
-
-    def __init__(self, data: str, code: str = SERVER, root: Path = ROOT) -> None:
-        self.port = _free_port()
-        self.url = f"http://127.0.0.1:{self.port}"
-        env = {**os.environ, "PYTHONPATH": str(root)}
-        self.process = subprocess.Popen(
-            [sys.executable, "-c", code, data, str(self.port)], cwd=root, env=env
-        )
-        deadline = time.monotonic() + 60
-        while True:
-            try:
-                httpx.get(self.url + "/health", timeout=1).raise_for_status()
-                return
-            except httpx.HTTPError:
-                if time.monotonic() > deadline or self.process.poll() is not None:
-                    self.stop()
-                    raise RuntimeError("the bench server did not start") from None
-                time.sleep(0.1)
-
-    def stop(self) -> None:
-        self.process.terminate()
-        self.process.wait(timeout=30)
 
 
 def _request(
@@ -275,7 +239,7 @@ def _cpu_seconds(pid: int) -> float | None:
     return (int(fields[11]) + int(fields[12])) / os.sysconf("SC_CLK_TCK")
 
 
-def run_measured(server: "Server", clients: int, seconds: float, path: str, lean: bool) -> str:
+def run_measured(server: ChildServer, clients: int, seconds: float, path: str, lean: bool) -> str:
     """``run_clients``, with the server's CPU time per request: on a shared machine the rate
     depends on the other load, the CPU time much less."""
     rate, cpu, share = _measure(server, clients, seconds, path, lean)
@@ -285,7 +249,7 @@ def run_measured(server: "Server", clients: int, seconds: float, path: str, lean
 
 
 def _measure(
-    server: "Server", clients: int, seconds: float, path: str, lean: bool
+    server: ChildServer, clients: int, seconds: float, path: str, lean: bool
 ) -> tuple[float, float | None, float]:
     """Requests per second, the server's CPU µs per request (None without /proc), and the
     share of a core the server used."""
@@ -315,10 +279,10 @@ def in_process(seconds: float) -> float:
 def throughput(seconds: float, *, lean: bool) -> None:
     client = "http.client" if lean else "httpx"
     print(f"# ARMOR simple directives (ADD IND CLASS / QUERY IND alternating), {client} clients")
-    print(f"  {_load_average()}")
+    print(f"  {load_average()}")
     with tempfile.TemporaryDirectory(prefix="engram-bench-") as data:
-        bare_server = Server(data, BARE)
-        server = Server(data)
+        bare_server = ChildServer(data, BARE)
+        server = ChildServer(data, SERVER)
         try:
             response = httpx.post(
                 server.url + "/armor_interface_srv", json={"armor_request": _load("bench")}
@@ -350,7 +314,7 @@ def throughput(seconds: float, *, lean: bool) -> None:
         f"  baseline in-process engine, no HTTP, 1 thread: {local:8.0f} directives/s "
         f"(HTTP with 8 clients = {eight / local:.2f}x)"
     )
-    print(f"  {_load_average()}")
+    print(f"  {load_average()}")
 
 
 def against(other: Path, seconds: float, rounds: int, *, lean: bool, floors: bool) -> None:
@@ -359,17 +323,17 @@ def against(other: Path, seconds: float, rounds: int, *, lean: bool, floors: boo
     ``floors``, the two floors (uvicorn and FastAPI answering a fixed body, uvicorn alone) in
     the same turns."""
     print(f"# ARMOR simple directives, 8 clients: this checkout against {other}")
-    print(f"  {_load_average()}")
+    print(f"  {load_average()}")
     names = ["this", "other"] + (["fastapi floor", "uvicorn floor"] if floors else [])
     figures: dict[str, list[tuple[float, float | None]]] = {name: [] for name in names}
     with tempfile.TemporaryDirectory(prefix="engram-bench-") as data:
         servers = {
-            "this": Server(str(Path(data) / "this")),
-            "other": Server(str(Path(data) / "other"), root=other),
+            "this": ChildServer(str(Path(data) / "this"), SERVER),
+            "other": ChildServer(str(Path(data) / "other"), SERVER, root=other),
         }
         if floors:
-            servers["fastapi floor"] = Server(data, FLOOR_FASTAPI)
-            servers["uvicorn floor"] = Server(data, FLOOR_ASGI)
+            servers["fastapi floor"] = ChildServer(data, FLOOR_FASTAPI)
+            servers["uvicorn floor"] = ChildServer(data, FLOOR_ASGI)
         try:
             for name, server in servers.items():
                 if "floor" not in name:
@@ -399,7 +363,7 @@ def against(other: Path, seconds: float, rounds: int, *, lean: bool, floors: boo
     if cpu is not None and other_cpu is not None:
         line += f"; median server CPU a request this ÷ other: {cpu / other_cpu:.2f}"
     print(line)
-    print(f"  {_load_average()}")
+    print(f"  {load_average()}")
 
 
 # REASON -----------------------------------------------------------------------------------------
@@ -488,7 +452,7 @@ def _http_list(http: httpx.Client) -> Callable[[list[Directive]], None]:
 
 
 def reason(sizes: list[int], owlrl_50k: bool, runs: int) -> None:
-    print(f"# REASON through the directive engine vs owlrl {owlrl.__version__}; {_load_average()}")
+    print(f"# REASON through the directive engine vs owlrl {owlrl.__version__}; {load_average()}")
     with tempfile.TemporaryDirectory(prefix="engram-bench-") as tmp:
         work = Path(tmp)
         engine: ArmorEngine | None = None
@@ -555,7 +519,7 @@ def reason(sizes: list[int], owlrl_50k: bool, runs: int) -> None:
         same = _inferred(engine.store, "onto") == _inferred(fresh, "onto")
         print(f"  incremental result equals a full REASON: {same}")
         del engine
-        server = Server(str(work / "server"))
+        server = ChildServer(str(work / "server"), SERVER)
         try:
             with httpx.Client(base_url=server.url, timeout=600) as http:
                 send = _http_list(http)
@@ -570,7 +534,7 @@ def reason(sizes: list[int], owlrl_50k: bool, runs: int) -> None:
                 print(_summary("HTTP: one list [5 ADDs, REASON]", whole_list))
         finally:
             server.stop()
-    print(f"  {_load_average()}")
+    print(f"  {load_average()}")
 
 
 # Long lists -------------------------------------------------------------------------------------
@@ -578,9 +542,9 @@ def reason(sizes: list[int], owlrl_50k: bool, runs: int) -> None:
 
 def long_lists(lengths: list[int]) -> None:
     """Time one list of N ADD directives per length, over HTTP, against the first length."""
-    print(f"\nlong directive lists, one request each ({_load_average()})")
+    print(f"\nlong directive lists, one request each ({load_average()})")
     with tempfile.TemporaryDirectory() as data:
-        server = Server(data)
+        server = ChildServer(data, SERVER)
         try:
             with httpx.Client(base_url=server.url, timeout=600) as http:
                 base: float | None = None

@@ -12,11 +12,9 @@ Target (issue 32): the view's read under 300 ms at 10,000 episodes.
 import argparse
 import datetime as dt
 import gc
-import statistics
 import sys
 import tempfile
 import time
-from collections.abc import Callable
 from pathlib import Path
 
 from fastapi.testclient import TestClient
@@ -26,6 +24,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 from api.config import Settings
 from api.main import create_app
 from api.views import timeline
+from bench.timing import median_s
 from episodes import ArgumentSpec, EpisodeMemory, lifecycle
 from episodes.terms import episode_iri
 from kg import Store
@@ -33,27 +32,6 @@ from kg import Store
 START = dt.datetime(2025, 1, 1, tzinfo=dt.UTC)
 VIEW_PAGE = "/views/episodes?limit=200&newest=true"
 """What the Episodes page asks for (api/web/episodes.js)."""
-
-
-def timed(call: Callable[[], object], repeat: int) -> float:
-    """Median seconds of ``repeat`` calls."""
-    samples = []
-    for _ in range(repeat):
-        began = time.perf_counter()
-        call()
-        samples.append(time.perf_counter() - began)
-    return statistics.median(samples)
-
-
-def cpu_timed(call: Callable[[], object], repeat: int) -> float:
-    """Median CPU seconds of this thread over ``repeat`` calls: on a shared, loaded machine
-    the figure that waiting for a core does not inflate."""
-    samples = []
-    for _ in range(repeat):
-        began = time.thread_time()
-        call()
-        samples.append(time.thread_time() - began)
-    return statistics.median(samples)
 
 
 def build(memory: EpisodeMemory, count: int) -> None:
@@ -109,8 +87,9 @@ def main() -> None:
 
 
 def run(data_dir: Path, episodes: int, repeat: int) -> None:
-    with TestClient(create_app(Settings(data_dir=data_dir))) as client:
-        memory = client.app.state.episodes  # type: ignore[attr-defined]
+    app = create_app(Settings(data_dir=data_dir))
+    with TestClient(app, base_url="http://127.0.0.1") as client:
+        memory = client.app.state.services.episodes  # type: ignore[attr-defined]
         assert client.get("/views/episodes?limit=1").json()["total"] == episodes
         cases = {
             "point lookup (baseline)": lambda: memory.store.select(
@@ -120,9 +99,13 @@ def run(data_dir: Path, episodes: int, repeat: int) -> None:
             "GET /views/episodes?limit=500": lambda: client.get("/views/episodes?limit=500"),
             "GET the view's page (newest 200)": lambda: client.get(VIEW_PAGE),
         }
-        figures = {name: timed(call, repeat) for name, call in cases.items()}
-        figures["before: read, 500 (once)"] = timed(lambda: before(memory, 500), 1)
-        cpu = cpu_timed(lambda: timeline.episode_list(memory, offset=0, limit=500), repeat)
+        figures = {name: median_s(call, repeat) for name, call in cases.items()}
+        figures["before: read, 500 (once)"] = median_s(lambda: before(memory, 500), 1)
+        cpu = median_s(
+            lambda: timeline.episode_list(memory, offset=0, limit=500),
+            repeat,
+            clock=time.thread_time,
+        )
         print(f"timeline read, 500: {cpu * 1000:.0f} ms of CPU (median of {repeat})")
     baseline = figures["point lookup (baseline)"]
     print(f"{'read':<32} {'ms':>9} {'x point lookup':>15}")

@@ -10,26 +10,20 @@ time grows with the size of the answer, so it is not held to the cue target.
 
 import argparse
 import datetime as dt
-import statistics
+import sys
 import time
 from collections.abc import Callable
+from pathlib import Path
 
 from pyoxigraph import Literal, NamedNode
 
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
+
+from bench.timing import median_s
 from episodes import ArgumentSpec, Cue, EpisodeMemory, cues, lifecycle
 from episodes.terms import episode_iri
 from episodes.times import to_literal
 from kg import Store
-
-
-def timed(call: Callable[[], object], repeat: int) -> float:
-    """Median seconds of ``repeat`` calls."""
-    samples = []
-    for _ in range(repeat):
-        start = time.perf_counter()
-        call()
-        samples.append(time.perf_counter() - start)
-    return statistics.median(samples)
 
 
 def summaries_by_query(store: Store, episodes: list[NamedNode]) -> list[object]:
@@ -95,7 +89,9 @@ def main() -> None:
         )
     print(f"{args.episodes} episodes written in {time.perf_counter() - t0:.1f} s")
     store = memory.store
-    baseline = timed(lambda: store.select("episodes_get", episode=episode_iri("e1")), args.repeat)
+    baseline = median_s(
+        lambda: store.select("episodes_get", episode=episode_iri("e1")), args.repeat
+    )
     cases: dict[str, Callable[[], object]] = {
         "last time (activity)": lambda: memory.recall(Cue("babbling"), which="last"),
         "first time (agent, object)": lambda: memory.recall(
@@ -118,18 +114,18 @@ def main() -> None:
     print(f"{'point lookup (baseline)':<28} {baseline * 1000:8.2f} {1.0:15.1f}")
     worst = 0.0
     for name, call in cases.items():
-        seconds = timed(call, args.repeat)
+        seconds = median_s(call, args.repeat)
         worst = max(worst, seconds)
         print(f"{name:<28} {seconds * 1000:8.2f} {seconds / baseline:15.1f}")
     answers = len(memory.all(Cue("give")))
-    listing = timed(lambda: memory.all(Cue("give")), args.repeat)
+    listing = median_s(lambda: memory.all(Cue("give")), args.repeat)
     print(
         f"{'listing: all (activity)':<28} {listing * 1000:8.2f} {listing / baseline:15.1f}"
         f"   ({answers} answers, {listing / answers * 1e6:.1f} us each)"
     )
     print("before the time index and the summaries' pattern reads (same store, same run):")
     for name, call in before_the_indexes(store, start, args.episodes).items():
-        old, new = timed(call, args.repeat), timed(cases[name], args.repeat)
+        old, new = median_s(call, args.repeat), median_s(cases[name], args.repeat)
         print(f"  {name:<26} {old * 1000:8.2f} -> {new * 1000:6.2f} ms  ({old / new:.1f}x)")
     verdict = "met" if worst < 0.020 else "NOT met"
     print(f"slowest cue median {worst * 1000:.2f} ms: target < 20 ms {verdict}")

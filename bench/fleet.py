@@ -36,7 +36,6 @@ import os
 import random
 import shutil
 import signal
-import socket
 import statistics
 import subprocess
 import sys
@@ -63,6 +62,7 @@ from kg.remote import Change
 from reasoners.follow import apply_change
 from reasoners.memory import SceneMemory
 from reasoners.signature import Signature
+from tests.conftest import free_port
 
 SEED = 20251123
 BIN = Path(sys.executable).parent
@@ -82,13 +82,6 @@ class CountedReads(ObjectStore):
         self.reads += 1
         self.bytes_read += len(data)
         return data
-
-
-def free_port() -> int:
-    with socket.socket() as probe:
-        probe.bind(("127.0.0.1", 0))
-        port: int = probe.getsockname()[1]
-        return port
 
 
 def start(command: list[str], probe: str) -> subprocess.Popen[bytes]:

@@ -41,6 +41,9 @@ import tempfile
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
+sys.path.insert(0, str(ROOT))
+from bench.timing import load_average  # noqa: E402
+
 TARGET_MS = 100.0
 SUBJECTS = {
     "api.client": "import api.client",
@@ -62,11 +65,6 @@ started = time.process_time()
 {statement}
 print(time.process_time() - started)
 """
-
-
-def _load_average() -> str:
-    one, five, fifteen = os.getloadavg()
-    return f"load average {one:.2f} {five:.2f} {fifteen:.2f} on {os.cpu_count()} CPUs"
 
 
 def _once(python: str, statement: str, cache: str, root: Path = ROOT) -> tuple[float, float]:
@@ -132,7 +130,7 @@ def main() -> None:
         check=True,
     ).stdout.split()
     print(f"# import api.client: {options.python} (httpx {version[0]}, pydantic {version[1]})")
-    print(f"  {_load_average()}")
+    print(f"  {load_average()}")
     figures = measure(options.python, options.runs, options.against)
     for name, (wall, cpu) in figures.items():
         print(
@@ -146,7 +144,7 @@ def main() -> None:
         f"  target importtime < {TARGET_MS:.0f} ms: {verdict}; ours above the floor: "
         f"{wall - floor_wall:.1f} ms importtime, {cpu - floor_cpu:.1f} ms CPU"
     )
-    print(f"  {_load_average()}")
+    print(f"  {load_average()}")
 
 
 if __name__ == "__main__":

@@ -38,9 +38,7 @@ import http.client
 import json
 import os
 import random
-import socket
 import statistics
-import subprocess
 import sys
 import tempfile
 import threading
@@ -51,6 +49,7 @@ from urllib.parse import urlencode
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 from api.client._memory import Primitive, primitive_directives  # noqa: E402
+from bench.servers import ChildServer  # noqa: E402
 
 SERVER = """
 import sys, uvicorn
@@ -68,41 +67,6 @@ JOIN = (
     "SELECT ?i ?c ?label WHERE { ?i a ?c . ?c a <http://www.w3.org/2002/07/owl#Class> . "
     "OPTIONAL { ?c <http://www.w3.org/2000/01/rdf-schema#label> ?label } } LIMIT 20"
 )
-
-
-def _free_port() -> int:
-    with socket.socket() as probe:
-        probe.bind(("127.0.0.1", 0))
-        port: int = probe.getsockname()[1]
-        return port
-
-
-class Server:
-    """``uvicorn`` serving the app in a child process, over a fresh data directory."""
-
-    def __init__(self, data: str, **settings: str) -> None:
-        self.port = _free_port()
-        env = os.environ | {f"ENGRAM_{name.upper()}": value for name, value in settings.items()}
-        self.process = subprocess.Popen(
-            [sys.executable, "-c", SERVER, data, str(self.port)], cwd=ROOT, env=env
-        )
-        deadline = time.monotonic() + 60
-        while True:
-            try:
-                connection = http.client.HTTPConnection("127.0.0.1", self.port, timeout=1)
-                connection.request("GET", "/health")
-                if connection.getresponse().status == 200:
-                    return
-            except OSError:
-                pass
-            if time.monotonic() > deadline or self.process.poll() is not None:
-                self.stop()
-                raise RuntimeError("the bench server did not start")
-            time.sleep(0.1)
-
-    def stop(self) -> None:
-        self.process.terminate()
-        self.process.wait(timeout=30)
 
 
 def _directive(
@@ -376,7 +340,8 @@ def main() -> None:
         f"(load average {one:.2f} {five:.2f} {fifteen:.2f} on {os.cpu_count()} CPUs)"
     )
     with tempfile.TemporaryDirectory() as data:
-        server = Server(data, sparql_snapshot_max_age_s=options.snapshot_max_age)
+        env = {"ENGRAM_SPARQL_SNAPSHOT_MAX_AGE_S": str(options.snapshot_max_age)}
+        server = ChildServer(data, SERVER, env=env)
         try:
             alone = phase(server.port, readers=options.readers, writers=0, seconds=options.seconds)
             report("readers alone", alone, options.seconds, None)

@@ -18,7 +18,6 @@ import math
 import multiprocessing
 import queue
 import shutil
-import socket
 import tempfile
 import threading
 import time
@@ -114,11 +113,10 @@ def main() -> None:
     from api.config import Settings
     from api.main import create_app
     from bench.recording import ROBOTS
+    from tests.conftest import free_port
 
     data = Path(tempfile.mkdtemp(prefix="engram-bench-http-"))
-    with socket.socket() as probe:
-        probe.bind(("127.0.0.1", 0))
-        port = probe.getsockname()[1]
+    port = free_port()
     settings = Settings(host="127.0.0.1", port=port, data_dir=data)
     server = uvicorn.Server(
         uvicorn.Config(

@@ -51,8 +51,6 @@ from kg import Store
 
 __all__ = [
     "BagEpisode",
-    "DamagedBagError",
-    "DecompressionLimitError",
     "import_report",
     "import_source",
     "import_upload",

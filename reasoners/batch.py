@@ -25,9 +25,9 @@ from dataclasses import dataclass, field
 from pyoxigraph import Literal, NamedNode, Quad
 
 from kg.store import Store
-from kg.transaction import Object, Pattern, QuadReader, Subject, Transaction
+from kg.transaction import Object, Pattern, Subject, Transaction
 
-__all__ = ["PendingView", "PendingWrites", "QuadReader", "matches"]
+__all__ = ["PendingView", "PendingWrites", "matches"]
 
 
 def matches(

@@ -17,7 +17,7 @@ from collections.abc import Sequence
 
 from pyoxigraph import Literal, NamedNode
 
-from kg.transaction import Transaction
+from kg.transaction import QuadReader, Transaction
 from ontologies.vocab import (
     EPISODIC,
     FORGOTTEN_AT,
@@ -30,7 +30,6 @@ from ontologies.vocab import (
     TRASH_CLASS,
 )
 from reasoners import persist
-from reasoners.batch import QuadReader
 from reasoners.model import MemoryModel
 from reasoners.policy import Policy
 from reasoners.records import ItemRecord, TrashedClass, TrashedItem

@@ -68,7 +68,7 @@ from collections.abc import Iterable, Iterator, Mapping, Sequence
 from pyoxigraph import Literal, NamedNode, Quad
 
 from kg.store import Store
-from kg.transaction import Transaction
+from kg.transaction import QuadReader, Transaction
 from ontologies.vocab import (
     CHECKPOINT_STATE,
     CHECKPOINT_SUMMARY,
@@ -91,7 +91,7 @@ from ontologies.vocab import (
     PROV_USED,
     XSD_DATETIME,
 )
-from reasoners.batch import QuadReader, matches
+from reasoners.batch import matches
 from reasoners.model import MemoryModel
 from reasoners.records import ClassRecord, ItemRecord
 from reasoners.results import Recognition

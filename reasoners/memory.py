@@ -122,7 +122,7 @@ from reasoners.scoring import WEAK
 from reasoners.signature import Signature
 from reasoners.transactions import Transactions
 
-__all__ = ["Clock", "Cue", "SceneMemory"]
+__all__ = ["SceneMemory"]
 
 log = logging.getLogger(__name__)
 

@@ -46,7 +46,7 @@ from kg.primitive import Primitive
 from kg.scene_triples import write_primitive
 from kg.skolem import is_skolem
 from kg.store import Store
-from kg.transaction import Transaction
+from kg.transaction import QuadReader, Transaction
 from ontologies.vocab import (
     CLASS_SIGNATURE,
     COMPLEXITY,
@@ -98,7 +98,6 @@ from ontologies.vocab import (
     XSD_DATETIME,
     engram,
 )
-from reasoners.batch import QuadReader
 from reasoners.encode import Relation
 from reasoners.labels import label
 from reasoners.model import MemoryModel

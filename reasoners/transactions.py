@@ -19,8 +19,9 @@ import threading
 from collections.abc import Callable, Iterator
 from contextlib import contextmanager
 
+from kg.transaction import QuadReader
 from reasoners import history, index_file
-from reasoners.batch import PendingWrites, QuadReader
+from reasoners.batch import PendingWrites
 from reasoners.clock import SettableClock
 from reasoners.loading import LoadedModel
 from reasoners.score_view import ScoreView

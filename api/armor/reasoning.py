@@ -36,7 +36,7 @@ from reasoners.owl_rl import (
 )
 from reasoners.owl_rl import prepare as prepare_delta
 
-__all__ = ["Prepared", "forget_state", "prepare", "reason_committed", "record_committed"]
+__all__ = ["forget_state", "prepare", "reason_committed", "record_committed"]
 
 log = logging.getLogger(__name__)
 

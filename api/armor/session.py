@@ -36,6 +36,7 @@ from kg.literals import from_store
 from kg.transaction import Transaction
 from reasoners.errors import MemoryReasonerError, OperationFailedError
 from reasoners.operations import Operation, OperationResult
+from reasoners.owl_rl import Prepared
 
 if TYPE_CHECKING:  # api.armor.memory imports this module (through api.armor.context)
     from api.armor.memory import MemoryDirectives
@@ -185,7 +186,7 @@ class Session:
         self.needs_reasoning: set[str] = set()
         self.unreasoned: dict[str, _Unreasoned] = {}
         """Per reference: the list's writes its reasoner has not seen yet."""
-        self.prepared: dict[str, reasoning.Prepared] = {}
+        self.prepared: dict[str, Prepared] = {}
         """Per reference: the reasoner's last delta for this list (confirmed after the commit)."""
 
     # References ---------------------------------------------------------------------------------
@@ -413,7 +414,7 @@ class Session:
         if current is not None:
             self.update(current.with_changes(consistent=consistent))
 
-    def _apply_inferred(self, reference: Reference, prepared: reasoning.Prepared) -> None:
+    def _apply_inferred(self, reference: Reference, prepared: Prepared) -> None:
         """Put a delta of the inferred graph into this list's changes (and its workspace)."""
         if prepared.replaces:  # relative to the committed graph: it replaces the earlier delta
             self.changes[reference.inferred] = ChangeSet(

@@ -36,9 +36,9 @@ from reasoners.explain import (
     explain_level,
     explain_scene,
     explain_subsumption,
-    local,
 )
 from reasoners.explain import to_jsonable as explanation_json
+from reasoners.labels import local
 from reasoners.memory import SceneMemory
 
 __all__ = ["Answer", "Asker"]

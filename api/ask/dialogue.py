@@ -4,7 +4,7 @@ with the explanations behind them (the demo ends with one)."""
 from rich.console import Console
 
 from api.ask.asker import Asker
-from reasoners.explain import local
+from reasoners.labels import local
 
 __all__ = ["questions_for", "talk"]
 

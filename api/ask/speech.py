@@ -37,7 +37,6 @@ from kg.errors import InvalidValueError
 __all__ = [
     "Heard",
     "Recogniser",
-    "SpeechUnavailableError",
     "pcm16k",
     "pronounce",
     "speak",

@@ -4,7 +4,7 @@
 opts out of ARMOR's string formats for query results.
 
 Directives are many and small, so the two services are mounted once, by :func:`install`, as the
-app's innermost middleware (:class:`ArmorServices`), in front of FastAPI's exception middleware
+app's innermost middleware (:class:`ArmorMiddleware`), in front of FastAPI's exception middleware
 and router rather than as routes behind them. Every request to a service's path, whatever its
 method or body, is answered there, and nowhere else:
 
@@ -41,14 +41,14 @@ from api.config import Settings
 from api.deps import require_token
 from api.directives import SERVICES, VALUES, Service, answer
 
-__all__ = ["ArmorServices", "install", "openapi_operation"]
+__all__ = ["ArmorMiddleware", "install", "openapi_operation"]
 
 _REF = "#/components/schemas/{model}"
 _JSON = (b"content-type", b"application/json")
 _ALLOW = {"Allow": "POST"}
 
 
-class ArmorServices:
+class ArmorMiddleware:
     """ASGI middleware answering every request to the services' paths (see the module
     docstring); other requests go on to ``app``.
 
@@ -219,9 +219,9 @@ def _schemas() -> dict[str, Any]:
 
 
 def install(app: FastAPI) -> None:
-    """Mount the two services on ``app`` as :class:`ArmorServices`, the innermost of its user
+    """Mount the two services on ``app`` as :class:`ArmorMiddleware`, the innermost of its user
     middleware (call before adding any other), and describe them in its OpenAPI description."""
-    app.add_middleware(ArmorServices)
+    app.add_middleware(ArmorMiddleware)
     original: Callable[[], dict[str, Any]] = app.openapi
 
     def openapi() -> dict[str, Any]:

@@ -1,5 +1,8 @@
 """Class definitions in words: ``sphereIsAboveOf ≥1 Plane`` reads "a sphere above a plane".
 
+A relation is said in the words of the classes' stored labels
+(:data:`reasoners.labels.RELATION_WORDS`).
+
 >>> words([("sphereIsAboveOf", "Plane", 1), ("planeIsBelowOf", "Sphere", 1)])
 'a sphere above a plane, and a plane below a sphere'
 >>> words([("cylinderIsLeftOf", "Cylinder", 2)])
@@ -10,23 +13,9 @@
 
 from collections.abc import Iterable
 
-__all__ = ["PHRASES", "relation_of", "words"]
+from reasoners.labels import RELATION_WORDS
 
-PHRASES = {
-    "isAboveOf": "above",
-    "isBelowOf": "below",
-    "isLeftOf": "left of",
-    "isRightOf": "right of",
-    "isBehindOf": "behind",
-    "isInFrontOf": "in front of",
-    "isParallelWith": "parallel with",
-    "isPerpendicularWith": "perpendicular to",
-    "isCoaxialWith": "coaxial with",
-    "isAlongXWith": "along x with",
-    "isAlongYWith": "along y with",
-    "isAlongZWith": "along z with",
-}
-"""Each spatial relation as a phrase between two noun phrases."""
+__all__ = ["relation_of", "words"]
 
 _TYPES = ("sphere", "cylinder", "cone", "plane")
 
@@ -50,7 +39,7 @@ def words(restrictions: Iterable[tuple[str, str, int]]) -> str:
     clauses = []
     for scene_property, target, n in restrictions:
         kind, relation = relation_of(scene_property)
-        phrase = PHRASES.get(relation, relation)
+        phrase = RELATION_WORDS.get(relation, relation)
         clauses.append(f"a {kind or 'thing'} {phrase} {_noun(target.lower(), n)}")
     if len(clauses) <= 1:
         return "".join(clauses)

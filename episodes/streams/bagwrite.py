@@ -44,7 +44,7 @@ from ruamel.yaml import YAML
 from episodes.streams.errors import InvalidSampleError, RecordingStateError
 from episodes.streams.mcapwrite import CHUNK_BYTES, COMPRESSIONS, McapWriter
 
-__all__ = ["ALONE_BYTES", "COMPRESSIONS", "BagWriter", "bag_metadata_text", "mcap_file"]
+__all__ = ["ALONE_BYTES", "BagWriter", "bag_metadata_text", "mcap_file"]
 
 ROSBAG2_VERSION = 9
 ALONE_BYTES = 64 * 1024

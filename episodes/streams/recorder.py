@@ -32,17 +32,21 @@ from pathlib import Path
 from typing import Any
 
 from episodes.streams import messages
-from episodes.streams.bagwrite import COMPRESSIONS, mcap_file
+from episodes.streams.bagwrite import mcap_file
 from episodes.streams.errors import (
     InvalidSampleError,
     RecordingStateError,
     UnknownProviderError,
 )
 from episodes.streams.ledger import ChannelStats, Ledger, Provider, Tick
+from episodes.streams.mcapwrite import COMPRESSIONS
 from episodes.streams.messages import ProviderSpec
 from episodes.streams.tick_writer import TickWriter
 
-__all__ = ["Recorder", "TickResult", "mcap_file"]
+__all__ = [
+    "Recorder",
+    "TickResult",
+]
 
 log = logging.getLogger(__name__)
 

@@ -54,7 +54,6 @@ from reasoners.explain.kinds import (
     RecognitionExplanation,
     RestoreExplanation,
     RestrictionCheck,
-    local,
     to_jsonable,
 )
 
@@ -76,7 +75,6 @@ __all__ = [
     "explain_placement",
     "explain_scene",
     "explain_subsumption",
-    "local",
     "scene_signature",
     "to_jsonable",
 ]

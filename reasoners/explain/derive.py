@@ -31,8 +31,8 @@ from reasoners.explain.kinds import (
     RestoreExplanation,
     beyond,
     checks,
-    local,
 )
+from reasoners.labels import local
 from reasoners.memory import SceneMemory
 from reasoners.signature import Key, Signature
 

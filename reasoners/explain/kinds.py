@@ -24,7 +24,6 @@ __all__ = [
     "RestrictionCheck",
     "beyond",
     "checks",
-    "local",
     "to_jsonable",
 ]
 

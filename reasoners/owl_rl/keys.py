@@ -20,7 +20,7 @@ True
 from reasoners.owl_rl._terms import HAS_KEY, SAME_AS, TYPE
 from reasoners.owl_rl.engine import Engine
 
-__all__ = ["HAS_KEY", "KeyRunner", "add_key_rules"]
+__all__ = ["KeyRunner", "add_key_rules"]
 
 Key = tuple[str, tuple[str, ...]]
 

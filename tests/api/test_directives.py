@@ -18,17 +18,11 @@ from api.client._local import LocalTransport
 from api.directives import LIST, SINGLE, answer_blocking, read_request
 from api.protocol import ArmorDirectiveListRes, ArmorRequest, ArmorResponse
 from kg import Store
+from tests.api.armor.conftest import directive
 
 
 def _directive(command: str, first: str = "", second: str = "", *args: str) -> dict[str, Any]:
-    return {
-        "client_name": "tester",
-        "reference_name": "kitchen",
-        "command": command,
-        "primary_command_spec": first,
-        "secondary_command_spec": second,
-        "args": list(args),
-    }
+    return directive(command, first, second, list(args), ref="kitchen")
 
 
 def _body(value: Any) -> bytes:
@@ -40,8 +34,8 @@ def engine() -> ArmorEngine:
     """An engine over an in-memory store with a reference ``kitchen`` holding ``k1: Kitchen``."""
     engine = ArmorEngine(Store())
     load = _directive("LOAD", "FILE", "", "", "http://ex.org/kitchen", "false", "PELLET", "true")
-    for directive in (load, _directive("ADD", "IND", "CLASS", "k1", "Kitchen")):
-        answer = json.loads(answer_blocking(engine, SINGLE, _body({"armor_request": directive})))
+    for request in (load, _directive("ADD", "IND", "CLASS", "k1", "Kitchen")):
+        answer = json.loads(answer_blocking(engine, SINGLE, _body({"armor_request": request})))
         assert answer["armor_response"]["success"], answer
     return engine
 

@@ -12,7 +12,8 @@ from api.ros._ros import sensor_msgs
 from api.ros.perception import frame_of
 from shapes import SourceError
 from shapes.synthetic import TabletopScene, TruthObject
-from tests.ros.conftest import CLOUD_TOPIC, RESULT_TOPIC, RosArmor, directive
+from tests.api.armor.conftest import request
+from tests.ros.conftest import CLOUD_TOPIC, RESULT_TOPIC, RosArmor
 from tests.ros.processes import Master, ros_env
 
 PointCloud2, PointField = sensor_msgs.msg.PointCloud2, sensor_msgs.msg.PointField
@@ -55,7 +56,7 @@ def test_a_published_tabletop_is_stored_and_its_answer_published(
     details = {item["key"]: item["value"] for item in first["sparql_queried_objects"]}
     assert details["learned"] == "true"
     # the memory holds the scene: its class has a memory level, asked over the ARMOR service
-    level = ros_armor.execute(directive("QUERY", "MEMORY", "LEVEL", [stored_as], ref="engram"))
+    level = ros_armor.execute(request("QUERY", "MEMORY", "LEVEL", [stored_as], ref="engram"))
     assert level.success, level
 
 

@@ -7,7 +7,8 @@ from dataclasses import dataclass
 import httpx
 import pytest
 
-from tests.ros.conftest import Launched, RosArmor, directive
+from tests.api.armor.conftest import request
+from tests.ros.conftest import Launched, RosArmor
 from tests.ros.processes import Master, service_registered, wait_for
 
 
@@ -28,7 +29,7 @@ def served(launched: Launched) -> Iterator[Served]:
 
 
 def _http(served: Served, *args: object, ref: str) -> dict[str, object]:
-    body = {"armor_request": directive(*args, ref=ref).model_dump()}  # type: ignore[arg-type]
+    body = {"armor_request": request(*args, ref=ref).model_dump()}  # type: ignore[arg-type]
     answer = served.http.post("/armor_interface_srv", json=body)
     assert answer.status_code == 200, answer.text
     result: dict[str, object] = answer.json()["armor_response"]
@@ -37,14 +38,14 @@ def _http(served: Served, *args: object, ref: str) -> dict[str, object]:
 
 def test_what_ros_clients_write_http_reads_and_back(served: Served) -> None:
     ref = "ref_" + uuid.uuid4().hex[:8]
-    load = directive("LOAD", "FILE", "", ["", "http://ex.org/" + ref, "false", "", "true"], ref=ref)
+    load = request("LOAD", "FILE", "", ["", "http://ex.org/" + ref, "false", "", "true"], ref=ref)
     assert served.ros.execute(load).success
-    assert served.ros.execute(directive("ADD", "IND", "CLASS", ["robot", "Agent"], ref=ref)).success
+    assert served.ros.execute(request("ADD", "IND", "CLASS", ["robot", "Agent"], ref=ref)).success
     assert _http(served, "QUERY", "IND", "CLASS", ["Agent"], ref=ref)["queried_objects"] == [
         f"<http://ex.org/{ref}#robot>"
     ]
     assert _http(served, "ADD", "IND", "CLASS", ["cup", "Agent"], ref=ref)["success"]
-    seen = served.ros.execute(directive("QUERY", "IND", "CLASS", ["Agent"], ref=ref))
+    seen = served.ros.execute(request("QUERY", "IND", "CLASS", ["Agent"], ref=ref))
     assert sorted(seen.queried_objects) == [
         f"<http://ex.org/{ref}#cup>",
         f"<http://ex.org/{ref}#robot>",
@@ -61,7 +62,7 @@ def test_the_node_registers_again_after_a_master_restart(served: Served) -> None
         timeout_s=30,
     )
     ref = "ref_" + uuid.uuid4().hex[:8]
-    load = directive("LOAD", "FILE", "", ["", "http://ex.org/" + ref, "false", "", "true"], ref=ref)
+    load = request("LOAD", "FILE", "", ["", "http://ex.org/" + ref, "false", "", "true"], ref=ref)
     assert served.ros.execute(load).success
     assert _http(served, "GET", "ALL", "REFS", ref=ref)["success"]
 

@@ -9,8 +9,8 @@ import pytest
 from api.views import channels, series
 from api.views.series import scan_channel
 from episodes.streams import InvalidSampleError, Recorder, Replayer, UnknownProviderError
+from episodes.streams.bagwrite import mcap_file
 from episodes.streams.mcapread import McapFile
-from episodes.streams.recorder import mcap_file
 
 T0 = 1_770_000_000_000_000_000
 

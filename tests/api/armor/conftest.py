@@ -45,19 +45,22 @@ def directive(
     }
 
 
+def request(
+    command: str,
+    first: str = "",
+    second: str = "",
+    args: list[str] | None = None,
+    *,
+    ref: str,
+    client: str = "tester",
+) -> ArmorDirectiveReq:
+    """One ``armor_msgs/ArmorDirectiveReq`` as the wire model (:func:`directive`'s fields)."""
+    return ArmorDirectiveReq(**directive(command, first, second, args, ref=ref, client=client))
+
+
 def directives(steps: list[Step], ref: str, client: str = "client") -> list[ArmorDirectiveReq]:
     """The requests of ``steps``, each to reference ``ref`` from ``client``."""
-    return [
-        ArmorDirectiveReq(
-            client_name=client,
-            reference_name=ref,
-            command=command,
-            primary_command_spec=first,
-            secondary_command_spec=second,
-            args=args,
-        )
-        for command, first, second, args in steps
-    ]
+    return [request(*step, ref=ref, client=client) for step in steps]
 
 
 class Armor:

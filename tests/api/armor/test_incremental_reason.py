@@ -18,6 +18,7 @@ from ontologies.vocab import ARMOR_REGISTRY, reference_graph
 from reasoners.owl_rl import Prepared, ReasonReport
 from reasoners.owl_rl.materialise import _slot
 from reasoners.owl_rl.synthetic import EX, scene_ontology
+from tests.api.armor.conftest import request
 
 PREFIX = EX.rstrip("#")
 TBOX = """\
@@ -36,14 +37,7 @@ TBOX = """\
 def d(
     command: str, first: str = "", second: str = "", *args: str, ref: str = "r"
 ) -> ArmorDirectiveReq:
-    return ArmorDirectiveReq(
-        client_name="tester",
-        reference_name=ref,
-        command=command,
-        primary_command_spec=first,
-        secondary_command_spec=second,
-        args=list(args),
-    )
+    return request(command, first, second, list(args), ref=ref)
 
 
 class Spy:

@@ -5,23 +5,17 @@ scripts' digits; Java's ``Double.parseDouble`` and ``Integer.parseInt`` do not, 
 measurement must be finite. Runs the engine in this process over an in-memory store.
 """
 
+import functools
+
 import pytest
 
 from api.armor import ArmorEngine
 from api.protocol import ArmorDirectiveReq, ArmorDirectiveRes
 from kg import Store, ensure_ontology
 from reasoners.memory import SceneMemory
+from tests.api.armor.conftest import request
 
-
-def _directive(command: str, first: str, second: str, args: list[str]) -> ArmorDirectiveReq:
-    return ArmorDirectiveReq(
-        client_name="camera",
-        reference_name="engram",
-        command=command,
-        primary_command_spec=first,
-        secondary_command_spec=second,
-        args=args,
-    )
+_directive = functools.partial(request, ref="engram", client="camera")
 
 
 @pytest.fixture

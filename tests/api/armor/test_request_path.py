@@ -20,7 +20,7 @@ from kg import Store
 from kg.errors import StoreError
 from tests.conftest import free_port, serve
 
-from .conftest import Armor, start_live_server
+from .conftest import Armor, directive, start_live_server
 
 SINGLE = "/armor_interface_srv"
 LIST = "/armor_interface_serialized_srv"
@@ -28,14 +28,7 @@ JSON = {"content-type": "application/json"}
 
 
 def _directive(ref: str, command: str, first: str, second: str, *args: str) -> dict[str, object]:
-    return {
-        "client_name": "tester",
-        "reference_name": ref,
-        "command": command,
-        "primary_command_spec": first,
-        "secondary_command_spec": second,
-        "args": list(args),
-    }
+    return directive(command, first, second, list(args), ref=ref)
 
 
 def test_json_subtypes_answer_as_application_json(armor: Armor, ref: str) -> None:

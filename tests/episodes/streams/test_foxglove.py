@@ -16,6 +16,7 @@ from rosbags.typesys import Stores, get_types_from_msg, get_typestore
 from episodes import EpisodeMemory
 from episodes.scene_channel import scene_bag_path
 from episodes.streams import Recorder, Replayer
+from episodes.streams.bagwrite import mcap_file
 from episodes.streams.foxglove import (
     SCENE_TOPIC,
     SCENE_TYPE,
@@ -25,7 +26,6 @@ from episodes.streams.foxglove import (
     scene_message,
 )
 from episodes.streams.mcapread import McapFile
-from episodes.streams.recorder import mcap_file
 from kg import Store
 from kg.primitive import Primitive
 from reasoners.memory import SceneMemory

@@ -20,9 +20,9 @@ from mcap.records import Channel, Chunk, DataEnd, Footer, Header, McapRecord, Me
 
 from api.views import series
 from episodes.streams import CorruptRecordingError, Recorder, Replayer
+from episodes.streams.bagwrite import mcap_file
 from episodes.streams.mcapread import MAGIC, McapFile, RawMessage
 from episodes.streams.ranged import open_ranged
-from episodes.streams.recorder import mcap_file
 
 try:
     from compression import zstd  # type: ignore[import-not-found,unused-ignore]
