@@ -1,8 +1,9 @@
 """Where a missed object's points go: each step of segmentation that drops or absorbs them.
 
 For every real scan tuned on (the held-out ones, ``"held_out": true`` in truth.json, are never
-loaded) and each of ``--seeds`` seeds of the chain (``Perception(PerceptionParams(
-gravity_from_scene=True), seed=k)``, the bench's run), the objects the bench counts missed are
+loaded unless named by ``--held-out-too``, which is for after the lead's one run of them) and
+each of ``--seeds`` seeds of the chain (``Perception(PerceptionParams(gravity_from_scene=True),
+seed=k)``, the bench's run), the objects the bench counts missed are
 followed through :func:`shapes.segment.segment`, whose steps are wrapped for this run only:
 
 - the object's points: its pixels as ``bench/perception_oracle.py``'s ``object_pixels`` takes
@@ -23,6 +24,8 @@ Run from the repository root (a few minutes of CPU)::
 
     PYTHONPATH=. .venv/bin/python bench/perception_missed.py --seeds 3
     PYTHONPATH=. .venv/bin/python bench/perception_missed.py --scan office_kinect --all
+    PYTHONPATH=. .venv/bin/python bench/perception_missed.py \
+        --held-out-too tote_whisk_sr300_0 --scan tote_whisk_sr300_0 --all
 """
 
 import os
@@ -226,12 +229,17 @@ def main() -> None:
     parser.add_argument("--scan", action="append", help="only these scans (repeatable)")
     parser.add_argument("--object", action="append", help="only these objects (repeatable)")
     parser.add_argument("--all", action="store_true", help="trace found objects too")
+    parser.add_argument(
+        "--held-out-too",
+        action="append",
+        default=[],
+        metavar="SCAN",
+        help="load this held-out scan too (repeatable): only after the lead's one run of it",
+    )
     args = parser.parse_args()
     truth = json.loads((SCANS / "truth.json").read_text())
-    for scan, measured in bench.REAL_TRUTH.items():
+    for scan, measured in oracle.loadable_scans(args.held_out_too):
         gt = truth[measured]
-        if gt.get("held_out") or gt.get("reserved"):
-            continue  # never loaded
         if args.scan and scan not in args.scan:
             continue
         frame = next(open_source(SCANS / f"{scan}.npz"))

@@ -2,6 +2,8 @@
 without changing what the chain finds."""
 
 import json
+import sys
+from pathlib import Path
 from types import ModuleType
 
 import numpy as np
@@ -52,3 +54,53 @@ def test_a_found_object_is_one_kept_cluster_of_its_own_points(missed: ModuleType
     _, lines = _traced(missed, "mug_stereo", "mug")
     clusters = [line for line in lines if line.startswith("cluster:")]
     assert len(clusters) == 1 and clusters[0].endswith("KEPT")
+
+
+HELD_OUT = sorted(
+    name for name, scan in TRUTH.items() if scan.get("held_out") and not scan.get("reserved")
+)
+RESERVED = sorted(name for name, scan in TRUTH.items() if scan.get("reserved"))
+
+
+def _loaded_by_main(
+    missed: ModuleType, monkeypatch: pytest.MonkeyPatch, argv: list[str]
+) -> list[str]:
+    """The scans ``perception_missed.py``'s main loads with ``argv``, nothing run on them."""
+    loaded: list[str] = []
+
+    def record(path: object) -> object:
+        loaded.append(Path(str(path)).stem)
+        return iter([None])
+
+    monkeypatch.setattr(missed, "open_source", record)
+    monkeypatch.setattr(missed.oracle, "object_pixels", lambda scan, measured: {})
+    monkeypatch.setattr(missed, "run_logged", lambda frame, seed: (None, None))
+    monkeypatch.setattr(sys, "argv", ["perception_missed.py", "--seeds", "1", *argv])
+    missed.main()
+    return loaded
+
+
+def test_no_held_out_scan_is_loaded_unless_named(
+    missed: ModuleType, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    assert HELD_OUT, "the test needs a held-out scan in truth.json"
+    loaded = _loaded_by_main(missed, monkeypatch, [])
+    assert loaded and not set(loaded) & set(HELD_OUT + RESERVED)
+    named = _loaded_by_main(missed, monkeypatch, ["--held-out-too", HELD_OUT[0]])
+    assert set(named) - set(loaded) == {HELD_OUT[0]}
+
+
+@pytest.mark.parametrize(
+    ("name", "fragment"),
+    [
+        (RESERVED[0] if RESERVED else "none reserved", "is not a held-out scan the bench lists"),
+        ("office_kinect", "is not a held-out scan the bench lists"),
+        ("no_such_scan", "is not a held-out scan the bench lists"),
+    ],
+)
+def test_naming_a_scan_that_is_not_held_out_is_refused(
+    missed: ModuleType, name: str, fragment: str
+) -> None:
+    """A reserved scan stays unloaded even when named; a tuned-on or unknown name is an error."""
+    with pytest.raises(ValueError, match=fragment):
+        missed.oracle.loadable_scans([name])
