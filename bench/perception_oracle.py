@@ -99,9 +99,6 @@ def loadable_scans(held_out_too: Sequence[str] = ()) -> list[tuple[str, str]]:
     A held-out scan is for the lead's one run of the bench after a stop's merge; name it here
     only after that run, to diagnose it. Raises ValueError when a name in ``held_out_too`` is not
     a held-out scan the bench lists (a reserved scan is never loaded, named or not).
-
-    >>> all(not s.startswith("tote_whisk") for s, _ in loadable_scans())
-    True
     """
     truth = json.loads((SCANS / "truth.json").read_text())
     held_out = {
