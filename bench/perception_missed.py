@@ -1,15 +1,17 @@
 """Where a missed object's points go: each step of segmentation that drops or absorbs them.
 
 For every real scan tuned on (the held-out ones, ``"held_out": true`` in truth.json, are never
-loaded) and each of ``--seeds`` seeds of the chain (``Perception(PerceptionParams(
-gravity_from_scene=True), seed=k)``, the bench's run), the objects the bench counts missed are
+loaded unless named by ``--held-out-too``, which is for after the lead's one run of them) and
+each of ``--seeds`` seeds of the chain (``Perception(PerceptionParams(gravity_from_scene=True),
+seed=k)``, the bench's run), the objects the bench counts missed are
 followed through :func:`shapes.segment.segment`, whose steps are wrapped for this run only:
 
 - the object's points: its pixels as ``bench/perception_oracle.py``'s ``object_pixels`` takes
   them (``measure.object_mask``: the ground truth's own attribution), those the survey keeps,
   and its voxels (a voxel is the object's when most of its kept points are);
 - the planes: how many of its voxels are inliers of a support, of another plane that holds them
-  (a wall, a tilted plane) or of a plane judged a face of objects (those stay free);
+  (a wall, a tilted plane) or of a plane judged a face of objects (those stay free); and of a
+  support's, how many a horizontal plane folded into its band brought (how high that plane lies);
 - the free voxels: how many are free, how many stand over a support (``over_supports``), and of
   those that do not, how many lie under the support's margin, over ``max_height_m``, outside the
   support's box, or over no support at all;
@@ -23,6 +25,8 @@ Run from the repository root (a few minutes of CPU)::
 
     PYTHONPATH=. .venv/bin/python bench/perception_missed.py --seeds 3
     PYTHONPATH=. .venv/bin/python bench/perception_missed.py --scan office_kinect --all
+    PYTHONPATH=. .venv/bin/python bench/perception_missed.py \
+        --held-out-too tote_whisk_sr300_0 --scan tote_whisk_sr300_0 --all
 """
 
 import os
@@ -137,6 +141,9 @@ def trace(
         planes.append(f"plane {j} ({what}, n {normal.tolist()}, off {p.offset:.2f}): {n}")
     if planes:
         out.append("in planes: " + "; ".join(planes))
+    folded = _folded_into_supports(log, judged, vox)
+    if folded:
+        out.append("of which folded into a support's band: " + "; ".join(folded))
     is_free = free[vox]
     owned = over.owner[vox]
     out.append(
@@ -212,6 +219,31 @@ def trace(
     return out
 
 
+def _folded_into_supports(log: Log, judged: Any, vox: npt.NDArray[np.intp]) -> list[str]:
+    """For each horizontal plane that ``judge_planes`` folded into a support's band
+    (:func:`shapes.segment.bands.one_plane_per_band`) and that holds some of ``vox``: how far
+    over the support it lies (the median of its voxels' heights) and how many of ``vox`` it
+    holds. Those voxels count as the support's, not free."""
+    found, voxels = log.first("judge_planes")[0][:2]
+    kept_ids = {id(p) for p in judged.planes}
+    out = []
+    for q in found:
+        n = int(q.inliers[vox].sum())
+        if not q.horizontal or id(q) in kept_ids or n == 0:
+            continue
+        for k, support in enumerate(judged.supports):
+            same = q.offset == support.offset and np.array_equal(q.normal, support.normal)
+            if same or not support.inliers[q.inliers].all():
+                continue  # the support's own plane (a copy that took the folded voxels)
+            h = voxels[q.inliers] @ support.normal + support.offset
+            low, mid, high = (100 * float(v) for v in np.percentile(h, [5, 50, 95]))
+            out.append(
+                f"a plane of {int(q.inliers.sum())} voxels {low:.1f}..{high:.1f} cm"
+                f" (median {mid:.1f}) over support {k}: {n}"
+            )
+    return out
+
+
 def _which_limit(cluster: Any, params: Any) -> str:
     h = cluster.support.signed_distance(cluster.voxels)
     limit = params.max_tall_height_m if h.max() >= params.max_height_m else params.max_height_m
@@ -226,12 +258,17 @@ def main() -> None:
     parser.add_argument("--scan", action="append", help="only these scans (repeatable)")
     parser.add_argument("--object", action="append", help="only these objects (repeatable)")
     parser.add_argument("--all", action="store_true", help="trace found objects too")
+    parser.add_argument(
+        "--held-out-too",
+        action="append",
+        default=[],
+        metavar="SCAN",
+        help="load this held-out scan too (repeatable): only after the lead's one run of it",
+    )
     args = parser.parse_args()
     truth = json.loads((SCANS / "truth.json").read_text())
-    for scan, measured in bench.REAL_TRUTH.items():
+    for scan, measured in oracle.loadable_scans(args.held_out_too):
         gt = truth[measured]
-        if gt.get("held_out") or gt.get("reserved"):
-            continue  # never loaded
         if args.scan and scan not in args.scan:
             continue
         frame = next(open_source(SCANS / f"{scan}.npz"))

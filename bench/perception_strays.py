@@ -30,12 +30,15 @@ and puts it in one category, by the first test it passes:
 8. ``unmeasured, on the support``: the rest (what it is comes from the colour image: see
    ``docs/perception.md``, "What the strays are (stop 40)").
 
-Only the tuned-on scans are loaded (``"held_out": true`` in truth.json are never read).
+Only the tuned-on scans are loaded (``"held_out": true`` in truth.json are never read), and the
+held-out scans named by ``--held-out-too``, which is for after the lead's one run of them.
 
 Run from the repository root::
 
     PYTHONPATH=. .venv/bin/python bench/perception_strays.py            # the table
     PYTHONPATH=. .venv/bin/python bench/perception_strays.py --each     # and every stray
+    PYTHONPATH=. .venv/bin/python bench/perception_strays.py --each \
+        --held-out-too tote_whisk_sr300_0 --only tote_whisk_sr300_0
 
 ``--without-slivers`` runs the chain without its last step (:mod:`shapes.segment.slivers`, stop
 40), as the stop began: the table of ``docs/perception.md`` comes from that code.
@@ -272,15 +275,19 @@ def main() -> None:
         action="store_true",
         help="the chain without its last step (shapes.segment.slivers): the strays before it",
     )
+    parser.add_argument(
+        "--held-out-too",
+        action="append",
+        default=[],
+        metavar="SCAN",
+        help="load this held-out scan too (repeatable): only after the lead's one run of it",
+    )
     args = parser.parse_args()
     params = PerceptionParams(gravity_from_scene=True)
     if args.without_slivers:
         params = replace(params, segmentation=SegmentationParams(max_edge_share=1.0))
-    truth = json.loads((SCANS / "truth.json").read_text())
     strays: list[Stray] = []
-    for scan, measured in bench.REAL_TRUTH.items():
-        if truth[measured].get("held_out") or truth[measured].get("reserved"):
-            continue  # never loaded: held out (or reserved) for the lead's one run
+    for scan, measured in oracle.loadable_scans(args.held_out_too):
         if args.only and args.only not in scan:
             continue
         found = strays_of(scan, measured, args.seeds, params)
