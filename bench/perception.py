@@ -79,7 +79,7 @@ import math  # noqa: E402
 import platform  # noqa: E402
 import time  # noqa: E402
 from collections import Counter  # noqa: E402
-from collections.abc import Callable  # noqa: E402
+from collections.abc import Callable, Sequence  # noqa: E402
 from dataclasses import dataclass, field, replace  # noqa: E402
 from pathlib import Path  # noqa: E402
 from typing import Any  # noqa: E402
@@ -477,6 +477,45 @@ REAL_TRUTH = {  # scan: the scan its ground truth was measured on (the laptop sc
     "tote_whisk_sr300_1": "tote_whisk_sr300_1",
     "pepper_can_table_realsense": "pepper_can_table_realsense",
 }
+
+
+def add_held_out_too(parser: argparse.ArgumentParser) -> None:
+    """A diagnosis script's ``--held-out-too SCAN`` option, for :func:`loadable_scans`."""
+    parser.add_argument(
+        "--held-out-too",
+        action="append",
+        default=[],
+        metavar="SCAN",
+        help="load this held-out scan too (repeatable): only after the lead's one run of it",
+    )
+
+
+def loadable_scans(held_out_too: Sequence[str] = ()) -> list[tuple[str, str]]:
+    """The ``(scan, measured)`` pairs of :data:`REAL_TRUTH` a diagnosis script may load: every
+    scan tuned on, and the held-out scans named in ``held_out_too``, in the bench's order.
+
+    A held-out scan is for the lead's one run of the bench after a stop's merge; name it here
+    only after that run, to diagnose it. Raises ValueError when a name in ``held_out_too`` is not
+    a held-out scan the bench lists (a reserved scan is never loaded, named or not).
+    """
+    truth = json.loads((REAL_SCANS / "truth.json").read_text())
+    held_out = {
+        scan
+        for scan, measured in REAL_TRUTH.items()
+        if truth[measured].get("held_out") and not truth[measured].get("reserved")
+    }
+    for name in held_out_too:
+        if name not in held_out:
+            raise ValueError(
+                f"held_out_too: {name!r} is not a held-out scan the bench lists;"
+                f" expected one of {sorted(held_out)}"
+            )
+    return [
+        (scan, measured)
+        for scan, measured in REAL_TRUTH.items()
+        if not (truth[measured].get("held_out") or truth[measured].get("reserved"))
+        or scan in held_out_too
+    ]
 
 
 def simulated_frames(count: int = 3) -> list[tuple[int, Frame]]:

@@ -34,7 +34,6 @@ for _var in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS"):
     os.environ.setdefault(_var, "1")
 
 import argparse  # noqa: E402
-import json  # noqa: E402
 from collections import Counter  # noqa: E402
 from collections.abc import Callable, Iterator  # noqa: E402
 from dataclasses import dataclass  # noqa: E402
@@ -367,12 +366,9 @@ def main() -> None:
         "--short-contact", action="store_true", help="colour regions that meet at a point"
     )
     args = parser.parse_args()
-    truth = json.loads((SCANS / "truth.json").read_text())
     rows: list[Parted] = []
     contacts: Counter[str] = Counter()
-    for scan, measured in bench.REAL_TRUTH.items():
-        if truth[measured].get("held_out") or truth[measured].get("reserved"):
-            continue  # never loaded
+    for scan, measured in bench.loadable_scans():
         if (args.scan and scan not in args.scan) or (args.pairs and scan not in PAIRS):
             continue
         frame = next(open_source(SCANS / f"{scan}.npz"))

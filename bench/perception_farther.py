@@ -167,11 +167,7 @@ def main() -> None:
     parser.add_argument("--object", action="append", help="only these objects (repeatable)")
     parser.add_argument("--trace", action="store_true", help="segmentation's steps too")
     args = parser.parse_args()
-    truth = json.loads((SCANS / "truth.json").read_text())
-    for scan, measured in bench.REAL_TRUTH.items():
-        gt = truth[measured]
-        if gt.get("held_out") or gt.get("reserved"):
-            continue  # never loaded
+    for scan, measured in bench.loadable_scans():
         if args.scan and scan not in args.scan:
             continue
         frame = next(open_source(SCANS / f"{scan}.npz"))

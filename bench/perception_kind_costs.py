@@ -126,12 +126,7 @@ def main() -> None:
         f"machine: {platform.machine()}, load average {os.getloadavg()[0]:.2f}; "
         f"python {platform.python_version()}"
     )
-    truth = json.loads((oracle.SCANS / "truth.json").read_text())
-    scans = args.scan or [
-        scan
-        for scan, measured in oracle.bench.REAL_TRUTH.items()
-        if not (truth[measured].get("held_out") or truth[measured].get("reserved"))
-    ]
+    scans = args.scan or [scan for scan, _ in oracle.bench.loadable_scans()]
     print(
         f"  {'scan':<28}{'object':<26} {'kind':<9}{'draw':>4}  {'fitted':<10}{'final costs':<62}"
         "threshold  depth  along the ray  points"

@@ -258,16 +258,10 @@ def main() -> None:
     parser.add_argument("--scan", action="append", help="only these scans (repeatable)")
     parser.add_argument("--object", action="append", help="only these objects (repeatable)")
     parser.add_argument("--all", action="store_true", help="trace found objects too")
-    parser.add_argument(
-        "--held-out-too",
-        action="append",
-        default=[],
-        metavar="SCAN",
-        help="load this held-out scan too (repeatable): only after the lead's one run of it",
-    )
+    oracle.bench.add_held_out_too(parser)
     args = parser.parse_args()
     truth = json.loads((SCANS / "truth.json").read_text())
-    for scan, measured in oracle.loadable_scans(args.held_out_too):
+    for scan, measured in oracle.bench.loadable_scans(args.held_out_too):
         gt = truth[measured]
         if args.scan and scan not in args.scan:
             continue

@@ -92,34 +92,6 @@ class Score:
     """The bench's cell for the object (parts, centre error, kind, radius)."""
 
 
-def loadable_scans(held_out_too: Sequence[str] = ()) -> list[tuple[str, str]]:
-    """The ``(scan, measured)`` pairs of ``bench.REAL_TRUTH`` a diagnosis script may load: every
-    scan tuned on, and the held-out scans named in ``held_out_too``, in the bench's order.
-
-    A held-out scan is for the lead's one run of the bench after a stop's merge; name it here
-    only after that run, to diagnose it. Raises ValueError when a name in ``held_out_too`` is not
-    a held-out scan the bench lists (a reserved scan is never loaded, named or not).
-    """
-    truth = json.loads((SCANS / "truth.json").read_text())
-    held_out = {
-        scan
-        for scan, measured in bench.REAL_TRUTH.items()
-        if truth[measured].get("held_out") and not truth[measured].get("reserved")
-    }
-    for name in held_out_too:
-        if name not in held_out:
-            raise ValueError(
-                f"held_out_too: {name!r} is not a held-out scan the bench lists;"
-                f" expected one of {sorted(held_out)}"
-            )
-    return [
-        (scan, measured)
-        for scan, measured in bench.REAL_TRUTH.items()
-        if not (truth[measured].get("held_out") or truth[measured].get("reserved"))
-        or scan in held_out_too
-    ]
-
-
 def score_object(result: FrameResult, gt: dict[str, Any], label: str) -> Score:
     """``label``'s outcome in ``result`` as the bench scores it: the primitives the bench gives
     to ``label`` (by ``_nearest_objects``, over every measured object of ``gt``) are scored

@@ -237,10 +237,7 @@ def main() -> None:
     parser.add_argument("--only", help="only the scans whose name contains this")
     parser.add_argument("--near-cm", type=float, default=100 * NEAR_M, help="pairs this close")
     args = parser.parse_args()
-    truth = json.loads((SCANS / "truth.json").read_text())
-    for scan, measured in bench.REAL_TRUTH.items():
-        if truth[measured].get("held_out") or truth[measured].get("reserved"):
-            continue  # never loaded: held out for the lead's one run
+    for scan, measured in bench.loadable_scans():
         if args.only and args.only not in scan:
             continue
         for seed in range(args.seeds):

@@ -47,9 +47,7 @@ def main() -> None:
     parser.add_argument("--changing", action="store_true", help="only scans that change")
     args = parser.parse_args()
     truth = json.loads((bench.REAL_SCANS / "truth.json").read_text())
-    for scan, measured in bench.REAL_TRUTH.items():
-        if truth[measured].get("held_out") or truth[measured].get("reserved"):
-            continue
+    for scan, measured in bench.loadable_scans():
         if args.only and scan not in args.only:
             continue
         lines = [row(scan, truth[measured], seed) for seed in range(args.seeds)]

@@ -275,19 +275,13 @@ def main() -> None:
         action="store_true",
         help="the chain without its last step (shapes.segment.slivers): the strays before it",
     )
-    parser.add_argument(
-        "--held-out-too",
-        action="append",
-        default=[],
-        metavar="SCAN",
-        help="load this held-out scan too (repeatable): only after the lead's one run of it",
-    )
+    bench.add_held_out_too(parser)
     args = parser.parse_args()
     params = PerceptionParams(gravity_from_scene=True)
     if args.without_slivers:
         params = replace(params, segmentation=SegmentationParams(max_edge_share=1.0))
     strays: list[Stray] = []
-    for scan, measured in oracle.loadable_scans(args.held_out_too):
+    for scan, measured in bench.loadable_scans(args.held_out_too):
         if args.only and args.only not in scan:
             continue
         found = strays_of(scan, measured, args.seeds, params)

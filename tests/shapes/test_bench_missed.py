@@ -103,7 +103,7 @@ def test_naming_a_scan_that_is_not_held_out_is_refused(
 ) -> None:
     """A reserved scan stays unloaded even when named; a tuned-on or unknown name is an error."""
     with pytest.raises(ValueError, match=fragment):
-        missed.oracle.loadable_scans([name])
+        missed.oracle.bench.loadable_scans([name])
 
 
 def test_a_plane_folded_into_the_support_is_named(missed: ModuleType) -> None:
