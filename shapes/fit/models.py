@@ -22,7 +22,7 @@ from dataclasses import dataclass
 import numpy as np
 import numpy.typing as npt
 
-from shapes.arrays import cross3, dot3, norm3
+from shapes.arrays import cross3, dot3, norm3, percentiles
 from shapes.fit._ransac import levenberg_marquardt
 from shapes.types import FloatArray
 
@@ -273,7 +273,7 @@ class CylinderModel:
         t = v @ params[3:6]
         inl = self.lateral_distances(params[None, :], points)[0] < threshold
         if inl.sum() >= 10:
-            lo, hi = np.percentile(t[inl], [2.0, 98.0])
+            lo, hi = percentiles(t[inl], [2.0, 98.0])
             band = (t > lo + 1.5 * threshold) & (t < hi - 1.5 * threshold)
             if (band & inl).sum() >= 10:
                 points = points[band]
