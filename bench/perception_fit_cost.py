@@ -10,8 +10,9 @@ checkout's ``fit_cluster`` and ``--against``'s alternately, in this process (the
 checkout's ``shapes`` package is imported under another name); each call keeps its least CPU
 (``time.process_time``). Printed: the fits' CPU per frame (median over the scans of the sum over
 a frame's clusters) for each checkout and their ratio, how many replays differ (a fit's kind,
-parameters or costs not bit-identical), and this checkout's breakdown: each model's RANSAC
-(calls, hypotheses drawn, CPU) and the refinements' CPU, summed over all clusters.
+parameters or costs not bit-identical), and each checkout's breakdown in one more replay: each
+model's RANSAC (calls, hypotheses drawn, CPU) and the refinements' CPU, summed over all clusters.
+A frame with no cluster (no fit) is not counted.
 
 Run from the repository root::
 
@@ -113,9 +114,9 @@ def _run(fit: Callable[..., Any], call: Call) -> tuple[float, bytes]:
     return ms, pickle.dumps((fields, costs, counts))
 
 
-def _breakdown(calls: list[Call]) -> None:
-    """Each model's RANSAC and the refinements, summed over every recorded call."""
-    import shapes.fit.select as select
+def _breakdown(select: Any, label: str, calls: list[Call]) -> None:
+    """Each model's RANSAC and the refinements, summed over every recorded call, in the module
+    ``select`` (a checkout's ``shapes.fit.select``)."""
 
     cpu: dict[str, float] = collections.defaultdict(float)
     runs: dict[str, int] = collections.defaultdict(int)
@@ -145,7 +146,7 @@ def _breakdown(calls: list[Call]) -> None:
     finally:
         select.ransac, select.refine_if_better = real_ransac, real_refine
     frames = len({c["frame"] for c in calls})
-    print(f"  this checkout, one replay: {total / frames:.1f} ms of fits a frame ({frames} frames)")
+    print(f"  {label}, one replay: {total / frames:.1f} ms of fits a frame ({frames} frames)")
     for name in sorted(cpu, key=lambda k: -cpu[k]):
         print(
             f"    {name:22s} {runs[name]:5d} calls {drawn[name]:8d} hypotheses "
@@ -184,7 +185,8 @@ def main() -> None:
         f"ms (medians over frames); median per-frame ratio {ratio:.3f}; "
         f"{differ} of {args.repeats * len(calls)} replays differ"
     )
-    _breakdown(calls)
+    _breakdown(sys.modules["shapes.fit.select"], "this checkout", calls)
+    _breakdown(sys.modules["other_shapes.fit.select"], str(args.against), calls)
 
 
 if __name__ == "__main__":
