@@ -9,7 +9,10 @@
   and compare neighbours, and give the same arrays;
 - a dot product, norm or cross product of 3-vectors over an axis of length 3 costs several
   times two additions of whole arrays: :func:`dot3`, :func:`norm3` and :func:`cross3` give
-  numpy's own bits.
+  numpy's own bits;
+- ``np.percentile`` of a short vector spends most of its time in its generality (axes, methods,
+  weights): :func:`percentiles` selects the ranks it needs and interpolates as numpy's linear
+  method does, to the bit, at a tenth of the cost.
 
 >>> a = np.array([[1.0, 5.0], [3.0, -2.0], [2.0, 0.0]])
 >>> column_min(a).tolist(), column_max(a).tolist(), column_span(a).tolist()
@@ -21,6 +24,8 @@
 
 from __future__ import annotations
 
+import math
+from collections.abc import Sequence
 from typing import TypeVar
 
 import numpy as np
@@ -34,6 +39,7 @@ __all__ = [
     "dot3",
     "inside_box",
     "norm3",
+    "percentiles",
     "unique_inverse",
     "unique_sorted",
 ]
@@ -109,3 +115,36 @@ def inside_box(
     x, y = points[:, 0], points[:, 1]
     inside: npt.NDArray[np.bool_] = (x > lo[0]) & (x < hi[0]) & (y > lo[1]) & (y < hi[1])
     return inside
+
+
+def percentiles(values: npt.NDArray[np.float64], q: Sequence[float]) -> list[float]:
+    """``np.percentile(values, q)`` of a 1-D float array, as floats equal to numpy's to the bit
+    (its default linear method: the ranks below and above each virtual index, and numpy's
+    interpolation, taken from the upper rank from half way up); NaN in ``values`` gives NaN.
+
+    Raises ValueError if ``values`` is empty or not one-dimensional, or a ``q`` is outside
+    0 to 100.
+
+    >>> percentiles(np.array([4.0, 1.0, 3.0, 2.0]), [0, 50, 90])
+    [1.0, 2.5, 3.7]
+    """
+    if np.ndim(values) != 1 or len(values) == 0:
+        raise ValueError(f"values: expected a non-empty 1-D array, got shape {np.shape(values)}")
+    if not all(0.0 <= p <= 100.0 for p in q):
+        raise ValueError(f"q: expected percentiles between 0 and 100, got {list(q)}")
+    n = len(values)
+    # numpy's steps, value for value (down to the sign of a zero): the virtual index, the ranks
+    # either side (both the last one, written -1, from the top rank on), one partition at all
+    # of them and at the first and last, then its interpolation.
+    virtual = [(n - 1) * (p / 100) for p in q]
+    below = [-1 if v >= n - 1 else math.floor(v) for v in virtual]
+    above = [-1 if b == -1 else b + 1 for b in below]
+    ordered = np.partition(values, np.unique([0, -1, *below, *above]))
+    if np.isnan(ordered[-1]):  # NaN sorts last, and numpy's answer is then NaN throughout
+        return [math.nan] * len(q)
+    out = []
+    for v, b, a in zip(virtual, below, above, strict=True):
+        lo, hi, t = float(ordered[b]), float(ordered[a]), v - b
+        diff = hi - lo
+        out.append(hi - diff * (1 - t) if t >= 0.5 else lo + diff * t)
+    return out

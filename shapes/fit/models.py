@@ -22,7 +22,7 @@ from dataclasses import dataclass
 import numpy as np
 import numpy.typing as npt
 
-from shapes.arrays import cross3, dot3, norm3
+from shapes.arrays import cross3, dot3, norm3, percentiles
 from shapes.fit._ransac import levenberg_marquardt
 from shapes.types import FloatArray
 
@@ -63,13 +63,21 @@ def _axial(
     Written with matrix products instead of (H, n, 3) temporaries; coordinates are taken
     relative to the points' mean to keep the expanded squares accurate.
     """
-    mean = points.mean(axis=0)
-    pts, org = points - mean, origin - mean
-    sq = dot3(pts, pts)[None, :] - 2.0 * org @ pts.T + dot3(org, org)[:, None]
-    sq = np.maximum(sq, 0.0)
+    pts, org, sq = _centred_squares(origin, points)
     t = axis @ pts.T - dot3(axis, org)[:, None]
     rho = np.sqrt(np.maximum(sq - t * t, 0.0))
     return t, rho, sq
+
+
+def _centred_squares(
+    origin: FloatArray, points: FloatArray
+) -> tuple[FloatArray, FloatArray, FloatArray]:
+    """The points and H origins taken relative to the points' mean, and the squared distances
+    (H, n) between them (expanded as matrix products, :func:`_axial`'s first step)."""
+    mean = points.mean(axis=0)
+    pts, org = points - mean, origin - mean
+    sq = dot3(pts, pts)[None, :] - 2.0 * org @ pts.T + dot3(org, org)[:, None]
+    return pts, org, np.maximum(sq, 0.0)
 
 
 def _refit_rounds(
@@ -154,7 +162,7 @@ class SphereModel:
         return np.column_stack((centre, r)), ok
 
     def distances(self, params: FloatArray, points: FloatArray) -> FloatArray:
-        sq = _axial(params[:, :3], np.zeros_like(params[:, :3]), points)[2]
+        sq = _centred_squares(params[:, :3], points)[2]  # no axis: :func:`_axial`'s squares
         return np.asarray(np.abs(np.sqrt(sq) - params[:, 3:4]), dtype=np.float64)
 
     @staticmethod
@@ -273,7 +281,7 @@ class CylinderModel:
         t = v @ params[3:6]
         inl = self.lateral_distances(params[None, :], points)[0] < threshold
         if inl.sum() >= 10:
-            lo, hi = np.percentile(t[inl], [2.0, 98.0])
+            lo, hi = percentiles(t[inl], [2.0, 98.0])
             band = (t > lo + 1.5 * threshold) & (t < hi - 1.5 * threshold)
             if (band & inl).sum() >= 10:
                 points = points[band]

@@ -14,6 +14,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from shapes.arrays import percentiles
 from shapes.fit.models import CylinderModel
 from shapes.types import FloatArray, SupportPlane
 
@@ -62,7 +63,7 @@ def side_profile(points: FloatArray, support: SupportPlane, cut_m: float) -> Sid
     """
     normal = np.asarray(support.normal, dtype=np.float64)
     height = points @ normal + support.offset
-    side = height < float(np.percentile(height, 99)) - cut_m
+    side = height < percentiles(height, [99])[0] - cut_m
     if side.sum() < 20:
         return None
     e1 = np.cross(normal, [1.0, 0.0, 0.0] if abs(normal[0]) < 0.9 else [0.0, 1.0, 0.0])
@@ -76,7 +77,7 @@ def side_profile(points: FloatArray, support: SupportPlane, cut_m: float) -> Sid
     coef = np.linalg.lstsq(line, rho, rcond=None)[0]
     residual = rho - line @ coef
     spread = 1.4826 * float(np.median(np.abs(residual - np.median(residual))))
-    lo, hi = np.percentile(h, [5, 95])
+    lo, hi = percentiles(h, [5, 95])
     foot = sol[0] / 2 * e1 + sol[1] / 2 * e2 - support.offset * normal
     return SideProfile(foot, float(coef[0]), float(coef[1]), spread, float(lo), float(hi))
 

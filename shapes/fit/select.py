@@ -179,7 +179,7 @@ import numpy as np
 import open3d as o3d
 from scipy.spatial import ConvexHull, QhullError, cKDTree
 
-from shapes.arrays import column_max, column_min, column_span, norm3
+from shapes.arrays import column_max, column_min, column_span, norm3, percentiles
 from shapes.fit._ransac import Model, levenberg_marquardt, ransac, refine_if_better
 from shapes.fit.fringe import fringe, side_wall_circle
 from shapes.fit.information import parameter_charges
@@ -399,7 +399,7 @@ def _build_cylinder(
     if support is not None and float(axis @ np.asarray(support.normal)) < 0:
         axis = -axis
     t, rho = _axial(np.concatenate((p0, axis, [r])), points)
-    lo, hi = (float(v) for v in np.percentile(t, [0.5, 99.5]))
+    lo, hi = percentiles(t, [0.5, 99.5])
     cap = (t > hi - 2 * fp.selection_threshold_m) & (rho < 0.8 * r)
     if cap.sum() >= 10:
         hi = float(np.median(t[cap]))
@@ -424,7 +424,7 @@ def _build_cone(
 ) -> Primitive:
     apex, axis, theta = params[:3], params[3:6], float(params[6])
     k = (points - apex) @ axis
-    height = float(np.percentile(k, 99.5))
+    height = percentiles(k, [99.5])[0]
     if support is not None and _orient_up(axis, support, fp.upright_tolerance_deg):
         n = np.asarray(support.normal)
         denom = float(n @ axis)
@@ -718,7 +718,8 @@ def _by_taper(
     # off, but never more than a share of the visible height: far away the threshold may be
     # as tall as the part of the object in view, and the side left would show no slope.
     height = points @ np.asarray(support.normal, dtype=np.float64) + support.offset
-    span = float(np.subtract(*np.percentile(height, [99, 1])))
+    top, bottom = percentiles(height, [99, 1])
+    span = top - bottom
     cut = min(fp.selection_threshold_m, fp.taper_cut_share * span)
     taper = standing_taper(points, support, cut)
     if taper is None:
