@@ -29,7 +29,6 @@ import argparse  # noqa: E402
 import collections  # noqa: E402
 import copy  # noqa: E402
 import importlib  # noqa: E402
-import json  # noqa: E402
 import pickle  # noqa: E402
 import sys  # noqa: E402
 import time  # noqa: E402
@@ -64,19 +63,12 @@ def _other_fit_cluster(root: Path) -> Callable[..., Any]:
 def _recorded_calls() -> list[Call]:
     """Every ``fit_cluster`` call of this checkout's chain on the Kinect scans, seeds 0-2."""
     sys.path.insert(0, str(Path("bench").resolve()))
-    from perception import REAL_SCANS, REAL_TRUTH
+    from perception import REAL_SCANS, loadable_scans
 
     import shapes.pipeline
     from shapes import Perception, PerceptionParams, open_source
 
-    truth = json.loads((REAL_SCANS / "truth.json").read_text())
-    names = [
-        scan
-        for scan, measured in REAL_TRUTH.items()
-        if "kinect" in scan
-        and not truth[measured].get("held_out")
-        and not truth[measured].get("reserved")
-    ]
+    names = [scan for scan, _ in loadable_scans() if "kinect" in scan]
     calls: list[Call] = []
     real = shapes.pipeline.fit_cluster
     frame_key = [""]

@@ -21,13 +21,12 @@ for _var in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS"):
 
 import argparse  # noqa: E402
 import importlib.util  # noqa: E402
-import json  # noqa: E402
 import sys  # noqa: E402
 import time  # noqa: E402
 from pathlib import Path  # noqa: E402
 
 import numpy as np  # noqa: E402
-from perception import REAL_SCANS, REAL_TRUTH  # noqa: E402
+from perception import REAL_SCANS, loadable_scans  # noqa: E402
 
 import shapes.segment.planes as planes  # noqa: E402
 from shapes import Perception, PerceptionParams, open_source  # noqa: E402
@@ -46,14 +45,7 @@ def main() -> None:
     sys.modules[spec.name] = other  # its dataclasses look their module up
     spec.loader.exec_module(other)
     searches = {"this": planes.ransac_plane, "against": other.ransac_plane}
-    truth = json.loads((REAL_SCANS / "truth.json").read_text())
-    names = [
-        scan
-        for scan, measured in REAL_TRUTH.items()
-        if "kinect" in scan
-        and not truth[measured].get("held_out")
-        and not truth[measured].get("reserved")
-    ]
+    names = [scan for scan, _ in loadable_scans() if "kinect" in scan]
     params = PerceptionParams(gravity_from_scene=True)
     least: dict[tuple[str, int, str], float] = {}
     for scan in names:

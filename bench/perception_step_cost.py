@@ -25,11 +25,10 @@ Run from the repository root::
 
 import argparse
 import dataclasses
-import json
 import time
 
 import numpy as np
-from perception import REAL_SCANS, REAL_TRUTH
+from perception import REAL_SCANS, loadable_scans
 
 from shapes import Perception, PerceptionParams, open_source
 from shapes.fit import FitParams
@@ -53,14 +52,7 @@ def main() -> None:
         "--step", choices=sorted(STEP_OFF), default="occlusion", help="the step timed (occlusion)"
     )
     args = parser.parse_args()
-    truth = json.loads((REAL_SCANS / "truth.json").read_text())
-    names = [
-        scan
-        for scan, measured in REAL_TRUTH.items()
-        if "kinect" in scan
-        and not truth[measured].get("held_out")
-        and not truth[measured].get("reserved")
-    ]
+    names = [scan for scan, _ in loadable_scans() if "kinect" in scan]
     on = PerceptionParams(gravity_from_scene=True)
     off = dataclasses.replace(on, **STEP_OFF[args.step])
     least: dict[tuple[str, int, str], float] = {}
