@@ -170,8 +170,7 @@ def segment(
         kept.append(not_under(found, parts, support, params))
     kept = not_under_support_edges(kept, supports, regions, frame, reach, params)
     kept = [off_depth_edges(found, reach.depth_image, params) for found in kept]
-    width = None if frame.image_shape is None else frame.image_shape[1]
-    kept = [fragments_joined(found, width, params) for found in kept]
+    kept = [fragments_joined(found, kept_points.image_width, params) for found in kept]
     for k, found in enumerate(kept):
         votes[k] = sum(len(c.voxels) for c in found)
         clusters += found
